@@ -1,0 +1,8 @@
+#pragma once
+// Each subcommand of the `tlsmon` binary registers itself on the CLI11 app; the file that
+// defines add_X_command owns that subcommand's options and behaviour.
+#include <CLI/CLI.hpp>
+
+namespace tlsmon {
+
+}  // namespace tlsmon

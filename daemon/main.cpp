@@ -1,0 +1,20 @@
+// tlsmon: unattended deformation monitoring with a terrestrial laser scanner.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "daemon/commands.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"tlsmon: unattended deformation monitoring with a terrestrial laser scanner"};
+    app.set_version_flag("--version", std::string("tlsmon ") + TLSMON_VERSION);
+    app.require_subcommand(1);
+    // Subcommands (one file each under daemon/):
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    return 0;
+}

@@ -1,0 +1,22 @@
+#pragma once
+// Errors of the readers: every message names the file and where in it (line or byte).
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "algorithms/error.hpp"
+
+namespace tlsmon {
+
+class FormatError : public Error {
+public:
+    using Error::Error;
+};
+
+[[noreturn]] void throw_format_error(const std::filesystem::path& file, const std::string& what);
+[[noreturn]] void throw_at_line(const std::filesystem::path& file, std::uint64_t line,
+                                const std::string& what);
+[[noreturn]] void throw_at_byte(const std::filesystem::path& file, std::uint64_t offset,
+                                const std::string& what);
+
+}  // namespace tlsmon

@@ -1,0 +1,71 @@
+#include "formats/scan_file.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <fstream>
+
+#include "formats/format_error.hpp"
+
+namespace tlsmon {
+
+std::string to_string(ScanFormat f) {
+    switch (f) {
+        case ScanFormat::ptx: return "PTX";
+        case ScanFormat::pts: return "PTS";
+        case ScanFormat::xyz: return "XYZ";
+        case ScanFormat::ply: return "PLY";
+        case ScanFormat::pcd: return "PCD";
+        case ScanFormat::las: return "LAS";
+        case ScanFormat::laz: return "LAZ";
+        case ScanFormat::e57: return "E57";
+        case ScanFormat::unknown: break;
+    }
+    return "unknown";
+}
+
+namespace {
+
+ScanFormat by_magic(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    in.read(head, sizeof head);
+    const auto n = static_cast<std::size_t>(in.gcount());
+    const auto starts = [&](const char* magic) {
+        const std::size_t m = std::strlen(magic);
+        return n >= m && std::memcmp(head, magic, m) == 0;
+    };
+    if (starts("ASTM-E57")) return ScanFormat::e57;
+    if (starts("LASF")) return ScanFormat::las;
+    if (starts("ply")) return ScanFormat::ply;
+    if (starts("# .PCD") || starts("VERSION")) return ScanFormat::pcd;
+    return ScanFormat::unknown;
+}
+
+}  // namespace
+
+ScanFormat detect_format(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".ptx") return ScanFormat::ptx;
+    if (ext == ".pts") return ScanFormat::pts;
+    if (ext == ".xyz" || ext == ".txt" || ext == ".asc") return ScanFormat::xyz;
+    if (ext == ".ply") return ScanFormat::ply;
+    if (ext == ".pcd") return ScanFormat::pcd;
+    if (ext == ".las") return ScanFormat::las;
+    if (ext == ".laz") return ScanFormat::laz;
+    if (ext == ".e57") return ScanFormat::e57;
+    return by_magic(path);
+}
+
+std::vector<Scan> read_scans(const std::filesystem::path& path) {
+    const ScanFormat format = detect_format(path);
+    switch (format) {
+        // Each reader adds its case here.
+        default: break;
+    }
+    throw_format_error(path, "no reader for format " + to_string(format));
+}
+
+}  // namespace tlsmon
