@@ -38,5 +38,6 @@ function(tlsmon_test_folder folder)
     TLSMON_DATA_DIR="${TLSMON_DATA_DIR}"
     TLSMON_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     TLSMON_BINARY="$<TARGET_FILE:tlsmon>")
+  add_dependencies(${_target} tlsmon)
   gtest_discover_tests(${_target} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
 endfunction()
