@@ -1,0 +1,80 @@
+#pragma once
+// The daemon's configuration: plain structs whose member initialisers are the defaults
+// (etc/tlsmon.toml and docs/configuration.md list the same values), filled from a TOML
+// file and validated in one place. Relative paths are resolved against the folder of the
+// configuration file, so a checkout runs with its own etc/tlsmon.toml.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "daemon/toml_fields.hpp"
+
+namespace tlsmon {
+
+struct StationConfig {
+    std::string name = "station";
+};
+
+struct PathsConfig {
+    std::filesystem::path ingest = "ingest";          // where the scanner drops its exports
+    std::filesystem::path archive = "archive";        // processed files (archive = "move")
+    std::filesystem::path quarantine = "quarantine";  // unreadable files + <name>.reason.txt
+    std::filesystem::path database = "tlsmon.sqlite";
+};
+
+struct IngestConfig {
+    // File name extensions (without the dot, compared case-insensitively) taken as scans.
+    std::vector<std::string> extensions = {"ptx", "pts", "xyz", "ply", "pcd", "las", "e57"};
+    double stable_seconds = 10.0;   // size and mtime unchanged this long -> complete
+    double rescan_interval = 60.0;  // full folder scan (inotify misses network shares)
+    double max_growing = 3600.0;    // a file still growing after this is reported
+    std::string archive = "move";   // "move" to paths.archive, or "keep" in place
+    std::string reference_epoch;    // "" = first accepted epoch; else file name or sha256
+    // Where an epoch's acquisition time comes from, first available wins.
+    std::vector<std::string> acquisition_time = {"scan", "file_name", "mtime"};
+    double retry_initial = 5.0;  // back-off after a database/disk failure, doubling ...
+    double retry_max = 300.0;    // ... up to this
+};
+
+struct LoggingConfig {
+    std::string level = "info";                // trace, debug, info, warn, error, critical, off
+    std::filesystem::path file;                // optional rotating log file ("" = none)
+    std::int64_t max_size = 10 * 1024 * 1024;  // bytes per log file before rotating
+    int max_files = 5;                         // rotated files kept
+    std::string journald = "auto";             // auto (under systemd), on, off
+};
+
+struct DaemonConfig {
+    double status_interval = 60.0;  // how often the systemd STATUS line is refreshed
+};
+
+// A named part of the structure; for now an axis-aligned box in the project frame.
+struct ZoneConfig {
+    std::string name;
+    std::array<double, 3> min{};
+    std::array<double, 3> max{};
+};
+
+struct Config {
+    std::filesystem::path file;  // the configuration file read ("" for built-in defaults)
+    StationConfig station;
+    PathsConfig paths;
+    IngestConfig ingest;
+    LoggingConfig logging;
+    DaemonConfig daemon;
+    std::vector<ZoneConfig> zones;
+};
+
+// Reads, resolves and validates; throws ConfigError "file:line:col: key 'a.b': what".
+Config load_config(const std::filesystem::path& path);
+// The same from text; relative paths resolve against `base_dir`.
+Config parse_config(std::string_view text, const std::string& source_name,
+                    const std::filesystem::path& base_dir);
+
+// The effective configuration as TOML lines ("ingest.stable_seconds = 10"), one per key.
+std::vector<std::string> describe(const Config& config);
+
+}  // namespace tlsmon
