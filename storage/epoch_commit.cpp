@@ -1,0 +1,153 @@
+// commit_epoch: everything one processed epoch produced, and its final status, in ONE
+// transaction (DESIGN.md "SQLite"): a crash or an error leaves nothing of it stored and the
+// epoch `processing`, which recover_interrupted() turns back into `pending`.
+#include <bit>
+#include <cstring>
+#include <map>
+
+#include "storage/epoch_database.hpp"
+#include "storage/epoch_database_impl.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+// Arrays are stored little-endian (docs/schema.md); the daemon runs on x86-64 and arm64.
+static_assert(std::endian::native == std::endian::little,
+              "core point arrays and transforms are stored as little-endian floats");
+
+void check_results(EpochDatabase::Impl& impl, EpochId id, const EpochResults& r) {
+    const std::string epoch = "epoch " + std::to_string(id) + ": ";
+    if (r.outcome != EpochStatus::done && r.outcome != EpochStatus::rejected) {
+        throw_storage(impl, epoch + "commit_epoch ends in done or rejected, not " +
+                                std::string(to_string(r.outcome)));
+    }
+    if (r.outcome == EpochStatus::rejected) {
+        if (r.reason.empty()) throw_storage(impl, epoch + "a rejected epoch needs a reason");
+        if (!r.zone_results.empty() || !r.core_point_arrays.empty()) {
+            throw_storage(impl, epoch + "a rejected epoch has no analysis results");
+        }
+    }
+}
+
+void write_registration(EpochDatabase::Impl& impl, EpochId id, const RegistrationRow& reg) {
+    SQLite::Statement s(impl.db,
+                        "INSERT INTO registrations (epoch_id, method, transform, target_count,"
+                        " rms_m, max_residual_m, sigma0, accepted, quality_json)"
+                        " VALUES (?,?,?,?,?,?,?,?,?)");
+    s.bind(1, id);
+    s.bind(2, reg.method);
+    s.bind(3, reg.transform.data(), static_cast<int>(sizeof(double) * reg.transform.size()));
+    s.bind(4, static_cast<std::int64_t>(reg.target_count));
+    s.bind(5, reg.rms_m);
+    s.bind(6, reg.max_residual_m);
+    bind_optional(s, 7, reg.sigma0);
+    s.bind(8, reg.accepted ? 1 : 0);
+    s.bind(9, reg.quality_json);
+    s.exec();
+}
+
+void write_targets(EpochDatabase::Impl& impl, EpochId id,
+                   const std::vector<TargetObservation>& targets) {
+    if (targets.empty()) return;
+    SQLite::Statement s(impl.db,
+                        "INSERT INTO target_observations (epoch_id, target, kind, measured_x,"
+                        " measured_y, measured_z, residual_x, residual_y, residual_z, stable,"
+                        " used) VALUES (?,?,?,?,?,?,?,?,?,?,?)");
+    for (const auto& t : targets) {
+        s.reset();
+        s.bind(1, id);
+        s.bind(2, t.target);
+        s.bind(3, t.kind);
+        for (int i = 0; i < 3; ++i) s.bind(4 + i, t.measured[i]);
+        for (int i = 0; i < 3; ++i) s.bind(7 + i, t.residual[i]);
+        s.bind(10, t.stable ? 1 : 0);
+        s.bind(11, t.used ? 1 : 0);
+        s.exec();
+    }
+}
+
+void write_zone_results(EpochDatabase::Impl& impl, EpochId id,
+                        const std::vector<ZoneResult>& results) {
+    if (results.empty()) return;
+    std::map<std::string, ZoneId> zone_ids;
+    SQLite::Statement s(impl.db,
+                        "INSERT INTO zone_results (zone_id, quantity, epoch_id, value,"
+                        " uncertainty, n, significant) VALUES (?,?,?,?,?,?,?)");
+    for (const auto& r : results) {
+        auto it = zone_ids.find(r.zone);
+        if (it == zone_ids.end())
+            it = zone_ids.emplace(r.zone, zone_id_by_name(impl, r.zone)).first;
+        s.reset();
+        s.bind(1, it->second);
+        s.bind(2, r.quantity);
+        s.bind(3, id);
+        s.bind(4, r.value);
+        bind_optional(s, 5, r.uncertainty);
+        s.bind(6, static_cast<std::int64_t>(r.n));
+        s.bind(7, r.significant ? 1 : 0);
+        s.exec();
+    }
+}
+
+void write_core_point_arrays(EpochDatabase::Impl& impl, EpochId id,
+                             const std::vector<CorePointArray>& arrays) {
+    if (arrays.empty()) return;
+    SQLite::Statement s(impl.db,
+                        "INSERT INTO core_point_arrays (epoch_id, quantity, count, data)"
+                        " VALUES (?,?,?,?)");
+    for (const auto& a : arrays) {
+        s.reset();
+        s.bind(1, id);
+        s.bind(2, a.quantity);
+        s.bind(3, static_cast<std::int64_t>(a.values.size()));
+        // bindNoCopy: the vector outlives exec().
+        s.bindNoCopy(4, a.values.data(), static_cast<int>(a.values.size() * sizeof(float)));
+        s.exec();
+    }
+}
+
+void write_status(EpochDatabase::Impl& impl, EpochId id, const EpochResults& r) {
+    SQLite::Statement s(impl.db,
+                        "UPDATE epochs SET status = ?, reason = ?, updated = ?, point_count = ?,"
+                        " read_ms = ?, register_ms = ?, analyse_ms = ?, total_ms = ?,"
+                        " archive_path = coalesce(?, archive_path)"
+                        " WHERE id = ? AND status = 'processing'");
+    s.bind(1, std::string(to_string(r.outcome)));
+    s.bind(2, r.reason);
+    s.bind(3, static_cast<std::int64_t>(now_utc()));
+    bind_optional(s, 4, r.point_count);
+    bind_optional(s, 5, r.timings.read_ms);
+    bind_optional(s, 6, r.timings.register_ms);
+    bind_optional(s, 7, r.timings.analyse_ms);
+    bind_optional(s, 8, r.timings.total_ms);
+    bind_optional(s, 9, r.archive_path);
+    s.bind(10, id);
+    if (s.exec() != 1) {
+        throw_storage(impl, "epoch " + std::to_string(id) +
+                                " is not processing; claim it before commit_epoch");
+    }
+}
+
+}  // namespace
+
+void EpochDatabase::commit_epoch(EpochId id, const EpochResults& results) {
+    check_results(*impl_, id, results);
+    const std::string context = "committing epoch " + std::to_string(id);
+    guarded(*impl_, context.c_str(), [&] {
+        // IMMEDIATE: take the write lock at BEGIN, so a busy database fails before any work.
+        SQLite::Transaction tx(impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+        // The status first: an epoch that is not ours fails before anything is written.
+        write_status(*impl_, id, results);
+        if (results.registration) write_registration(*impl_, id, *results.registration);
+        write_targets(*impl_, id, results.targets);
+        write_zone_results(*impl_, id, results.zone_results);
+        write_core_point_arrays(*impl_, id, results.core_point_arrays);
+        for (const auto& a : results.alarm_states) write_alarm_state(*impl_, a);
+        for (const auto& e : results.alarm_events) write_alarm_event(*impl_, e);
+        for (const auto& e : results.system_events) write_system_event(*impl_, e);
+        tx.commit();
+    });
+}
+
+}  // namespace tlsmon

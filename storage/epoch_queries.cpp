@@ -1,0 +1,219 @@
+// Read functions for `tlsmon status|query|events` and the HTTP API.
+#include <cstring>
+#include <limits>
+
+#include "storage/epoch_database.hpp"
+#include "storage/epoch_database_impl.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+std::int64_t range_from(const TimeRange& r) {
+    return r.from.value_or(std::numeric_limits<std::int64_t>::min());
+}
+std::int64_t range_to(const TimeRange& r) {
+    return r.to.value_or(std::numeric_limits<std::int64_t>::max());
+}
+
+std::optional<Epoch> first_epoch(EpochDatabase::Impl& impl, const std::string& where_order) {
+    SQLite::Statement s(impl.db, std::string("SELECT ") + kEpochColumns + " FROM epochs " +
+                                     where_order + " LIMIT 1");
+    if (!s.executeStep()) return std::nullopt;
+    return read_epoch(s);
+}
+
+std::int64_t file_bytes(const std::filesystem::path& p) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(p, ec);
+    return ec ? 0 : static_cast<std::int64_t>(size);
+}
+
+}  // namespace
+
+std::int64_t EpochDatabase::database_bytes() const {
+    return file_bytes(impl_->path) + file_bytes(impl_->path.string() + "-wal");
+}
+
+StatusSummary EpochDatabase::status_summary() const {
+    StatusSummary out;
+    guarded(*impl_, "reading the status summary", [&] {
+        for (auto s : {EpochStatus::pending, EpochStatus::processing, EpochStatus::done,
+                       EpochStatus::failed, EpochStatus::rejected}) {
+            out.epochs_by_status[s] = 0;
+        }
+        // One read transaction: every figure from the same snapshot.
+        SQLite::Transaction tx(impl_->db, SQLite::TransactionBehavior::DEFERRED);
+        SQLite::Statement counts(impl_->db, "SELECT status, count(*) FROM epochs GROUP BY status");
+        while (counts.executeStep()) {
+            out.epochs_by_status[epoch_status_from_string(counts.getColumn(0).getString())] =
+                counts.getColumn(1).getInt64();
+        }
+        out.backlog = out.epochs_by_status[EpochStatus::pending] +
+                      out.epochs_by_status[EpochStatus::processing];
+        out.last_done =
+            first_epoch(*impl_, "WHERE status = 'done' ORDER BY acquired DESC, id DESC");
+        out.last_failure = first_epoch(
+            *impl_, "WHERE status IN ('failed', 'rejected') ORDER BY updated DESC, id DESC");
+        SQLite::Statement oldest(impl_->db,
+                                 "SELECT min(acquired) FROM epochs WHERE status = 'pending'");
+        if (oldest.executeStep()) out.oldest_pending = optional_int64(oldest.getColumn(0));
+        out.reference_epoch = reference_epoch();
+        out.alarm_states = alarm_states();
+        for (const auto& a : out.alarm_states) {
+            if (a.state != "normal") ++out.alarms_active;
+            if (a.state == "unack" || a.state == "rtn_unack") ++out.alarms_unacknowledged;
+        }
+    });
+    out.database_bytes = database_bytes();
+    out.schema_version = impl_->version;
+    return out;
+}
+
+std::vector<Epoch> EpochDatabase::epochs_in_range(const TimeRange& range) const {
+    return guarded(*impl_, "listing epochs", [&] {
+        SQLite::Statement s(impl_->db, std::string("SELECT ") + kEpochColumns +
+                                           " FROM epochs WHERE acquired BETWEEN ? AND ?"
+                                           " ORDER BY acquired, id");
+        s.bind(1, range_from(range));
+        s.bind(2, range_to(range));
+        std::vector<Epoch> out;
+        while (s.executeStep()) out.push_back(read_epoch(s));
+        return out;
+    });
+}
+
+std::vector<SeriesPoint> EpochDatabase::series(const std::string& zone, const std::string& quantity,
+                                               const TimeRange& range) const {
+    return guarded(*impl_, "reading a time series", [&] {
+        // Served by the key (zone_id, quantity, epoch_id) of zone_results and the epochs key.
+        SQLite::Statement s(impl_->db,
+                            "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant"
+                            " FROM zone_results r JOIN epochs e ON e.id = r.epoch_id"
+                            " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
+                            " AND r.quantity = ? AND e.acquired BETWEEN ? AND ?"
+                            " ORDER BY e.acquired, e.id");
+        s.bind(1, zone);
+        s.bind(2, quantity);
+        s.bind(3, range_from(range));
+        s.bind(4, range_to(range));
+        std::vector<SeriesPoint> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),
+                           s.getColumn(2).getDouble(), optional_double(s.getColumn(3)),
+                           s.getColumn(4).getInt64(), s.getColumn(5).getInt() != 0});
+        }
+        return out;
+    });
+}
+
+std::vector<std::string> EpochDatabase::quantities(const std::string& zone) const {
+    return guarded(*impl_, "listing quantities", [&] {
+        SQLite::Statement s(impl_->db,
+                            "SELECT DISTINCT r.quantity FROM zone_results r"
+                            " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
+                            " ORDER BY r.quantity");
+        s.bind(1, zone);
+        std::vector<std::string> out;
+        while (s.executeStep()) out.push_back(s.getColumn(0).getString());
+        return out;
+    });
+}
+
+std::vector<EventRow> EpochDatabase::events(const TimeRange& range,
+                                            const std::optional<std::string>& kind) const {
+    return guarded(*impl_, "listing events", [&] {
+        SQLite::Statement s(
+            impl_->db,
+            "SELECT time, 'system' AS source, level, kind, message, epoch_id, '' AS rule, id"
+            " FROM system_events WHERE time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR kind = ?3)"
+            " UNION ALL"
+            " SELECT a.time, 'alarm', a.level, a.kind, a.message, a.epoch_id, r.name, a.id"
+            " FROM alarm_events a JOIN alarm_rules r ON r.id = a.rule_id"
+            " WHERE a.time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR a.kind = ?3)"
+            " ORDER BY 1, 2 DESC, 8");
+        s.bind(1, range_from(range));
+        s.bind(2, range_to(range));
+        bind_optional(s, 3, kind);
+        std::vector<EventRow> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getString(),
+                           s.getColumn(2).getString(), s.getColumn(3).getString(),
+                           s.getColumn(4).getString(), optional_int64(s.getColumn(5)),
+                           s.getColumn(6).getString()});
+        }
+        return out;
+    });
+}
+
+std::optional<CorePointArray> EpochDatabase::core_point_array(EpochId id,
+                                                              const std::string& quantity) const {
+    return guarded(*impl_, "reading a core point array", [&]() -> std::optional<CorePointArray> {
+        SQLite::Statement s(impl_->db,
+                            "SELECT count, data FROM core_point_arrays"
+                            " WHERE epoch_id = ? AND quantity = ?");
+        s.bind(1, id);
+        s.bind(2, quantity);
+        if (!s.executeStep()) return std::nullopt;
+        const auto count = s.getColumn(0).getInt64();
+        const auto data = s.getColumn(1);
+        if (count < 0 || data.getBytes() != count * static_cast<std::int64_t>(sizeof(float))) {
+            throw_storage(*impl_, "epoch " + std::to_string(id) + " core point array '" + quantity +
+                                      "': " + std::to_string(data.getBytes()) + " bytes for " +
+                                      std::to_string(count) + " values");
+        }
+        CorePointArray out{quantity, std::vector<float>(static_cast<std::size_t>(count))};
+        if (count > 0) std::memcpy(out.values.data(), data.getBlob(), data.getBytes());
+        return out;
+    });
+}
+
+std::optional<RegistrationRow> EpochDatabase::registration(EpochId id) const {
+    return guarded(*impl_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
+        SQLite::Statement s(impl_->db,
+                            "SELECT method, transform, target_count, rms_m, max_residual_m,"
+                            " sigma0, accepted, quality_json FROM registrations"
+                            " WHERE epoch_id = ?");
+        s.bind(1, id);
+        if (!s.executeStep()) return std::nullopt;
+        RegistrationRow r;
+        r.method = s.getColumn(0).getString();
+        const auto t = s.getColumn(1);
+        if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
+            throw_storage(*impl_, "epoch " + std::to_string(id) + ": transform has " +
+                                      std::to_string(t.getBytes()) + " bytes, not 128");
+        }
+        std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
+        r.target_count = s.getColumn(2).getInt64();
+        r.rms_m = s.getColumn(3).getDouble();
+        r.max_residual_m = s.getColumn(4).getDouble();
+        r.sigma0 = optional_double(s.getColumn(5));
+        r.accepted = s.getColumn(6).getInt() != 0;
+        r.quality_json = s.getColumn(7).getString();
+        return r;
+    });
+}
+
+std::vector<TargetObservation> EpochDatabase::target_observations(EpochId id) const {
+    return guarded(*impl_, "reading target observations", [&] {
+        SQLite::Statement s(impl_->db,
+                            "SELECT target, kind, measured_x, measured_y, measured_z, residual_x,"
+                            " residual_y, residual_z, stable, used FROM target_observations"
+                            " WHERE epoch_id = ? ORDER BY target");
+        s.bind(1, id);
+        std::vector<TargetObservation> out;
+        while (s.executeStep()) {
+            TargetObservation t;
+            t.target = s.getColumn(0).getString();
+            t.kind = s.getColumn(1).getString();
+            for (int i = 0; i < 3; ++i) t.measured[i] = s.getColumn(2 + i).getDouble();
+            for (int i = 0; i < 3; ++i) t.residual[i] = s.getColumn(5 + i).getDouble();
+            t.stable = s.getColumn(8).getInt() != 0;
+            t.used = s.getColumn(9).getInt() != 0;
+            out.push_back(t);
+        }
+        return out;
+    });
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,180 @@
+// Readers while the daemon writes (WAL), and a full disk surfacing as StorageError::disk_full.
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <sys/mount.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+#include "storage/epoch_database.hpp"
+#include "temp_dir.hpp"
+
+namespace tlsmon {
+namespace {
+
+using Mode = EpochDatabase::Mode;
+
+EpochResults one_zone(double value) {
+    EpochResults r;
+    r.zone_results = {{"deck", "m3c2_mean_m", value, 0.002, 50, false}};
+    return r;
+}
+
+TEST(Concurrency, ReaderDoesNotWaitForAnOpenWriteTransaction) {
+    test::TempDir dir;
+    const auto path = dir / "e.sqlite";
+    {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        db.insert_epoch({test::fake_sha256(1), 1000, "/i/a.ptx", 1, std::nullopt});
+    }
+    // Another process's writer in the middle of a transaction, holding the write lock.
+    SQLite::Database writer(path.string(), SQLite::OPEN_READWRITE);
+    SQLite::Transaction tx(writer, SQLite::TransactionBehavior::IMMEDIATE);
+    writer.exec(
+        "INSERT INTO epochs (sha256, acquired, discovered, updated, file_path, file_size)"
+        " VALUES ('" +
+        test::fake_sha256(2) + "', 2000, 0, 0, '/i/b.ptx', 1)");
+
+    const auto start = std::chrono::steady_clock::now();
+    auto reader = EpochDatabase::open(path, Mode::read_only, std::chrono::milliseconds(5000));
+    const auto s = reader.status_summary();
+    const auto waited = std::chrono::steady_clock::now() - start;
+    EXPECT_EQ(s.epochs_by_status.at(EpochStatus::pending), 1);  // not the uncommitted one
+    EXPECT_LT(waited, std::chrono::seconds(1));
+    // A second writer does wait, and after the busy timeout says so distinguishably.
+    auto other = EpochDatabase::open(path, Mode::read_write, std::chrono::milliseconds(100));
+    try {
+        other.insert_epoch({test::fake_sha256(3), 3000, "/i/c.ptx", 1, std::nullopt});
+        FAIL() << "wrote while another connection held the write lock";
+    } catch (const StorageError& e) {
+        EXPECT_TRUE(e.busy()) << e.what();
+        EXPECT_FALSE(e.disk_full()) << e.what();
+    }
+    tx.commit();
+    EXPECT_EQ(reader.pending_epochs().size(), 2u);
+}
+
+TEST(Concurrency, ReadersSeeWholeEpochsWhileTheWriterCommits) {
+    test::TempDir dir;
+    const auto path = dir / "e.sqlite";
+    auto db = EpochDatabase::open(path, Mode::read_write);
+    db.upsert_zone("deck", "{}");
+    constexpr int kEpochs = 150;
+    std::atomic<bool> writing{true};
+    std::thread writer([&] {
+        for (int i = 0; i < kEpochs; ++i) {
+            const auto id =
+                db.insert_epoch({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
+                    .id;
+            db.claim_epoch(id);
+            db.commit_epoch(id, one_zone(0.001 * i));
+        }
+        writing = false;
+    });
+    auto reader = EpochDatabase::open(path, Mode::read_only);
+    int reads = 0;
+    std::int64_t last_done = 0;
+    bool consistent = true;
+    while (writing || reads == 0) {
+        const auto s = reader.status_summary();
+        const auto done = s.epochs_by_status.at(EpochStatus::done);
+        const auto series = reader.series("deck", "m3c2_mean_m", {});
+        // Series read after the summary: at least as many rows, never a torn epoch.
+        if (done < last_done || static_cast<std::int64_t>(series.size()) < done) {
+            consistent = false;
+        }
+        last_done = done;
+        ++reads;
+    }
+    writer.join();
+    EXPECT_TRUE(consistent);
+    EXPECT_GT(reads, 1);
+    EXPECT_EQ(reader.status_summary().epochs_by_status.at(EpochStatus::done), kEpochs);
+    EXPECT_EQ(reader.series("deck", "m3c2_mean_m", {}).size(), static_cast<std::size_t>(kEpochs));
+}
+
+TEST(DiskFull, ErrorCodesAreClassified) {
+    EXPECT_TRUE(StorageError("x", SQLITE_FULL, SQLITE_FULL).disk_full());
+    EXPECT_TRUE(StorageError("x", SQLITE_IOERR, SQLITE_IOERR_WRITE).disk_full());
+    EXPECT_FALSE(StorageError("x", SQLITE_CONSTRAINT, SQLITE_CONSTRAINT_UNIQUE).disk_full());
+    EXPECT_FALSE(StorageError("x").disk_full());
+    EXPECT_TRUE(StorageError("x", SQLITE_BUSY, SQLITE_BUSY).busy());
+    EXPECT_FALSE(StorageError("x", SQLITE_FULL, SQLITE_FULL).busy());
+}
+
+// A real full file system: a 1 MiB tmpfs mounted for the test (needs root, as in CI).
+class SmallTmpfs {
+  public:
+    explicit SmallTmpfs(const std::filesystem::path& at) : at_(at) {
+        std::filesystem::create_directories(at_);
+        mounted_ = ::mount("tmpfs", at_.c_str(), "tmpfs", 0, "size=1m") == 0;
+    }
+    ~SmallTmpfs() {
+        if (mounted_) ::umount(at_.c_str());
+    }
+    bool mounted() const { return mounted_; }
+
+  private:
+    std::filesystem::path at_;
+    bool mounted_ = false;
+};
+
+TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
+    if (::geteuid() != 0) GTEST_SKIP() << "mounting a tmpfs needs root";
+    test::TempDir dir;
+    SmallTmpfs fs(dir / "mnt");
+    ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << std::strerror(errno);
+    const auto path = dir / "mnt" / "e.sqlite";
+    const auto filler = dir / "mnt" / "filler";
+    {
+        std::ofstream out(filler, std::ios::binary);
+        out << std::string(600 * 1024, '\0');
+    }
+    int done = 0;
+    EpochId stuck = 0;
+    {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        db.upsert_zone("deck", "{}");
+        bool full = false;
+        for (int i = 0; i < 100 && !full; ++i) {
+            const auto id =
+                db.insert_epoch({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
+                    .id;
+            ASSERT_TRUE(db.claim_epoch(id));
+            auto r = one_zone(0.001 * i);
+            r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.001f * i)}};
+            try {
+                db.commit_epoch(id, r);
+                ++done;
+            } catch (const StorageError& e) {
+                EXPECT_TRUE(e.disk_full()) << e.what();
+                EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos);
+                full = true;
+                stuck = id;
+            }
+        }
+        ASSERT_TRUE(full) << "the 1 MiB file system never filled";
+        EXPECT_GT(done, 0);
+        EXPECT_EQ(db.epoch(stuck)->status, EpochStatus::processing);
+        EXPECT_FALSE(db.core_point_array(stuck, "m3c2_distance_m"));
+    }
+    // Space comes back (the operator cleans up); the daemon restarts and retries the epoch.
+    std::filesystem::remove(filler);
+    auto db = EpochDatabase::open(path, Mode::read_write);
+    EXPECT_EQ(db.recover_interrupted(), 1);
+    ASSERT_TRUE(db.claim_epoch(stuck));
+    auto r = one_zone(0.5);
+    r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.5f)}};
+    db.commit_epoch(stuck, r);
+    EXPECT_EQ(db.series("deck", "m3c2_mean_m", {}).size(), static_cast<std::size_t>(done + 1));
+    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
+    EXPECT_EQ(raw.execAndGet("PRAGMA integrity_check").getString(), "ok");
+}
+
+}  // namespace
+}  // namespace tlsmon

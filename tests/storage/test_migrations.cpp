@@ -1,0 +1,127 @@
+// Migrations: applied in order and recorded, reopen idempotent, newer databases refused.
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "storage/epoch_database.hpp"
+#include "storage/schema_migrations.hpp"
+#include "temp_dir.hpp"
+
+namespace tlsmon {
+namespace {
+
+using Mode = EpochDatabase::Mode;
+
+TEST(Migrations, EmbeddedInVersionOrder) {
+    const auto migrations = schema_migrations();
+    ASSERT_GE(migrations.size(), 1u);
+    EXPECT_EQ(migrations[0].version, 1);
+    EXPECT_STREQ(migrations[0].name, "0001_initial");
+    EXPECT_NE(std::string(migrations[0].sql).find("CREATE TABLE epochs"), std::string::npos);
+    for (std::size_t i = 1; i < migrations.size(); ++i) {
+        EXPECT_LT(migrations[i - 1].version, migrations[i].version);
+    }
+    EXPECT_EQ(EpochDatabase::latest_schema_version(), migrations.back().version);
+}
+
+TEST(Migrations, AppliedAndRecordedOnCreate) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
+    }
+    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
+    SQLite::Statement s(raw, "SELECT version, name FROM schema_migrations ORDER BY version");
+    std::size_t i = 0;
+    for (const auto& m : schema_migrations()) {
+        ASSERT_TRUE(s.executeStep()) << "migration " << m.name << " not recorded";
+        EXPECT_EQ(s.getColumn(0).getInt(), m.version);
+        EXPECT_EQ(s.getColumn(1).getString(), m.name);
+        ++i;
+    }
+    EXPECT_FALSE(s.executeStep());
+    EXPECT_EQ(i, schema_migrations().size());
+    for (const char* table : {"stations", "epochs", "reference_epoch", "registrations",
+                              "target_observations", "zones", "zone_results", "core_point_arrays",
+                              "alarm_rules", "alarm_states", "alarm_events", "system_events"}) {
+        EXPECT_TRUE(raw.tableExists(table)) << table;
+    }
+    EXPECT_EQ(raw.execAndGet("PRAGMA journal_mode").getString(), "wal");
+}
+
+TEST(Migrations, ReopenIsIdempotentAndKeepsData) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        db.insert_epoch({test::fake_sha256(1), 1000, "/ingest/a.ptx", 10, std::nullopt});
+    }
+    for (int i = 0; i < 2; ++i) {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
+        ASSERT_EQ(db.pending_epochs().size(), 1u);
+    }
+    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
+    EXPECT_EQ(raw.execAndGet("SELECT count(*) FROM schema_migrations").getInt(),
+              static_cast<int>(schema_migrations().size()));
+}
+
+TEST(Migrations, NewerDatabaseIsRefused) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    EpochDatabase::open(path, Mode::read_write);
+    const int newer = EpochDatabase::latest_schema_version() + 1;
+    {
+        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE);
+        SQLite::Statement s(raw, "INSERT INTO schema_migrations VALUES (?, 'future', 0)");
+        s.bind(1, newer);
+        s.exec();
+    }
+    for (auto mode : {Mode::read_write, Mode::read_only}) {
+        try {
+            EpochDatabase::open(path, mode);
+            FAIL() << "a version " << newer << " database was opened";
+        } catch (const StorageError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+            EXPECT_NE(what.find("schema version " + std::to_string(newer) + " is newer"),
+                      std::string::npos)
+                << what;
+            EXPECT_FALSE(e.disk_full());
+        }
+    }
+}
+
+TEST(Migrations, ReadOnlyNeverCreatesOrMigrates) {
+    test::TempDir dir;
+    const auto path = dir / "missing.sqlite";
+    EXPECT_THROW(EpochDatabase::open(path, Mode::read_only), StorageError);
+    EXPECT_FALSE(std::filesystem::exists(path));
+    {  // an empty SQLite file (not yet migrated) is not silently migrated by a reader
+        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+        raw.exec("CREATE TABLE other (x)");
+    }
+    EXPECT_THROW(EpochDatabase::open(path, Mode::read_only), StorageError);
+    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
+    EXPECT_FALSE(raw.tableExists("epochs"));
+}
+
+TEST(Migrations, NotADatabaseIsAClearError) {
+    test::TempDir dir;
+    const auto path = dir / "garbage.sqlite";
+    {
+        std::ofstream out(path);
+        out << std::string(4096, 'x');
+    }
+    try {
+        EpochDatabase::open(path, Mode::read_write);
+        FAIL() << "a text file opened as a database";
+    } catch (const StorageError& e) {
+        EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace tlsmon
