@@ -1,0 +1,239 @@
+#include "formats/e57_reader.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string_view>
+
+#include "formats/e57_bitstream.hpp"
+#include "formats/e57_pages.hpp"
+#include "formats/e57_xml.hpp"
+#include "formats/mapped_file.hpp"
+
+namespace tlsmon {
+
+double gps_to_utc(double gps_seconds) {
+    // GPS - UTC grows by one second at each leap second. Listed as GPS seconds at which
+    // the new offset starts (UTC date of the leap second + the offset in force then).
+    constexpr double gps_epoch_unix = 315964800.0;  // 1980-01-06T00:00:00Z
+    constexpr std::array<double, 18> leap_unix = {
+        362793600, 394329600,  425865600,  489024000,  567993600,  631152000,
+        662688000, 709948800,  741484800,  773020800,  820454400,  867715200,
+        915148800, 1136073600, 1230768000, 1341100800, 1435708800, 1483228800};
+    double utc = gps_seconds + gps_epoch_unix;
+    int offset = 0;
+    for (const double leap : leap_unix)
+        if (utc - (offset + 1) >= leap) ++offset;
+    return utc - offset;
+}
+
+namespace {
+
+// Prototype field names of E2807 §10.5 PointRecord that the reader uses.
+enum Column {
+    cartesian_x,
+    cartesian_y,
+    cartesian_z,
+    spherical_range,
+    spherical_azimuth,
+    spherical_elevation,
+    intensity,
+    color_red,
+    color_green,
+    color_blue,
+    row_index,
+    column_index,
+    cartesian_invalid,
+    spherical_invalid,
+    column_count
+};
+constexpr std::array<std::string_view, column_count> column_names = {"cartesianX",
+                                                                     "cartesianY",
+                                                                     "cartesianZ",
+                                                                     "sphericalRange",
+                                                                     "sphericalAzimuth",
+                                                                     "sphericalElevation",
+                                                                     "intensity",
+                                                                     "colorRed",
+                                                                     "colorGreen",
+                                                                     "colorBlue",
+                                                                     "rowIndex",
+                                                                     "columnIndex",
+                                                                     "cartesianInvalidState",
+                                                                     "sphericalInvalidState"};
+
+// colorLimits -> 8 bits by equal buckets, floor((v - min) / (max - min) * 256) capped at
+// 255: the identity for 0..255 and v >> 8 for 0..65535 (as the LAS reader scales 16-bit
+// colour), so a LAS colour that went through E57 keeps its 8-bit value.
+std::uint8_t to_8bit(double v, const E57Range& r) {
+    const double span = r.maximum - r.minimum;
+    if (!(span > 0)) return 0;
+    const double c = std::floor((v - r.minimum) / span * 256.0);
+    return static_cast<std::uint8_t>(std::clamp(c, 0.0, 255.0));
+}
+
+// Limits from the scan's *Limits element, else the prototype field's declared range
+// (E2807 §10.5: the limits default to the field's minimum and maximum).
+E57Range limits_of(const std::optional<E57Range>& given, const E57Field& f) {
+    if (given) return *given;
+    E57Range r{f.declared_minimum(), f.declared_maximum()};
+    // Float fields without declared bounds carry ±FLT_MAX: take them as already 0..1.
+    if (std::abs(r.minimum) > 1e30 || std::abs(r.maximum) > 1e30) r = {0.0, 1.0};
+    return r;
+}
+
+Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
+    const E57CompressedVector& cv = info.points;
+    std::array<int, column_count> field_of;
+    field_of.fill(-1);
+    for (std::size_t f = 0; f < cv.fields.size(); ++f)
+        for (int c = 0; c < column_count; ++c)
+            if (cv.fields[f].name == column_names[c]) field_of[c] = static_cast<int>(f);
+    const auto has = [&](int c) { return field_of[c] >= 0; };
+
+    const bool cartesian = has(cartesian_x) && has(cartesian_y) && has(cartesian_z);
+    const bool spherical =
+        has(spherical_range) && has(spherical_azimuth) && has(spherical_elevation);
+    if (!cartesian && !spherical)
+        pages.fail(cv.xml_byte,
+                   "bad prototype: neither cartesianX/Y/Z nor "
+                   "sphericalRange/Azimuth/Elevation");
+    const bool has_intensity = has(intensity);
+    const bool has_colour = has(color_red) && has(color_green) && has(color_blue);
+    const bool has_grid = has(row_index) && has(column_index);
+    const int invalid = cartesian ? cartesian_invalid : spherical_invalid;
+
+    // Columns handed to the decoder, in this order; -1 where the field is absent.
+    std::vector<std::size_t> wanted;
+    std::array<int, column_count> slot;
+    slot.fill(-1);
+    const auto want = [&](int c) {
+        if (!has(c)) return;
+        slot[c] = static_cast<int>(wanted.size());
+        wanted.push_back(static_cast<std::size_t>(field_of[c]));
+    };
+    for (const int c : cartesian
+                           ? std::array{cartesian_x, cartesian_y, cartesian_z}
+                           : std::array{spherical_range, spherical_azimuth, spherical_elevation})
+        want(c);
+    if (has_intensity) want(intensity);
+    if (has_colour)
+        for (const int c : {color_red, color_green, color_blue}) want(c);
+    if (has_grid)
+        for (const int c : {row_index, column_index}) want(c);
+    want(invalid);
+
+    Scan scan;
+    scan.source = std::move(source);
+    scan.name = info.name;
+    scan.pose = info.pose;
+    if (info.acquisition_start_gps)
+        // E2807 §8.4.2 DateTime: dateTimeValue is GPS time (seconds since 1980-01-06,
+        // no leap seconds); Scan wants UTC.
+        scan.acquired_utc = gps_to_utc(*info.acquisition_start_gps);
+
+    E57Range intensity_range{0.0, 1.0};
+    if (has_intensity) {
+        intensity_range = limits_of(info.intensity_limits, cv.fields[field_of[intensity]]);
+        scan.intensity_raw_min = intensity_range.minimum;
+        scan.intensity_raw_max = intensity_range.maximum;
+    }
+    std::array<E57Range, 3> colour_range{};
+    if (has_colour)
+        for (int k = 0; k < 3; ++k)
+            colour_range[k] = limits_of(info.color_limits[k], cv.fields[field_of[color_red + k]]);
+
+    // Grid size from indexBounds (E2807 §10.3), else from the largest indices seen.
+    std::int64_t row_min = 0, column_min = 0, row_limit = -1, column_limit = -1;
+    if (has_grid && info.index_bounds) {
+        const E57IndexBounds& b = *info.index_bounds;
+        row_min = b.row_minimum;
+        column_min = b.column_minimum;
+        row_limit = b.row_maximum - b.row_minimum;
+        column_limit = b.column_maximum - b.column_minimum;
+        if (row_limit < 0 || column_limit < 0 || row_limit >= (std::int64_t{1} << 32) ||
+            column_limit >= (std::int64_t{1} << 32))
+            pages.fail(info.xml_byte, "indexBounds do not describe a grid");
+    }
+    ScanGrid grid;
+    std::int64_t row_max_seen = -1, column_max_seen = -1;
+
+    const Eigen::Matrix3d rotation = scan.pose.linear();
+    const Eigen::Vector3d translation = scan.pose.translation();
+    const float intensity_span =
+        static_cast<float>(intensity_range.maximum - intensity_range.minimum);
+
+    decode_e57_records(
+        pages, cv, wanted, [&](const std::vector<std::vector<double>>& col, std::size_t n) {
+            const auto value = [&](int c, std::size_t i) {
+                return col[static_cast<std::size_t>(slot[c])][i];
+            };
+            for (std::size_t i = 0; i < n; ++i) {
+                // Invalid state 0 = valid; 1 = direction only (no range), 2 = no point: skip both.
+                if (slot[invalid] >= 0 && value(invalid, i) != 0.0) continue;
+                Eigen::Vector3d p;
+                if (cartesian) {
+                    p = {value(cartesian_x, i), value(cartesian_y, i), value(cartesian_z, i)};
+                } else {
+                    // E2807 §10.5: azimuth from +x towards +y, elevation from the xy plane.
+                    const double r = value(spherical_range, i);
+                    const double az = value(spherical_azimuth, i);
+                    const double el = value(spherical_elevation, i);
+                    p = {r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az),
+                         r * std::sin(el)};
+                }
+                scan.xyz.push_back(rotation * p + translation);
+                if (has_intensity) {
+                    const float v =
+                        static_cast<float>(value(intensity, i) - intensity_range.minimum);
+                    scan.intensity.push_back(intensity_span > 0 ? v / intensity_span : 0.0f);
+                }
+                if (has_colour)
+                    scan.rgb.push_back({to_8bit(value(color_red, i), colour_range[0]),
+                                        to_8bit(value(color_green, i), colour_range[1]),
+                                        to_8bit(value(color_blue, i), colour_range[2])});
+                if (has_grid) {
+                    const auto r = static_cast<std::int64_t>(value(row_index, i)) - row_min;
+                    const auto c = static_cast<std::int64_t>(value(column_index, i)) - column_min;
+                    const bool bounded = row_limit >= 0;
+                    if (r < 0 || c < 0 || (bounded && (r > row_limit || c > column_limit)) ||
+                        r >= (std::int64_t{1} << 32) || c >= (std::int64_t{1} << 32))
+                        pages.fail(cv.xml_byte,
+                                   "point " + std::to_string(scan.xyz.size() - 1) +
+                                       " has rowIndex/columnIndex outside indexBounds");
+                    row_max_seen = std::max(row_max_seen, r);
+                    column_max_seen = std::max(column_max_seen, c);
+                    grid.row.push_back(static_cast<std::uint32_t>(r));
+                    grid.column.push_back(static_cast<std::uint32_t>(c));
+                }
+            }
+        });
+
+    if (has_grid) {
+        grid.rows = static_cast<std::uint32_t>((row_limit >= 0 ? row_limit : row_max_seen) + 1);
+        grid.columns =
+            static_cast<std::uint32_t>((column_limit >= 0 ? column_limit : column_max_seen) + 1);
+        scan.grid = std::move(grid);
+    }
+    return scan;
+}
+
+}  // namespace
+
+std::vector<Scan> read_e57(const std::filesystem::path& path) {
+    const MappedFile file(path);
+    E57Pages pages(file);
+    const std::string xml = pages.read_xml();
+    const std::vector<E57ScanInfo> infos = parse_e57_xml(pages, xml);
+    std::vector<Scan> scans;
+    scans.reserve(infos.size());
+    for (std::size_t k = 0; k < infos.size(); ++k) {
+        std::string source = path.string();
+        if (infos.size() > 1) source += "#" + std::to_string(k + 1);  // 1-based, as PTX
+        scans.push_back(read_scan(pages, infos[k], std::move(source)));
+    }
+    return scans;
+}
+
+}  // namespace tlsmon

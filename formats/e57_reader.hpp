@@ -1,0 +1,18 @@
+#pragma once
+// ASTM E2807 (E57) reader: every data3D scan of the file as one Scan, in the project
+// frame (pose applied), with intensity, colour and the row/column grid where present.
+#include <filesystem>
+#include <vector>
+
+#include "formats/scan.hpp"
+
+namespace tlsmon {
+
+// Throws FormatError naming the file and the byte offset for a damaged or unsupported file.
+std::vector<Scan> read_e57(const std::filesystem::path& path);
+
+// GPS time (seconds since 1980-01-06T00:00:00, no leap seconds) -> seconds since the Unix
+// epoch in UTC, with the leap seconds inserted up to 2017-01-01.
+double gps_to_utc(double gps_seconds);
+
+}  // namespace tlsmon
