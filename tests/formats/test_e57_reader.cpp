@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -12,6 +14,7 @@
 #include "formats/e57_reader.hpp"
 #include "formats/e57_writer.hpp"
 #include "formats/format_error.hpp"
+#include "formats/ptx_reader.hpp"
 #include "formats/scan_file.hpp"
 
 namespace tlsmon {
@@ -112,6 +115,37 @@ TEST(E57Reader, PumpWithGroupingAndImageEqualsThePlainPumpWithin1Micrometre) {
         ASSERT_EQ(a.rgb[i], b.rgb[i]);
     }
     EXPECT_EQ(off_by_rounding, 6112u);
+}
+
+// pumpA_from_e57.ptx is the same scan written as PTX with 6 decimals. PTX row k of a
+// column is E57 rowIndex k: the rows are NOT flipped (checked point by point below), and
+// the points come in the same order (column by column, the order of the E57 records).
+TEST(E57Reader, PumpScanEqualsItsPtxExportCellByCell) {
+    const Scan e = read_one(pump_file);
+    const std::vector<Scan> ptx =
+        read_ptx(std::filesystem::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx");
+    ASSERT_EQ(ptx.size(), 1u);
+    const Scan& p = ptx[0];
+    ASSERT_EQ(p.size(), 155201u);
+    ASSERT_EQ(e.size(), p.size());
+    ASSERT_TRUE(p.grid.has_value());
+    EXPECT_EQ(e.grid->rows, p.grid->rows);
+    EXPECT_EQ(e.grid->columns, p.grid->columns);
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        ASSERT_EQ(e.grid->row[i], p.grid->row[i]) << "point " << i;
+        ASSERT_EQ(e.grid->column[i], p.grid->column[i]) << "point " << i;
+        ASSERT_LE((e.xyz[i] - p.xyz[i]).cwiseAbs().maxCoeff(), 1e-6) << "point " << i;
+        ASSERT_EQ(e.rgb[i], p.rgb[i]) << "point " << i;
+        // Intensity: the E57 value is k / 32767 (ScaledInteger); the PTX holds it printed
+        // with %.6f. Recover k, print it the same way: the PTX value exactly.
+        const double k = std::round(static_cast<double>(e.intensity[i]) * 32767.0);
+        ASSERT_NEAR(static_cast<double>(e.intensity[i]), k / 32767.0, 1e-7);
+        char text[32];
+        std::snprintf(text, sizeof text, "%.6f", k * 3.0518509475997192e-05);
+        ASSERT_EQ(std::strtof(text, nullptr), p.intensity[i]) << "point " << i;
+        // Stored as float: within the PTX's rounding (5e-7) plus float resolution.
+        ASSERT_NEAR(e.intensity[i], p.intensity[i], 5e-7 + 6e-8) << "point " << i;
+    }
 }
 
 TEST(E57Reader, BunnyInFloatDoubleAndScaledIntegerAgree) {
