@@ -5,7 +5,12 @@
 #include <cstring>
 #include <fstream>
 
+#include "formats/ascii_reader.hpp"
+#include "formats/e57_reader.hpp"
 #include "formats/format_error.hpp"
+#include "formats/las_reader.hpp"
+#include "formats/pcl_formats.hpp"
+#include "formats/ptx_reader.hpp"
 
 namespace tlsmon {
 
@@ -63,6 +68,14 @@ std::vector<Scan> read_scans(const std::filesystem::path& path) {
     const ScanFormat format = detect_format(path);
     switch (format) {
         // Each reader adds its case here.
+        case ScanFormat::las:  // a .laz that is in fact uncompressed is read too
+        case ScanFormat::laz: return read_las(path);
+        case ScanFormat::ply: return read_ply(path);
+        case ScanFormat::pcd: return read_pcd(path);
+        case ScanFormat::ptx: return read_ptx(path);
+        case ScanFormat::pts: return read_pts(path);
+        case ScanFormat::xyz: return read_xyz(path);
+        case ScanFormat::e57: return read_e57(path);
         default: break;
     }
     throw_format_error(path, "no reader for format " + to_string(format));
