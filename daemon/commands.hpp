@@ -5,4 +5,5 @@
 
 namespace tlsmon {
 
+void add_simulate_command(CLI::App& app);
 }  // namespace tlsmon

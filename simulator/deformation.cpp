@@ -1,0 +1,43 @@
+#include "simulator/deformation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace tlsmon::sim {
+
+double thermal_time_factor(const Deformation& d, double hours) {
+    return 0.5 * (1.0 - std::cos(std::numbers::pi * hours / d.peak_hours));
+}
+
+Eigen::Vector3d pier_displacement(const Site& site, const Eigen::Vector3d& p, int epoch,
+                                  double hours) {
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    const Deformation& d = site.deformation;
+    const double h = site.pier.height;
+    const double zeta = std::clamp(p.z() / h, 0.0, 1.0);
+    if (d.enabled) {
+        const double s = thermal_time_factor(d, hours);
+        const double a = d.direction_deg * std::numbers::pi / 180.0;
+        const double uh = d.top_displacement * std::pow(zeta, d.exponent) * s;
+        u += Eigen::Vector3d(uh * std::cos(a), uh * std::sin(a), d.vertical_extension * zeta * s);
+    }
+    const Events& e = site.events;
+    if (e.step_epoch >= 0 && epoch >= e.step_epoch && p.z() >= e.step_z_min &&
+        p.z() <= e.step_z_max) {
+        u += e.step_displacement;
+    }
+    return u;
+}
+
+Eigen::Vector3d target_centre(const Site& site, std::size_t index, int epoch) {
+    Eigen::Vector3d c = site.targets.at(index).centre;
+    const Events& e = site.events;
+    if (e.knocked_target == static_cast<int>(index) && e.knocked_epoch >= 0 &&
+        epoch >= e.knocked_epoch) {
+        c += e.knocked_displacement;
+    }
+    return c;
+}
+
+}  // namespace tlsmon::sim

@@ -1,0 +1,178 @@
+#include "simulator/ray_cast.hpp"
+
+#include <cmath>
+
+#include "simulator/deformation.hpp"
+#include "simulator/texture.hpp"
+
+namespace tlsmon::sim {
+
+namespace {
+
+constexpr double kSphereAlbedo = 0.85;  // white matte target sphere
+constexpr double kWhite = 0.85, kBlack = 0.05;
+
+struct BoxHit {
+    double t = std::numeric_limits<double>::infinity();
+    int axis = -1;     // 0 x, 1 y, 2 z
+    bool low = false;  // entered through the low face of that axis
+};
+
+// Slab method (Kay & Kajiya 1986): entry distance into an axis-aligned box.
+BoxHit intersect_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& o,
+                     const Eigen::Vector3d& d) {
+    double t_in = -std::numeric_limits<double>::infinity();
+    double t_out = std::numeric_limits<double>::infinity();
+    BoxHit h;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(d[a]) < 1e-15) {
+            if (o[a] < lo[a] || o[a] > hi[a]) return {};
+            continue;
+        }
+        double t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
+        bool low = true;
+        if (t0 > t1) {
+            std::swap(t0, t1);
+            low = false;
+        }
+        if (t0 > t_in) {
+            t_in = t0;
+            h.axis = a;
+            h.low = low;
+        }
+        t_out = std::min(t_out, t1);
+    }
+    if (t_in > t_out || t_in <= 0.0) return {};
+    h.t = t_in;
+    return h;
+}
+
+int pier_face(const BoxHit& h) {
+    if (h.axis == 0) return h.low ? 0 : 1;
+    if (h.axis == 1) return h.low ? 2 : 3;
+    return 4;
+}
+
+// Face coordinates (u along the face, v up) of a point on face f.
+Eigen::Vector2d face_uv(int face, const Eigen::Vector3d& p) {
+    switch (face) {
+        case 0:
+        case 1:
+            return {p.y(), p.z()};
+        case 2:
+        case 3:
+            return {p.x(), p.z()};
+        default:
+            return {p.x(), p.y()};
+    }
+}
+
+void consider(Hit& best, const Hit& h) {
+    if (h.range < best.range) best = h;
+}
+
+}  // namespace
+
+SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h) : site(&s), epoch(e), hours(h) {
+    for (std::size_t i = 0; i < s.targets.size(); ++i) {
+        const Eigen::Vector3d c = target_centre(s, i, e);
+        target_centres.push_back(c);
+        // Planar targets are set up facing the station (horizontal normal towards it).
+        Eigen::Vector3d n = s.scanner.position - s.targets[i].centre;
+        n.z() = 0.0;
+        target_normals.push_back(n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitY());
+    }
+}
+
+Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+             double max_range) {
+    const Site& site = *scene.site;
+    Hit best;
+    best.range = max_range;
+
+    // Ground plane z = 0.
+    if (d.z() < 0.0) {
+        const double t = -o.z() / d.z();
+        if (t > 0.0 && t < best.range) {
+            const Eigen::Vector3d p = o + t * d;
+            consider(best, {Surface::ground, t, Eigen::Vector3d::UnitZ(),
+                            ground_albedo(site.texture, p.x(), p.y()), -1});
+        }
+    }
+
+    // Pier: cast against the undeformed box, then move onto the deformed face (see header).
+    const Pier& pier = site.pier;
+    const BoxHit bh = intersect_box({pier.x0, pier.y0, 0.0}, {pier.x1, pier.y1, pier.height}, o, d);
+    if (bh.axis >= 0 && bh.t < best.range + 1.0) {
+        const int face = pier_face(bh);
+        Eigen::Vector3d n = Eigen::Vector3d::Zero();
+        n[bh.axis] = bh.low ? -1.0 : 1.0;
+        const double dn = d.dot(n);
+        Eigen::Vector3d q = o + bh.t * d;
+        double t = bh.t;
+        for (int pass = 0; pass < 3 && std::abs(dn) > 1e-12; ++pass) {
+            const Eigen::Vector3d u = pier_displacement(site, q, scene.epoch, scene.hours);
+            t = n.dot(q + u - o) / dn;
+            q = o + t * d - u;
+        }
+        if (t > 0.0 && t < best.range) {
+            const Eigen::Vector2d uv = face_uv(face, q);
+            consider(best, {Surface::pier, t, n,
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1});
+        }
+    }
+
+    // Deck (not deformed).
+    if (site.deck.enabled) {
+        const Deck& k = site.deck;
+        const double cy = 0.5 * (pier.y0 + pier.y1);
+        const BoxHit dh = intersect_box(
+            {pier.x0 - k.overhang, cy - k.half_length, pier.height},
+            {pier.x1 + k.overhang, cy + k.half_length, pier.height + k.thickness}, o, d);
+        if (dh.axis >= 0 && dh.t < best.range) {
+            Eigen::Vector3d n = Eigen::Vector3d::Zero();
+            n[dh.axis] = dh.low ? -1.0 : 1.0;
+            const Eigen::Vector3d p = o + dh.t * d;
+            const int face = 5 + pier_face(dh);
+            const Eigen::Vector2d uv = face_uv(pier_face(dh), p);
+            consider(best, {Surface::deck, dh.t, n,
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1});
+        }
+    }
+
+    // Targets.
+    for (std::size_t i = 0; i < site.targets.size(); ++i) {
+        const Target& tg = site.targets[i];
+        const Eigen::Vector3d& c = scene.target_centres[i];
+        if (tg.kind == Target::Kind::sphere) {
+            // |o + t d − c|² = r²  ->  t = −b − sqrt(b² − (|o − c|² − r²)), b = d·(o − c).
+            const Eigen::Vector3d oc = o - c;
+            const double b = d.dot(oc);
+            const double disc = b * b - (oc.squaredNorm() - tg.radius * tg.radius);
+            if (disc < 0.0) continue;
+            const double t = -b - std::sqrt(disc);
+            if (t <= 0.0 || t >= best.range) continue;
+            const Eigen::Vector3d p = o + t * d;
+            consider(best,
+                     {Surface::sphere, t, (p - c) / tg.radius, kSphereAlbedo, static_cast<int>(i)});
+        } else {
+            const Eigen::Vector3d& n = scene.target_normals[i];
+            const double dn = d.dot(n);
+            if (std::abs(dn) < 1e-12) continue;
+            const double t = n.dot(c - o) / dn;
+            if (t <= 0.0 || t >= best.range) continue;
+            const Eigen::Vector3d p = o + t * d - c;
+            const Eigen::Vector3d horizontal(-n.y(), n.x(), 0.0);
+            const double a = p.dot(horizontal), b = p.z();
+            const double half = 0.5 * tg.size;
+            if (std::abs(a) > half || std::abs(b) > half) continue;
+            // 2x2 checkerboard: white where both coordinates have the same sign.
+            const double albedo = (a >= 0.0) == (b >= 0.0) ? kWhite : kBlack;
+            consider(best, {Surface::checkerboard, t, n, albedo, static_cast<int>(i)});
+        }
+    }
+    if (best.surface == Surface::none) best.range = std::numeric_limits<double>::infinity();
+    return best;
+}
+
+}  // namespace tlsmon::sim

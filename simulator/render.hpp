@@ -1,0 +1,45 @@
+#pragma once
+// Rendering one epoch's structured scan: rows × columns of beams cast from the disturbed
+// scanner pose into the scene, measured with noise, returned as a Scan with its grid and the
+// nominal (header) pose.
+//
+// Grid: column 0 is the first azimuth of the scan; columns advance clockwise seen from
+// above (azimuth decreasing), as a TLS head turns. Row 0 is the lowest elevation; rows go
+// up. Every point is stored with its row and column; empty cells (sky, out of range, too
+// weak a return) have no point.
+//
+// Measurement model per cell (nominal readout angles φ, e from the grid):
+//   beam direction   = d(φ + ε_φ, e + ε_e), ε ~ N(0, σ_angle)     encoder / beam jitter
+//   measured range   = r_true + N(0, (a + b·r_true)²)              range noise
+//   point (scanner)  = measured range · d(φ, e)                    computed from the readout
+//   intensity        = albedo · exp(−r / r_att) · |cos incidence| + N(0, σ_i), clamped 0..1
+// and a cell whose noise-free intensity is below `min_return` has no point.
+#include <cstdint>
+
+#include "formats/scan.hpp"
+#include "simulator/drift.hpp"
+#include "simulator/scene.hpp"
+
+namespace tlsmon::sim {
+
+struct GridShape {
+    std::uint32_t rows = 0, columns = 0;
+};
+GridShape grid_shape(const Scanner& scanner);
+
+// Readout angles of a cell, radians, scanner frame.
+double cell_azimuth(const Scanner& scanner, std::uint32_t column);
+double cell_elevation(const Scanner& scanner, std::uint32_t row);
+
+struct RenderedScan {
+    Scan scan;  // xyz through the nominal pose (what a reader gets from the header)
+    PoseError pose_error;
+    int epoch = 0;
+    double hours = 0.0;
+};
+
+// Renders epoch `epoch`, `hours` after the first epoch, on `threads` threads (the result
+// does not depend on the thread count). Throws tlsmon::Error for a grid over 400 M cells.
+RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads = 2);
+
+}  // namespace tlsmon::sim

@@ -1,0 +1,134 @@
+#pragma once
+// The simulated site as plain structs with defaults: a bridge pier on a ground plane, an
+// optional deck, reference targets on stable ground, and a terrestrial laser scanner on a
+// tripod that exports one structured scan per epoch.
+//
+// Project frame: x east, y north, z up, metres; the ground is the plane z = 0.
+// Scanner frame: levelled scanner, z up; azimuth φ counted counter-clockwise from the
+// scanner's +x axis, elevation e from the horizontal; beam direction
+// (cos e cos φ, cos e sin φ, sin e).
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tlsmon::sim {
+
+// The pier: an axis-aligned box standing on the ground (x0..x1, y0..y1, 0..height).
+struct Pier {
+    double x0 = 2.0, x1 = 17.0;   // 15 m wall, seen almost head-on from the south
+    double y0 = 45.0, y1 = 52.0;  // 7 m wall, seen at a grazing angle from the west
+    double height = 40.0;
+};
+
+// An optional deck on top of the pier (box), not deformed: the superstructure sits on
+// bearings and its own movement is not modelled.
+struct Deck {
+    bool enabled = false;
+    double overhang = 1.0;      // beyond the pier in x on each side, m
+    double half_length = 30.0;  // along y, each side of the pier centre, m
+    double thickness = 3.0;     // m
+};
+
+// A reference target on stable ground. Spheres: centre and radius. Checkerboards: a square
+// 2x2 black/white pattern whose centre is the common corner; facing the scanner.
+struct Target {
+    enum class Kind { sphere, checkerboard };
+    std::string name;
+    Kind kind = Kind::sphere;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = 0.0725;  // sphere, m (standard 145 mm sphere)
+    double size = 0.40;      // checkerboard side, m
+};
+
+struct Scanner {
+    std::string station = "S1";
+    Eigen::Vector3d position{0.0, 0.0, 1.5};  // tripod ~1.5 m above the ground
+    double heading_deg = 0.0;  // rotation of the scanner's x axis about z from project +x
+    // Angular window of the structured scan (scanner frame) and its steps.
+    double azimuth_min_deg = 55.0, azimuth_max_deg = 105.0;
+    double elevation_min_deg = -10.0, elevation_max_deg = 50.0;
+    double azimuth_step_deg = 0.12, elevation_step_deg = 0.12;
+    double max_range = 300.0;  // no return beyond, m
+    double min_return = 0.02;  // weaker returns (dark, far, grazing) give no point
+};
+
+// Measurement model. Range σ = a + b·range; angular noise on the beam direction;
+// additive intensity noise. All Gaussian, seeded per epoch and column.
+struct Noise {
+    bool enabled = true;
+    double range_a = 0.001;     // m
+    double range_b_ppm = 10.0;  // ppm of range
+    double angular_arcsec = 3.0;
+    double intensity_sigma = 0.01;
+    std::uint64_t seed = 1;
+};
+
+// Scanner instability per epoch (what registration must remove): rotation about the
+// standing axis drifting smoothly plus jitter, a small tilt, a small translation.
+struct Drift {
+    bool enabled = true;
+    double yaw_amplitude_arcsec = 30.0;  // smooth part: A·sin(2π t / period)
+    double yaw_period_hours = 24.0;
+    double yaw_jitter_arcsec = 2.0;
+    double tilt_amplitude_arcsec = 5.0;
+    double tilt_jitter_arcsec = 1.0;
+    double translation_sigma = 0.0005;  // m, per axis per epoch
+};
+
+// Thermal bending of the pier (see simulator/deformation.hpp for the equations).
+struct Deformation {
+    bool enabled = true;
+    double top_displacement = 0.040;    // horizontal, m, at the top at the peak
+    double direction_deg = -60.0;       // horizontal direction from project +x
+    double peak_hours = 6.0;            // time of the first peak after the start
+    double exponent = 2.0;              // height profile (z/H)^p; 2 = constant curvature
+    double vertical_extension = 0.002;  // m at the top at the peak
+};
+
+// Events: a step of one part of the pier, a knocked target, missing scans, a scan cut short.
+struct Events {
+    int step_epoch = -1;  // from this epoch on; -1 = none
+    double step_z_min = 30.0, step_z_max = 40.0;
+    Eigen::Vector3d step_displacement{0.0, -0.010, 0.0};
+    int knocked_target = -1;  // index into targets; -1 = none
+    int knocked_epoch = -1;
+    Eigen::Vector3d knocked_displacement{0.010, 0.0, 0.0};
+    std::vector<int> missing_epochs;
+    int cut_short_epoch = -1;
+    double cut_short_fraction = 0.5;  // fraction of point lines written before the cut
+};
+
+struct Texture {
+    std::uint64_t seed = 7;
+    double albedo = 0.45;      // mean concrete reflectance
+    double panel_width = 2.5;  // formwork panel, m
+    double panel_height = 1.25;
+    double joint_width = 0.02;         // m
+    double tie_hole_radius = 0.015;    // m
+    double range_attenuation = 400.0;  // intensity ∝ exp(−range / this)
+};
+
+struct Site {
+    Pier pier;
+    Deck deck;
+    std::vector<Target> targets;
+    Scanner scanner;
+    Noise noise;
+    Drift drift;
+    Deformation deformation;
+    Events events;
+    Texture texture;
+    double cadence_seconds = 900.0;
+};
+
+// Presets. `small`: tests (≈ 200k cells); `pier`: benchmarks (≈ 7.5 M cells);
+// `hochmosel`: a 140 m pier at 100–180 m range as in the Hochmoselbrücke case study.
+Site preset_small();
+Site preset_pier();
+Site preset_hochmosel();
+// By name; throws tlsmon::Error naming the unknown preset.
+Site preset(const std::string& name);
+std::vector<std::string> preset_names();
+
+}  // namespace tlsmon::sim

@@ -1,0 +1,171 @@
+#include "simulator/truth.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "simulator/deformation.hpp"
+#include "simulator/drift.hpp"
+#include "simulator/series.hpp"
+
+namespace tlsmon::sim {
+
+namespace {
+
+constexpr double kArcsecPerRad = 180.0 * 3600.0 / std::numbers::pi;
+
+nlohmann::json vec(const Eigen::Vector3d& v) {
+    return {v.x(), v.y(), v.z()};
+}
+
+// 4x4 in column-vector form, row by row: p' = M · [x y z 1]ᵀ.
+nlohmann::json matrix(const Eigen::Affine3d& a) {
+    nlohmann::json rows = nlohmann::json::array();
+    const Eigen::Matrix4d m = a.matrix();
+    for (int r = 0; r < 4; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+    return rows;
+}
+
+}  // namespace
+
+std::vector<SamplePoint> sample_points(const Site& site) {
+    const Pier& p = site.pier;
+    const double h = p.height;
+    const double xc = 0.5 * (p.x0 + p.x1), yc = 0.5 * (p.y0 + p.y1);
+    std::vector<SamplePoint> out;
+    for (const double z : {5.0, 10.0, 20.0, 30.0, h - 1.0}) {
+        if (z <= 0.0 || z > h) continue;
+        const std::string tag = "_z" + std::to_string(static_cast<int>(std::lround(z)));
+        out.push_back({"south_face" + tag, {xc, p.y0, z}});
+        out.push_back({"west_face" + tag, {p.x0, yc, z}});
+    }
+    out.push_back({"top_centre", {xc, yc, h}});
+    return out;
+}
+
+nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_t acquired_utc,
+                          const RenderedScan* rendered) {
+    using nlohmann::json;
+    json j;
+    j["format"] = "tlsmon-simulator-truth/1";
+    j["station"] = site.scanner.station;
+    j["epoch"] = epoch;
+    j["time_utc"] = format_utc(acquired_utc);
+    j["time_unix"] = acquired_utc;
+    j["hours_since_first_epoch"] = hours;
+    j["frame"] = "project: x east, y north, z up, metres, ground z = 0";
+
+    const Eigen::Affine3d nominal = nominal_pose(site.scanner);
+    json& sc = j["scanner"];
+    sc["position"] = vec(site.scanner.position);
+    sc["heading_deg"] = site.scanner.heading_deg;
+    sc["nominal_pose"] = matrix(nominal);
+    if (rendered) {
+        const PoseError& e = rendered->pose_error;
+        const Eigen::Affine3d E = e.transform();
+        sc["pose_error"] = {{"yaw_arcsec", e.yaw * kArcsecPerRad},
+                            {"tilt_x_arcsec", e.tilt_x * kArcsecPerRad},
+                            {"tilt_y_arcsec", e.tilt_y * kArcsecPerRad},
+                            {"translation_m", vec(e.translation)},
+                            {"matrix_scanner_frame", matrix(E)}};
+        sc["true_pose"] = matrix(nominal * E);
+        // p_true = H · p_header for coordinates read through the PTX header pose.
+        sc["header_to_true"] = matrix(nominal * E * nominal.inverse());
+    }
+    const Noise& n = site.noise;
+    j["noise"] = {{"enabled", n.enabled},
+                  {"range_sigma", "a + b * range"},
+                  {"range_a_m", n.range_a},
+                  {"range_b_ppm", n.range_b_ppm},
+                  {"angular_arcsec", n.angular_arcsec},
+                  {"intensity_sigma", n.intensity_sigma},
+                  {"seed", n.seed}};
+
+    json targets = json::array();
+    for (std::size_t i = 0; i < site.targets.size(); ++i) {
+        const Target& t = site.targets[i];
+        const Eigen::Vector3d c = target_centre(site, i, epoch);
+        json tj = {{"name", t.name},
+                   {"kind", t.kind == Target::Kind::sphere ? "sphere" : "checkerboard"},
+                   {"centre", vec(c)},
+                   {"reference_centre", vec(t.centre)},
+                   {"displacement", vec(c - t.centre)}};
+        if (t.kind == Target::Kind::sphere) {
+            tj["radius"] = t.radius;
+        } else {
+            tj["size"] = t.size;
+            Eigen::Vector3d nrm = site.scanner.position - t.centre;
+            nrm.z() = 0.0;
+            tj["normal"] = vec(nrm.normalized());
+        }
+        targets.push_back(tj);
+    }
+    j["targets"] = targets;
+
+    const Pier& p = site.pier;
+    j["pier"] = {{"x0", p.x0}, {"x1", p.x1}, {"y0", p.y0}, {"y1", p.y1}, {"height", p.height}};
+
+    const Deformation& d = site.deformation;
+    j["deformation"] = {
+        {"model", "thermal_bending"},
+        {"enabled", d.enabled},
+        {"equations",
+         "s(t) = (1 - cos(pi t / peak_hours)) / 2; u_h = top_displacement (z/H)^exponent s(t) "
+         "(cos a, sin a, 0); u_z = vertical_extension (z/H) s(t); a = direction_deg"},
+        {"top_displacement_m", d.top_displacement},
+        {"direction_deg", d.direction_deg},
+        {"peak_hours", d.peak_hours},
+        {"exponent", d.exponent},
+        {"vertical_extension_m", d.vertical_extension},
+        {"height_m", p.height},
+        {"time_factor", d.enabled ? thermal_time_factor(d, hours) : 0.0}};
+
+    json events = json::array();
+    const Events& ev = site.events;
+    if (ev.step_epoch >= 0 && epoch >= ev.step_epoch) {
+        events.push_back({{"type", "step"},
+                          {"since_epoch", ev.step_epoch},
+                          {"z_min", ev.step_z_min},
+                          {"z_max", ev.step_z_max},
+                          {"displacement", vec(ev.step_displacement)}});
+    }
+    if (ev.knocked_target >= 0 && ev.knocked_epoch >= 0 && epoch >= ev.knocked_epoch) {
+        events.push_back({{"type", "knocked_target"},
+                          {"since_epoch", ev.knocked_epoch},
+                          {"target", site.targets.at(ev.knocked_target).name},
+                          {"displacement", vec(ev.knocked_displacement)}});
+    }
+    if (ev.cut_short_epoch == epoch) {
+        events.push_back({{"type", "cut_short"}, {"fraction", ev.cut_short_fraction}});
+    }
+    for (const int m : ev.missing_epochs) {
+        if (m == epoch) events.push_back({{"type", "missing"}});
+    }
+    j["events"] = events;
+
+    json samples = json::array();
+    for (const SamplePoint& s : sample_points(site)) {
+        samples.push_back({{"name", s.name},
+                           {"point", vec(s.point)},
+                           {"displacement", vec(pier_displacement(site, s.point, epoch, hours))}});
+    }
+    j["samples"] = samples;
+
+    json& scan = j["scan"];
+    const Scanner& s = site.scanner;
+    scan["azimuth_min_deg"] = s.azimuth_min_deg;
+    scan["azimuth_max_deg"] = s.azimuth_max_deg;
+    scan["elevation_min_deg"] = s.elevation_min_deg;
+    scan["elevation_max_deg"] = s.elevation_max_deg;
+    scan["azimuth_step_deg"] = s.azimuth_step_deg;
+    scan["elevation_step_deg"] = s.elevation_step_deg;
+    scan["grid"] = "column 0 at azimuth_max, columns clockwise; row 0 at elevation_min, rows up";
+    scan["missing"] = rendered == nullptr;
+    if (rendered) {
+        scan["rows"] = rendered->scan.grid->rows;
+        scan["columns"] = rendered->scan.grid->columns;
+        scan["points"] = rendered->scan.size();
+    }
+    return j;
+}
+
+}  // namespace tlsmon::sim

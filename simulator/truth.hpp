@@ -1,0 +1,27 @@
+#pragma once
+// The truth written beside each simulated scan: everything needed to score registration,
+// M3C2 and keypoint displacements exactly (see docs/simulator.md for every field).
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "simulator/render.hpp"
+#include "simulator/scene.hpp"
+
+namespace tlsmon::sim {
+
+// A named material point of the pier where the truth reports the displacement vector.
+struct SamplePoint {
+    std::string name;
+    Eigen::Vector3d point;  // undeformed position, project frame
+};
+
+// South face (head-on) and west face (grazing) at 5, 10, 20, 30 m and near the top, plus
+// the centre of the top.
+std::vector<SamplePoint> sample_points(const Site& site);
+
+// `rendered` is null for a missing scan (pose error and grid then not reported).
+nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_t acquired_utc,
+                          const RenderedScan* rendered);
+
+}  // namespace tlsmon::sim
