@@ -1,0 +1,162 @@
+#include "daemon/ingest.hpp"
+
+#include <spdlog/spdlog.h>
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <chrono>
+
+#include "daemon/ingest_files.hpp"
+#include "daemon/sha256.hpp"
+
+namespace tlsmon {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+UtcSeconds now_utc() {
+    return std::chrono::duration_cast<std::chrono::seconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
+void log_at(const std::string& level, const std::string& message) {
+    if (level == "error") {
+        spdlog::error("{}", message);
+    } else if (level == "warning") {
+        spdlog::warn("{}", message);
+    } else {
+        spdlog::info("{}", message);
+    }
+}
+
+bool finished(EpochStatus s) {
+    return s == EpochStatus::done || s == EpochStatus::failed || s == EpochStatus::rejected;
+}
+
+// A file whose bytes cannot be read has no content hash; it is identified by what can be
+// seen of it (name, size, mtime), so the same unreadable file is recorded once.
+std::string unreadable_identity(const fs::path& file) {
+    struct stat st {};
+    ::stat(file.c_str(), &st);
+    return sha256_text("unreadable\n" + file.filename().string() + "\n" +
+                       std::to_string(st.st_size) + "\n" + std::to_string(st.st_mtim.tv_sec));
+}
+
+std::int64_t size_of(const fs::path& file) {
+    std::error_code ec;
+    const auto n = fs::file_size(file, ec);
+    return ec ? 0 : static_cast<std::int64_t>(n);
+}
+
+IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
+                                const std::string& problem) {
+    const std::string reason = "cannot read the file: " + problem;
+    std::string used;
+    NewEpoch row{unreadable_identity(file), acquisition_time(file, {"file_name", "mtime"}, used),
+                 file, size_of(file), ctx.station};
+    const EpochInsert ins = ctx.db.insert_epoch(row);
+    if (!ins.inserted) return IngestOutcome::known;
+    if (!ctx.db.claim_epoch(ins.id)) return IngestOutcome::known;
+    const fs::path to =
+        free_name(ctx.config.paths.quarantine, file.filename().string(), row.sha256.substr(0, 12));
+    write_reason_file(to, file.string(), reason);
+    ctx.db.fail_epoch(ins.id, reason, to.string());
+    try {
+        move_file(file, to);
+        ctx.events.record(ctx.db, "error", "unreadable",
+                          file.string() + ": " + reason + "; moved to " + to.string(), ins.id);
+    } catch (const Error& e) {
+        ctx.events.record(ctx.db, "error", "unreadable",
+                          file.string() + ": " + reason + "; left in place (" + e.what() + ")",
+                          ins.id);
+    }
+    return IngestOutcome::unreadable;
+}
+
+// The file has the content of an epoch that exists already.
+IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch& epoch) {
+    const bool same_path = fs::path(epoch.file_path) == file;
+    if (!finished(epoch.status)) {
+        if (same_path) return IngestOutcome::known;  // queued already (e.g. after a restart)
+    } else if (epoch.archive_path && !fs::exists(*epoch.archive_path) &&
+               fs::path(*epoch.archive_path)
+                   .filename()
+                   .string()
+                   .starts_with(file.stem().string())) {
+        // The epoch was committed but the daemon stopped before moving its file: finish.
+        move_file(file, *epoch.archive_path);
+        spdlog::info("{}: moved to {} (epoch {} was {} before the restart)", file.string(),
+                     *epoch.archive_path, epoch.id, to_string(epoch.status));
+        return IngestOutcome::known;
+    } else if (same_path && ctx.config.ingest.archive == "keep") {
+        return IngestOutcome::known;
+    }
+    if (ctx.config.ingest.archive == "move") {
+        std::error_code ec;
+        fs::remove(file, ec);
+        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate removed", file.string(),
+                     epoch.id, epoch.file_path, to_string(epoch.status));
+    } else {
+        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate left in place",
+                     file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
+    }
+    return IngestOutcome::duplicate;
+}
+
+}  // namespace
+
+void SystemEventLog::record(EpochDatabase& db, const std::string& level, const std::string& kind,
+                            const std::string& message, std::optional<EpochId> epoch) {
+    log_at(level, message);
+    if (waiting_.size() >= capacity) waiting_.pop_front();
+    waiting_.push_back(SystemEvent{now_utc(), level, kind, message, epoch});
+    flush(db);
+}
+
+void SystemEventLog::flush(EpochDatabase& db) {
+    while (!waiting_.empty()) {
+        try {
+            db.record_system_event(waiting_.front());
+        } catch (const StorageError& e) {
+            spdlog::debug("system event kept for later: {}", e.what());
+            return;
+        }
+        waiting_.pop_front();
+    }
+}
+
+IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
+    try {
+        std::string sha;
+        try {
+            sha = sha256_file(file);
+        } catch (const FileAccessError& e) {
+            if (e.error_number() == ENOENT) return IngestOutcome::known;  // gone meanwhile
+            return record_unreadable(ctx, file, e.what());
+        }
+        if (auto epoch = ctx.db.epoch_by_sha256(sha)) return handle_known(ctx, file, *epoch);
+        std::string used;
+        const UtcSeconds acquired =
+            acquisition_time(file, ctx.config.ingest.acquisition_time, used);
+        const EpochInsert ins =
+            ctx.db.insert_epoch(NewEpoch{sha, acquired, file, size_of(file), ctx.station});
+        if (!ins.inserted) {
+            if (auto epoch = ctx.db.epoch(ins.id)) return handle_known(ctx, file, *epoch);
+            return IngestOutcome::known;
+        }
+        spdlog::info("{}: new epoch {} (sha256 {}, acquired {} from {})", file.string(), ins.id,
+                     sha.substr(0, 12), acquired, used);
+        return IngestOutcome::new_epoch;
+    } catch (const StorageError& e) {
+        spdlog::warn("{}: the database refused the new epoch, will retry: {}", file.string(),
+                     e.what());
+        return IngestOutcome::retry_later;
+    } catch (const Error& e) {
+        spdlog::error("{}: {}", file.string(), e.what());
+        return IngestOutcome::retry_later;
+    }
+}
+
+}  // namespace tlsmon

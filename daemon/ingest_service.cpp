@@ -1,0 +1,264 @@
+#include "daemon/ingest_service.hpp"
+
+#include <poll.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <thread>
+
+#include "daemon/config.hpp"
+#include "daemon/ingest.hpp"
+#include "daemon/logging.hpp"
+#include "daemon/pipeline.hpp"
+#include "daemon/shutdown.hpp"
+#include "daemon/systemd_notify.hpp"
+#include "daemon/watcher.hpp"
+
+namespace tlsmon {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using std::chrono::duration;
+using std::chrono::duration_cast;
+
+namespace {
+
+Clock::duration seconds(double s) {
+    return duration_cast<Clock::duration>(duration<double>(s));
+}
+
+std::string zone_json(const ZoneConfig& z) {
+    auto v = [](const std::array<double, 3>& a) {
+        return "[" + std::to_string(a[0]) + "," + std::to_string(a[1]) + "," +
+               std::to_string(a[2]) + "]";
+    };
+    return R"({"type":"box","min":)" + v(z.min) + R"(,"max":)" + v(z.max) + "}";
+}
+
+void log_config(const Config& config) {
+    spdlog::info("configuration {}:", config.file.string());
+    for (const auto& line : describe(config)) spdlog::info("  {}", line);
+}
+
+void create_folders(const Config& c) {
+    for (const fs::path& p :
+         {c.paths.ingest, c.paths.archive, c.paths.quarantine, c.paths.database.parent_path()}) {
+        std::error_code ec;
+        fs::create_directories(p, ec);
+        if (ec) throw Error(p.string() + ": cannot create the folder: " + ec.message());
+    }
+}
+
+class Daemon {
+  public:
+    Daemon(Config config, bool once, Shutdown& shutdown)
+        : config_(std::move(config)),
+          once_(once),
+          shutdown_(shutdown),
+          db_(EpochDatabase::open(config_.paths.database, EpochDatabase::Mode::read_write)),
+          watcher_(config_.paths.ingest, config_.ingest) {}
+
+    void run();
+
+  private:
+    IngestContext context() { return IngestContext{db_, config_, station_, events_}; }
+    void start();
+    void reload();
+    void ingest_complete_files(Clock::time_point now);
+    // Processes pending epochs until none is left, a retry is due later, or stop.
+    void process_backlog();
+    void report_status();
+    Clock::duration next_wait(Clock::time_point now) const;
+
+    Config config_;
+    bool once_;
+    Shutdown& shutdown_;
+    EpochDatabase db_;
+    FolderWatcher watcher_;
+    SystemdNotify systemd_;
+    SystemEventLog events_;
+    std::optional<StationId> station_;
+    Clock::time_point next_rescan_{};
+    Clock::time_point retry_at_{};  // processing / ingest paused until then (disk full)
+    double backoff_ = 0;
+    std::vector<fs::path> retry_files_;
+    Clock::time_point next_status_{};
+    std::int64_t done_ = 0, failed_ = 0;
+};
+
+void Daemon::start() {
+    station_ = db_.upsert_station(config_.station.name, {0.0, 0.0, 0.0});
+    for (const auto& z : config_.zones) db_.upsert_zone(z.name, zone_json(z));
+    const std::int64_t recovered = db_.recover_interrupted();
+    events_.record(db_, "info", "start",
+                   "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
+                       " interrupted epoch(s) back to pending");
+    auto ctx = context();
+    update_reference(ctx, std::nullopt);
+    watcher_.rescan(Clock::now());
+    next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
+}
+
+void Daemon::reload() {
+    try {
+        Config fresh = load_config(config_.file);
+        if (fresh.paths.ingest != config_.paths.ingest ||
+            fresh.paths.database != config_.paths.database) {
+            spdlog::warn("reload: paths.ingest and paths.database change only on restart");
+            fresh.paths = config_.paths;
+        }
+        setup_logging(fresh.logging);
+        config_ = std::move(fresh);
+        watcher_.set_config(config_.ingest);
+        station_ = db_.upsert_station(config_.station.name, {0.0, 0.0, 0.0});
+        for (const auto& z : config_.zones) db_.upsert_zone(z.name, zone_json(z));
+        log_config(config_);
+        events_.record(db_, "info", "config_reload", "configuration reloaded");
+    } catch (const Error& e) {
+        events_.record(db_, "error", "config_reload",
+                       std::string("reload failed, the previous configuration stays: ") + e.what());
+    }
+}
+
+void Daemon::ingest_complete_files(Clock::time_point now) {
+    std::vector<GrowingFile> growing;
+    std::vector<fs::path> files = watcher_.take_complete(now, growing);
+    for (const auto& g : growing) {
+        events_.record(db_, "warning", "file_growing",
+                       g.path.string() + " is still growing after " +
+                           std::to_string(static_cast<long>(g.seconds)) + " s (" +
+                           std::to_string(g.size) + " bytes); not processed while it grows");
+    }
+    if (now >= retry_at_) {
+        files.insert(files.begin(), retry_files_.begin(), retry_files_.end());
+        retry_files_.clear();
+    } else {
+        retry_files_.insert(retry_files_.end(), files.begin(), files.end());
+        return;
+    }
+    auto ctx = context();
+    for (const auto& f : files) {
+        if (ingest_file(ctx, f) == IngestOutcome::retry_later) retry_files_.push_back(f);
+    }
+    if (!retry_files_.empty() && retry_at_ <= now) {
+        backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
+                                 : std::min(backoff_ * 2, config_.ingest.retry_max);
+        retry_at_ = now + seconds(backoff_);
+    }
+}
+
+void Daemon::process_backlog() {
+    if (Clock::now() < retry_at_) return;
+    auto ctx = context();
+    try {
+        events_.flush(db_);
+        if (backoff_ > 0) db_.recover_interrupted();
+        for (const Epoch& epoch : db_.pending_epochs()) {
+            if (shutdown_.stop_requested()) return;
+            const EpochOutcome outcome = process_epoch(ctx, epoch);
+            if (outcome == EpochOutcome::retry_later) {
+                backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
+                                         : std::min(backoff_ * 2, config_.ingest.retry_max);
+                retry_at_ = Clock::now() + seconds(backoff_);
+                spdlog::warn("processing paused for {:.1f} s", backoff_);
+                return;
+            }
+            if (outcome == EpochOutcome::done) ++done_;
+            if (outcome == EpochOutcome::failed) ++failed_;
+            backoff_ = 0;
+            systemd_.watchdog_if_due();
+            // New files keep arriving during a long backlog: take them in between.
+            watcher_.read_events(Clock::now());
+            if (shutdown_.take_reload()) reload();
+        }
+    } catch (const StorageError& e) {
+        backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
+                                 : std::min(backoff_ * 2, config_.ingest.retry_max);
+        retry_at_ = Clock::now() + seconds(backoff_);
+        spdlog::error("database: {}; retry in {:.1f} s", e.what(), backoff_);
+    }
+}
+
+void Daemon::report_status() {
+    const auto now = Clock::now();
+    if (now < next_status_) return;
+    next_status_ = now + seconds(config_.daemon.status_interval);
+    std::string text = std::to_string(done_) + " epoch(s) done, " + std::to_string(failed_) +
+                       " failed since start";
+    if (now < retry_at_) text += "; waiting to retry after a disk/database error";
+    systemd_.status(text);
+}
+
+Clock::duration Daemon::next_wait(Clock::time_point now) const {
+    Clock::duration wait = next_rescan_ > now ? next_rescan_ - now : Clock::duration::zero();
+    wait = std::min(wait, watcher_.until_next_check(now));
+    if (retry_at_ > now) wait = std::min(wait, retry_at_ - now);
+    if (auto w = systemd_.until_watchdog()) wait = std::min(wait, *w);
+    return std::max(wait, Clock::duration(std::chrono::milliseconds(10)));
+}
+
+void Daemon::run() {
+    start();
+    systemd_.ready();
+    spdlog::info("watching {}", config_.paths.ingest.string());
+    while (!shutdown_.stop_requested()) {
+        const auto now = Clock::now();
+        watcher_.read_events(now);
+        if (now >= next_rescan_) {
+            watcher_.rescan(now);
+            next_rescan_ = now + seconds(config_.ingest.rescan_interval);
+        }
+        ingest_complete_files(now);
+        process_backlog();
+        if (shutdown_.take_reload()) reload();
+        systemd_.watchdog_if_due();
+        report_status();
+        if (once_ && !watcher_.has_candidates() && retry_files_.empty() &&
+            Clock::now() >= retry_at_) {
+            break;
+        }
+        const auto wait = next_wait(Clock::now());
+        pollfd fds[2] = {{watcher_.fd(), POLLIN, 0}, {shutdown_.fd(), POLLIN, 0}};
+        const int ms =
+            static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(wait).count());
+        ::poll(fds, 2, ms);
+        if (fds[1].revents & POLLIN) shutdown_.clear_wakeup();
+    }
+    systemd_.stopping();
+    events_.record(db_, "info", "stop",
+                   "tlsmon stopped; " + std::to_string(done_) + " epoch(s) done, " +
+                       std::to_string(failed_) + " failed since start");
+}
+
+}  // namespace
+
+int run_daemon(const RunOptions& options) {
+    SignalThread::block_signals();
+    Config config;
+    try {
+        config = load_config(options.config_file);
+        setup_logging(config.logging);
+    } catch (const Error& e) {
+        std::cerr << "tlsmon run: " << e.what() << '\n';
+        return 1;
+    }
+    log_config(config);
+    // Services start in this order and stop in the reverse one: signals, then the daemon
+    // (watcher, database) which is destroyed before the signal thread is joined.
+    Shutdown shutdown;
+    SignalThread signals(shutdown);
+    try {
+        create_folders(config);
+        Daemon daemon(std::move(config), options.once, shutdown);
+        daemon.run();
+    } catch (const Error& e) {
+        spdlog::critical("tlsmon run: {}", e.what());
+        return 1;
+    }
+    spdlog::info("stopped");
+    return 0;
+}
+
+}  // namespace tlsmon

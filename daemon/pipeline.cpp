@@ -1,0 +1,134 @@
+#include "daemon/pipeline.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "daemon/ingest_files.hpp"
+#include "formats/scan_file.hpp"
+
+namespace tlsmon {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool names_reference(const Config& config, const Epoch& e) {
+    const std::string& want = config.ingest.reference_epoch;
+    if (want.empty()) return true;
+    return want == e.sha256 || want == fs::path(e.file_path).filename().string();
+}
+
+EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& reason) {
+    const fs::path file(epoch.file_path);
+    std::optional<std::string> moved_to;
+    if (fs::exists(file)) {
+        const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
+                                      epoch.sha256.substr(0, 12));
+        write_reason_file(to, file.string(), reason);
+        moved_to = to.string();
+    }
+    // The row first, then the move: after a stop in between, ingest finds the file again,
+    // sees the failed epoch and finishes the move (ingest.cpp, handle_known).
+    ctx.db.fail_epoch(epoch.id, reason, moved_to);
+    std::string where = "left in place";
+    if (moved_to) {
+        try {
+            move_file(file, *moved_to);
+            where = "moved to " + *moved_to;
+        } catch (const Error& e) {
+            where = std::string("could not be moved: ") + e.what();
+        }
+    }
+    ctx.events.record(ctx.db, "error", "epoch_failed",
+                      "epoch " + std::to_string(epoch.id) + " failed: " + reason + " (" +
+                          file.string() + " " + where + ")",
+                      epoch.id);
+    return EpochOutcome::failed;
+}
+
+}  // namespace
+
+void update_reference(IngestContext& ctx, std::optional<EpochId> committed) {
+    if (ctx.db.reference_epoch()) return;
+    std::optional<Epoch> chosen;
+    if (committed) {
+        chosen = ctx.db.epoch(*committed);
+        if (chosen && !names_reference(ctx.config, *chosen)) chosen.reset();
+    } else {
+        for (const auto& e : ctx.db.epochs_in_range({})) {
+            if (e.status == EpochStatus::done && names_reference(ctx.config, e)) {
+                chosen = e;
+                break;
+            }
+        }
+    }
+    if (!chosen || chosen->status != EpochStatus::done) return;
+    ctx.db.set_reference_epoch(chosen->id);
+    ctx.events.record(ctx.db, "info", "reference_epoch",
+                      "epoch " + std::to_string(chosen->id) + " (" + chosen->file_path +
+                          ") is the reference epoch",
+                      chosen->id);
+}
+
+EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        if (!ctx.db.claim_epoch(epoch.id)) return EpochOutcome::skipped;
+        const fs::path file(epoch.file_path);
+        if (!fs::exists(file)) {
+            return fail(ctx, epoch, "the file vanished before it was processed");
+        }
+        EpochResults results;
+        try {
+            const auto t_read = std::chrono::steady_clock::now();
+            const std::vector<Scan> scans = read_scans(file);
+            results.timings.read_ms = ms_since(t_read);
+            std::int64_t points = 0;
+            for (const auto& s : scans) points += static_cast<std::int64_t>(s.size());
+            if (points == 0) return fail(ctx, epoch, file.string() + ": the file holds no points");
+            results.point_count = points;
+        } catch (const StorageError&) {
+            throw;
+        } catch (const std::exception& e) {
+            return fail(ctx, epoch, e.what());
+        }
+        // Registration and the analyses plug in here as they become available.
+        std::optional<fs::path> archive_to;
+        if (ctx.config.ingest.archive == "move") {
+            archive_to = free_name(ctx.config.paths.archive, file.filename().string(),
+                                   epoch.sha256.substr(0, 12));
+            results.archive_path = archive_to->string();
+        }
+        results.timings.total_ms = ms_since(t0);
+        ctx.db.commit_epoch(epoch.id, results);
+        spdlog::info("epoch {} done: {} points, read {:.0f} ms ({})", epoch.id,
+                     *results.point_count, *results.timings.read_ms, file.string());
+        if (archive_to) {
+            try {
+                move_file(file, *archive_to);
+            } catch (const Error& e) {
+                ctx.events.record(ctx.db, "warning", "archive_failed", e.what(), epoch.id);
+            }
+        }
+        update_reference(ctx, epoch.id);
+        return EpochOutcome::done;
+    } catch (const StorageError& e) {
+        ctx.events.record(
+            ctx.db, "error", e.disk_full() ? "disk_full" : "database_error",
+            "epoch " + std::to_string(epoch.id) + " kept pending, will retry: " + e.what(),
+            epoch.id);
+        try {
+            ctx.db.release_epoch(epoch.id);
+        } catch (const StorageError&) {
+            // Still `processing`: recover_interrupted() before the retry puts it back.
+        }
+        return EpochOutcome::retry_later;
+    }
+}
+
+}  // namespace tlsmon

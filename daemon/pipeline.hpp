@@ -1,0 +1,19 @@
+#pragma once
+// Processing one pending epoch: claim -> read the scan -> the stages that exist (recording
+// what was done: point count, timings) -> commit in one transaction -> archive the file.
+// An unreadable file goes to quarantine and the epoch is `failed` with the reason; a disk
+// or database failure puts the epoch back to `pending` for a later retry.
+#include "daemon/ingest.hpp"
+
+namespace tlsmon {
+
+enum class EpochOutcome { done, failed, retry_later, skipped };
+
+EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch);
+
+// The reference epoch (epoch 0 of the analyses): the one named by ingest.reference_epoch
+// (file name or sha256), else the first accepted. Sets it when `epoch` qualifies and none
+// is set; at start, call with nullopt to repair a stop between commit and setting it.
+void update_reference(IngestContext& ctx, std::optional<EpochId> committed);
+
+}  // namespace tlsmon

@@ -1,0 +1,26 @@
+#pragma once
+// SHA-256 (FIPS 180-4) of a whole file: the identity of a scan in the epoch database.
+#include <filesystem>
+#include <string>
+
+#include "algorithms/error.hpp"
+
+namespace tlsmon {
+
+// A file that cannot be opened or read (permission, I/O error, vanished).
+class FileAccessError : public Error {
+  public:
+    FileAccessError(const std::string& what, int error_number)
+        : Error(what), error_number_(error_number) {}
+    int error_number() const noexcept { return error_number_; }
+
+  private:
+    int error_number_;
+};
+
+// 64 lower-case hex digits. Throws FileAccessError.
+std::string sha256_file(const std::filesystem::path& path);
+// The same for bytes in memory.
+std::string sha256_text(const std::string& bytes);
+
+}  // namespace tlsmon

@@ -1,0 +1,186 @@
+#include "daemon/watcher.hpp"
+
+#include <spdlog/spdlog.h>
+#include <sys/inotify.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+#include "algorithms/error.hpp"
+
+namespace tlsmon {
+
+namespace fs = std::filesystem;
+
+bool is_scan_name(const std::string& name, const std::vector<std::string>& extensions) {
+    if (name.empty() || name.front() == '.' || name.back() == '~') return false;
+    const auto dot = name.rfind('.');
+    if (dot == std::string::npos || dot == 0) return false;
+    std::string ext = name.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == "part" || ext == "tmp" || ext == "partial") return false;
+    return std::find(extensions.begin(), extensions.end(), ext) != extensions.end();
+}
+
+namespace {
+
+struct FileState {
+    bool exists = false;
+    bool regular = false;
+    std::int64_t size = -1;
+    std::int64_t mtime_ns = -1;
+};
+
+FileState stat_file(const fs::path& p) {
+    struct stat st {};
+    FileState s;
+    if (::stat(p.c_str(), &st) != 0) return s;
+    s.exists = true;
+    s.regular = S_ISREG(st.st_mode);
+    s.size = st.st_size;
+    s.mtime_ns = std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec;
+    return s;
+}
+
+}  // namespace
+
+FolderWatcher::FolderWatcher(fs::path folder, IngestConfig config)
+    : folder_(std::move(folder)), config_(std::move(config)) {
+    inotify_fd_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    if (inotify_fd_ < 0) throw Error(std::string("inotify_init1: ") + std::strerror(errno));
+    const std::uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_MODIFY | IN_DELETE |
+                               IN_MOVED_FROM | IN_ONLYDIR;
+    if (::inotify_add_watch(inotify_fd_, folder_.c_str(), mask) < 0) {
+        const int e = errno;
+        ::close(inotify_fd_);
+        throw Error(folder_.string() + ": cannot watch the ingest folder: " + std::strerror(e));
+    }
+}
+
+FolderWatcher::~FolderWatcher() {
+    ::close(inotify_fd_);
+}
+
+void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing, bool closed) {
+    if (!is_scan_name(name, config_.extensions)) return;
+    const fs::path path = folder_ / name;
+    const FileState st = stat_file(path);
+    if (!st.exists || !st.regular) return;
+    if (auto h = handed_.find(name); h != handed_.end()) {
+        if (h->second.size == st.size && h->second.mtime_ns == st.mtime_ns) return;
+        handed_.erase(h);  // new content under a known name: a new candidate
+    }
+    auto [it, added] = candidates_.try_emplace(name);
+    Candidate& c = it->second;
+    if (added) {
+        c.first_seen = now;
+        c.last_change = now;
+        c.size = st.size;
+        c.mtime_ns = st.mtime_ns;
+    }
+    if (writing) c.writing = true;
+    if (closed) c.writing = false;
+}
+
+void FolderWatcher::read_events(SteadyTime now) {
+    alignas(inotify_event) char buffer[16384];
+    for (;;) {
+        const ssize_t n = ::read(inotify_fd_, buffer, sizeof buffer);
+        if (n <= 0) {
+            if (n < 0 && errno == EINTR) continue;
+            break;
+        }
+        for (ssize_t off = 0; off < n;) {
+            const auto* ev = reinterpret_cast<const inotify_event*>(buffer + off);
+            off += static_cast<ssize_t>(sizeof(inotify_event) + ev->len);
+            if (ev->mask & IN_Q_OVERFLOW) {
+                spdlog::warn("{}: inotify queue overflowed; rescanning", folder_.string());
+                rescan(now);
+                continue;
+            }
+            if (ev->len == 0) continue;
+            const std::string name(ev->name);
+            if (ev->mask & (IN_DELETE | IN_MOVED_FROM)) {
+                candidates_.erase(name);
+                handed_.erase(name);
+            } else if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
+                touch(name, now, false, true);
+            } else if (ev->mask & (IN_CREATE | IN_MODIFY)) {
+                touch(name, now, true, false);
+            }
+        }
+    }
+}
+
+void FolderWatcher::rescan(SteadyTime now) {
+    std::error_code ec;
+    for (fs::directory_iterator it(folder_, ec), end; !ec && it != end; it.increment(ec)) {
+        touch(it->path().filename().string(), now, false, false);
+    }
+    if (ec) spdlog::warn("{}: cannot list the ingest folder: {}", folder_.string(), ec.message());
+    // Forget handed-out names whose file is gone (moved to the archive).
+    for (auto it = handed_.begin(); it != handed_.end();) {
+        it = stat_file(folder_ / it->first).exists ? std::next(it) : handed_.erase(it);
+    }
+}
+
+std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
+                                                   std::vector<GrowingFile>& growing) {
+    std::vector<fs::path> complete;
+    const auto stable = std::chrono::duration<double>(config_.stable_seconds);
+    const auto max_growing = std::chrono::duration<double>(config_.max_growing);
+    for (auto it = candidates_.begin(); it != candidates_.end();) {
+        Candidate& c = it->second;
+        const fs::path path = folder_ / it->first;
+        const FileState st = stat_file(path);
+        if (!st.exists || !st.regular) {
+            it = candidates_.erase(it);
+            continue;
+        }
+        if (st.size != c.size || st.mtime_ns != c.mtime_ns) {
+            c.size = st.size;
+            c.mtime_ns = st.mtime_ns;
+            c.last_change = now;
+        }
+        if (!c.writing && now - c.last_change >= stable) {
+            complete.push_back(path);
+            handed_[it->first] = Handed{st.size, st.mtime_ns};
+            it = candidates_.erase(it);
+            continue;
+        }
+        if (!c.reported_growing && now - c.first_seen >= max_growing) {
+            c.reported_growing = true;
+            growing.push_back(GrowingFile{
+                path, std::chrono::duration<double>(now - c.first_seen).count(), st.size});
+        }
+        ++it;
+    }
+    return complete;
+}
+
+void FolderWatcher::forget(const fs::path& path) {
+    handed_.erase(path.filename().string());
+}
+
+std::chrono::steady_clock::duration FolderWatcher::until_next_check(SteadyTime now) const {
+    using namespace std::chrono;
+    // Check often enough to see a file become stable soon after stable_seconds, but not
+    // busily: a quarter of stable_seconds, between 50 ms and 1 s.
+    const auto step = duration_cast<steady_clock::duration>(
+        duration<double>(std::clamp(config_.stable_seconds / 4.0, 0.05, 1.0)));
+    if (candidates_.empty()) return hours(1);
+    steady_clock::duration best = hours(1);
+    for (const auto& [name, c] : candidates_) {
+        const auto due = c.last_change + duration_cast<steady_clock::duration>(
+                                             duration<double>(config_.stable_seconds));
+        best = std::min(best, due > now ? due - now : steady_clock::duration::zero());
+    }
+    return std::clamp(best, steady_clock::duration(milliseconds(50)), step);
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,82 @@
+#pragma once
+// Watching the ingest folder for complete scan files. inotify (inotify(7)) reports
+// close-after-write and moved-in; a full scan at start and every rescan_interval catches
+// what inotify misses (network shares, events lost while the queue overflowed).
+//
+// A file is complete when
+//   - it is not being written: no IN_CREATE/IN_MODIFY since its last IN_CLOSE_WRITE or
+//     IN_MOVED_TO (a file only found by a scan counts as closed), and
+//   - its size and mtime have not changed for stable_seconds.
+// Hidden and temporary names (".x.part", "x.tmp", "x~") and other extensions are ignored.
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "daemon/config.hpp"
+
+namespace tlsmon {
+
+using SteadyTime = std::chrono::steady_clock::time_point;
+
+// Whether `name` looks like a scan the daemon should take (extension, not hidden/temporary).
+bool is_scan_name(const std::string& name, const std::vector<std::string>& extensions);
+
+struct GrowingFile {
+    std::filesystem::path path;
+    double seconds = 0;  // since first seen
+    std::int64_t size = 0;
+};
+
+class FolderWatcher {
+  public:
+    FolderWatcher(std::filesystem::path folder, IngestConfig config);  // throws Error
+    ~FolderWatcher();
+    FolderWatcher(const FolderWatcher&) = delete;
+    FolderWatcher& operator=(const FolderWatcher&) = delete;
+
+    int fd() const { return inotify_fd_; }
+    void set_config(const IngestConfig& config) { config_ = config; }
+
+    // Drains the pending inotify events (non-blocking).
+    void read_events(SteadyTime now);
+    // Lists the folder and adds every scan file not yet handed out.
+    void rescan(SteadyTime now);
+    // Files complete now; they are handed out once (until their size or mtime changes, or
+    // forget() is called). `growing` receives, once per file, those still not complete
+    // after max_growing.
+    std::vector<std::filesystem::path> take_complete(SteadyTime now,
+                                                     std::vector<GrowingFile>& growing);
+    // Hand the file out again at the next rescan (e.g. the database was full).
+    void forget(const std::filesystem::path& path);
+
+    bool has_candidates() const { return !candidates_.empty(); }
+    // When the next stability check is worth doing (now if nothing is tracked: none needed).
+    std::chrono::steady_clock::duration until_next_check(SteadyTime now) const;
+
+  private:
+    struct Candidate {
+        std::int64_t size = -1;
+        std::int64_t mtime_ns = -1;
+        SteadyTime first_seen;
+        SteadyTime last_change;
+        bool writing = false;
+        bool reported_growing = false;
+    };
+    struct Handed {
+        std::int64_t size = -1;
+        std::int64_t mtime_ns = -1;
+    };
+
+    void touch(const std::string& name, SteadyTime now, bool writing, bool closed);
+
+    std::filesystem::path folder_;
+    IngestConfig config_;
+    int inotify_fd_ = -1;
+    std::map<std::string, Candidate> candidates_;
+    std::map<std::string, Handed> handed_;
+};
+
+}  // namespace tlsmon
