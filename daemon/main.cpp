@@ -10,6 +10,8 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("tlsmon ") + TLSMON_VERSION);
     app.require_subcommand(1);
     // Subcommands (one file each under daemon/):
+    tlsmon::add_check_config_command(app);
+    tlsmon::add_run_command(app);
     tlsmon::add_simulate_command(app);
 
     try {
