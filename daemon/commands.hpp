@@ -8,4 +8,8 @@ namespace tlsmon {
 void add_check_config_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
+void add_status_command(CLI::App& app);
+void add_query_command(CLI::App& app);
+void add_events_command(CLI::App& app);
+
 }  // namespace tlsmon

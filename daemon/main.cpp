@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
     tlsmon::add_check_config_command(app);
     tlsmon::add_run_command(app);
     tlsmon::add_simulate_command(app);
+    tlsmon::add_status_command(app);
+    tlsmon::add_query_command(app);
+    tlsmon::add_events_command(app);
 
     try {
         app.parse(argc, argv);

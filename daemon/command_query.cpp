@@ -1,0 +1,95 @@
+// `tlsmon query epochs|series`: the epochs of a time range, and the time series of one zone
+// and quantity, read from the epoch database (read-only: safe while the daemon writes).
+#include <iostream>
+
+#include "daemon/commands.hpp"
+#include "daemon/query_output.hpp"
+#include "storage/utc_time.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+Table epochs_table(const std::vector<Epoch>& epochs) {
+    Table t{
+        {"epoch", "acquired", "status", "points", "total_ms", "file", "size", "sha256", "reason"},
+        {}};
+    t.rows.reserve(epochs.size());
+    for (const auto& e : epochs) {
+        t.rows.push_back({e.id, format_utc(e.acquired), std::string(to_string(e.status)),
+                          optional_cell(e.point_count), optional_cell(e.timings.total_ms),
+                          e.archive_path.value_or(e.file_path), e.file_size, e.sha256, e.reason});
+    }
+    return t;
+}
+
+Table series_table(const std::vector<SeriesPoint>& points) {
+    Table t{{"epoch", "acquired", "value", "uncertainty", "n", "significant"}, {}};
+    t.rows.reserve(points.size());
+    for (const auto& p : points) {
+        t.rows.push_back({p.epoch, format_utc(p.acquired), p.value, optional_cell(p.uncertainty),
+                          p.n, p.significant});
+    }
+    return t;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s.empty() ? "none" : s;
+}
+
+// A misspelt zone or quantity is an error naming what exists, not an empty series.
+void check_series_names(const EpochDatabase& db, const std::string& zone,
+                        const std::string& quantity) {
+    std::vector<std::string> zones;
+    for (const auto& z : db.zones()) zones.push_back(z.first);
+    if (std::find(zones.begin(), zones.end(), zone) == zones.end()) {
+        throw Error("no zone '" + zone + "' in " + db.path().string() +
+                    " (zones: " + joined(zones) + ")");
+    }
+    const auto quantities = db.quantities(zone);
+    if (!quantities.empty() &&
+        std::find(quantities.begin(), quantities.end(), quantity) == quantities.end()) {
+        throw Error("zone '" + zone + "' has no quantity '" + quantity +
+                    "' (quantities: " + joined(quantities) + ")");
+    }
+}
+
+}  // namespace
+
+void add_query_command(CLI::App& app) {
+    auto* query = app.add_subcommand("query", "Query the epoch database");
+    query->require_subcommand(1);
+
+    auto epochs_options = std::make_shared<ReadOptions>();
+    auto* epochs = query->add_subcommand("epochs", "Epochs acquired in a time range");
+    add_read_options(epochs, *epochs_options, true);
+    epochs->callback([epochs_options] {
+        run_reporting_errors("query epochs", [&] {
+            const auto range = time_range(*epochs_options);
+            const auto db = open_for_reading(*epochs_options);
+            print(std::cout, epochs_table(db.epochs_in_range(range)),
+                  output_format(*epochs_options));
+        });
+    });
+
+    auto series_options = std::make_shared<ReadOptions>();
+    auto zone = std::make_shared<std::string>();
+    auto quantity = std::make_shared<std::string>();
+    auto* series = query->add_subcommand("series", "Time series of one zone and quantity");
+    series->add_option("--zone", *zone, "Zone name")->required();
+    series->add_option("--quantity", *quantity, "Quantity (e.g. m3c2_mean_m)")->required();
+    add_read_options(series, *series_options, true);
+    series->callback([series_options, zone, quantity] {
+        run_reporting_errors("query series", [&] {
+            const auto range = time_range(*series_options);
+            const auto db = open_for_reading(*series_options);
+            check_series_names(db, *zone, *quantity);
+            print(std::cout, series_table(db.series(*zone, *quantity, range)),
+                  output_format(*series_options));
+        });
+    });
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,264 @@
+// `tlsmon status|query|events`: the built binary on a database filled through the storage
+// API, checking the printed values in table, CSV and JSON.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string out;  // stdout, or stdout+stderr when asked
+};
+
+Run run(const std::string& args, bool with_stderr = false) {
+    const std::string cmd =
+        std::string(TLSMON_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+    Run r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+    const int status = ::pclose(pipe);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+
+std::string sha(int n) {
+    std::string s(64, 'a');
+    s.back() = static_cast<char>('0' + n);
+    return s;
+}
+
+constexpr UtcSeconds kT0 = 1772366400;  // 2026-03-01T12:00:00Z
+
+class QueryCommands : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ =
+            std::filesystem::temp_directory_path() / ("tlsmon-query-" + std::to_string(::getpid()));
+        std::filesystem::remove_all(dir_);
+        std::filesystem::create_directories(dir_);
+        db_path_ = dir_ / "e.sqlite";
+        auto db = EpochDatabase::open(db_path_, EpochDatabase::Mode::read_write);
+        db.upsert_zone("pier P3 top", "{}");
+        db.upsert_zone("segment 7", "{}");
+        db.upsert_alarm_rule({0, "P3 settlement", "pier P3 top", "m3c2_mean_m", "{}", true});
+        const double values[] = {-0.0012, -0.0042};
+        for (int i = 0; i < 3; ++i) {
+            const auto id =
+                db.insert_epoch({sha(i), kT0 + 900 * i, "/ingest/s" + std::to_string(i) + ".ptx",
+                                 1000 + i, std::nullopt})
+                    .id;
+            db.claim_epoch(id);
+            EpochResults r;
+            if (i < 2) {
+                r.point_count = 500000 + i;
+                r.timings.total_ms = 2500.5;
+                r.zone_results = {{"pier P3 top", "m3c2_mean_m", values[i],
+                                   i == 0 ? std::optional<double>() : std::optional<double>(0.0018),
+                                   812 + i, i == 1},
+                                  {"segment 7", "m3c2_mean_m", 0.0001, 0.002, 40, false}};
+            } else {
+                r.outcome = EpochStatus::rejected;
+                r.reason = "registration RMS 12.0 mm > 5.0 mm";
+            }
+            db.commit_epoch(id, r);
+        }
+        db.insert_epoch({sha(7), kT0 + 2700, "/ingest/s3.ptx", 1003, std::nullopt});
+        db.set_reference_epoch(1);
+        db.record_system_event({kT0 - 60, "info", "start", "tlsmon started", std::nullopt});
+        db.record_system_event(
+            {kT0 + 1000, "error", "disk_full", "write failed, \"/var\" full", std::nullopt});
+        db.set_alarm_state({"P3 settlement", "unack", "H", kT0 + 900, -0.0042, 2});
+        db.record_alarm_event(
+            {kT0 + 900, "P3 settlement", "raise", "H", -0.0042, 2, "P3 top settled 4.2 mm"});
+    }
+    void TearDown() override { std::filesystem::remove_all(dir_); }
+
+    std::string db() const { return "--db " + db_path_.string(); }
+
+    std::filesystem::path dir_;
+    std::filesystem::path db_path_;
+};
+
+TEST_F(QueryCommands, SeriesAsCsv) {
+    const auto r =
+        run("query series --zone 'pier P3 top' --quantity m3c2_mean_m --format csv " + db());
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(lines(r.out), (std::vector<std::string>{
+                                "epoch,acquired,value,uncertainty,n,significant",
+                                "1,2026-03-01T12:00:00Z,-0.0012,,812,false",
+                                "2,2026-03-01T12:15:00Z,-0.0042,0.0018,813,true",
+                            }));
+}
+
+TEST_F(QueryCommands, SeriesAsJsonWithTimeRange) {
+    const auto r =
+        run("query series --zone 'pier P3 top' --quantity m3c2_mean_m --format json"
+            " --from 2026-03-01T12:10Z --to 2026-03-01T13:00:00Z " +
+            db());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0]["epoch"], 2);
+    EXPECT_EQ(j[0]["acquired"], "2026-03-01T12:15:00Z");
+    EXPECT_DOUBLE_EQ(j[0]["value"].get<double>(), -0.0042);
+    EXPECT_DOUBLE_EQ(j[0]["uncertainty"].get<double>(), 0.0018);
+    EXPECT_EQ(j[0]["significant"], true);
+    // A time with an offset is converted to UTC: 13:10+01:00 is 12:10Z.
+    const auto same =
+        run("query series --zone 'pier P3 top' --quantity m3c2_mean_m"
+            " --format json --from 2026-03-01T13:10+01:00 " +
+            db());
+    EXPECT_EQ(nlohmann::json::parse(same.out), j);
+}
+
+TEST_F(QueryCommands, SeriesAsTable) {
+    const auto r = run("query series --zone 'segment 7' --quantity m3c2_mean_m " + db());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto l = lines(r.out);
+    ASSERT_EQ(l.size(), 3u);
+    EXPECT_EQ(l[0].rfind("epoch  acquired", 0), 0u) << l[0];
+    EXPECT_NE(l[2].find("2026-03-01T12:15:00Z  0.0001"), std::string::npos) << l[2];
+    EXPECT_NE(l[2].find("0.002"), std::string::npos) << l[2];
+    EXPECT_EQ(l[1].size(), l[2].size());  // aligned columns
+}
+
+TEST_F(QueryCommands, EpochsInAllFormats) {
+    const auto json = run("query epochs --format json " + db());
+    ASSERT_EQ(json.status, 0) << json.out;
+    const auto j = nlohmann::json::parse(json.out);
+    ASSERT_EQ(j.size(), 4u);
+    EXPECT_EQ(j[0]["status"], "done");
+    EXPECT_EQ(j[0]["points"], 500000);
+    EXPECT_DOUBLE_EQ(j[0]["total_ms"].get<double>(), 2500.5);
+    EXPECT_EQ(j[2]["status"], "rejected");
+    EXPECT_EQ(j[2]["reason"], "registration RMS 12.0 mm > 5.0 mm");
+    EXPECT_EQ(j[3]["status"], "pending");
+    EXPECT_TRUE(j[3]["points"].is_null());
+    EXPECT_EQ(j[3]["acquired"], "2026-03-01T12:45:00Z");
+
+    const auto csv = run("query epochs --format csv --from 2026-03-01T12:30Z " + db());
+    ASSERT_EQ(csv.status, 0);
+    const auto l = lines(csv.out);
+    ASSERT_EQ(l.size(), 3u);
+    EXPECT_EQ(l[0], "epoch,acquired,status,points,total_ms,file,size,sha256,reason");
+    EXPECT_EQ(l[1], "3,2026-03-01T12:30:00Z,rejected,,,/ingest/s2.ptx,1002," + sha(2) +
+                        ",registration RMS 12.0 mm > 5.0 mm");
+
+    const auto table = run("query epochs --to 2026-03-01T12:00:00Z " + db());
+    ASSERT_EQ(table.status, 0);
+    const auto t = lines(table.out);
+    ASSERT_EQ(t.size(), 2u);
+    EXPECT_NE(t[1].find("done"), std::string::npos);
+    EXPECT_NE(t[1].find("/ingest/s0.ptx"), std::string::npos);
+}
+
+TEST_F(QueryCommands, EventsInAllFormats) {
+    const auto csv = run("events --format csv " + db());
+    ASSERT_EQ(csv.status, 0) << csv.out;
+    EXPECT_EQ(lines(csv.out),
+              (std::vector<std::string>{
+                  "time,source,level,kind,rule,epoch,message",
+                  "2026-03-01T11:59:00Z,system,info,start,,,tlsmon started",
+                  "2026-03-01T12:15:00Z,alarm,H,raise,P3 settlement,2,P3 top settled 4.2 mm",
+                  "2026-03-01T12:16:40Z,system,error,disk_full,,,\"write failed, \"\"/var\"\" "
+                  "full\"",
+              }));
+    const auto json = run("events --format json --kind disk_full " + db());
+    const auto j = nlohmann::json::parse(json.out);
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0]["message"], "write failed, \"/var\" full");
+    EXPECT_TRUE(j[0]["epoch"].is_null());
+    const auto table = run("events --from 2026-03-01T12:00Z --to 2026-03-01T12:15Z " + db());
+    const auto t = lines(table.out);
+    ASSERT_EQ(t.size(), 2u);
+    EXPECT_NE(t[1].find("P3 top settled 4.2 mm"), std::string::npos);
+}
+
+TEST_F(QueryCommands, StatusInAllFormats) {
+    const auto json = run("status --format json " + db());
+    ASSERT_EQ(json.status, 0) << json.out;
+    const auto j = nlohmann::json::parse(json.out);
+    EXPECT_EQ(j["epochs_done"], 2);
+    EXPECT_EQ(j["epochs_rejected"], 1);
+    EXPECT_EQ(j["epochs_pending"], 1);
+    EXPECT_EQ(j["backlog"], 1);
+    EXPECT_EQ(j["oldest_pending"], "2026-03-01T12:45:00Z");
+    EXPECT_EQ(j["last_epoch"], 2);
+    EXPECT_EQ(j["last_epoch_acquired"], "2026-03-01T12:15:00Z");
+    EXPECT_EQ(j["last_failure_reason"], "registration RMS 12.0 mm > 5.0 mm");
+    EXPECT_EQ(j["reference_epoch"], 1);
+    EXPECT_EQ(j["alarms_active"], 1);
+    EXPECT_EQ(j["alarms_unacknowledged"], 1);
+    EXPECT_EQ(j["alarm P3 settlement"], "unack H since 2026-03-01T12:15:00Z");
+    EXPECT_EQ(
+        j["database_bytes"].get<std::int64_t>(),
+        static_cast<std::int64_t>(std::filesystem::file_size(db_path_) +
+                                  (std::filesystem::exists(db_path_.string() + "-wal")
+                                       ? std::filesystem::file_size(db_path_.string() + "-wal")
+                                       : 0)));
+
+    const auto csv = lines(run("status --format csv " + db()).out);
+    ASSERT_FALSE(csv.empty());
+    EXPECT_EQ(csv[0], "key,value");
+    EXPECT_NE(std::find(csv.begin(), csv.end(), "backlog,1"), csv.end());
+    const auto table = run("status " + db()).out;
+    EXPECT_NE(table.find("last_failure_reason"), std::string::npos);
+    EXPECT_NE(table.find("registration RMS 12.0 mm > 5.0 mm"), std::string::npos);
+}
+
+TEST_F(QueryCommands, DatabaseFromConfig) {
+    {
+        std::ofstream toml(dir_ / "site.toml");
+        toml << "[paths]\ndatabase = \"e.sqlite\"\n";
+    }
+    const auto r = run("status --format json --config " + (dir_ / "site.toml").string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["database"], db_path_.string());
+}
+
+TEST_F(QueryCommands, MistakesAreClearErrors) {
+    auto r = run("query series --zone 'pier P9' --quantity m3c2_mean_m " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("no zone 'pier P9'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("pier P3 top, segment 7"), std::string::npos) << r.out;
+    r = run("query series --zone 'pier P3 top' --quantity m3c2_mean " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("no quantity 'm3c2_mean'"), std::string::npos) << r.out;
+    r = run("query epochs --from 01.03.2026 " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("time '01.03.2026'"), std::string::npos) << r.out;
+    r = run("query epochs --from 2026-03-02 --to 2026-03-01 " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    r = run("status --db " + (dir_ / "missing.sqlite").string(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("missing.sqlite: no such epoch database"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "missing.sqlite"));
+    r = run("status", true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("--db PATH or --config FILE"), std::string::npos) << r.out;
+    r = run("status --format xml " + db(), true);
+    EXPECT_NE(r.status, 0);
+}
+
+}  // namespace
+}  // namespace tlsmon
