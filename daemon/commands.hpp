@@ -6,6 +6,7 @@
 namespace tlsmon {
 
 void add_check_config_command(CLI::App& app);
+void add_info_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_status_command(CLI::App& app);

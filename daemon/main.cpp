@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     // Subcommands (one file each under daemon/):
     tlsmon::add_check_config_command(app);
+    tlsmon::add_info_command(app);
     tlsmon::add_run_command(app);
     tlsmon::add_simulate_command(app);
     tlsmon::add_status_command(app);
