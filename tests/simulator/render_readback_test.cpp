@@ -1,0 +1,121 @@
+// A rendered scan written as PTX and read back through read_ptx: grid, empty cells, and
+// coordinates consistent with the scene geometry within the measurement noise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "formats/ptx_reader.hpp"
+#include "formats/ptx_writer.hpp"
+#include "simulator/render.hpp"
+
+namespace tlsmon::sim {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::filesystem::path temp_file(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / "tlsmon_tests_simulator";
+    std::filesystem::create_directories(dir);
+    return dir / name;
+}
+
+Scan render_and_read_back(const Site& site, int epoch, double hours, const std::string& name) {
+    const RenderedScan r = render_epoch(site, epoch, hours);
+    const auto path = temp_file(name);
+    write_ptx(r.scan, path);
+    std::vector<Scan> scans = read_ptx(path);
+    std::filesystem::remove(path);
+    EXPECT_EQ(scans.size(), 1u);
+    return std::move(scans.at(0));
+}
+
+TEST(SimulatorReadBack, SmallPresetHasTheExpectedGridAndCells) {
+    const Site site = preset_small();
+    const RenderedScan r = render_epoch(site, 0, 0.0);
+    const auto path = temp_file("grid.ptx");
+    write_ptx(r.scan, path);
+    const Scan back = read_ptx(path).at(0);
+    std::filesystem::remove(path);
+
+    // 62..95° at 0.1° and −8..46° at 0.1°.
+    ASSERT_TRUE(back.grid);
+    EXPECT_EQ(back.grid->columns, 331u);
+    EXPECT_EQ(back.grid->rows, 541u);
+    ASSERT_EQ(back.size(), r.scan.size());
+    EXPECT_GT(back.size(), 50'000u);
+    EXPECT_LT(back.size(), back.grid->cells());  // sky cells are empty
+    for (std::size_t i = 0; i < back.size(); ++i) {
+        ASSERT_EQ(back.grid->row[i], r.scan.grid->row[i]);
+        ASSERT_EQ(back.grid->column[i], r.scan.grid->column[i]);
+        ASSERT_LT((back.xyz[i] - r.scan.xyz[i]).norm(), 2e-6);  // 6 decimals in the file
+        ASSERT_NEAR(back.intensity[i], r.scan.intensity[i], 1e-6);
+    }
+    EXPECT_TRUE(back.pose.isApprox(r.scan.pose));
+}
+
+TEST(SimulatorReadBack, SkyAbovePierIsEmptyAndPierBelowTopIsHit) {
+    const Site site = preset_small();
+    const Scan back = render_and_read_back(site, 0, 0.0, "sky.ptx");
+    const ScanGrid& g = *back.grid;
+    std::vector<char> filled(g.cells(), 0);
+    for (std::size_t i = 0; i < back.size(); ++i) filled[g.column[i] * g.rows + g.row[i]] = 1;
+
+    // The column looking at the centre of the south face.
+    const Pier& p = site.pier;
+    const double az = std::atan2(p.y0, 0.5 * (p.x0 + p.x1)) / kDeg;
+    const auto column =
+        static_cast<std::uint32_t>(std::lround((site.scanner.azimuth_max_deg - az) / 0.1));
+    const double top_el =
+        std::atan2(p.height - site.scanner.position.z(), std::hypot(0.5 * (p.x0 + p.x1), p.y0)) /
+        kDeg;  // ≈ 40.1°
+    int sky = 0, pier = 0;
+    for (std::uint32_t row = 0; row < g.rows; ++row) {
+        const double el = site.scanner.elevation_min_deg + row * 0.1;
+        const bool hit = filled[column * g.rows + row];
+        if (el > top_el + 0.3) {
+            EXPECT_FALSE(hit) << "row " << row << " elevation " << el;
+            ++sky;
+        } else if (el > 0.0 && el < top_el - 0.3) {
+            EXPECT_TRUE(hit) << "row " << row << " elevation " << el;
+            ++pier;
+        }
+    }
+    EXPECT_GT(sky, 40);
+    EXPECT_GT(pier, 300);
+}
+
+// Ground points (beams well below the horizon, where nothing but the ground is) lie on
+// z = 0 within the noise: σ_z² = (σ_r sin e)² + (ρ σ_angle)², σ_r = a + b·r.
+TEST(SimulatorReadBack, GroundPointsLieOnTheGroundWithinTheNoise) {
+    Site site = preset_small();
+    site.drift.enabled = false;  // the header pose is then the true pose
+    const Scan back = render_and_read_back(site, 0, 0.0, "ground.ptx");
+    const Eigen::Vector3d o = site.scanner.position;
+    const double sa = site.noise.angular_arcsec * kDeg / 3600.0;
+    std::size_t n = 0, within3 = 0;
+    double sum = 0.0, sum_sq = 0.0;
+    for (std::size_t i = 0; i < back.size(); ++i) {
+        const double el = site.scanner.elevation_min_deg + back.grid->row[i] * 0.1;
+        if (el > -2.5) continue;  // targets and the pier foot are above −2°
+        const Eigen::Vector3d d = back.xyz[i] - o;
+        const double r = d.norm();
+        const double sr = site.noise.range_a + site.noise.range_b_ppm * 1e-6 * r;
+        const double s = std::hypot(sr * std::sin(el * kDeg), r * sa);
+        const double z = back.xyz[i].z() / s;
+        ++n;
+        sum += z;
+        sum_sq += z * z;
+        if (std::abs(z) <= 3.0) ++within3;
+        ASSERT_LT(std::abs(z), 6.0) << "point " << i << " z = " << back.xyz[i].z();
+    }
+    ASSERT_GT(n, 10'000u);
+    const double mean = sum / n, sd = std::sqrt(sum_sq / n - mean * mean);
+    EXPECT_NEAR(mean, 0.0, 0.05);
+    EXPECT_NEAR(sd, 1.0, 0.1);  // the noise is as large as the model says, not smaller
+    EXPECT_GT(static_cast<double>(within3) / n, 0.99);
+}
+
+}  // namespace
+}  // namespace tlsmon::sim

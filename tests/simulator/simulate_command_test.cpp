@@ -1,0 +1,98 @@
+// `tlsmon simulate` run as a process: files named by acquisition time, the real-time and
+// slow-copy modes, a cut-short scan the PTX reader rejects, and scene-file errors naming the
+// key and line.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "formats/format_error.hpp"
+#include "formats/ptx_reader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / "tlsmon_tests_simulate" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+int run(const std::string& args, const fs::path& log) {
+    const std::string cmd =
+        std::string(TLSMON_BINARY) + " simulate " + args + " > " + log.string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
+    const fs::path dir = fresh_dir("series");
+    const fs::path scene = dir / "scene.toml";
+    std::ofstream(scene) << "preset = \"small\"\n[events]\nmissing_epochs = [1]\n"
+                            "cut_short_epoch = 2\n";
+    ASSERT_EQ(run("--config " + scene.string() + " --out " + (dir / "out").string() +
+                      " --epochs 3 --cadence 30min --start 2026-06-01T22:00:00Z",
+                  dir / "log"),
+              0)
+        << slurp(dir / "log");
+    const fs::path out = dir / "out";
+    EXPECT_TRUE(fs::exists(out / "small_20260601T220000Z.ptx"));
+    EXPECT_TRUE(fs::exists(out / "small_20260601T220000Z.truth.json"));
+    EXPECT_FALSE(fs::exists(out / "small_20260601T223000Z.ptx"));  // missing
+    EXPECT_TRUE(fs::exists(out / "small_20260601T230000Z.ptx"));   // cut short
+    const auto scans = tlsmon::read_ptx(out / "small_20260601T220000Z.ptx");
+    ASSERT_EQ(scans.size(), 1u);
+    EXPECT_EQ(scans[0].grid->rows, 541u);
+    EXPECT_THROW(tlsmon::read_ptx(out / "small_20260601T230000Z.ptx"), tlsmon::FormatError);
+    for (const auto& e : fs::directory_iterator(out)) {
+        EXPECT_EQ(e.path().extension() == ".part", false) << e.path();
+    }
+}
+
+TEST(SimulateCommand, RealtimeAndSlowCopyDeliverCompleteFiles) {
+    const fs::path dir = fresh_dir("realtime");
+    ASSERT_EQ(run("--preset small --out " + dir.string() +
+                      " --epochs 2 --realtime 0.3 --slow-copy 0.2 --seed 9",
+                  dir / ".." / "realtime.log"),
+              0);
+    int ptx = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        EXPECT_NE(e.path().extension(), ".part");
+        if (e.path().extension() == ".ptx") {
+            ++ptx;
+            EXPECT_EQ(tlsmon::read_ptx(e.path()).at(0).grid->columns, 331u);
+        }
+    }
+    EXPECT_EQ(ptx, 2);
+}
+
+TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
+    const fs::path dir = fresh_dir("errors");
+    const fs::path scene = dir / "bad.toml";
+    std::ofstream(scene) << "preset = \"small\"\n\n[noise]\nrange_a = 0.001\nrange_bppm = 10\n";
+    EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
+    const std::string log = slurp(dir / "log");
+    EXPECT_NE(log.find("bad.toml:5"), std::string::npos) << log;
+    EXPECT_NE(log.find("noise.range_bppm"), std::string::npos) << log;
+    EXPECT_NE(log.find("unknown key"), std::string::npos) << log;
+
+    std::ofstream(scene, std::ios::trunc) << "[scanner]\nazimuth_step_deg = -0.1\n";
+    EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
+    const std::string log2 = slurp(dir / "log");
+    EXPECT_NE(log2.find("bad.toml:2"), std::string::npos) << log2;
+    EXPECT_NE(log2.find("scanner.azimuth_step_deg"), std::string::npos) << log2;
+    EXPECT_TRUE(fs::is_empty(dir) || !fs::exists(dir / "small_20260601T060000Z.ptx"));
+}
+
+}  // namespace

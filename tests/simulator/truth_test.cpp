@@ -1,0 +1,122 @@
+// The truth file agrees with the models and with the rendered data: displacements at named
+// points follow the thermal bending equation, a knocked target's centre moves 10 mm, and
+// the reported pose error maps the header coordinates onto the true scene.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "simulator/render.hpp"
+#include "simulator/series.hpp"
+
+namespace tlsmon::sim {
+namespace {
+
+constexpr std::int64_t kStart = 1780293600;  // 2026-06-01T06:00:00Z
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Eigen::Vector3d vec(const nlohmann::json& j) {
+    return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+}
+
+Eigen::Affine3d affine(const nlohmann::json& rows) {
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m(r, c) = rows[r][c].get<double>();
+    return Eigen::Affine3d(m);
+}
+
+TEST(SimulatorTruth, SampledDisplacementsFollowThermalBending) {
+    const Site s = preset_small();
+    // Epoch 24 at a 15 min cadence is 6 h after the start: the peak, s(t) = 1.
+    const EpochFiles f = simulate_epoch(s, 24, kStart, 2);
+    const auto& j = f.truth;
+    EXPECT_NEAR(j["hours_since_first_epoch"].get<double>(), 6.0, 1e-12);
+    EXPECT_NEAR(j["deformation"]["time_factor"].get<double>(), 1.0, 1e-12);
+    const double a = -60.0 * kDeg;
+    int checked = 0;
+    for (const auto& sample : j["samples"]) {
+        const Eigen::Vector3d p = vec(sample["point"]);
+        const Eigen::Vector3d u = vec(sample["displacement"]);
+        // u_h = 40 mm (z/40 m)² (cos α, sin α), u_z = 2 mm (z/40 m).
+        const double z = p.z() / 40.0;
+        EXPECT_NEAR(u.x(), 0.040 * z * z * std::cos(a), 1e-12) << sample["name"];
+        EXPECT_NEAR(u.y(), 0.040 * z * z * std::sin(a), 1e-12) << sample["name"];
+        EXPECT_NEAR(u.z(), 0.002 * z, 1e-12) << sample["name"];
+        ++checked;
+    }
+    EXPECT_GE(checked, 10);
+    // Half-way up the south face after 6 h: 10 mm horizontally.
+    bool found = false;
+    for (const auto& sample : j["samples"]) {
+        if (sample["name"] != "south_face_z20") continue;
+        EXPECT_NEAR(vec(sample["displacement"]).head<2>().norm(), 0.010, 1e-12);
+        found = true;
+    }
+    EXPECT_TRUE(found);
+    // After 3 h (epoch 12) s = (1 − cos(π/2))/2 = 0.5.
+    const EpochFiles g = simulate_epoch(s, 12, kStart, 2);
+    EXPECT_NEAR(g.truth["deformation"]["time_factor"].get<double>(), 0.5, 1e-12);
+}
+
+TEST(SimulatorTruth, KnockedTargetMovesTenMillimetres) {
+    Site s = preset_small();
+    s.events.knocked_target = 1;
+    s.events.knocked_epoch = 4;
+    const auto before = simulate_epoch(s, 3, kStart, 2).truth;
+    const auto after = simulate_epoch(s, 4, kStart, 2).truth;
+    const Eigen::Vector3d c0 = vec(before["targets"][1]["centre"]);
+    const Eigen::Vector3d c1 = vec(after["targets"][1]["centre"]);
+    EXPECT_NEAR((c1 - c0).norm(), 0.010, 1e-12);
+    EXPECT_NEAR((c0 - s.targets[1].centre).norm(), 0.0, 1e-12);
+    // The other targets stay.
+    for (int k : {0, 2, 3}) {
+        EXPECT_EQ(vec(before["targets"][k]["centre"]), vec(after["targets"][k]["centre"]));
+    }
+    bool listed = false;
+    for (const auto& e : after["events"]) listed |= e["type"] == "knocked_target";
+    EXPECT_TRUE(listed);
+    EXPECT_GE(after["targets"].size(), 4u);
+}
+
+// With drift on and noise off, ground points read through the header pose are tilted off
+// z = 0; header_to_true from the truth puts them back exactly.
+TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
+    Site s = preset_small();
+    s.noise.enabled = false;
+    s.drift.yaw_amplitude_arcsec = 40.0;
+    s.drift.tilt_amplitude_arcsec = 20.0;
+    const EpochFiles f = simulate_epoch(s, 8, kStart, 2);
+    const nlohmann::json& sc = f.truth["scanner"];
+    EXPECT_GT(std::abs(sc["pose_error"]["yaw_arcsec"].get<double>()), 10.0);
+    const Eigen::Affine3d h = affine(sc["header_to_true"]);
+    const RenderedScan r = render_epoch(s, 8, 2.0, 2);
+    double worst_header = 0.0, worst_true = 0.0;
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {
+        const Eigen::Vector3d& p = r.scan.xyz[i];
+        const double el = cell_elevation(s.scanner, r.scan.grid->row[i]) / kDeg;
+        if (el > -2.5) continue;  // ground only
+        worst_header = std::max(worst_header, std::abs(p.z()));
+        worst_true = std::max(worst_true, std::abs((h * p).z()));
+    }
+    EXPECT_GT(worst_header, 1e-3);  // the error is visible in header coordinates
+    EXPECT_LT(worst_true, 1e-9);
+}
+
+TEST(SimulatorTruth, MissingAndCutShortEpochs) {
+    Site s = preset_small();
+    s.events.missing_epochs = {2};
+    s.events.cut_short_epoch = 3;
+    const EpochFiles missing = simulate_epoch(s, 2, kStart, 2);
+    EXPECT_TRUE(missing.missing);
+    EXPECT_TRUE(missing.ptx.empty());
+    const EpochFiles whole = simulate_epoch(s, 4, kStart, 2);
+    const EpochFiles cut = simulate_epoch(s, 3, kStart, 2);
+    EXPECT_TRUE(cut.cut_short);
+    EXPECT_LT(cut.ptx.size(), whole.ptx.size() * 6 / 10);
+    EXPECT_GT(cut.ptx.size(), whole.ptx.size() * 4 / 10);
+    EXPECT_EQ(cut.ptx.back(), '\n');
+}
+
+}  // namespace
+}  // namespace tlsmon::sim
