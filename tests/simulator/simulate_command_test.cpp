@@ -95,4 +95,20 @@ TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
     EXPECT_TRUE(fs::is_empty(dir) || !fs::exists(dir / "small_20260601T060000Z.ptx"));
 }
 
+// etc/simulator-small.toml spells out the `small` preset: rendering it gives the same bytes.
+TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
+    const fs::path dir = fresh_dir("example");
+    const std::string etc = std::string(TLSMON_SOURCE_DIR) + "/etc/simulator-small.toml";
+    ASSERT_EQ(
+        run("--config " + etc + " --out " + (dir / "a").string() + " --epochs 2", dir / "log_a"), 0)
+        << slurp(dir / "log_a");
+    ASSERT_EQ(run("--preset small --out " + (dir / "b").string() + " --epochs 2", dir / "log_b"),
+              0);
+    for (const char* name : {"small_20260601T061500Z.ptx", "small_20260601T061500Z.truth.json"}) {
+        const std::string a = slurp(dir / "a" / name), b = slurp(dir / "b" / name);
+        EXPECT_GT(a.size(), 1000u);
+        EXPECT_TRUE(a == b) << name;
+    }
+}
+
 }  // namespace
