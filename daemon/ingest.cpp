@@ -150,8 +150,9 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
                      sha.substr(0, 12), acquired, used);
         return IngestOutcome::new_epoch;
     } catch (const StorageError& e) {
-        spdlog::warn("{}: the database refused the new epoch, will retry: {}", file.string(),
-                     e.what());
+        ctx.events.record(
+            ctx.db, "error", e.disk_full() ? "disk_full" : "database_error",
+            file.string() + ": the database refused the new epoch, will retry: " + e.what());
         return IngestOutcome::retry_later;
     } catch (const Error& e) {
         spdlog::error("{}: {}", file.string(), e.what());

@@ -1,0 +1,274 @@
+// `tlsmon run` end to end: the real binary on real and simulated scans, checked in the
+// SQLite epoch database it writes.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include "daemon_harness.hpp"
+
+namespace tlsmon::test {
+namespace {
+
+const fs::path kData = TLSMON_DATA_DIR;
+
+std::vector<Epoch> all_epochs(const Site& site) {
+    return site.open_db().epochs_in_range({});  // by acquisition time
+}
+
+const Epoch* by_name(const std::vector<Epoch>& epochs, const std::string& name) {
+    for (const auto& e : epochs) {
+        if (fs::path(e.file_path).filename() == name) return &e;
+    }
+    return nullptr;
+}
+
+bool has_event(const Site& site, const std::string& kind, const std::string& text) {
+    if (!fs::exists(site.database())) return false;  // the daemon has not created it yet
+    for (const auto& e : site.open_db().events({})) {
+        if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
+    }
+    return false;
+}
+
+TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
+    Site site("once");
+    const fs::path in = site.ingest();
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "small_20260601T061500Z.ptx");
+    fs::copy_file(kData / "ptx/complex-transform.ptx", in / "small_20260601T060000Z.ptx");
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "copy-of-first.ptx");  // same bytes
+    {  // a truncated real scan: the reader's error names file and line
+        std::string text = read_text(kData / "ptx/pumpA_from_e57.ptx");
+        std::ofstream(in / "small_20260601T063000Z.ptx") << text.substr(0, text.size() / 2);
+    }
+    std::ofstream(in / "small_20260601T064500Z.ptx").flush();  // empty
+    std::ofstream(in / ".small_20260601T070000Z.ptx.part") << "partial";
+    std::ofstream(in / "notes.txt.bak") << "not a scan";
+
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_text(site.log());
+
+    const auto epochs = all_epochs(site);
+    ASSERT_EQ(epochs.size(), 4u) << read_text(site.log());
+    // The same bytes under two names are one epoch, whichever name was seen first.
+    const Epoch* e1 = by_name(epochs, "small_20260601T061500Z.ptx");
+    const std::string e1_name = e1 ? "small_20260601T061500Z.ptx" : "copy-of-first.ptx";
+    if (!e1) e1 = by_name(epochs, "copy-of-first.ptx");
+    const Epoch* e0 = by_name(epochs, "small_20260601T060000Z.ptx");
+    const Epoch* bad = by_name(epochs, "small_20260601T063000Z.ptx");
+    const Epoch* empty = by_name(epochs, "small_20260601T064500Z.ptx");
+    ASSERT_TRUE(e0 && e1 && bad && empty) << read_text(site.log());
+    EXPECT_EQ(e0->acquired, 1780293600);  // 2026-06-01T06:00:00Z from the file name
+    EXPECT_EQ(e0->status, EpochStatus::done);
+    EXPECT_EQ(e0->point_count, 4);  // INVENTORY: 4 valid points of 12 cells
+    EXPECT_EQ(e1->status, EpochStatus::done);
+    EXPECT_EQ(e1->point_count, 15);  // INVENTORY: no-color.ptx, 15 points
+    EXPECT_EQ(bad->status, EpochStatus::failed);
+    EXPECT_NE(bad->reason.find("small_20260601T063000Z.ptx:"), std::string::npos) << bad->reason;
+    EXPECT_EQ(empty->status, EpochStatus::failed);
+    EXPECT_NE(empty->reason.find("empty"), std::string::npos) << empty->reason;
+    ASSERT_TRUE(site.open_db().reference_epoch());
+    EXPECT_EQ(*site.open_db().reference_epoch(), e0->id);
+    // Processed in acquisition order: the log's "epoch N done/failed" lines, mapped to the
+    // epochs' acquisition times, never go back in time.
+    std::vector<std::int64_t> order;
+    std::istringstream log(read_text(site.log()));
+    for (std::string line; std::getline(log, line);) {
+        const auto at = line.find(" epoch ");
+        if (at == std::string::npos) continue;
+        std::istringstream words(line.substr(at + 7));
+        EpochId id = 0;
+        std::string what;
+        if (!(words >> id >> what) || (what != "done:" && what != "failed:")) continue;
+        for (const auto& e : epochs) {
+            if (e.id == id) order.push_back(e.acquired);
+        }
+    }
+    ASSERT_EQ(order.size(), 4u) << read_text(site.log());
+    EXPECT_TRUE(std::is_sorted(order.begin(), order.end()));
+
+    // Files: done -> archive, failed -> quarantine with the reason, duplicate removed,
+    // temporary and foreign names untouched.
+    EXPECT_TRUE(fs::exists(site.root / "archive/small_20260601T060000Z.ptx"));
+    EXPECT_TRUE(fs::exists(site.root / "archive" / e1_name));
+    EXPECT_FALSE(fs::exists(in / "copy-of-first.ptx"));
+    EXPECT_FALSE(fs::exists(in / "small_20260601T061500Z.ptx"));
+    EXPECT_EQ(e1->archive_path, (site.root / "archive" / e1_name).string());
+    const fs::path reason = site.root / "quarantine/small_20260601T063000Z.ptx.reason.txt";
+    ASSERT_TRUE(fs::exists(reason));
+    EXPECT_NE(read_text(reason).find(bad->reason), std::string::npos);
+    EXPECT_TRUE(fs::exists(in / ".small_20260601T070000Z.ptx.part"));
+    EXPECT_TRUE(fs::exists(in / "notes.txt.bak"));
+    EXPECT_TRUE(has_event(site, "epoch_failed", "small_20260601T064500Z.ptx"));
+
+    // A second run over the archive's copies is idempotent: no new epochs.
+    fs::copy_file(site.root / "archive/small_20260601T060000Z.ptx", in / "again.ptx");
+    DaemonProcess again(site.config(), site.log(), true);
+    ASSERT_EQ(again.wait(60), 0);
+    EXPECT_EQ(all_epochs(site).size(), 4u);
+    EXPECT_FALSE(fs::exists(in / "again.ptx"));
+}
+
+TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
+    Site site("live");
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return fs::exists(site.database()); }, 10));
+    const std::string sim =
+        std::string(TLSMON_BINARY) + " simulate --preset small --out " + site.ingest().string();
+    // Three scans appearing complete (temporary name, then rename) every 0.7 s, and
+    // meanwhile `tlsmon query` reading the database the daemon writes.
+    std::atomic<bool> querying{true};
+    std::atomic<int> queries{0}, query_failures{0};
+    std::string failure;
+    std::thread reader_thread([&] {
+        while (querying) {
+            const auto r = shell(std::string(TLSMON_BINARY) + " query epochs --db " +
+                                 site.database().string() + " --format csv");
+            ++queries;
+            if (r.status != 0) {
+                ++query_failures;
+                failure = r.output;
+            }
+        }
+    });
+    struct Join {
+        std::atomic<bool>& flag;
+        std::thread& thread;
+        ~Join() {
+            flag = false;
+            if (thread.joinable()) thread.join();
+        }
+    } join{querying, reader_thread};
+    auto r = shell(sim + " --epochs 3 --realtime 0.7");
+    ASSERT_EQ(r.status, 0) << r.output;
+    // Two more written slowly under their final name (1.5 s each, chunks 75 ms apart while
+    // stable_seconds is 0.3 s: only the close tells the file is complete); another noise
+    // seed, so that their bytes differ from the first three.
+    r = shell(sim + " --epochs 2 --slow-copy 1.5 --seed 99 --start 2026-06-01T06:45:00Z");
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto s = site.open_db().status_summary();
+            return s.epochs_by_status.at(EpochStatus::done) == 5;
+        },
+        30))
+        << read_text(site.log());
+    // The same scan copied in again is no new epoch.
+    fs::copy_file(site.root / "archive/small_20260601T061500Z.ptx", site.ingest() / "dup.ptx");
+    ASSERT_TRUE(wait_until([&] { return !fs::exists(site.ingest() / "dup.ptx"); }, 10));
+    querying = false;
+    reader_thread.join();
+
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(5), 0) << "SIGTERM must stop the daemon within 5 s";
+
+    const auto epochs = all_epochs(site);
+    ASSERT_EQ(epochs.size(), 5u);
+    for (std::size_t i = 0; i < epochs.size(); ++i) {
+        EXPECT_EQ(epochs[i].status, EpochStatus::done);
+        EXPECT_EQ(epochs[i].acquired, 1780293600 + 900 * static_cast<std::int64_t>(i));
+        EXPECT_GT(epochs[i].point_count.value_or(0), 80000);
+        if (i) {
+            EXPECT_GT(epochs[i].id, epochs[i - 1].id);  // taken in acquisition order
+        }
+    }
+    EXPECT_EQ(site.open_db().reference_epoch(), epochs.front().id);
+    EXPECT_TRUE(has_event(site, "stop", "5 epoch(s) done"));
+    EXPECT_NE(read_text(site.log()).find("dup.ptx: same content as epoch"), std::string::npos);
+    EXPECT_GT(queries.load(), 3);
+    EXPECT_EQ(query_failures.load(), 0) << failure;
+}
+
+TEST(DaemonIngest, GrowingAndUnreadableFilesAreRecorded) {
+    Site site("bad", "", "max_growing = \"1s\"\n");
+    // Root reads every file: run the daemon as `nobody` so the permission is real.
+    const bool root = ::getuid() == 0;
+    const uid_t nobody = 65534;
+    if (root) {
+        ASSERT_EQ(shell("chown -R 65534:65534 " + site.root.string()).status, 0);
+    }
+    const fs::path locked = site.ingest() / "small_20260601T060000Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", locked);
+    ::chmod(locked.c_str(), 0);
+    if (root) {
+        ASSERT_EQ(::chown(locked.c_str(), 0, 0), 0);
+    }
+
+    DaemonProcess daemon(site.config(), site.log(), false,
+                         root ? std::optional<uid_t>(nobody) : std::nullopt);
+    // A file that keeps growing for 3 s (appended every 100 ms, kept open).
+    const fs::path growing = site.ingest() / "small_20260601T061500Z.ptx";
+    {
+        std::ofstream out(growing);
+        for (int i = 0; i < 30; ++i) {
+            out << "0 0 0 0.5\n" << std::flush;
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            if (i == 20) {
+                EXPECT_TRUE(has_event(site, "file_growing", growing.filename().string()))
+                    << read_text(site.log());
+                EXPECT_EQ(site.open_db().epochs_in_range({}).size(), 1u)
+                    << "a growing file must not become an epoch";
+            }
+        }
+    }
+    ASSERT_TRUE(wait_until([&] { return site.open_db().epochs_in_range({}).size() == 2; }, 10))
+        << read_text(site.log());
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(5), 0);
+
+    const auto epochs = all_epochs(site);
+    const Epoch* unreadable = by_name(epochs, locked.filename().string());
+    ASSERT_TRUE(unreadable);
+    EXPECT_EQ(unreadable->status, EpochStatus::failed);
+    EXPECT_NE(unreadable->reason.find("Permission denied"), std::string::npos)
+        << unreadable->reason;
+    EXPECT_TRUE(has_event(site, "unreadable", locked.filename().string()));
+    const Epoch* grown = by_name(epochs, growing.filename().string());
+    ASSERT_TRUE(grown);
+    EXPECT_EQ(grown->status, EpochStatus::failed);  // its content is no PTX header
+    int growing_events = 0;
+    for (const auto& e : site.open_db().events({}, std::string("file_growing"))) {
+        growing_events += e.message.find(growing.filename().string()) != std::string::npos;
+    }
+    EXPECT_EQ(growing_events, 1) << "reported once";
+}
+
+TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
+    Site site("reload");
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
+    const std::string good = read_text(site.config());
+    std::ofstream(site.config()) << good << "[logging]\nlevel = \"loud\"\n";
+    daemon.signal(SIGHUP);
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "config_reload", "reload failed"); }, 10))
+        << read_text(site.log());
+    EXPECT_TRUE(has_event(site, "config_reload", "key 'logging.level'"));
+    EXPECT_TRUE(daemon.running());
+    std::ofstream(site.config()) << good << "[logging]\nlevel = \"debug\"\n";
+    daemon.signal(SIGHUP);
+    ASSERT_TRUE(
+        wait_until([&] { return has_event(site, "config_reload", "configuration reloaded"); }, 10));
+    fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "after-reload.ptx");
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto e = all_epochs(site);
+            return e.size() == 1 && e[0].status == EpochStatus::done;
+        },
+        10))
+        << read_text(site.log());
+    daemon.signal(SIGINT);
+    EXPECT_EQ(daemon.wait(5), 0);
+}
+
+TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {
+    Site site("badconfig", "[ingest]\nstable_seconds = 3\n");  // [ingest] twice: TOML error
+    const auto r =
+        shell(std::string(TLSMON_BINARY) + " run --once --config " + site.config().string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("site.toml:"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace tlsmon::test
