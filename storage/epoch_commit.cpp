@@ -67,20 +67,39 @@ void write_targets(EpochDatabase::Impl& impl, EpochId id,
     }
 }
 
+// The id of a quantity name, inserted on first use (inside the epoch's transaction).
+std::int64_t quantity_id(EpochDatabase::Impl& impl, const std::string& name) {
+    if (name.empty()) throw_storage(impl, "a zone result needs a quantity name");
+    SQLite::Statement insert(
+        impl.db, "INSERT INTO quantities (name) VALUES (?) ON CONFLICT (name) DO NOTHING");
+    insert.bind(1, name);
+    insert.exec();
+    SQLite::Statement s(impl.db, "SELECT id FROM quantities WHERE name = ?");
+    s.bind(1, name);
+    if (!s.executeStep()) throw_storage(impl, "quantity '" + name + "' vanished");
+    return s.getColumn(0).getInt64();
+}
+
 void write_zone_results(EpochDatabase::Impl& impl, EpochId id,
                         const std::vector<ZoneResult>& results) {
     if (results.empty()) return;
     std::map<std::string, ZoneId> zone_ids;
+    std::map<std::string, std::int64_t> quantity_ids;
     SQLite::Statement s(impl.db,
-                        "INSERT INTO zone_results (zone_id, quantity, epoch_id, value,"
+                        "INSERT INTO zone_results (zone_id, quantity_id, epoch_id, value,"
                         " uncertainty, n, significant) VALUES (?,?,?,?,?,?,?)");
     for (const auto& r : results) {
-        auto it = zone_ids.find(r.zone);
-        if (it == zone_ids.end())
-            it = zone_ids.emplace(r.zone, zone_id_by_name(impl, r.zone)).first;
+        auto zone = zone_ids.find(r.zone);
+        if (zone == zone_ids.end()) {
+            zone = zone_ids.emplace(r.zone, zone_id_by_name(impl, r.zone)).first;
+        }
+        auto quantity = quantity_ids.find(r.quantity);
+        if (quantity == quantity_ids.end()) {
+            quantity = quantity_ids.emplace(r.quantity, quantity_id(impl, r.quantity)).first;
+        }
         s.reset();
-        s.bind(1, it->second);
-        s.bind(2, r.quantity);
+        s.bind(1, zone->second);
+        s.bind(2, quantity->second);
         s.bind(3, id);
         s.bind(4, r.value);
         bind_optional(s, 5, r.uncertainty);

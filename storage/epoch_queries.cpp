@@ -86,12 +86,14 @@ std::vector<Epoch> EpochDatabase::epochs_in_range(const TimeRange& range) const 
 std::vector<SeriesPoint> EpochDatabase::series(const std::string& zone, const std::string& quantity,
                                                const TimeRange& range) const {
     return guarded(*impl_, "reading a time series", [&] {
-        // Served by the key (zone_id, quantity, epoch_id) of zone_results and the epochs key.
+        // Served by the key (zone_id, quantity_id, epoch_id) of zone_results and the epochs
+        // key.
         SQLite::Statement s(impl_->db,
                             "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant"
                             " FROM zone_results r JOIN epochs e ON e.id = r.epoch_id"
                             " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
-                            " AND r.quantity = ? AND e.acquired BETWEEN ? AND ?"
+                            " AND r.quantity_id = (SELECT id FROM quantities WHERE name = ?)"
+                            " AND e.acquired BETWEEN ? AND ?"
                             " ORDER BY e.acquired, e.id");
         s.bind(1, zone);
         s.bind(2, quantity);
@@ -110,9 +112,10 @@ std::vector<SeriesPoint> EpochDatabase::series(const std::string& zone, const st
 std::vector<std::string> EpochDatabase::quantities(const std::string& zone) const {
     return guarded(*impl_, "listing quantities", [&] {
         SQLite::Statement s(impl_->db,
-                            "SELECT DISTINCT r.quantity FROM zone_results r"
-                            " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
-                            " ORDER BY r.quantity");
+                            "SELECT q.name FROM quantities q WHERE EXISTS (SELECT 1"
+                            " FROM zone_results r WHERE r.zone_id ="
+                            " (SELECT id FROM zones WHERE name = ?) AND r.quantity_id = q.id)"
+                            " ORDER BY q.name");
         s.bind(1, zone);
         std::vector<std::string> out;
         while (s.executeStep()) out.push_back(s.getColumn(0).getString());

@@ -141,7 +141,7 @@ TEST(EpochCommit, FailureMidTransactionStoresNothing) {
     EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::processing);
     EXPECT_FALSE(f.db.epoch(id)->point_count);
     for (const char* table :
-         {"registrations", "target_observations", "zone_results", "core_point_arrays",
+         {"registrations", "target_observations", "quantities", "zone_results", "core_point_arrays",
           "alarm_states", "alarm_events", "system_events"}) {
         EXPECT_EQ(f.rows(table), 0) << table;
     }

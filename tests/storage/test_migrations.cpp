@@ -43,9 +43,10 @@ TEST(Migrations, AppliedAndRecordedOnCreate) {
     }
     EXPECT_FALSE(s.executeStep());
     EXPECT_EQ(i, schema_migrations().size());
-    for (const char* table : {"stations", "epochs", "reference_epoch", "registrations",
-                              "target_observations", "zones", "zone_results", "core_point_arrays",
-                              "alarm_rules", "alarm_states", "alarm_events", "system_events"}) {
+    for (const char* table :
+         {"stations", "epochs", "reference_epoch", "registrations", "target_observations", "zones",
+          "quantities", "zone_results", "core_point_arrays", "alarm_rules", "alarm_states",
+          "alarm_events", "system_events"}) {
         EXPECT_TRUE(raw.tableExists(table)) << table;
     }
     EXPECT_EQ(raw.execAndGet("PRAGMA journal_mode").getString(), "wal");
