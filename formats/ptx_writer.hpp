@@ -6,7 +6,8 @@
 // first three lines are the axes again, the last line is the translation followed by 1.
 // Then columns × rows lines `x y z i`, column by column; within a column line k is grid
 // row k. Points are in the scanner's own frame (Scan::pose⁻¹ applied to Scan::xyz);
-// a cell without a point is written `0 0 0 0.5`.
+// a cell without a point is written `0 0 0 0.5`. Header numbers are written exactly
+// (shortest round-trip form), point coordinates with a fixed number of decimals.
 #include <cstdint>
 #include <filesystem>
 #include <ostream>
