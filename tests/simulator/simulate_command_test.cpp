@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "formats/format_error.hpp"
@@ -109,6 +110,52 @@ TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
         EXPECT_GT(a.size(), 1000u);
         EXPECT_TRUE(a == b) << name;
     }
+}
+
+// Targets and events from a scene file reach the truth: the knocked target (named in the
+// file) has moved 10 mm at its epoch; fewer than 4 targets is an error.
+TEST(SimulateCommand, SceneFileTargetsAndKnockedTargetReachTheTruth) {
+    const fs::path dir = fresh_dir("targets");
+    const fs::path scene = dir / "scene.toml";
+    std::ofstream(scene) << R"(preset = "small"
+[events]
+knocked_target = "B"
+knocked_epoch = 1
+[[target]]
+name = "A"
+centre = [8.0, 18.0, 1.0]
+[[target]]
+name = "B"
+kind = "checkerboard"
+centre = [9.7, 24.1, 1.2]
+size = 0.3
+[[target]]
+name = "C"
+centre = [-0.8, 22.0, 1.0]
+[[target]]
+name = "D"
+kind = "checkerboard"
+centre = [0.4, 22.0, 1.2]
+)";
+    ASSERT_EQ(
+        run("--config " + scene.string() + " --out " + dir.string() + " --epochs 2", dir / "log"),
+        0)
+        << slurp(dir / "log");
+    const auto t0 = nlohmann::json::parse(slurp(dir / "small_20260601T060000Z.truth.json"));
+    const auto t1 = nlohmann::json::parse(slurp(dir / "small_20260601T061500Z.truth.json"));
+    ASSERT_EQ(t1["targets"].size(), 4u);
+    EXPECT_EQ(t1["targets"][1]["name"], "B");
+    EXPECT_EQ(t1["targets"][1]["kind"], "checkerboard");
+    EXPECT_DOUBLE_EQ(t1["targets"][1]["size"].get<double>(), 0.3);
+    const double dx =
+        t1["targets"][1]["centre"][0].get<double>() - t0["targets"][1]["centre"][0].get<double>();
+    EXPECT_NEAR(dx, 0.010, 1e-12);
+    EXPECT_EQ(t0["targets"][0]["centre"], t1["targets"][0]["centre"]);
+
+    std::ofstream(scene, std::ios::trunc) << "[[target]]\nname = \"A\"\ncentre = [8, 18, 1]\n";
+    EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
+    EXPECT_NE(slurp(dir / "log").find("at least 4 targets"), std::string::npos)
+        << slurp(dir / "log");
 }
 
 }  // namespace
