@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "formats/mapped_file.hpp"
-
 namespace tlsmon {
 
 inline constexpr std::uint64_t e57_page_size = 1024;
@@ -27,13 +25,14 @@ struct E57Header {
 
 class E57Pages {
   public:
-    // Validates the header and the file length; throws FormatError naming file and byte.
-    explicit E57Pages(const MappedFile& file);
+    // Validates the header and the file length; throws FormatError naming `file` and the
+    // byte. The bytes (usually a MappedFile) must outlive this object.
+    E57Pages(const char* data, std::uint64_t size, const std::filesystem::path& file);
 
     const E57Header& header() const { return header_; }
-    const std::filesystem::path& path() const { return file_.path(); }
-    std::uint64_t physical_size() const { return file_.size(); }
-    std::uint64_t logical_size() const { return file_.size() / e57_page_size * e57_page_payload; }
+    const std::filesystem::path& path() const { return path_; }
+    std::uint64_t physical_size() const { return size_; }
+    std::uint64_t logical_size() const { return size_ / e57_page_size * e57_page_payload; }
 
     static std::uint64_t to_logical(std::uint64_t physical) {
         return physical / e57_page_size * e57_page_payload + physical % e57_page_size;
@@ -62,7 +61,9 @@ class E57Pages {
   private:
     void check_page(std::uint64_t page);
 
-    const MappedFile& file_;
+    const char* data_;
+    std::uint64_t size_;
+    std::filesystem::path path_;
     E57Header header_;
     std::vector<bool> checked_;
 };

@@ -66,12 +66,18 @@ constexpr std::array<std::string_view, column_count> column_names = {"cartesianX
 // colorLimits -> 8 bits by equal buckets, floor((v - min) / (max - min) * 256) capped at
 // 255: the identity for 0..255 and v >> 8 for 0..65535 (as the LAS reader scales 16-bit
 // colour), so a LAS colour that went through E57 keeps its 8-bit value.
-std::uint8_t to_8bit(double v, const E57Range& r) {
-    const double span = r.maximum - r.minimum;
-    if (!(span > 0)) return 0;
-    const double c = std::floor((v - r.minimum) / span * 256.0);
-    return static_cast<std::uint8_t>(std::clamp(c, 0.0, 255.0));
-}
+struct ColourScale {
+    double minimum = 0.0;
+    double factor = 0.0;  // 256 / (max - min), 0 when the limits are empty
+    ColourScale() = default;
+    explicit ColourScale(const E57Range& r)
+        : minimum(r.minimum),
+          factor(r.maximum > r.minimum ? 256.0 / (r.maximum - r.minimum) : 0.0) {}
+    std::uint8_t operator()(double v) const {
+        const double c = (v - minimum) * factor;  // truncation below is the floor for c >= 0
+        return c <= 0.0 ? 0 : c >= 255.0 ? 255 : static_cast<std::uint8_t>(c);
+    }
+};
 
 // Limits from the scan's *Limits element, else the prototype field's declared range
 // (E2807 §10.5: the limits default to the field's minimum and maximum).
@@ -139,10 +145,11 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
         scan.intensity_raw_min = intensity_range.minimum;
         scan.intensity_raw_max = intensity_range.maximum;
     }
-    std::array<E57Range, 3> colour_range{};
+    std::array<ColourScale, 3> colour_scale{};
     if (has_colour)
         for (int k = 0; k < 3; ++k)
-            colour_range[k] = limits_of(info.color_limits[k], cv.fields[field_of[color_red + k]]);
+            colour_scale[k] =
+                ColourScale(limits_of(info.color_limits[k], cv.fields[field_of[color_red + k]]));
 
     // Grid size from indexBounds (E2807 §10.3), else from the largest indices seen.
     std::int64_t row_min = 0, column_min = 0, row_limit = -1, column_limit = -1;
@@ -157,6 +164,17 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
             pages.fail(info.xml_byte, "indexBounds do not describe a grid");
     }
     ScanGrid grid;
+    // Reserve the declared record count, capped by the file size so a lying count costs
+    // at most a few bytes of memory per byte of file (the decoder checks it again).
+    const std::size_t expected =
+        static_cast<std::size_t>(std::min<std::uint64_t>(cv.record_count, pages.physical_size()));
+    scan.xyz.reserve(expected);
+    if (has_intensity) scan.intensity.reserve(expected);
+    if (has_colour) scan.rgb.reserve(expected);
+    if (has_grid) {
+        grid.row.reserve(expected);
+        grid.column.reserve(expected);
+    }
     std::int64_t row_max_seen = -1, column_max_seen = -1;
 
     const Eigen::Matrix3d rotation = scan.pose.linear();
@@ -190,9 +208,9 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
                     scan.intensity.push_back(intensity_span > 0 ? v / intensity_span : 0.0f);
                 }
                 if (has_colour)
-                    scan.rgb.push_back({to_8bit(value(color_red, i), colour_range[0]),
-                                        to_8bit(value(color_green, i), colour_range[1]),
-                                        to_8bit(value(color_blue, i), colour_range[2])});
+                    scan.rgb.push_back({colour_scale[0](value(color_red, i)),
+                                        colour_scale[1](value(color_green, i)),
+                                        colour_scale[2](value(color_blue, i))});
                 if (has_grid) {
                     const auto r = static_cast<std::int64_t>(value(row_index, i)) - row_min;
                     const auto c = static_cast<std::int64_t>(value(column_index, i)) - column_min;
@@ -221,9 +239,8 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
 
 }  // namespace
 
-std::vector<Scan> read_e57(const std::filesystem::path& path) {
-    const MappedFile file(path);
-    E57Pages pages(file);
+std::vector<Scan> parse_e57(const char* data, std::size_t size, const std::filesystem::path& path) {
+    E57Pages pages(data, size, path);
     const std::string xml = pages.read_xml();
     const std::vector<E57ScanInfo> infos = parse_e57_xml(pages, xml);
     std::vector<Scan> scans;
@@ -234,6 +251,11 @@ std::vector<Scan> read_e57(const std::filesystem::path& path) {
         scans.push_back(read_scan(pages, infos[k], std::move(source)));
     }
     return scans;
+}
+
+std::vector<Scan> read_e57(const std::filesystem::path& path) {
+    const MappedFile file(path);
+    return parse_e57(file.data(), file.size(), path);
 }
 
 }  // namespace tlsmon

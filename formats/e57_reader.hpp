@@ -1,6 +1,7 @@
 #pragma once
 // ASTM E2807 (E57) reader: every data3D scan of the file as one Scan, in the project
 // frame (pose applied), with intensity, colour and the row/column grid where present.
+#include <cstddef>
 #include <filesystem>
 #include <vector>
 
@@ -10,6 +11,10 @@ namespace tlsmon {
 
 // Throws FormatError naming the file and the byte offset for a damaged or unsupported file.
 std::vector<Scan> read_e57(const std::filesystem::path& path);
+
+// The same from bytes in memory; `source` names them in Scan::source and in errors.
+std::vector<Scan> parse_e57(const char* data, std::size_t size,
+                            const std::filesystem::path& source);
 
 // GPS time (seconds since 1980-01-06T00:00:00, no leap seconds) -> seconds since the Unix
 // epoch in UTC, with the leap seconds inserted up to 2017-01-01.
