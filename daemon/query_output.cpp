@@ -62,8 +62,8 @@ namespace {
 // unless that takes more than 24 characters.
 std::string number_text(double v) {
     std::array<char, 24> fixed{};
-    const auto f = std::to_chars(fixed.data(), fixed.data() + fixed.size(), v,
-                                 std::chars_format::fixed);
+    const auto f =
+        std::to_chars(fixed.data(), fixed.data() + fixed.size(), v, std::chars_format::fixed);
     if (f.ec == std::errc()) return std::string(fixed.data(), f.ptr);
     std::array<char, 32> buf{};
     const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
