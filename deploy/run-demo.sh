@@ -4,4 +4,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
 bash deploy/build.sh
-./build/daemon/tlsmon info ../shared/data/ptx/pumpA_from_e57.ptx
+rm -rf var && mkdir -p var/ingest && { ./build/daemon/tlsmon run --config etc/tlsmon.toml & d=$!; ./build/daemon/tlsmon simulate --preset small --out var/ingest --epochs 8 --realtime 2; sleep 14; kill -TERM $d; wait $d; } && ./build/daemon/tlsmon status --config etc/tlsmon.toml
