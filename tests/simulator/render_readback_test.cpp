@@ -1,10 +1,12 @@
 // A rendered scan written as PTX and read back through read_ptx: grid, empty cells, and
 // coordinates consistent with the scene geometry within the measurement noise.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <string>
 
 #include "formats/ptx_reader.hpp"
 #include "formats/ptx_writer.hpp"
@@ -15,8 +17,17 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+// Removes the file and, once empty, its folder.
+void remove_temp_file(const std::filesystem::path& path) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    std::filesystem::remove(path.parent_path(), ec);
+}
+
 std::filesystem::path temp_file(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "tlsmon_tests_simulator";
+    // One folder per process: several test runs may share the machine.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("tlsmon_tests_simulator_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return dir / name;
 }
@@ -26,7 +37,7 @@ Scan render_and_read_back(const Site& site, int epoch, double hours, const std::
     const auto path = temp_file(name);
     write_ptx(r.scan, path);
     std::vector<Scan> scans = read_ptx(path);
-    std::filesystem::remove(path);
+    remove_temp_file(path);
     EXPECT_EQ(scans.size(), 1u);
     return std::move(scans.at(0));
 }
@@ -37,7 +48,7 @@ TEST(SimulatorReadBack, SmallPresetHasTheExpectedGridAndCells) {
     const auto path = temp_file("grid.ptx");
     write_ptx(r.scan, path);
     const Scan back = read_ptx(path).at(0);
-    std::filesystem::remove(path);
+    remove_temp_file(path);
 
     // 62..95° at 0.1° and −8..46° at 0.1°.
     ASSERT_TRUE(back.grid);

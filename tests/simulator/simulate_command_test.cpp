@@ -2,6 +2,7 @@
 // slow-copy modes, a cut-short scan the PTX reader rejects, and scene-file errors naming the
 // key and line.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -16,12 +17,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "tlsmon_tests_simulate" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+// A fresh scratch folder, one per process (several test runs may share the machine),
+// removed with everything in it at the end of the test.
+struct ScratchDir {
+    fs::path path;
+    explicit ScratchDir(const std::string& name)
+        : path(fs::temp_directory_path() / ("tlsmon_tests_simulate_" + std::to_string(::getpid())) /
+               name) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~ScratchDir() { fs::remove_all(path.parent_path()); }
+};
 
 int run(const std::string& args, const fs::path& log) {
     const std::string cmd =
@@ -38,7 +45,8 @@ std::string slurp(const fs::path& p) {
 }
 
 TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
-    const fs::path dir = fresh_dir("series");
+    const ScratchDir scratch("series");
+    const fs::path& dir = scratch.path;
     const fs::path scene = dir / "scene.toml";
     std::ofstream(scene) << "preset = \"small\"\n[events]\nmissing_epochs = [1]\n"
                             "cut_short_epoch = 2\n";
@@ -62,10 +70,11 @@ TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
 }
 
 TEST(SimulateCommand, RealtimeAndSlowCopyDeliverCompleteFiles) {
-    const fs::path dir = fresh_dir("realtime");
+    const ScratchDir scratch("realtime");
+    const fs::path& dir = scratch.path;
     ASSERT_EQ(run("--preset small --out " + dir.string() +
                       " --epochs 2 --realtime 0.3 --slow-copy 0.2 --seed 9",
-                  dir / ".." / "realtime.log"),
+                  dir.parent_path() / "realtime.log"),
               0);
     int ptx = 0;
     for (const auto& e : fs::directory_iterator(dir)) {
@@ -79,7 +88,8 @@ TEST(SimulateCommand, RealtimeAndSlowCopyDeliverCompleteFiles) {
 }
 
 TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
-    const fs::path dir = fresh_dir("errors");
+    const ScratchDir scratch("errors");
+    const fs::path& dir = scratch.path;
     const fs::path scene = dir / "bad.toml";
     std::ofstream(scene) << "preset = \"small\"\n\n[noise]\nrange_a = 0.001\nrange_bppm = 10\n";
     EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
@@ -98,7 +108,8 @@ TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
 
 // etc/simulator-small.toml spells out the `small` preset: rendering it gives the same bytes.
 TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
-    const fs::path dir = fresh_dir("example");
+    const ScratchDir scratch("example");
+    const fs::path& dir = scratch.path;
     const std::string etc = std::string(TLSMON_SOURCE_DIR) + "/etc/simulator-small.toml";
     ASSERT_EQ(
         run("--config " + etc + " --out " + (dir / "a").string() + " --epochs 2", dir / "log_a"), 0)
@@ -115,7 +126,8 @@ TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
 // Targets and events from a scene file reach the truth: the knocked target (named in the
 // file) has moved 10 mm at its epoch; fewer than 4 targets is an error.
 TEST(SimulateCommand, SceneFileTargetsAndKnockedTargetReachTheTruth) {
-    const fs::path dir = fresh_dir("targets");
+    const ScratchDir scratch("targets");
+    const fs::path& dir = scratch.path;
     const fs::path scene = dir / "scene.toml";
     std::ofstream(scene) << R"(preset = "small"
 [events]
