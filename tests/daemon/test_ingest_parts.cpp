@@ -1,0 +1,75 @@
+// The small pieces of ingest with known answers: scan names, acquisition time from a file
+// name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "daemon/ingest_files.hpp"
+#include "daemon/sha256.hpp"
+#include "daemon/watcher.hpp"
+
+namespace tlsmon {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(IngestParts, ScanNames) {
+    const std::vector<std::string> ext = {"ptx", "e57"};
+    EXPECT_TRUE(is_scan_name("pier_20260601T061500Z.ptx", ext));
+    EXPECT_TRUE(is_scan_name("SCAN.PTX", ext));
+    EXPECT_TRUE(is_scan_name("a.e57", ext));
+    EXPECT_FALSE(is_scan_name(".pier.ptx.part", ext));
+    EXPECT_FALSE(is_scan_name(".hidden.ptx", ext));
+    EXPECT_FALSE(is_scan_name("pier.ptx.part", ext));
+    EXPECT_FALSE(is_scan_name("pier.ptx~", ext));
+    EXPECT_FALSE(is_scan_name("pier.las", ext));
+    EXPECT_FALSE(is_scan_name("pier", ext));
+    EXPECT_FALSE(is_scan_name("pier.truth.json", ext));
+}
+
+TEST(IngestParts, TimeFromFileName) {
+    EXPECT_EQ(time_from_file_name("small_20260601T061500Z.ptx"), 1780294500);
+    EXPECT_EQ(time_from_file_name("19700101T000000Z.e57"), 0);
+    EXPECT_EQ(time_from_file_name("x_20240229T235959Z_y.ptx"), 1709251199);  // leap day
+    EXPECT_FALSE(time_from_file_name("x_20230229T000000Z.ptx"));             // no 29 Feb in 2023
+    EXPECT_FALSE(time_from_file_name("x_20260601T256000Z.ptx"));
+    EXPECT_FALSE(time_from_file_name("x_20260601T0615Z.ptx"));
+    EXPECT_FALSE(time_from_file_name("scan.ptx"));
+}
+
+TEST(IngestParts, Sha256KnownAnswers) {
+    // FIPS 180-4 examples ("abc" and the empty message).
+    EXPECT_EQ(sha256_text("abc"),
+              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(sha256_text(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    const fs::path f = fs::temp_directory_path() / ("tlsmon-sha-" + std::to_string(getpid()));
+    {
+        // Larger than the 1 MiB read buffer: the file is read in two parts and must give
+        // the digest of the same bytes in memory.
+        std::ofstream out(f, std::ios::binary);
+        out << std::string(2000000, 'a');
+    }
+    EXPECT_EQ(sha256_file(f), sha256_text(std::string(2000000, 'a')));
+    {
+        std::ofstream out(f, std::ios::binary | std::ios::trunc);
+        out << std::string(1000000, 'a');
+    }
+    EXPECT_EQ(sha256_file(f), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+    fs::remove(f);
+    EXPECT_THROW(sha256_file(f), FileAccessError);
+}
+
+TEST(IngestParts, FreeNameNeverOverwrites) {
+    const fs::path d = fs::temp_directory_path() / ("tlsmon-free-" + std::to_string(getpid()));
+    fs::create_directories(d);
+    EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.ptx");
+    std::ofstream(d / "a.ptx") << "1";
+    EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123.ptx");
+    std::ofstream(d / "a.0123.ptx") << "2";
+    EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123-2.ptx");
+    fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace tlsmon
