@@ -133,5 +133,35 @@ TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
     fs::remove_all(scans);
 }
 
+TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
+    Site site("sigterm");
+    const auto sim = shell(std::string(TLSMON_BINARY) +
+                           " simulate --preset small --epochs 12 --out " + site.ingest().string());
+    ASSERT_EQ(sim.status, 0) << sim.output;
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto s = site.open_db().status_summary();
+            return s.epochs_by_status.at(EpochStatus::done) >= 2;
+        },
+        20))
+        << read_text(site.log());
+    const auto asked = std::chrono::steady_clock::now();
+    daemon.signal(SIGTERM);
+    ASSERT_EQ(daemon.wait(5), 0);
+    const double stop_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+    EXPECT_LT(stop_s, 2.0) << "one epoch of the small preset at most, then stop";
+    const auto s = site.open_db().status_summary();
+    EXPECT_EQ(s.epochs_by_status.at(EpochStatus::processing), 0);
+    EXPECT_EQ(
+        s.epochs_by_status.at(EpochStatus::done) + s.epochs_by_status.at(EpochStatus::pending), 12);
+    EXPECT_GT(s.epochs_by_status.at(EpochStatus::pending), 0) << "stopped before the end";
+    // The rest is taken after a restart.
+    DaemonProcess again(site.config(), site.log(), true);
+    ASSERT_EQ(again.wait(60), 0);
+    EXPECT_EQ(site.open_db().status_summary().epochs_by_status.at(EpochStatus::done), 12);
+}
+
 }  // namespace
 }  // namespace tlsmon::test
