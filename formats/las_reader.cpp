@@ -242,7 +242,6 @@ class LasParser {
         std::vector<std::array<std::uint16_t, 3>> rgb16(rgb_at != 0 ? n : 0);
         const std::size_t gps_at = kGpsTimeAt[format_];
         const bool dated = gps_at != 0 && (global_encoding_ & kAdjustedStandardGpsTime) != 0;
-        std::uint16_t intensity_max = 0;
         std::uint16_t colour_max = 0;
         double earliest_gps = std::numeric_limits<double>::infinity();
 
@@ -253,7 +252,6 @@ class LasParser {
                 scan.xyz[i][k] = raw * scale_[k] + offset_[k];
             }
             const auto intensity = load<std::uint16_t>(record + 12);
-            intensity_max = std::max(intensity_max, intensity);
             scan.intensity[i] = intensity;
             if (rgb_at != 0) {
                 for (int c = 0; c < 3; ++c) {
@@ -267,8 +265,11 @@ class LasParser {
             }
         }
 
+        // LAS 1.4 R15, sec. 2.6: intensity "shall always be normalized to a 16 bit,
+        // unsigned value". The scale is fixed, not guessed per file, so that intensities of
+        // successive epochs stay comparable even where an exporter wrote 8-bit values.
         scan.intensity_raw_min = 0.0;
-        scan.intensity_raw_max = intensity_max <= 255 ? 255.0 : 65535.0;
+        scan.intensity_raw_max = 65535.0;
         const float inverse = 1.0f / static_cast<float>(scan.intensity_raw_max);
         for (float& v : scan.intensity) v *= inverse;
 

@@ -4,10 +4,10 @@
 // What a Scan gets from a LAS file:
 // - xyz: the record's integers with the header's scale and offset applied
 //   (LAS 1.4 R15 §2.4: Xcoordinate = Xrecord * Xscale + Xoffset); identity pose.
-// - intensity: the uint16 field over a raw scale of 0..65535 (the spec asks writers to
-//   normalise to 16 bits), except when no point exceeds 255: then the file plainly holds
-//   8-bit sensor values (the LAS 1.0–1.2 samples, 0–254) and the raw scale is 0..255.
-//   intensity_raw_min/max record which scale was used.
+// - intensity: the uint16 field over the fixed raw scale 0..65535 (the spec asks writers
+//   to normalise to 16 bits). Files that hold 8-bit values (the LAS 1.0–1.2 samples,
+//   0–254) therefore read as small intensities; a per-file guess would make epochs of one
+//   station incomparable.
 // - rgb (formats 2, 3, 5, 7, 8, 10): 16-bit colour to 8 bits by the high byte, which
 //   inverts both v*256 and v*257 up-scaling; colour that never exceeds 255 is 8-bit colour
 //   stored in 16-bit fields and kept as is.
