@@ -156,7 +156,7 @@ void decode_e57_records(E57Pages& pages, const E57CompressedVector& cv,
 
     // Declared sizes against the file before allocating: every stream needs
     // ceil(bits * records / 8) bytes inside the section.
-    unsigned record_bits = 0;
+    std::uint64_t record_bits = 0;
     for (const E57Field& f : cv.fields) record_bits += f.bits();
     const std::uint64_t section_bits = (section.end - section.begin) * 8;
     if (record_bits > 0 ? total > section_bits / record_bits : total > section_bits)

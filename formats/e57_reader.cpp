@@ -153,14 +153,19 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
 
     // Grid size from indexBounds (E2807 §10.3), else from the largest indices seen.
     std::int64_t row_min = 0, column_min = 0, row_limit = -1, column_limit = -1;
+    constexpr std::int64_t max_index = 0xFFFFFFFF;  // rows = index + 1 must fit in 32 bits
     if (has_grid && info.index_bounds) {
         const E57IndexBounds& b = *info.index_bounds;
+        constexpr std::int64_t big = std::int64_t{1} << 40;  // keeps the differences exact
+        for (const std::int64_t v :
+             {b.row_minimum, b.row_maximum, b.column_minimum, b.column_maximum})
+            if (v <= -big || v >= big) pages.fail(info.xml_byte, "indexBounds out of range");
         row_min = b.row_minimum;
         column_min = b.column_minimum;
         row_limit = b.row_maximum - b.row_minimum;
         column_limit = b.column_maximum - b.column_minimum;
-        if (row_limit < 0 || column_limit < 0 || row_limit >= (std::int64_t{1} << 32) ||
-            column_limit >= (std::int64_t{1} << 32))
+        if (row_limit < 0 || column_limit < 0 || row_limit >= max_index ||
+            column_limit >= max_index)
             pages.fail(info.xml_byte, "indexBounds do not describe a grid");
     }
     ScanGrid grid;
@@ -212,11 +217,17 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
                                         colour_scale[1](value(color_green, i)),
                                         colour_scale[2](value(color_blue, i))});
                 if (has_grid) {
-                    const auto r = static_cast<std::int64_t>(value(row_index, i)) - row_min;
-                    const auto c = static_cast<std::int64_t>(value(column_index, i)) - column_min;
+                    const double row_value = value(row_index, i);
+                    const double column_value = value(column_index, i);
+                    constexpr double huge = 1e12;  // |index| below this converts to int64 exactly
+                    if (!(std::abs(row_value) < huge && std::abs(column_value) < huge))
+                        pages.fail(cv.xml_byte, "point " + std::to_string(scan.xyz.size() - 1) +
+                                                    " has rowIndex/columnIndex out of range");
+                    const auto r = static_cast<std::int64_t>(row_value) - row_min;
+                    const auto c = static_cast<std::int64_t>(column_value) - column_min;
                     const bool bounded = row_limit >= 0;
                     if (r < 0 || c < 0 || (bounded && (r > row_limit || c > column_limit)) ||
-                        r >= (std::int64_t{1} << 32) || c >= (std::int64_t{1} << 32))
+                        r >= max_index || c >= max_index)
                         pages.fail(cv.xml_byte,
                                    "point " + std::to_string(scan.xyz.size() - 1) +
                                        " has rowIndex/columnIndex outside indexBounds");

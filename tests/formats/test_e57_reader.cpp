@@ -92,7 +92,18 @@ TEST(E57Reader, PumpScanIsA1074By345GridOf155201Points) {
     const auto [i_min, i_max] = std::minmax_element(s.intensity.begin(), s.intensity.end());
     EXPECT_NEAR(*i_min, 0.384, 0.001);
     EXPECT_NEAR(*i_max, 0.698, 0.001);
-    // First record of the file, as an independent decoder prints it.
+    // The bounding box is the file's cartesianBounds (xMinimum -2.903764 ... zMaximum 1.843003)
+    // within one count (1e-6 m): the exporter rounded the bounds separately.
+    Eigen::Vector3d lo = s.xyz[0], hi = s.xyz[0];
+    for (const auto& p : s.xyz) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    EXPECT_LE((lo - Eigen::Vector3d(-2.903764, -5.301103, -1.899705)).cwiseAbs().maxCoeff(),
+              1e-6 + 1e-12);
+    EXPECT_LE((hi - Eigen::Vector3d(1.721604, -0.792647, 1.843003)).cwiseAbs().maxCoeff(),
+              1e-6 + 1e-12);
+    // First record of the file, as the PTX export of the same scan prints it.
     EXPECT_NEAR(s.xyz[0].x(), 1.702286, 1e-9);
     EXPECT_NEAR(s.xyz[0].y(), -3.193588, 1e-9);
     EXPECT_NEAR(s.xyz[0].z(), -1.841843, 1e-9);
