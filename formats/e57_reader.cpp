@@ -264,6 +264,14 @@ std::vector<Scan> parse_e57(const char* data, std::size_t size, const std::files
     return scans;
 }
 
+std::optional<double> read_e57_acquired_utc(const std::filesystem::path& path) {
+    const MappedFile file(path);
+    E57Pages pages(file.data(), file.size(), path);
+    for (const E57ScanInfo& info : parse_e57_xml(pages, pages.read_xml()))
+        if (info.acquisition_start_gps) return gps_to_utc(*info.acquisition_start_gps);
+    return std::nullopt;
+}
+
 std::vector<Scan> read_e57(const std::filesystem::path& path) {
     const MappedFile file(path);
     return parse_e57(file.data(), file.size(), path);

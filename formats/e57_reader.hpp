@@ -3,6 +3,7 @@
 // frame (pose applied), with intensity, colour and the row/column grid where present.
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "formats/scan.hpp"
@@ -15,6 +16,10 @@ std::vector<Scan> read_e57(const std::filesystem::path& path);
 // The same from bytes in memory; `source` names them in Scan::source and in errors.
 std::vector<Scan> parse_e57(const char* data, std::size_t size,
                             const std::filesystem::path& source);
+
+// The acquisitionStart of the first scan that has one, in UTC, reading only the file
+// header and the XML section (not the points): for ingest, which needs the time early.
+std::optional<double> read_e57_acquired_utc(const std::filesystem::path& path);
 
 // GPS time (seconds since 1980-01-06T00:00:00, no leap seconds) -> seconds since the Unix
 // epoch in UTC, with the leap seconds inserted up to 2017-01-01.

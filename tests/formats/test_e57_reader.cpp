@@ -339,6 +339,11 @@ TEST_F(E57RoundTrip, SeveralScansWithRotatedPoseScaledIntegerAndInvalidRecords) 
     EXPECT_EQ(read[1].source, file.string() + "#2");
     // Half a count per scanner axis, rotated into the project frame: at most sqrt(3) / 2 counts.
     for (int k = 0; k < 2; ++k) expect_same(written[k], read[k], std::sqrt(3.0) * 0.5e-4 + 1e-9);
+    // The header-only look-up gives the first scan's time without decoding points.
+    const std::optional<double> t = read_e57_acquired_utc(file);
+    ASSERT_TRUE(t.has_value());
+    EXPECT_NEAR(*t, *written[0].acquired_utc, 1e-6);
+    EXPECT_FALSE(read_e57_acquired_utc(pump_file).has_value());
 }
 
 TEST_F(E57RoundTrip, SphericalCoordinatesAreConvertedToCartesian) {
