@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <vector>
 
 #include "formats/ptx_writer.hpp"
@@ -22,12 +23,17 @@ int main(int argc, char** argv) {
     tlsmon::sim::RenderedScan last;
     for (const unsigned threads : thread_counts) {
         const auto t0 = clock::now();
+        const std::clock_t c0 = std::clock();
         last = tlsmon::sim::render_epoch(site, 12, 3.0, threads);
         const double s = std::chrono::duration<double>(clock::now() - t0).count();
+        const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+        // CPU time too: on a shared machine the wall clock depends on the other load.
         std::printf(
-            "render, %u thread(s): %zu points in %.2f s = %.2f M points/s (%.2f M cells/s)\n",
+            "render, %u thread(s): %zu points in %.2f s wall = %.2f M points/s (%.2f M "
+            "cells/s); %.2f s CPU = %.2f M points per CPU-second\n",
             threads, last.scan.size(), s, last.scan.size() / s / 1e6,
-            shape.rows * static_cast<double>(shape.columns) / s / 1e6);
+            shape.rows * static_cast<double>(shape.columns) / s / 1e6, cpu,
+            last.scan.size() / cpu / 1e6);
     }
     const auto t0 = clock::now();
     const std::string text = tlsmon::ptx_text(last.scan);

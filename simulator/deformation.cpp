@@ -19,7 +19,8 @@ Eigen::Vector3d pier_displacement(const Site& site, const Eigen::Vector3d& p, in
     if (d.enabled) {
         const double s = thermal_time_factor(d, hours);
         const double a = d.direction_deg * std::numbers::pi / 180.0;
-        const double uh = d.top_displacement * std::pow(zeta, d.exponent) * s;
+        const double profile = d.exponent == 2.0 ? zeta * zeta : std::pow(zeta, d.exponent);
+        const double uh = d.top_displacement * profile * s;
         u += Eigen::Vector3d(uh * std::cos(a), uh * std::sin(a), d.vertical_extension * zeta * s);
     }
     const Events& e = site.events;

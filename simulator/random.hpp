@@ -2,10 +2,9 @@
 // Seeded, platform-independent random numbers for the measurement model. Every column of a
 // scan has its own generator seeded from (seed, epoch, column), so a parallel render gives
 // the same bytes as a serial one, on any standard library (std::normal_distribution is
-// implementation-defined; Box–Muller over SplitMix64 is not).
+// implementation-defined; the polar method over SplitMix64 is not).
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 namespace tlsmon::sim {
 
@@ -31,17 +30,23 @@ class Rng {
     }
     // Uniform in (0, 1): 53 random bits, never 0 (log is safe).
     double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
-    // Standard normal by the Box–Muller transform; the second value is kept for the next call.
+    // Standard normal by Marsaglia's polar method (Box–Muller without trigonometry); the
+    // second value is kept for the next call.
     double normal() {
         if (has_spare_) {
             has_spare_ = false;
             return spare_;
         }
-        const double r = std::sqrt(-2.0 * std::log(uniform()));
-        const double a = 2.0 * std::numbers::pi * uniform();
-        spare_ = r * std::sin(a);
+        double u, v, s;
+        do {
+            u = 2.0 * uniform() - 1.0;
+            v = 2.0 * uniform() - 1.0;
+            s = u * u + v * v;
+        } while (s >= 1.0 || s == 0.0);
+        const double f = std::sqrt(-2.0 * std::log(s) / s);
+        spare_ = v * f;
         has_spare_ = true;
-        return r * std::cos(a);
+        return u * f;
     }
 
   private:

@@ -23,11 +23,6 @@ std::uint32_t steps(double lo, double hi, double step) {
     return static_cast<std::uint32_t>(std::floor((hi - lo) / step + 1e-9)) + 1;
 }
 
-Eigen::Vector3d beam(double azimuth, double elevation) {
-    const double ce = std::cos(elevation);
-    return {ce * std::cos(azimuth), ce * std::sin(azimuth), std::sin(elevation)};
-}
-
 struct CellPoint {
     std::uint32_t row;
     Eigen::Vector3d scanner_xyz;
@@ -71,25 +66,37 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
     const Noise& noise = site.noise;
     const Texture& tex = site.texture;
 
+    // Readout directions: sines and cosines per row and per column, computed once.
+    std::vector<double> sin_el(shape.rows), cos_el(shape.rows);
+    for (std::uint32_t r = 0; r < shape.rows; ++r) {
+        sin_el[r] = std::sin(cell_elevation(sc, r));
+        cos_el[r] = std::cos(cell_elevation(sc, r));
+    }
+    const double sigma_angle = noise.enabled ? noise.angular_arcsec * kArcsec : 0.0;
+
     std::vector<std::vector<CellPoint>> columns(shape.columns);
     auto render_column = [&](std::uint32_t c) {
         Rng rng(hash_combine(
             hash_combine(hash_combine(noise.seed, kNoiseStream), static_cast<std::uint64_t>(epoch)),
             c));
-        const double azimuth = cell_azimuth(sc, c);
+        const double sa = std::sin(cell_azimuth(sc, c)), ca = std::cos(cell_azimuth(sc, c));
         std::vector<CellPoint>& col = columns[c];
         for (std::uint32_t r = 0; r < shape.rows; ++r) {
-            const double elevation = cell_elevation(sc, r);
+            const double se = sin_el[r], ce = cos_el[r];
             // Draw all random numbers of a cell unconditionally, so that one cell's outcome
             // never shifts the noise of the next.
             const double e_az = rng.normal(), e_el = rng.normal();
             const double e_r = rng.normal(), e_i = rng.normal();
-            double az = azimuth, el = elevation;
-            if (noise.enabled) {
-                az += noise.angular_arcsec * kArcsec * e_az;
-                el += noise.angular_arcsec * kArcsec * e_el;
+            const Eigen::Vector3d readout(ce * ca, ce * sa, se);
+            Eigen::Vector3d beam_dir = readout;
+            if (sigma_angle > 0.0) {
+                // d(φ + ε_φ, e + ε_e) to first order (ε ~ 1e-5 rad: the neglected second
+                // order is ~1e-10 rad), then renormalised.
+                beam_dir += sigma_angle * e_az * Eigen::Vector3d(-ce * sa, ce * ca, 0.0) +
+                            sigma_angle * e_el * Eigen::Vector3d(-se * ca, -se * sa, ce);
+                beam_dir.normalize();
             }
-            const Eigen::Vector3d dir = actual.linear() * beam(az, el);
+            const Eigen::Vector3d dir = actual.linear() * beam_dir;
             const Hit hit = cast_ray(scene, actual.translation(), dir, sc.max_range);
             if (hit.surface == Surface::none) continue;
             const double cos_incidence = std::abs(hit.normal.dot(dir));
@@ -102,8 +109,8 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
                 range += (noise.range_a + noise.range_b_ppm * 1e-6 * hit.range) * e_r;
                 intensity += noise.intensity_sigma * e_i;
             }
-            col.push_back({r, range * beam(azimuth, elevation),
-                           static_cast<float>(std::clamp(intensity, 0.0, 1.0))});
+            col.push_back(
+                {r, range * readout, static_cast<float>(std::clamp(intensity, 0.0, 1.0))});
         }
     };
 
