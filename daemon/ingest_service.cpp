@@ -215,7 +215,7 @@ void Daemon::run() {
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();
         report_status();
-        if (once_ && !watcher_.has_candidates() && retry_files_.empty() &&
+        if (once_ && !watcher_.has_candidates_in_time() && retry_files_.empty() &&
             Clock::now() >= retry_at_) {
             break;
         }

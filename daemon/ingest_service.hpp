@@ -9,7 +9,9 @@ namespace tlsmon {
 
 struct RunOptions {
     std::filesystem::path config_file;
-    bool once = false;  // process what is there (waiting until files are complete), then exit
+    // Process what is there (waiting until files are complete, at most max_growing for a
+    // file that keeps growing), then exit.
+    bool once = false;
 };
 
 // Returns the process exit code: 0 after a clean stop, 1 when it cannot start.

@@ -163,6 +163,11 @@ std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
     return complete;
 }
 
+bool FolderWatcher::has_candidates_in_time() const {
+    return std::any_of(candidates_.begin(), candidates_.end(),
+                       [](const auto& c) { return !c.second.reported_growing; });
+}
+
 void FolderWatcher::forget(const fs::path& path) {
     handed_.erase(path.filename().string());
 }

@@ -53,6 +53,8 @@ class FolderWatcher {
     void forget(const std::filesystem::path& path);
 
     bool has_candidates() const { return !candidates_.empty(); }
+    // Candidates not yet reported as growing past max_growing (`--once` waits for these).
+    bool has_candidates_in_time() const;
     // When the next stability check is worth doing (now if nothing is tracked: none needed).
     std::chrono::steady_clock::duration until_next_check(SteadyTime now) const;
 
