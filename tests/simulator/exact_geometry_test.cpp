@@ -103,5 +103,31 @@ TEST(SimulatorExact, SpherePointsFollowTheKnockedTarget) {
     }
 }
 
+// The step event moves one height band of the pier from its epoch on, and nothing else.
+TEST(SimulatorExact, StepEventMovesOneBandFromItsEpoch) {
+    Site s = noise_free_small();
+    s.events.step_epoch = 2;
+    s.events.step_z_min = 30.0;
+    s.events.step_z_max = 40.0;
+    s.events.step_displacement = {0.0, -0.010, 0.0};  // towards the scanner
+    for (const int epoch : {1, 2}) {
+        const Scan scan = render_epoch(s, epoch, epoch * 0.25).scan;
+        std::size_t band = 0, below = 0;
+        for (const auto& p : scan.xyz) {
+            if (p.x() < s.pier.x0 + 0.5 || p.x() > s.pier.x1 - 0.5) continue;
+            if (std::abs(p.y() - s.pier.y0) > 0.05 || p.z() < 1.0) continue;  // south face
+            if (p.z() > 30.05 && p.z() < 39.95) {
+                EXPECT_NEAR(p.y(), s.pier.y0 - (epoch >= 2 ? 0.010 : 0.0), 1e-9);
+                ++band;
+            } else if (p.z() < 29.95) {
+                EXPECT_NEAR(p.y(), s.pier.y0, 1e-9);
+                ++below;
+            }
+        }
+        EXPECT_GT(band, 5'000u) << "epoch " << epoch;
+        EXPECT_GT(below, 20'000u) << "epoch " << epoch;
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon::sim
