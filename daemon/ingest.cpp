@@ -86,9 +86,14 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
                    .string()
                    .starts_with(file.stem().string())) {
         // The epoch was committed but the daemon stopped before moving its file: finish.
-        move_file(file, *epoch.archive_path);
-        spdlog::info("{}: moved to {} (epoch {} was {} before the restart)", file.string(),
-                     *epoch.archive_path, epoch.id, to_string(epoch.status));
+        try {
+            move_file(file, *epoch.archive_path);
+            spdlog::info("{}: moved to {} (epoch {} was {} before the restart)", file.string(),
+                         *epoch.archive_path, epoch.id, to_string(epoch.status));
+        } catch (const Error& e) {
+            spdlog::warn("{}: epoch {} is {}, its file stays here: {}", file.string(), epoch.id,
+                         to_string(epoch.status), e.what());
+        }
         return IngestOutcome::known;
     } else if (same_path && ctx.config.ingest.archive == "keep") {
         return IngestOutcome::known;
@@ -154,8 +159,8 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
             ctx.db, "error", e.disk_full() ? "disk_full" : "database_error",
             file.string() + ": the database refused the new epoch, will retry: " + e.what());
         return IngestOutcome::retry_later;
-    } catch (const Error& e) {
-        spdlog::error("{}: {}", file.string(), e.what());
+    } catch (const std::exception& e) {  // e.g. the folder became unreadable
+        spdlog::error("{}: {}; will retry", file.string(), e.what());
         return IngestOutcome::retry_later;
     }
 }

@@ -173,11 +173,11 @@ void Daemon::process_backlog() {
             watcher_.read_events(Clock::now());
             if (shutdown_.take_reload()) reload();
         }
-    } catch (const StorageError& e) {
+    } catch (const std::exception& e) {  // the database, or the file system under it
         backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                  : std::min(backoff_ * 2, config_.ingest.retry_max);
         retry_at_ = Clock::now() + seconds(backoff_);
-        spdlog::error("database: {}; retry in {:.1f} s", e.what(), backoff_);
+        spdlog::error("{}; retry in {:.1f} s", e.what(), backoff_);
     }
 }
 
@@ -253,7 +253,7 @@ int run_daemon(const RunOptions& options) {
         create_folders(config);
         Daemon daemon(std::move(config), options.once, shutdown);
         daemon.run();
-    } catch (const Error& e) {
+    } catch (const std::exception& e) {
         spdlog::critical("tlsmon run: {}", e.what());
         return 1;
     }

@@ -26,7 +26,8 @@ bool names_reference(const Config& config, const Epoch& e) {
 EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& reason) {
     const fs::path file(epoch.file_path);
     std::optional<std::string> moved_to;
-    if (fs::exists(file)) {
+    std::error_code ec;
+    if (fs::exists(file, ec)) {
         const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
                                       epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
@@ -80,7 +81,8 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
     try {
         if (!ctx.db.claim_epoch(epoch.id)) return EpochOutcome::skipped;
         const fs::path file(epoch.file_path);
-        if (!fs::exists(file)) {
+        std::error_code ec;
+        if (!fs::exists(file, ec)) {
             return fail(ctx, epoch, "the file vanished before it was processed");
         }
         EpochResults results;
