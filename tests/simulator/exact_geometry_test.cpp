@@ -7,6 +7,7 @@
 
 #include "simulator/deformation.hpp"
 #include "simulator/render.hpp"
+#include "simulator/texture.hpp"
 
 namespace tlsmon::sim {
 namespace {
@@ -127,6 +128,44 @@ TEST(SimulatorExact, StepEventMovesOneBandFromItsEpoch) {
         EXPECT_GT(band, 5'000u) << "epoch " << epoch;
         EXPECT_GT(below, 20'000u) << "epoch " << epoch;
     }
+}
+
+// Intensity = albedo(material point) · exp(−r / r_att) · |cos incidence| exactly (noise
+// off), so it falls with range and incidence: the grazing west wall is far darker.
+TEST(SimulatorExact, IntensityFollowsAlbedoRangeAndIncidence) {
+    const Site s = noise_free_small();
+    const Scan scan = render_epoch(s, 0, 0.0).scan;
+    const Eigen::Vector3d o = s.scanner.position;
+    std::size_t south = 0, west = 0, ground = 0;
+    double south_sum = 0.0, west_sum = 0.0;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+        const Eigen::Vector3d& p = scan.xyz[i];
+        const Eigen::Vector3d d = p - o;
+        const double r = d.norm();
+        const double fall = std::exp(-r / s.texture.range_attenuation);
+        if (std::abs(p.y() - s.pier.y0) < 1e-6 && p.z() > 0.1) {
+            const double cos_i = std::abs(d.y()) / r;  // face normal (0, −1, 0)
+            const double a = concrete_albedo(s.texture, 2, p.x(), p.z());
+            ASSERT_NEAR(scan.intensity[i], a * fall * cos_i, 1e-6);
+            south_sum += scan.intensity[i];
+            ++south;
+        } else if (std::abs(p.x() - s.pier.x0) < 1e-6 && p.z() > 0.1) {
+            const double cos_i = std::abs(d.x()) / r;  // face normal (−1, 0, 0)
+            const double a = concrete_albedo(s.texture, 0, p.y(), p.z());
+            ASSERT_NEAR(scan.intensity[i], a * fall * cos_i, 1e-6);
+            west_sum += scan.intensity[i];
+            ++west;
+        } else if (std::abs(p.z()) < 1e-6) {
+            const double cos_i = std::abs(d.z()) / r;
+            ASSERT_NEAR(scan.intensity[i], ground_albedo(s.texture, p.x(), p.y()) * fall * cos_i,
+                        1e-6);
+            ++ground;
+        }
+    }
+    ASSERT_GT(south, 30'000u);
+    ASSERT_GT(west, 100u);
+    ASSERT_GT(ground, 5'000u);
+    EXPECT_LT(west_sum / west, 0.2 * south_sum / south);
 }
 
 }  // namespace
