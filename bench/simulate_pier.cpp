@@ -1,4 +1,4 @@
-// Rendering speed of the `pier` preset (≈ 10.5 M cells, ≈ 6 M points): points/s for the
+// Rendering speed of the `pier` preset (≈ 10.5 M cells, ≈ 6.8 M points): points/s for the
 // render on 1 and 2 threads, and for formatting the PTX text. Prints its numbers; nothing
 // is asserted. Usage: bench_simulate_pier [threads...]   (default: 2 1)
 #include <chrono>

@@ -52,7 +52,7 @@ Site preset_small() {
 Site preset_pier() {
     Site s = preset_small();
     s.scanner.station = "pier";
-    // 2539 columns x 4155 rows = 10.5 M cells at 0.013° (2.3 mm at 10 m): ~6 M points.
+    // 2539 columns x 4154 rows = 10.5 M cells at 0.013° (2.3 mm at 10 m): ≈ 6.8 M points.
     s.scanner.azimuth_step_deg = 0.013;
     s.scanner.elevation_step_deg = 0.013;
     s.targets = four_targets(22.0, 36.0, 92.0, 65.0);

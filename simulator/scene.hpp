@@ -122,7 +122,7 @@ struct Site {
     double cadence_seconds = 900.0;
 };
 
-// Presets. `small`: tests (≈ 200k cells); `pier`: benchmarks (≈ 7.5 M cells);
+// Presets. `small`: tests (179k cells); `pier`: benchmarks (10.5 M cells, ≈ 6.8 M points);
 // `hochmosel`: a 140 m pier at 100–180 m range as in the Hochmoselbrücke case study.
 Site preset_small();
 Site preset_pier();
