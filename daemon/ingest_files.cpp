@@ -6,12 +6,14 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <ctime>
 #include <fstream>
 #include <regex>
 
 #include "algorithms/error.hpp"
+#include "formats/e57_reader.hpp"
 #include "formats/scan_file.hpp"
 
 namespace tlsmon {
@@ -49,14 +51,12 @@ std::int64_t acquisition_time(const fs::path& path, const std::vector<std::strin
                               std::string& used) {
     for (const auto& source : precedence) {
         if (source == "scan" && detect_format(path) == ScanFormat::e57) {
-            // Only E57 carries an acquisition time in its header; reading it means reading
-            // the file, done here only for that format.
+            // Only E57 carries an acquisition time in its header (acquisitionStart, read
+            // from the XML section without the points).
             try {
-                for (const auto& scan : read_scans(path)) {
-                    if (scan.acquired_utc) {
-                        used = "scan";
-                        return static_cast<std::int64_t>(*scan.acquired_utc);
-                    }
+                if (auto t = read_e57_acquired_utc(path)) {
+                    used = "scan";
+                    return static_cast<std::int64_t>(std::floor(*t));
                 }
             } catch (const Error&) {
                 // Unreadable: the pipeline reports it; the time comes from elsewhere.

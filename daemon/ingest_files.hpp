@@ -16,9 +16,9 @@ std::optional<std::int64_t> time_from_file_name(const std::string& name);
 // Modification time of the file, UTC seconds; nullopt if it cannot be read.
 std::optional<std::int64_t> file_mtime(const std::filesystem::path& path);
 
-// The first available source in `precedence` ("scan", "file_name", "mtime"); "scan" reads
-// the file's own header time (E57 has one; the text formats do not). Falls back to mtime,
-// then to now. `used` names the source taken.
+// The first available source in `precedence` ("scan", "file_name", "mtime"); "scan" is the
+// file's own header time (E57's acquisitionStart; the other formats have none). Falls back
+// to mtime, then to now. `used` names the source taken.
 std::int64_t acquisition_time(const std::filesystem::path& path,
                               const std::vector<std::string>& precedence, std::string& used);
 

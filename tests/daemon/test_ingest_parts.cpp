@@ -8,6 +8,7 @@
 #include "daemon/ingest_files.hpp"
 #include "daemon/sha256.hpp"
 #include "daemon/watcher.hpp"
+#include "formats/e57_writer.hpp"
 
 namespace tlsmon {
 namespace {
@@ -36,6 +37,30 @@ TEST(IngestParts, TimeFromFileName) {
     EXPECT_FALSE(time_from_file_name("x_20260601T256000Z.ptx"));
     EXPECT_FALSE(time_from_file_name("x_20260601T0615Z.ptx"));
     EXPECT_FALSE(time_from_file_name("scan.ptx"));
+}
+
+TEST(IngestParts, AcquisitionTimePrecedence) {
+    // An E57 whose header says 2026-06-01T06:00:00.5Z, named as if taken on 2020-01-01.
+    const fs::path d = fs::temp_directory_path() / ("tlsmon-acq-" + std::to_string(getpid()));
+    fs::create_directories(d);
+    const fs::path file = d / "pier_20200101T000000Z.e57";
+    Scan scan;
+    scan.xyz = {{1, 2, 3}, {4, 5, 6}};
+    scan.acquired_utc = 1780293600.5;
+    write_e57(file, {scan});
+    std::string used;
+    EXPECT_EQ(acquisition_time(file, {"scan", "file_name", "mtime"}, used), 1780293600);
+    EXPECT_EQ(used, "scan");
+    EXPECT_EQ(acquisition_time(file, {"file_name", "scan"}, used), 1577836800);
+    EXPECT_EQ(used, "file_name");
+    EXPECT_EQ(acquisition_time(file, {"mtime"}, used), *file_mtime(file));
+    EXPECT_EQ(used, "mtime");
+    // A PTX has no header time: "scan" is skipped.
+    const fs::path ptx = d / "pier_20260601T061500Z.ptx";
+    fs::copy_file(fs::path(TLSMON_DATA_DIR) / "ptx/no-color.ptx", ptx);
+    EXPECT_EQ(acquisition_time(ptx, {"scan", "file_name"}, used), 1780294500);
+    EXPECT_EQ(used, "file_name");
+    fs::remove_all(d);
 }
 
 TEST(IngestParts, Sha256KnownAnswers) {
