@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "simulator/render.hpp"
+
 namespace tlsmon {
 
 namespace {
@@ -49,7 +51,11 @@ void read_scanner(TomlFields& f, sim::Scanner& s) {
     const double cells =
         (std::floor((s.azimuth_max_deg - s.azimuth_min_deg) / s.azimuth_step_deg) + 1) *
         (std::floor((s.elevation_max_deg - s.elevation_min_deg) / s.elevation_step_deg) + 1);
-    if (cells > 400e6) f.fail("azimuth_step_deg", "the window and steps give over 400 M cells");
+    if (cells > static_cast<double>(sim::max_scan_cells)) {
+        f.fail("azimuth_step_deg",
+               "the window and steps give " + std::to_string(cells / 1e6) + " M cells, over the " +
+                   std::to_string(sim::max_scan_cells / 1000000) + " M allowed");
+    }
     f.reject_unknown_keys();
 }
 

@@ -16,7 +16,6 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kArcsec = kDeg / 3600.0;
-constexpr std::uint64_t kMaxCells = 400'000'000;
 constexpr std::uint64_t kNoiseStream = 0x6e6f697365ULL;
 
 std::uint32_t steps(double lo, double hi, double step) {
@@ -51,9 +50,10 @@ double cell_elevation(const Scanner& s, std::uint32_t row) {
 RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads) {
     const Scanner& sc = site.scanner;
     const GridShape shape = grid_shape(sc);
-    if (std::uint64_t{shape.rows} * shape.columns > kMaxCells) {
+    if (std::uint64_t{shape.rows} * shape.columns > max_scan_cells) {
         throw Error("scanner window gives " + std::to_string(shape.rows) + " x " +
-                    std::to_string(shape.columns) + " cells, more than the 400 M allowed");
+                    std::to_string(shape.columns) + " cells, more than the " +
+                    std::to_string(max_scan_cells / 1000000) + " M allowed");
     }
     RenderedScan out;
     out.epoch = epoch;

@@ -22,6 +22,10 @@
 
 namespace tlsmon::sim {
 
+// Largest grid rendered: memory grows by about 120 bytes per cell (points, grid indices,
+// PTX text), so 50 M cells need about 6 GB.
+constexpr std::uint64_t max_scan_cells = 50'000'000;
+
 struct GridShape {
     std::uint32_t rows = 0, columns = 0;
 };
@@ -39,7 +43,7 @@ struct RenderedScan {
 };
 
 // Renders epoch `epoch`, `hours` after the first epoch, on `threads` threads (the result
-// does not depend on the thread count). Throws tlsmon::Error for a grid over 400 M cells.
+// does not depend on the thread count). Throws tlsmon::Error for a grid over max_scan_cells.
 RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads = 2);
 
 }  // namespace tlsmon::sim
