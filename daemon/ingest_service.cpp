@@ -96,7 +96,7 @@ void Daemon::start() {
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
                        " interrupted epoch(s) back to pending");
     auto ctx = context();
-    update_reference(ctx, std::nullopt);
+    ensure_reference(ctx);
     watcher_.rescan(Clock::now());
     next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
 }

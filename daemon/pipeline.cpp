@@ -54,26 +54,17 @@ EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& rea
 
 }  // namespace
 
-void update_reference(IngestContext& ctx, std::optional<EpochId> committed) {
+void ensure_reference(IngestContext& ctx) {
     if (ctx.db.reference_epoch()) return;
-    std::optional<Epoch> chosen;
-    if (committed) {
-        chosen = ctx.db.epoch(*committed);
-        if (chosen && !names_reference(ctx.config, *chosen)) chosen.reset();
-    } else {
-        for (const auto& e : ctx.db.epochs_in_range({})) {
-            if (e.status == EpochStatus::done && names_reference(ctx.config, e)) {
-                chosen = e;
-                break;
-            }
-        }
+    for (const auto& e : ctx.db.epochs_in_range({})) {  // by acquisition time
+        if (e.status != EpochStatus::done || !names_reference(ctx.config, e)) continue;
+        ctx.db.set_reference_epoch(e.id);
+        ctx.events.record(
+            ctx.db, "info", "reference_epoch",
+            "epoch " + std::to_string(e.id) + " (" + e.file_path + ") is the reference epoch",
+            e.id);
+        return;
     }
-    if (!chosen || chosen->status != EpochStatus::done) return;
-    ctx.db.set_reference_epoch(chosen->id);
-    ctx.events.record(ctx.db, "info", "reference_epoch",
-                      "epoch " + std::to_string(chosen->id) + " (" + chosen->file_path +
-                          ") is the reference epoch",
-                      chosen->id);
 }
 
 EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
@@ -117,7 +108,11 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
                 ctx.events.record(ctx.db, "warning", "archive_failed", e.what(), epoch.id);
             }
         }
-        update_reference(ctx, epoch.id);
+        try {
+            ensure_reference(ctx);
+        } catch (const StorageError& e) {
+            spdlog::warn("the reference epoch is not set yet: {}", e.what());
+        }
         return EpochOutcome::done;
     } catch (const StorageError& e) {
         ctx.events.record(

@@ -11,9 +11,10 @@ enum class EpochOutcome { done, failed, retry_later, skipped };
 
 EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch);
 
-// The reference epoch (epoch 0 of the analyses): the one named by ingest.reference_epoch
-// (file name or sha256), else the first accepted. Sets it when `epoch` qualifies and none
-// is set; at start, call with nullopt to repair a stop between commit and setting it.
-void update_reference(IngestContext& ctx, std::optional<EpochId> committed);
+// The reference epoch (epoch 0 of the analyses), set once: the epoch named by
+// ingest.reference_epoch (file name or sha256), else the first accepted one (earliest
+// acquisition among the done epochs). Called after each commit and at start, so a stop
+// or a database error between a commit and this call is repaired later.
+void ensure_reference(IngestContext& ctx);
 
 }  // namespace tlsmon

@@ -262,6 +262,19 @@ TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
     EXPECT_EQ(daemon.wait(5), 0);
 }
 
+TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
+    Site site("reference", "", "reference_epoch = \"small_20260601T061500Z.ptx\"\n");
+    fs::copy_file(kData / "ptx/complex-transform.ptx",
+                  site.ingest() / "small_20260601T060000Z.ptx");
+    fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "small_20260601T061500Z.ptx");
+    DaemonProcess once(site.config(), site.log(), true);
+    ASSERT_EQ(once.wait(60), 0) << read_text(site.log());
+    const auto epochs = all_epochs(site);
+    const Epoch* named = by_name(epochs, "small_20260601T061500Z.ptx");
+    ASSERT_TRUE(named);
+    EXPECT_EQ(site.open_db().reference_epoch(), named->id);
+}
+
 TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {
     Site site("badconfig", "[ingest]\nstable_seconds = 3\n");  // [ingest] twice: TOML error
     const auto r =
