@@ -3,6 +3,7 @@
 
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "daemon/config.hpp"
@@ -113,47 +114,86 @@ void print_csv_line(std::ostream& out, const std::vector<std::string>& fields) {
 
 }  // namespace
 
+namespace {
+
+// A JSON string literal; bytes that are not UTF-8 (a Latin-1 file name) become U+FFFD
+// instead of an exception.
+std::string json_string(const std::string& s) {
+    return nlohmann::ordered_json(s).dump(-1, ' ', false,
+                                          nlohmann::ordered_json::error_handler_t::replace);
+}
+
+void append_json(std::string& buf, const Cell& c) {
+    if (const auto* d = std::get_if<double>(&c)) {
+        buf += std::isfinite(*d) ? number_text(*d) : "null";  // JSON has no NaN/Inf
+    } else if (const auto* s = std::get_if<std::string>(&c)) {
+        buf += json_string(*s);
+    } else if (std::holds_alternative<std::monostate>(c)) {
+        buf += "null";
+    } else {
+        buf += cell_text(c);  // integer or true/false
+    }
+}
+
+void append_csv_line(std::string& buf, const std::vector<std::string>& fields, std::size_t first,
+                     std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) {
+        if (i) buf += ',';
+        buf += csv_field(fields[first + i]);
+    }
+    buf += '\n';
+}
+
+}  // namespace
+
+// Everything is formatted into one buffer and written once: a year of 15-minute epochs is
+// 35,040 rows.
 void print(std::ostream& out, const Table& table, OutputFormat format) {
+    const std::size_t columns = table.columns.size();
+    std::string buf;
+    buf.reserve(table.rows.size() * 100 + 256);
     if (format == OutputFormat::json) {
-        auto rows = nlohmann::ordered_json::array();
-        for (const auto& row : table.rows) {
-            nlohmann::ordered_json object = nlohmann::ordered_json::object();
-            for (std::size_t i = 0; i < table.columns.size(); ++i) {
-                object[table.columns[i]] = cell_json(row[i]);
+        std::vector<std::string> keys;
+        for (const auto& c : table.columns) keys.push_back(json_string(c) + ": ");
+        buf += '[';
+        for (std::size_t r = 0; r < table.rows.size(); ++r) {
+            buf += r ? ",\n  {" : "\n  {";
+            for (std::size_t i = 0; i < columns; ++i) {
+                if (i) buf += ", ";
+                buf += keys[i];
+                append_json(buf, table.rows[r][i]);
             }
-            rows.push_back(std::move(object));
+            buf += '}';
         }
-        out << rows.dump(2) << '\n';
+        buf += table.rows.empty() ? "]\n" : "\n]\n";
+        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
         return;
     }
-    std::vector<std::vector<std::string>> text;
-    text.reserve(table.rows.size());
+    std::vector<std::string> text;  // header, then the rows, row-major
+    text.reserve((table.rows.size() + 1) * columns);
+    for (const auto& c : table.columns) text.push_back(c);
     for (const auto& row : table.rows) {
-        std::vector<std::string> line;
-        for (const auto& c : row) line.push_back(cell_text(c));
-        text.push_back(std::move(line));
+        for (const auto& c : row) text.push_back(cell_text(c));
     }
+    const std::size_t lines = table.rows.size() + 1;
     if (format == OutputFormat::csv) {
-        print_csv_line(out, table.columns);
-        for (const auto& line : text) print_csv_line(out, line);
+        for (std::size_t l = 0; l < lines; ++l) append_csv_line(buf, text, l * columns, columns);
+        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
         return;
     }
-    std::vector<std::size_t> width(table.columns.size());
-    for (std::size_t i = 0; i < width.size(); ++i) width[i] = table.columns[i].size();
-    for (const auto& line : text) {
-        for (std::size_t i = 0; i < width.size(); ++i)
-            width[i] = std::max(width[i], line[i].size());
+    std::vector<std::size_t> width(columns, 0);
+    for (std::size_t k = 0; k < text.size(); ++k) {
+        width[k % columns] = std::max(width[k % columns], text[k].size());
     }
-    auto emit = [&](const std::vector<std::string>& line) {
-        std::string s;
-        for (std::size_t i = 0; i < width.size(); ++i) {
-            s += line[i];
-            if (i + 1 < width.size()) s += std::string(width[i] - line[i].size() + 2, ' ');
+    for (std::size_t l = 0; l < lines; ++l) {
+        for (std::size_t i = 0; i < columns; ++i) {
+            const auto& cell = text[l * columns + i];
+            buf += cell;
+            if (i + 1 < columns) buf.append(width[i] - cell.size() + 2, ' ');
         }
-        out << s << '\n';
-    };
-    emit(table.columns);
-    for (const auto& line : text) emit(line);
+        buf += '\n';
+    }
+    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
 }
 
 void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Cell>>& fields,
@@ -161,7 +201,7 @@ void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Ce
     if (format == OutputFormat::json) {
         nlohmann::ordered_json object = nlohmann::ordered_json::object();
         for (const auto& [key, value] : fields) object[key] = cell_json(value);
-        out << object.dump(2) << '\n';
+        out << object.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << '\n';
         return;
     }
     if (format == OutputFormat::csv) print_csv_line(out, {"key", "value"});

@@ -1,0 +1,191 @@
+// Epoch database benchmark (reported, not asserted):
+//  1. bytes of database per epoch for a 50-zone configuration (50 zones x 4 quantities,
+//     registration with 6 targets, two per-core-point float32 arrays of 10,000 values),
+//     and the time of one commit_epoch (synchronous=FULL);
+//  2. the series query for one zone and quantity over one year of 15-minute epochs
+//     (35,040 epochs, generated), through the API and through `tlsmon query series`
+//     end to end. Target: under 100 ms.
+// Usage: bench_epoch_database [DIR [TLSMON]]  (DIR: where the databases go, default a temp
+// folder; TLSMON: the binary, default ../daemon/tlsmon next to this program).
+#include "storage/epoch_database.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "storage/utc_time.hpp"
+
+namespace fs = std::filesystem;
+using namespace tlsmon;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int kZones = 50;
+const char* const kQuantities[] = {"m3c2_mean_m", "m3c2_lod95_m", "keypoint_dx_m", "keypoint_dz_m"};
+constexpr int kCorePoints = 10000;
+constexpr UtcSeconds kStart = 1767225600;  // 2026-01-01T00:00:00Z
+constexpr int kYearEpochs = 35040;         // 365 days x 96
+
+double ms_since(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+std::string sha(std::int64_t n) {
+    char buf[65];
+    std::snprintf(buf, sizeof buf, "%064llx", static_cast<unsigned long long>(n));
+    return buf;
+}
+
+std::string zone_name(int z) {
+    return "zone " + std::to_string(z);
+}
+
+EpochResults epoch_results(int i, bool with_arrays) {
+    EpochResults r;
+    r.point_count = 2'000'000;
+    r.timings = {1500.0, 400.0, 6000.0, 7900.0};
+    RegistrationRow reg;
+    reg.method = "targets-helmert";
+    reg.transform = {1, 0, 0, 0.001, 0, 1, 0, -0.002, 0, 0, 1, 0.0005, 0, 0, 0, 1};
+    reg.target_count = 6;
+    reg.rms_m = 0.0011;
+    reg.max_residual_m = 0.0019;
+    reg.sigma0 = 1.02;
+    reg.accepted = true;
+    r.registration = reg;
+    for (int t = 0; t < 6; ++t) {
+        r.targets.push_back({"T" + std::to_string(t),
+                             t < 4 ? "sphere" : "plane",
+                             {10.0 * t, 5.0, 2.0},
+                             {0.0005, -0.0003, 0.0001},
+                             true,
+                             true});
+    }
+    const double season = 0.004 * std::sin(2 * M_PI * i / 35040.0);
+    for (int z = 0; z < kZones; ++z) {
+        for (const char* q : kQuantities) {
+            r.zone_results.push_back({zone_name(z), q, season + 0.0001 * z, 0.0018, 400 + z,
+                                      std::fabs(season) > 0.0018});
+        }
+    }
+    if (with_arrays) {
+        std::vector<float> d(kCorePoints), lod(kCorePoints);
+        for (int k = 0; k < kCorePoints; ++k) {
+            d[k] = static_cast<float>(season + 0.001 * std::sin(0.37 * k + i));
+            lod[k] = static_cast<float>(0.0015 + 0.0005 * std::cos(0.11 * k));
+        }
+        r.core_point_arrays = {{"m3c2_distance_m", d}, {"m3c2_lod95_m", lod}};
+    }
+    return r;
+}
+
+void fill(EpochDatabase& db, int epochs, bool with_arrays, std::vector<double>* commit_ms) {
+    for (int z = 0; z < kZones; ++z) db.upsert_zone(zone_name(z), "{}");
+    for (int i = 0; i < epochs; ++i) {
+        const auto id = db.insert_epoch({sha(i + 1), kStart + 900LL * i, "/ingest/scan.ptx",
+                                         180'000'000, std::nullopt})
+                            .id;
+        db.claim_epoch(id);
+        const auto results = epoch_results(i, with_arrays);
+        const auto t = Clock::now();
+        db.commit_epoch(id, results);
+        if (commit_ms) commit_ms->push_back(ms_since(t));
+    }
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+double run_binary(const std::string& command) {
+    const auto t = Clock::now();
+    const int status = std::system(command.c_str());
+    const double ms = ms_since(t);
+    if (status != 0) {
+        std::fprintf(stderr, "failed (%d): %s\n", status, command.c_str());
+        std::exit(1);
+    }
+    return ms;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const fs::path dir =
+        argc > 1 ? fs::path(argv[1])
+                 : fs::temp_directory_path() / ("tlsmon-bench-db-" + std::to_string(::getpid()));
+    const fs::path tlsmon =
+        argc > 2 ? fs::path(argv[2])
+                 : fs::read_symlink("/proc/self/exe").parent_path() / ".." / "daemon" / "tlsmon";
+    fs::create_directories(dir);
+
+    // 1. Bytes per epoch: N epochs, then closed (the WAL is checkpointed into the file).
+    constexpr int kSizeEpochs = 200;
+    for (bool arrays : {false, true}) {
+        const fs::path path = dir / (arrays ? "size_arrays.sqlite" : "size_rows.sqlite");
+        fs::remove(path);
+        std::vector<double> commit_ms;
+        std::int64_t empty_bytes = 0;
+        {
+            auto db = EpochDatabase::open(path, EpochDatabase::Mode::read_write);
+            fill(db, 0, arrays, nullptr);
+        }
+        empty_bytes = static_cast<std::int64_t>(fs::file_size(path));
+        {
+            auto db = EpochDatabase::open(path, EpochDatabase::Mode::read_write);
+            fill(db, kSizeEpochs, arrays, &commit_ms);
+        }
+        const auto bytes = static_cast<std::int64_t>(fs::file_size(path));
+        std::printf(
+            "bytes per epoch, %d zones x 4 quantities%s: %.0f B (%d epochs, file %lld B);"
+            " commit_epoch median %.2f ms\n",
+            kZones, arrays ? " + 2 x 10,000 float32 core point arrays" : "",
+            double(bytes - empty_bytes) / kSizeEpochs, kSizeEpochs, static_cast<long long>(bytes),
+            median(commit_ms));
+    }
+
+    // 2. One year of 15-minute epochs, 50 zones x 4 quantities each (7,008,000 series rows);
+    //    generated once and kept in DIR for reruns.
+    const fs::path year = dir / "year.sqlite";
+    if (!fs::exists(year)) {
+        const auto t = Clock::now();
+        auto db = EpochDatabase::open(year, EpochDatabase::Mode::read_write);
+        fill(db, kYearEpochs, false, nullptr);
+        std::printf("generated %d epochs in %.1f s\n", kYearEpochs, ms_since(t) / 1000);
+    }
+    std::printf("year database: %lld B\n", static_cast<long long>(fs::file_size(year)));
+    auto db = EpochDatabase::open(year, EpochDatabase::Mode::read_only);
+    std::vector<double> api_ms;
+    std::size_t rows = 0;
+    for (int k = 0; k < 11; ++k) {
+        const auto t = Clock::now();
+        rows = db.series("zone 17", "m3c2_mean_m", {}).size();
+        api_ms.push_back(ms_since(t));
+    }
+    std::printf(
+        "series query (API), one zone over one year: %zu rows, first %.1f ms,"
+        " median of 11 %.1f ms (target 100 ms: %.2fx)\n",
+        rows, api_ms.front(), median(api_ms), median(api_ms) / 100.0);
+    for (const char* format : {"table", "csv", "json"}) {
+        std::vector<double> cli_ms;
+        const std::string cmd = tlsmon.string() + " query series --db " + year.string() +
+                                " --zone 'zone 17' --quantity m3c2_mean_m --format " + format +
+                                " --from 2026-01-01 --to 2026-12-31T23:59:59Z > /dev/null";
+        for (int k = 0; k < 5; ++k) cli_ms.push_back(run_binary(cmd));
+        std::printf(
+            "tlsmon query series --format %s, end to end: median of 5 %.1f ms"
+            " (target 100 ms: %.2fx)\n",
+            format, median(cli_ms), median(cli_ms) / 100.0);
+    }
+    if (argc <= 1) fs::remove_all(dir);
+    return 0;
+}
