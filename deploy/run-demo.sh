@@ -1,7 +1,29 @@
 #!/usr/bin/env bash
-# Fresh Debian 12 machine -> dependencies installed, tlsmon built, the main job run.
+# Fresh Debian 12 machine -> dependencies installed, tlsmon built, the main job run:
+# the daemon watches var/ingest (etc/tlsmon.toml) while the built-in simulator drops a scan
+# of the `small` bridge-pier scene into it every 2 s, as the scanner would every 15 min.
+# Then the epoch database is shown. EPOCHS=N changes the number of scans (default 8).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
 bash deploy/build.sh
-rm -rf var && mkdir -p var/ingest && { ./build/daemon/tlsmon run --config etc/tlsmon.toml & d=$!; ./build/daemon/tlsmon simulate --preset small --out var/ingest --epochs 8 --realtime 2; sleep 14; kill -TERM $d; wait $d; } && ./build/daemon/tlsmon status --config etc/tlsmon.toml
+
+tlsmon=./build/daemon/tlsmon
+epochs=${EPOCHS:-8}
+rm -rf var && mkdir -p var/ingest
+
+"$tlsmon" run --config etc/tlsmon.toml &
+daemon=$!
+trap 'kill -TERM $daemon 2>/dev/null || true' EXIT
+
+"$tlsmon" simulate --preset small --out var/ingest --epochs "$epochs" --realtime 2
+# The last scan counts as complete after ingest.stable_seconds (10 s) without change.
+for _ in $(seq 60); do
+  compgen -G 'var/ingest/*.ptx' >/dev/null || break
+  sleep 1
+done
+kill -TERM $daemon && wait $daemon
+trap - EXIT
+
+"$tlsmon" status --config etc/tlsmon.toml
+"$tlsmon" query epochs --config etc/tlsmon.toml
