@@ -13,30 +13,6 @@ namespace {
 
 const std::vector<std::string> kTimeSources = {"scan", "file_name", "mtime"};
 
-// TomlFields reads arrays of numbers only; the lists of names in [ingest] are read here
-// from the raw table, and that table's unknown keys are checked against `known` below.
-void get_names(const toml::table& table, const TomlFields& fields, const std::string& key,
-               std::vector<std::string>& values) {
-    const toml::node* n = table.get(key);
-    if (!n) return;
-    const toml::array* a = n->as_array();
-    if (!a) fields.fail(key, "expected an array of strings");
-    std::vector<std::string> out;
-    for (const auto& e : *a) {
-        if (!e.is_string()) fields.fail(key, "expected an array of strings");
-        out.push_back(*e.value<std::string>());
-    }
-    values = std::move(out);
-}
-
-void reject_unknown(const toml::table& table, const TomlFields& fields,
-                    const std::set<std::string>& known) {
-    for (const auto& [k, node] : table) {
-        const std::string key(k.str());
-        if (!known.count(key)) fields.fail(key, "unknown key");
-    }
-}
-
 fs::path resolve(const fs::path& p, const fs::path& base) {
     return (p.is_absolute() ? p : base / p).lexically_normal();
 }
@@ -73,8 +49,8 @@ void read_paths(TomlFields& t, PathsConfig& c, const fs::path& base) {
     }
 }
 
-void read_ingest(const toml::table& raw, TomlFields& t, IngestConfig& c) {
-    get_names(raw, t, "extensions", c.extensions);
+void read_ingest(TomlFields& t, IngestConfig& c) {
+    t.get("extensions", c.extensions);
     if (c.extensions.empty()) t.fail("extensions", "expected at least one extension");
     std::set<std::string> seen;
     for (auto& e : c.extensions) {
@@ -99,7 +75,7 @@ void read_ingest(const toml::table& raw, TomlFields& t, IngestConfig& c) {
         t.fail("reference_epoch",
                "expected a file name (no folder) or a sha256 of 64 lower-case hex digits");
     }
-    get_names(raw, t, "acquisition_time", c.acquisition_time);
+    t.get("acquisition_time", c.acquisition_time);
     if (c.acquisition_time.empty()) t.fail("acquisition_time", "expected at least one source");
     std::set<std::string> sources;
     for (const auto& s : c.acquisition_time) {
@@ -111,9 +87,7 @@ void read_ingest(const toml::table& raw, TomlFields& t, IngestConfig& c) {
     t.get_seconds("retry_initial", c.retry_initial, 0.1, 3600.0);
     t.get_seconds("retry_max", c.retry_max, 0.1, 86400.0);
     if (c.retry_max < c.retry_initial) t.fail("retry_max", "must be >= ingest.retry_initial");
-    reject_unknown(raw, t,
-                   {"extensions", "stable_seconds", "rescan_interval", "max_growing", "archive",
-                    "reference_epoch", "acquisition_time", "retry_initial", "retry_max"});
+    t.reject_unknown_keys();
 }
 
 void read_logging(TomlFields& t, LoggingConfig& c, const fs::path& base) {
@@ -163,7 +137,7 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     TomlFields top(root, source);
     if (auto t = top.table("station")) read_station(*t, c.station);
     if (auto t = top.table("paths")) read_paths(*t, c.paths, base);
-    if (auto t = top.table("ingest")) read_ingest(*root["ingest"].as_table(), *t, c.ingest);
+    if (auto t = top.table("ingest")) read_ingest(*t, c.ingest);
     if (auto t = top.table("logging")) read_logging(*t, c.logging, base);
     if (auto t = top.table("daemon")) read_daemon(*t, c.daemon);
     std::set<std::string> zone_names;

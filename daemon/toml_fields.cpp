@@ -29,8 +29,7 @@ toml::table parse_toml_string(std::string_view text, const std::string& source_n
     try {
         return toml::parse(text, source_name);
     } catch (const toml::parse_error& e) {
-        throw ConfigError(position(source_name, e.source()) + ": " +
-                          std::string(e.description()));
+        throw ConfigError(position(source_name, e.source()) + ": " + std::string(e.description()));
     }
 }
 
@@ -53,7 +52,9 @@ const toml::node* TomlFields::find(const std::string& key) {
     return table_->get(key);
 }
 
-bool TomlFields::has(const std::string& key) const { return table_->contains(key); }
+bool TomlFields::has(const std::string& key) const {
+    return table_->contains(key);
+}
 
 void TomlFields::get(const std::string& key, bool& value) {
     const toml::node* n = find(key);
@@ -182,9 +183,9 @@ std::vector<TomlFields> TomlFields::array_of_tables(const std::string& key) {
     for (std::size_t i = 0; i < a->size(); ++i) {
         const toml::table* t = (*a)[i].as_table();
         if (!t) fail(key, "element " + std::to_string(i) + " is not a table");
-        out.emplace_back(*t, source_,
-                         (prefix_.empty() ? key : prefix_ + "." + key) + "[" +
-                             std::to_string(i) + "]");
+        out.emplace_back(
+            *t, source_,
+            (prefix_.empty() ? key : prefix_ + "." + key) + "[" + std::to_string(i) + "]");
     }
     return out;
 }
@@ -200,6 +201,19 @@ void TomlFields::get(const std::string& key, std::vector<double>& values) {
         const double v = *e.value<double>();
         if (!std::isfinite(v)) fail(key, "array holds a non-finite number");
         out.push_back(v);
+    }
+    values = std::move(out);
+}
+
+void TomlFields::get(const std::string& key, std::vector<std::string>& values) {
+    const toml::node* n = find(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    if (!a) fail(key, "expected an array of strings");
+    std::vector<std::string> out;
+    for (const auto& e : *a) {
+        if (!e.is_string()) fail(key, "expected an array of strings");
+        out.push_back(*e.value<std::string>());
     }
     values = std::move(out);
 }

@@ -3,12 +3,13 @@
 // as "FILE:LINE:COLUMN: key 'a.b': what is wrong". Keys that are read are remembered, so
 // that after the struct is filled every key nobody asked for is reported as unknown
 // (a misspelt key must not silently fall back to its default).
+#include <toml++/toml.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
-#include <toml++/toml.h>
 #include <vector>
 
 #include "algorithms/error.hpp"
@@ -16,7 +17,7 @@
 namespace tlsmon {
 
 class ConfigError : public Error {
-public:
+  public:
     using Error::Error;
 };
 
@@ -25,7 +26,7 @@ toml::table parse_toml_file(const std::filesystem::path& path);
 toml::table parse_toml_string(std::string_view text, const std::string& source_name);
 
 class TomlFields {
-public:
+  public:
     // `prefix` is the dotted path of `table` inside the document ("" for the root).
     TomlFields(const toml::table& table, std::string source_name, std::string prefix = "");
 
@@ -50,6 +51,8 @@ public:
     std::vector<TomlFields> array_of_tables(const std::string& key);
     // An array of numbers.
     void get(const std::string& key, std::vector<double>& values);
+    // An array of strings.
+    void get(const std::string& key, std::vector<std::string>& values);
 
     // Throws for the first key of this table that no getter asked for.
     void reject_unknown_keys() const;
@@ -57,7 +60,7 @@ public:
     [[noreturn]] void fail(const std::string& key, const std::string& what) const;
     std::string where(const std::string& key) const;  // "file:line:col: key 'a.b'"
 
-private:
+  private:
     const toml::node* find(const std::string& key);
 
     const toml::table* table_;

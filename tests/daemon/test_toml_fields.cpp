@@ -84,6 +84,30 @@ TEST(TomlFields, UnknownKeyIsRejectedWithItsLine) {
     EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
 }
 
+TEST(TomlFields, ArrayOfStrings) {
+    const auto doc = parse_toml_string(
+        "names = [\"ptx\", \"e57\"]\nnone = []\n\nmixed = [\"a\", 2]\nplain = \"a\"\n", "t.toml");
+    TomlFields f(doc, "t.toml");
+    std::vector<std::string> names, none = {"default"}, absent = {"default"}, mixed = {"kept"};
+    f.get("names", names);
+    f.get("none", none);
+    f.get("absent", absent);
+    EXPECT_EQ(names, (std::vector<std::string>{"ptx", "e57"}));
+    EXPECT_TRUE(none.empty());
+    EXPECT_EQ(absent, (std::vector<std::string>{"default"}));
+    std::string e = error_of([&] { f.get("mixed", mixed); });
+    EXPECT_NE(e.find("t.toml:4:"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'mixed'"), std::string::npos) << e;
+    EXPECT_NE(e.find("expected an array of strings"), std::string::npos) << e;
+    EXPECT_EQ(mixed, (std::vector<std::string>{"kept"}));
+    std::vector<std::string> plain;
+    e = error_of([&] { f.get("plain", plain); });
+    EXPECT_NE(e.find("t.toml:5:"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'plain'"), std::string::npos) << e;
+    EXPECT_NE(e.find("expected an array of strings"), std::string::npos) << e;
+    f.reject_unknown_keys();  // every key was asked for
+}
+
 TEST(TomlFields, ChoiceListsAllowedValues) {
     const auto doc = parse_toml_string("mode = \"copy\"\n", "t.toml");
     TomlFields f(doc, "t.toml");
