@@ -32,6 +32,8 @@ function(tlsmon_test_folder folder)
   endif()
   set(_target tests_${folder})
   add_executable(${_target} ${_sources})
+  # The project root, for the shared helpers: #include "tests/support/temp_dir.hpp".
+  target_include_directories(${_target} PRIVATE ${PROJECT_SOURCE_DIR})
   tlsmon_warnings(${_target})
   target_link_libraries(${_target} PRIVATE GTest::gtest GTest::gtest_main ${ARGN})
   target_compile_definitions(${_target} PRIVATE

@@ -18,17 +18,11 @@
 #include <thread>
 
 #include "storage/epoch_database.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon::test {
 
 namespace fs = std::filesystem;
-
-inline std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 // Output (stdout + stderr) and exit status of a shell command.
 struct CommandResult {
@@ -66,13 +60,13 @@ inline bool wait_until(const std::function<bool()>& done, double seconds) {
     return check();
 }
 
-// A scratch site: ingest/, archive/, quarantine/, db/, and site.toml with short timings.
+// A scratch site: ingest/, archive/, quarantine/, db/, and site.toml with short timings, in
+// a fresh folder (labelled `name`) removed at the end.
 class Site {
   public:
     explicit Site(const std::string& name, const std::string& extra_toml = "",
-                  const std::string& ingest_toml = "") {
-        root = fs::temp_directory_path() / ("tlsmon-" + name + "-" + std::to_string(::getpid()));
-        fs::remove_all(root);
+                  const std::string& ingest_toml = "")
+        : dir_(name), root(dir_.path()) {
         fs::create_directories(root / "ingest");
         std::ofstream(root / "site.toml")
             << "[station]\nname = \"small\"\n"
@@ -83,10 +77,6 @@ class Site {
             << ingest_toml << "\n"
             << extra_toml;
     }
-    ~Site() {
-        std::error_code ec;
-        fs::remove_all(root, ec);
-    }
     fs::path ingest() const { return root / "ingest"; }
     fs::path config() const { return root / "site.toml"; }
     fs::path database() const { return root / "db/tlsmon.sqlite"; }
@@ -96,6 +86,10 @@ class Site {
         return EpochDatabase::open(database(), EpochDatabase::Mode::read_only);
     }
 
+  private:
+    TempDir dir_;
+
+  public:
     fs::path root;
 };
 

@@ -30,7 +30,7 @@ TEST(CheckConfigCommand, LogFileRotatesAndHonoursTheLevel) {
               "max_files = 2\njournald = \"off\"\n");
     for (int i = 0; i < 7; ++i) {
         DaemonProcess once(site.config(), site.log(), true);
-        ASSERT_EQ(once.wait(30), 0) << read_text(site.log());
+        ASSERT_EQ(once.wait(30), 0) << read_file(site.log());
     }
     // Each run logs ~1.9 kB (the effective configuration and more): seven runs rotate
     // twice, and only max_files = 2 old files are kept.
@@ -39,7 +39,7 @@ TEST(CheckConfigCommand, LogFileRotatesAndHonoursTheLevel) {
     EXPECT_TRUE(fs::exists(site.root / "log/tlsmon.2.log"));
     EXPECT_FALSE(fs::exists(site.root / "log/tlsmon.3.log"));
     EXPECT_LE(fs::file_size(site.root / "log/tlsmon.1.log"), 4096u);
-    EXPECT_NE(read_text(site.root / "log/tlsmon.log").find("logging.level = \"debug\""),
+    EXPECT_NE(read_file(site.root / "log/tlsmon.log").find("logging.level = \"debug\""),
               std::string::npos);
 }
 

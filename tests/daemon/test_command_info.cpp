@@ -2,17 +2,16 @@
 // values it prints against INVENTORY.md.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -27,13 +26,6 @@ struct CommandRun {
     std::string err;
 };
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 std::string quoted(const std::string& s) {
     std::string q = "'";
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -42,14 +34,6 @@ std::string quoted(const std::string& s) {
 
 class InfoCommand : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("tlsmon_info_" + std::to_string(::getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     CommandRun info(const std::vector<std::string>& args) {
         std::string cmd = quoted(TLSMON_BINARY) + " info";
         for (const auto& a : args) cmd += " " + quoted(a);
@@ -58,8 +42,8 @@ class InfoCommand : public ::testing::Test {
         const int status = std::system(cmd.c_str());
         CommandRun r;
         r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(out);
-        r.err = slurp(err);
+        r.out = tlsmon::test::read_file(out);
+        r.err = tlsmon::test::read_file(err);
         return r;
     }
 
@@ -71,7 +55,7 @@ class InfoCommand : public ::testing::Test {
         return json::parse(r.out);
     }
 
-    fs::path dir_;
+    tlsmon::test::TempDir dir_;
 };
 
 std::size_t total_points(const json& file) {
@@ -150,7 +134,7 @@ TEST_F(InfoCommand, TextReport) {
 
 TEST_F(InfoCommand, UnreadableFilesGoToStderrWithExitCode2AndOthersAreStillReported) {
     const fs::path garbage = dir_ / "garbage.ptx";
-    std::ofstream(garbage, std::ios::binary) << "\x01\x02\xff binary\n";
+    tlsmon::test::write_file(garbage, "\x01\x02\xff binary\n");
     const CommandRun r = info({(dir_ / "missing.ptx").string(), garbage.string(),
                                (data / "xyz/plane_horizontal_t2.xyz").string()});
     EXPECT_EQ(r.exit_code, 2);

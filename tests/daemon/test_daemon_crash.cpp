@@ -54,9 +54,8 @@ std::string reference_sha(const Site& site) {
 TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
     // 20 epochs of the small preset, one of them corrupted (truncated) so that a failed
     // epoch and its quarantine move are part of the comparison too.
-    const fs::path scans =
-        fs::temp_directory_path() / ("tlsmon-crash-scans-" + std::to_string(::getpid()));
-    fs::remove_all(scans);
+    const TempDir scans_dir("crash-scans");
+    const fs::path& scans = scans_dir.path();
     const auto sim = shell(std::string(TLSMON_BINARY) +
                            " simulate --preset small --epochs 20 --out " + scans.string());
     ASSERT_EQ(sim.status, 0) << sim.output;
@@ -67,14 +66,14 @@ TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
     std::sort(files.begin(), files.end());
     ASSERT_EQ(files.size(), 20u);
     {
-        const std::string text = read_text(files[7]);
-        std::ofstream(files[7], std::ios::trunc) << text.substr(0, text.size() / 3);
+        const std::string text = read_file(files[7]);
+        write_file(files[7], text.substr(0, text.size() / 3));
     }
 
     Site calm("crash-calm");
     for (const auto& f : files) fs::copy_file(f, calm.ingest() / f.filename());
     DaemonProcess once(calm.config(), calm.log(), true);
-    ASSERT_EQ(once.wait(120), 0) << read_text(calm.log());
+    ASSERT_EQ(once.wait(120), 0) << read_file(calm.log());
     const auto expected = outcomes(calm);
     ASSERT_EQ(expected.size(), 20u);
 
@@ -97,10 +96,10 @@ TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
         EXPECT_EQ(daemon.wait(5), -2);
     }
     DaemonProcess last(site.config(), site.log(), true);
-    ASSERT_EQ(last.wait(120), 0) << read_text(site.log());
+    ASSERT_EQ(last.wait(120), 0) << read_file(site.log());
 
     // How often a kill landed mid-epoch (for the record; the moments are random).
-    const std::string log = read_text(site.log());
+    const std::string log = read_file(site.log());
     int interrupted = 0, finished_moves = 0;
     for (auto at = log.find("started ("); at != std::string::npos;
          at = log.find("started (", at + 1)) {
@@ -130,7 +129,6 @@ TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
     EXPECT_EQ(archived, 19u);
     EXPECT_EQ(quarantined, 1u);
     EXPECT_EQ(left, 0u);
-    fs::remove_all(scans);
 }
 
 TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
@@ -145,7 +143,7 @@ TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
             return s.epochs_by_status.at(EpochStatus::done) >= 2;
         },
         20))
-        << read_text(site.log());
+        << read_file(site.log());
     const auto asked = std::chrono::steady_clock::now();
     daemon.signal(SIGTERM);
     ASSERT_EQ(daemon.wait(5), 0);

@@ -2,37 +2,26 @@
 // log it, record a system event (once the disk has room again), retry with back-off and
 // lose no epoch.
 #include <gtest/gtest.h>
-#include <sys/mount.h>
 
 #include <iostream>
 
 #include "daemon_harness.hpp"
+#include "tests/support/small_tmpfs.hpp"
 
 namespace tlsmon::test {
 namespace {
 
 const fs::path kData = TLSMON_DATA_DIR;
 
-// Fills the file system holding `folder` with one file until write() fails.
-void fill(const fs::path& file) {
-    std::ofstream out(file, std::ios::binary);
-    const std::string block(4096, 'x');
-    while (out.write(block.data(), block.size())) out.flush();
-}
-
 TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
     Site site("diskfull");
     const fs::path db_folder = site.root / "db";
-    fs::create_directories(db_folder);
-    if (::mount("tlsmon-test", db_folder.c_str(), "tmpfs", 0, "size=4m") != 0) {
+    const SmallTmpfs tmpfs(db_folder, "4m");
+    if (!tmpfs.mounted()) {
         // Mounting needs root (CI runs the suite as root); elsewhere this cannot be tested
         // honestly, so it says so instead of passing.
-        FAIL() << "cannot mount a tmpfs at " << db_folder << " (not root?): " << strerror(errno);
+        FAIL() << "cannot mount a tmpfs at " << db_folder << " (not root?): " << tmpfs.error();
     }
-    struct Unmount {
-        fs::path at;
-        ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
-    } unmount{db_folder};
 
     DaemonProcess daemon(site.config(), site.log());
     ASSERT_TRUE(wait_until(
@@ -44,14 +33,14 @@ TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
         },
         10));
     const fs::path filler = db_folder / "filler";
-    fill(filler);
+    fill_file_system(filler);
 
     fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "a_20260601T060000Z.ptx");
     fs::copy_file(kData / "ptx/complex-transform.ptx", site.ingest() / "ca_20260601T060000Z.ptx");
     // The database refuses while the disk is full: nothing processed, nothing lost.
     ASSERT_TRUE(
-        wait_until([&] { return read_text(site.log()).find("full") != std::string::npos; }, 10))
-        << read_text(site.log());
+        wait_until([&] { return read_file(site.log()).find("full") != std::string::npos; }, 10))
+        << read_file(site.log());
     std::this_thread::sleep_for(std::chrono::seconds(2));  // a few back-off rounds
     EXPECT_TRUE(daemon.running());
     EXPECT_TRUE(fs::exists(site.ingest() / "a_20260601T060000Z.ptx"));
@@ -65,7 +54,7 @@ TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
                    epochs[1].status == EpochStatus::done;
         },
         15))
-        << read_text(site.log());
+        << read_file(site.log());
     bool recorded = false;
     for (const auto& e : site.open_db().events({}, std::string("disk_full"))) {
         recorded = recorded || e.message.find("full") != std::string::npos;
@@ -75,7 +64,7 @@ TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
     EXPECT_EQ(daemon.wait(5), 0);
     const auto check = shell("sqlite3 " + site.database().string() + " 'PRAGMA integrity_check'");
     EXPECT_EQ(check.output, "ok\n");
-    if (::testing::Test::HasFailure()) std::cout << read_text(site.log());
+    if (::testing::Test::HasFailure()) std::cout << read_file(site.log());
 }
 
 }  // namespace

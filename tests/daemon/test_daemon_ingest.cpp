@@ -40,7 +40,7 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     fs::copy_file(kData / "ptx/complex-transform.ptx", in / "small_20260601T060000Z.ptx");
     fs::copy_file(kData / "ptx/no-color.ptx", in / "copy-of-first.ptx");  // same bytes
     {  // a truncated real scan: the reader's error names file and line
-        std::string text = read_text(kData / "ptx/pumpA_from_e57.ptx");
+        std::string text = read_file(kData / "ptx/pumpA_from_e57.ptx");
         std::ofstream(in / "small_20260601T063000Z.ptx") << text.substr(0, text.size() / 2);
     }
     std::ofstream(in / "small_20260601T064500Z.ptx").flush();  // empty
@@ -48,10 +48,10 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     std::ofstream(in / "notes.txt.bak") << "not a scan";
 
     DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
-    ASSERT_EQ(daemon.wait(60), 0) << read_text(site.log());
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
 
     const auto epochs = all_epochs(site);
-    ASSERT_EQ(epochs.size(), 4u) << read_text(site.log());
+    ASSERT_EQ(epochs.size(), 4u) << read_file(site.log());
     // The same bytes under two names are one epoch, whichever name was seen first.
     const Epoch* e1 = by_name(epochs, "small_20260601T061500Z.ptx");
     const std::string e1_name = e1 ? "small_20260601T061500Z.ptx" : "copy-of-first.ptx";
@@ -59,7 +59,7 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     const Epoch* e0 = by_name(epochs, "small_20260601T060000Z.ptx");
     const Epoch* bad = by_name(epochs, "small_20260601T063000Z.ptx");
     const Epoch* empty = by_name(epochs, "small_20260601T064500Z.ptx");
-    ASSERT_TRUE(e0 && e1 && bad && empty) << read_text(site.log());
+    ASSERT_TRUE(e0 && e1 && bad && empty) << read_file(site.log());
     EXPECT_EQ(e0->acquired, 1780293600);  // 2026-06-01T06:00:00Z from the file name
     EXPECT_EQ(e0->status, EpochStatus::done);
     EXPECT_EQ(e0->point_count, 4);  // INVENTORY: 4 valid points of 12 cells
@@ -74,7 +74,7 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     // Processed in acquisition order: the log's "epoch N done/failed" lines, mapped to the
     // epochs' acquisition times, never go back in time.
     std::vector<std::int64_t> order;
-    std::istringstream log(read_text(site.log()));
+    std::istringstream log(read_file(site.log()));
     for (std::string line; std::getline(log, line);) {
         const auto at = line.find(" epoch ");
         if (at == std::string::npos) continue;
@@ -86,7 +86,7 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
             if (e.id == id) order.push_back(e.acquired);
         }
     }
-    ASSERT_EQ(order.size(), 4u) << read_text(site.log());
+    ASSERT_EQ(order.size(), 4u) << read_file(site.log());
     EXPECT_TRUE(std::is_sorted(order.begin(), order.end()));
 
     // Files: done -> archive, failed -> quarantine with the reason, duplicate removed,
@@ -98,7 +98,7 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     EXPECT_EQ(e1->archive_path, (site.root / "archive" / e1_name).string());
     const fs::path reason = site.root / "quarantine/small_20260601T063000Z.ptx.reason.txt";
     ASSERT_TRUE(fs::exists(reason));
-    EXPECT_NE(read_text(reason).find(bad->reason), std::string::npos);
+    EXPECT_NE(read_file(reason).find(bad->reason), std::string::npos);
     EXPECT_TRUE(fs::exists(in / ".small_20260601T070000Z.ptx.part"));
     EXPECT_TRUE(fs::exists(in / "notes.txt.bak"));
     EXPECT_TRUE(has_event(site, "epoch_failed", "small_20260601T064500Z.ptx"));
@@ -154,7 +154,7 @@ TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
             return s.epochs_by_status.at(EpochStatus::done) == 5;
         },
         30))
-        << read_text(site.log());
+        << read_file(site.log());
     // The same scan copied in again is no new epoch.
     fs::copy_file(site.root / "archive/small_20260601T061500Z.ptx", site.ingest() / "dup.ptx");
     ASSERT_TRUE(wait_until([&] { return !fs::exists(site.ingest() / "dup.ptx"); }, 10));
@@ -176,7 +176,7 @@ TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
     }
     EXPECT_EQ(site.open_db().reference_epoch(), epochs.front().id);
     EXPECT_TRUE(has_event(site, "stop", "5 epoch(s) done"));
-    EXPECT_NE(read_text(site.log()).find("dup.ptx: same content as epoch"), std::string::npos);
+    EXPECT_NE(read_file(site.log()).find("dup.ptx: same content as epoch"), std::string::npos);
     EXPECT_GT(queries.load(), 3);
     EXPECT_EQ(query_failures.load(), 0) << failure;
 }
@@ -199,7 +199,7 @@ TEST(DaemonIngest, GrowingAndUnreadableFilesAreRecorded) {
     DaemonProcess daemon(site.config(), site.log(), false,
                          root ? std::optional<uid_t>(nobody) : std::nullopt);
     ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 20))
-        << read_text(site.log());
+        << read_file(site.log());
     // A file that keeps growing for 3 s (appended every 100 ms, kept open); max_growing is
     // 1 s, so it is reported while it still grows.
     const fs::path growing = site.ingest() / "small_20260601T061500Z.ptx";
@@ -210,14 +210,14 @@ TEST(DaemonIngest, GrowingAndUnreadableFilesAreRecorded) {
             std::this_thread::sleep_for(std::chrono::milliseconds(100));
             if (i == 25) {
                 EXPECT_TRUE(has_event(site, "file_growing", growing.filename().string()))
-                    << read_text(site.log());
+                    << read_file(site.log());
                 EXPECT_FALSE(by_name(all_epochs(site), growing.filename().string()))
                     << "a growing file must not become an epoch";
             }
         }
     }
     ASSERT_TRUE(wait_until([&] { return site.open_db().epochs_in_range({}).size() == 2; }, 10))
-        << read_text(site.log());
+        << read_file(site.log());
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.wait(5), 0);
 
@@ -242,11 +242,11 @@ TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
     Site site("reload");
     DaemonProcess daemon(site.config(), site.log());
     ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
-    const std::string good = read_text(site.config());
+    const std::string good = read_file(site.config());
     std::ofstream(site.config()) << good << "[logging]\nlevel = \"loud\"\n";
     daemon.signal(SIGHUP);
     ASSERT_TRUE(wait_until([&] { return has_event(site, "config_reload", "reload failed"); }, 10))
-        << read_text(site.log());
+        << read_file(site.log());
     EXPECT_TRUE(has_event(site, "config_reload", "key 'logging.level'"));
     EXPECT_TRUE(daemon.running());
     std::ofstream(site.config()) << good << "[logging]\nlevel = \"debug\"\n";
@@ -260,7 +260,7 @@ TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
             return e.size() == 1 && e[0].status == EpochStatus::done;
         },
         10))
-        << read_text(site.log());
+        << read_file(site.log());
     daemon.signal(SIGINT);
     EXPECT_EQ(daemon.wait(5), 0);
 }
@@ -271,7 +271,7 @@ TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
                   site.ingest() / "small_20260601T060000Z.ptx");
     fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "small_20260601T061500Z.ptx");
     DaemonProcess once(site.config(), site.log(), true);
-    ASSERT_EQ(once.wait(60), 0) << read_text(site.log());
+    ASSERT_EQ(once.wait(60), 0) << read_file(site.log());
     const auto epochs = all_epochs(site);
     const Epoch* named = by_name(epochs, "small_20260601T061500Z.ptx");
     ASSERT_TRUE(named);

@@ -47,7 +47,7 @@ TEST(DaemonSystemd, ReadyWatchdogStatusStopping) {
         return std::count_if(messages.begin(), messages.end(),
                              [&](const std::string& m) { return m.rfind(prefix, 0) == 0; });
     };
-    ASSERT_FALSE(messages.empty()) << read_text(site.log());
+    ASSERT_FALSE(messages.empty()) << read_file(site.log());
     EXPECT_EQ(messages.front(), "READY=1");
     EXPECT_EQ(count("READY=1"), 1);
     EXPECT_GE(count("WATCHDOG=1"), 5) << "pings at half of WATCHDOG_USEC for ~1.8 s";

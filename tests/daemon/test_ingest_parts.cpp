@@ -1,14 +1,12 @@
 // The small pieces of ingest with known answers: scan names, acquisition time from a file
 // name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
 #include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <fstream>
 
 #include "daemon/ingest_files.hpp"
 #include "daemon/sha256.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/e57_writer.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -41,8 +39,7 @@ TEST(IngestParts, TimeFromFileName) {
 
 TEST(IngestParts, AcquisitionTimePrecedence) {
     // An E57 whose header says 2026-06-01T06:00:00.5Z, named as if taken on 2020-01-01.
-    const fs::path d = fs::temp_directory_path() / ("tlsmon-acq-" + std::to_string(getpid()));
-    fs::create_directories(d);
+    const test::TempDir d;
     const fs::path file = d / "pier_20200101T000000Z.e57";
     Scan scan;
     scan.xyz = {{1, 2, 3}, {4, 5, 6}};
@@ -60,7 +57,6 @@ TEST(IngestParts, AcquisitionTimePrecedence) {
     fs::copy_file(fs::path(TLSMON_DATA_DIR) / "ptx/no-color.ptx", ptx);
     EXPECT_EQ(acquisition_time(ptx, {"scan", "file_name"}, used), 1780294500);
     EXPECT_EQ(used, "file_name");
-    fs::remove_all(d);
 }
 
 TEST(IngestParts, Sha256KnownAnswers) {
@@ -68,32 +64,26 @@ TEST(IngestParts, Sha256KnownAnswers) {
     EXPECT_EQ(sha256_text("abc"),
               "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
     EXPECT_EQ(sha256_text(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-    const fs::path f = fs::temp_directory_path() / ("tlsmon-sha-" + std::to_string(getpid()));
-    {
-        // Larger than the 1 MiB read buffer: the file is read in two parts and must give
-        // the digest of the same bytes in memory.
-        std::ofstream out(f, std::ios::binary);
-        out << std::string(2000000, 'a');
-    }
+    const test::TempDir d;
+    const fs::path f = d / "a";
+    // Larger than the 1 MiB read buffer: the file is read in two parts and must give the
+    // digest of the same bytes in memory.
+    test::write_file(f, std::string(2000000, 'a'));
     EXPECT_EQ(sha256_file(f), sha256_text(std::string(2000000, 'a')));
-    {
-        std::ofstream out(f, std::ios::binary | std::ios::trunc);
-        out << std::string(1000000, 'a');
-    }
+    test::write_file(f, std::string(1000000, 'a'));
     EXPECT_EQ(sha256_file(f), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
     fs::remove(f);
     EXPECT_THROW(sha256_file(f), FileAccessError);
 }
 
 TEST(IngestParts, FreeNameNeverOverwrites) {
-    const fs::path d = fs::temp_directory_path() / ("tlsmon-free-" + std::to_string(getpid()));
-    fs::create_directories(d);
+    const test::TempDir dir;
+    const fs::path& d = dir.path();
     EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.ptx");
-    std::ofstream(d / "a.ptx") << "1";
+    test::write_file(d / "a.ptx", "1");
     EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123.ptx");
-    std::ofstream(d / "a.0123.ptx") << "2";
+    test::write_file(d / "a.0123.ptx", "2");
     EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123-2.ptx");
-    fs::remove_all(d);
 }
 
 }  // namespace

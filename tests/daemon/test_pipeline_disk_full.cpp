@@ -2,10 +2,10 @@
 // (pending or back to pending at the next start), nothing is half-written, and it commits
 // once there is room. In-process, on a real SQLite file on a small tmpfs.
 #include <gtest/gtest.h>
-#include <sys/mount.h>
 
 #include "daemon/pipeline.hpp"
 #include "daemon_harness.hpp"
+#include "tests/support/small_tmpfs.hpp"
 
 namespace tlsmon::test {
 namespace {
@@ -13,14 +13,10 @@ namespace {
 TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     Site site("pipefull");
     const fs::path db_folder = site.root / "db";
-    fs::create_directories(db_folder);
-    if (::mount("tlsmon-test", db_folder.c_str(), "tmpfs", 0, "size=2m") != 0) {
-        FAIL() << "cannot mount a tmpfs at " << db_folder << " (not root?): " << strerror(errno);
+    const SmallTmpfs tmpfs(db_folder, "2m");
+    if (!tmpfs.mounted()) {
+        FAIL() << "cannot mount a tmpfs at " << db_folder << " (not root?): " << tmpfs.error();
     }
-    struct Unmount {
-        fs::path at;
-        ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
-    } unmount{db_folder};
 
     Config config = parse_config("[paths]\ningest = \"ingest\"\ndatabase = \"db/tlsmon.sqlite\"\n",
                                  "test.toml", site.root);
@@ -42,11 +38,7 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
         shell("sqlite3 " + config.paths.database.string() + " 'PRAGMA wal_checkpoint(TRUNCATE)'");
     ASSERT_EQ(truncate.status, 0) << truncate.output;
     ASSERT_EQ(fs::file_size(config.paths.database.string() + "-wal"), 0u);
-    {  // fill the file system
-        std::ofstream out(db_folder / "filler", std::ios::binary);
-        const std::string block(4096, 'x');
-        while (out.write(block.data(), block.size())) out.flush();
-    }
+    fill_file_system(db_folder / "filler");
     const Epoch pending = *db.epoch(ins.id);
     EXPECT_EQ(process_epoch(ctx, pending), EpochOutcome::retry_later);
     EXPECT_TRUE(fs::exists(scan)) << "the file stays until its epoch is committed";

@@ -6,11 +6,11 @@
 
 #include <array>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "storage/epoch_database.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -52,10 +52,6 @@ constexpr UtcSeconds kT0 = 1772366400;  // 2026-03-01T12:00:00Z
 class QueryCommands : public ::testing::Test {
   protected:
     void SetUp() override {
-        dir_ =
-            std::filesystem::temp_directory_path() / ("tlsmon-query-" + std::to_string(::getpid()));
-        std::filesystem::remove_all(dir_);
-        std::filesystem::create_directories(dir_);
         db_path_ = dir_ / "e.sqlite";
         auto db = EpochDatabase::open(db_path_, EpochDatabase::Mode::read_write);
         db.upsert_zone("pier P3 top", "{}");
@@ -91,11 +87,9 @@ class QueryCommands : public ::testing::Test {
         db.record_alarm_event(
             {kT0 + 900, "P3 settlement", "raise", "H", -0.0042, 2, "P3 top settled 4.2 mm"});
     }
-    void TearDown() override { std::filesystem::remove_all(dir_); }
-
     std::string db() const { return "--db " + db_path_.string(); }
 
-    std::filesystem::path dir_;
+    test::TempDir dir_;
     std::filesystem::path db_path_;
 };
 
@@ -227,10 +221,7 @@ TEST_F(QueryCommands, StatusInAllFormats) {
 }
 
 TEST_F(QueryCommands, DatabaseFromConfig) {
-    {
-        std::ofstream toml(dir_ / "site.toml");
-        toml << "[paths]\ndatabase = \"e.sqlite\"\n";
-    }
+    test::write_file(dir_ / "site.toml", "[paths]\ndatabase = \"e.sqlite\"\n");
     const auto r = run("status --format json --config " + (dir_ / "site.toml").string());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(nlohmann::json::parse(r.out)["database"], db_path_.string());

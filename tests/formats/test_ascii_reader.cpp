@@ -1,18 +1,16 @@
 // PTS / XYZ reader on the real files of ../shared/data/xyz (expected values from its
 // INVENTORY.md) and on small and broken files made in a temporary folder.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 
 #include "formats/ascii_reader.hpp"
 #include "formats/format_error.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using tlsmon::FormatError;
@@ -32,18 +30,8 @@ double mean_z(const Scan& s) {
 
 class AsciiFiles : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("tlsmon_ascii_" + std::to_string(::getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    fs::path write(const std::string& name, const std::string& content) {
-        const fs::path p = dir_ / name;
-        std::ofstream(p, std::ios::binary) << content;
-        return p;
+    fs::path write(const std::string& name, const std::string& content) const {
+        return tlsmon::test::write_file(dir_ / name, content);
     }
 
     // Rejected by read_scans with a FormatError "<file>:<line>: ..." containing `what`.
@@ -58,7 +46,7 @@ class AsciiFiles : public ::testing::Test {
         }
     }
 
-    fs::path dir_;
+    tlsmon::test::TempDir dir_;
 };
 
 }  // namespace
@@ -155,10 +143,7 @@ TEST_F(AsciiFiles, BrokenFilesAreRejectedAtTheirLine) {
 }
 
 TEST_F(AsciiFiles, EveryTruncationOfARealFileIsReadOrRejected) {
-    std::ifstream in(data / "plane_horizontal_t1.xyz", std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    const std::string full = ss.str();
+    const std::string full = tlsmon::test::read_file(data / "plane_horizontal_t1.xyz");
     std::mt19937 rng(3);
     for (int k = 0; k < 200; ++k) {
         const std::size_t n = rng() % full.size();

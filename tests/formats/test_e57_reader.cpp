@@ -16,6 +16,7 @@
 #include "formats/format_error.hpp"
 #include "formats/ptx_reader.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -276,14 +277,6 @@ TEST(E57Reader, GpsTimeIsConvertedToUtcWithLeapSeconds) {
 // invalid records, an acquisition time; written by e57_writer, read back.
 class E57RoundTrip : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = std::filesystem::temp_directory_path() /
-               ("tlsmon_e57_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        std::filesystem::create_directories(dir_);
-    }
-    void TearDown() override { std::filesystem::remove_all(dir_); }
-
     static Scan grid_scan(std::uint32_t rows, std::uint32_t columns, double shift) {
         Scan s;
         s.name = "synthetic";
@@ -326,7 +319,7 @@ class E57RoundTrip : public ::testing::Test {
         EXPECT_NEAR(*read.acquired_utc, *written.acquired_utc, 1e-6);
     }
 
-    std::filesystem::path dir_;
+    test::TempDir dir_;
 };
 
 TEST_F(E57RoundTrip, SeveralScansWithRotatedPoseScaledIntegerAndInvalidRecords) {

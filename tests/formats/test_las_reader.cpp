@@ -7,8 +7,6 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <random>
 #include <set>
@@ -18,6 +16,7 @@
 #include "formats/format_error.hpp"
 #include "formats/las_reader.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -224,11 +223,6 @@ const std::vector<Expected> kExpected = {
      37522},
 };
 
-std::string bytes_of(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 std::vector<fs::path> files_with_extension(const std::string& ext) {
     std::vector<fs::path> out;
     for (const auto& entry : fs::recursive_directory_iterator(kLasDir)) {
@@ -360,7 +354,7 @@ TEST(LasReader, EveryCompressedFileGetsTheClearError) {
 }
 
 TEST(LasReader, TruncatedCopiesAreRejectedWithTheByteOffset) {
-    const std::string simple = bytes_of(kLasDir / "laspy/simple.las");
+    const std::string simple = test::read_file(kLasDir / "laspy/simple.las");
     EXPECT_NE(error_of(simple.substr(0, 100)).find("at byte 100: file ends inside the LAS public"),
               std::string::npos);
     EXPECT_NE(error_of(simple.substr(0, 3)).find("at byte 0: not a LAS file"), std::string::npos);
@@ -373,11 +367,10 @@ TEST(LasReader, TruncatedCopiesAreRejectedWithTheByteOffset) {
     // Every shorter prefix fails cleanly (no crash, no other exception type).
     for (std::size_t n = 0; n < 2400; n += 7) EXPECT_NE(error_of(simple.substr(0, n)), "") << n;
     // A truncated copy on disk through read_scans names the file.
-    const fs::path tmp = fs::temp_directory_path() / "tlsmon_truncated_test1_4.las";
-    {
-        const std::string t14 = bytes_of(kLasDir / "laspy/test1_4.las");
-        std::ofstream(tmp, std::ios::binary).write(t14.data(), 5000);
-    }
+    const test::TempDir dir;
+    const fs::path tmp =
+        test::write_file(dir / "truncated_test1_4.las",
+                         test::read_file(kLasDir / "laspy/test1_4.las").substr(0, 5000));
     try {
         read_scans(tmp);
         ADD_FAILURE() << "truncated file read";
@@ -386,14 +379,13 @@ TEST(LasReader, TruncatedCopiesAreRejectedWithTheByteOffset) {
                   std::string::npos)
             << e.what();
     }
-    fs::remove(tmp);
 }
 
 TEST(LasReader, HeaderFieldsPointingOutsideTheFileAreRejected) {
-    const std::string simple = bytes_of(kLasDir / "laspy/simple.las");    // 1.2, pf 3
-    const std::string t14 = bytes_of(kLasDir / "laspy/test1_4.las");      // 1.4, pf 6
-    const std::string evlr = bytes_of(kLasDir / "laspy/1_4_w_evlr.las");  // 1 EVLR at 32305
-    const std::string autzen = bytes_of(kLasDir / "laspy/autzen.las");    // 4 VLRs
+    const std::string simple = test::read_file(kLasDir / "laspy/simple.las");    // 1.2, pf 3
+    const std::string t14 = test::read_file(kLasDir / "laspy/test1_4.las");      // 1.4, pf 6
+    const std::string evlr = test::read_file(kLasDir / "laspy/1_4_w_evlr.las");  // 1 EVLR at 32305
+    const std::string autzen = test::read_file(kLasDir / "laspy/autzen.las");    // 4 VLRs
     struct Case {
         const char* what;
         std::string bytes;
@@ -490,7 +482,7 @@ TEST(LasReader, FlippedBytesGiveAScanOrAFormatError) {
     std::mt19937 rng(20240521);
     for (const char* f : {"laspy/test1_4.las", "laspy/autzen.las", "more/simple1_3.las",
                           "laz-perf/no-points-1.3.las", "libLAS/1.2_3.las"}) {
-        const std::string original = bytes_of(kLasDir / f);
+        const std::string original = test::read_file(kLasDir / f);
         const std::size_t area = std::min<std::size_t>(original.size(), 2400);
         std::size_t rejected = 0;
         for (int trial = 0; trial < 300; ++trial) {

@@ -1,14 +1,12 @@
 // PLY and PCD through PCL: files written here byte by byte (not with PCL) with known points,
 // read back through read_scans; broken copies rejected with the file named.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -16,6 +14,7 @@
 #include "formats/format_error.hpp"
 #include "formats/pcl_formats.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -24,21 +23,11 @@ namespace fs = std::filesystem;
 
 class PclFormats : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("tlsmon_pcl_" + std::to_string(::getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     fs::path write(const std::string& name, const std::string& bytes) const {
-        const fs::path p = dir_ / name;
-        std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-        return p;
+        return test::write_file(dir_ / name, bytes);
     }
 
-    fs::path dir_;
+    test::TempDir dir_;
 };
 
 template <class T>

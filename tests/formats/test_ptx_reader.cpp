@@ -1,11 +1,9 @@
 // PTX reader on the real files of ../shared/data/ptx (expected values from its
 // INVENTORY.md) and on broken copies of them made in a temporary folder.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -13,6 +11,7 @@
 #include "formats/format_error.hpp"
 #include "formats/ptx_reader.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using tlsmon::FormatError;
@@ -23,27 +22,10 @@ namespace {
 
 const fs::path data = fs::path(TLSMON_DATA_DIR) / "ptx";
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 class PtxBroken : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("tlsmon_ptx_" + std::to_string(::getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    fs::path write(const std::string& name, const std::string& content) {
-        const fs::path p = dir_ / name;
-        std::ofstream(p, std::ios::binary) << content;
-        return p;
+    fs::path write(const std::string& name, const std::string& content) const {
+        return tlsmon::test::write_file(dir_ / name, content);
     }
 
     // The file must be rejected with a FormatError "<file>:<line>: ..." containing `what`.
@@ -58,12 +40,12 @@ class PtxBroken : public ::testing::Test {
         }
     }
 
-    fs::path dir_;
+    tlsmon::test::TempDir dir_;
 };
 
 // no-color.ptx with its text replaced: line `n` (1-based) becomes `text`.
 std::string no_color_with_line(int n, const std::string& text) {
-    std::istringstream in(slurp(data / "no-color.ptx"));
+    std::istringstream in(tlsmon::test::read_file(data / "no-color.ptx"));
     std::string out, line;
     for (int k = 1; std::getline(in, line); ++k) out += (k == n ? text : line) + "\n";
     return out;
@@ -246,7 +228,7 @@ TEST_F(PtxBroken, EmptyGarbageAndBinaryFilesAreRejected) {
 }
 
 TEST_F(PtxBroken, EveryTruncationOfARealFileIsRejectedOrComplete) {
-    const std::string full = slurp(data / "complex-transform.ptx");
+    const std::string full = tlsmon::test::read_file(data / "complex-transform.ptx");
     const std::size_t last_line = full.rfind('\n') + 1;
     for (std::size_t n = 0; n < full.size(); ++n) {
         const fs::path p = write("cut.ptx", full.substr(0, n));
@@ -269,7 +251,7 @@ TEST_F(PtxBroken, EveryTruncationOfARealFileIsRejectedOrComplete) {
 }
 
 TEST_F(PtxBroken, FlippedBytesNeverCrashAndErrorsNameTheFile) {
-    const std::string full = slurp(data / "complex-transform.ptx");
+    const std::string full = tlsmon::test::read_file(data / "complex-transform.ptx");
     std::mt19937 rng(42);
     int rejected = 0;
     for (int k = 0; k < 400; ++k) {

@@ -1,7 +1,6 @@
 // A rendered scan written as PTX and read back through read_ptx: grid, empty cells, and
 // coordinates consistent with the scene geometry within the measurement noise.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,33 +10,19 @@
 #include "formats/ptx_reader.hpp"
 #include "formats/ptx_writer.hpp"
 #include "simulator/render.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon::sim {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Removes the file and, once empty, its folder.
-void remove_temp_file(const std::filesystem::path& path) {
-    std::error_code ec;
-    std::filesystem::remove(path, ec);
-    std::filesystem::remove(path.parent_path(), ec);
-}
-
-std::filesystem::path temp_file(const std::string& name) {
-    // One folder per process: several test runs may share the machine.
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("tlsmon_tests_simulator_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return dir / name;
-}
-
 Scan render_and_read_back(const Site& site, int epoch, double hours, const std::string& name) {
     const RenderedScan r = render_epoch(site, epoch, hours);
-    const auto path = temp_file(name);
+    const tlsmon::test::TempDir dir;
+    const auto path = dir / name;
     write_ptx(r.scan, path);
     std::vector<Scan> scans = read_ptx(path);
-    remove_temp_file(path);
     EXPECT_EQ(scans.size(), 1u);
     return std::move(scans.at(0));
 }
@@ -45,10 +30,10 @@ Scan render_and_read_back(const Site& site, int epoch, double hours, const std::
 TEST(SimulatorReadBack, SmallPresetHasTheExpectedGridAndCells) {
     const Site site = preset_small();
     const RenderedScan r = render_epoch(site, 0, 0.0);
-    const auto path = temp_file("grid.ptx");
+    const tlsmon::test::TempDir dir;
+    const auto path = dir / "grid.ptx";
     write_ptx(r.scan, path);
     const Scan back = read_ptx(path).at(0);
-    remove_temp_file(path);
 
     // 62..95° at 0.1° and −8..46° at 0.1°.
     ASSERT_TRUE(back.grid);

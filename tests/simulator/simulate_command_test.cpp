@@ -2,33 +2,21 @@
 // slow-copy modes, a cut-short scan the PTX reader rejects, and scene-file errors naming the
 // key and line.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "formats/format_error.hpp"
 #include "formats/ptx_reader.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh scratch folder, one per process (several test runs may share the machine),
-// removed with everything in it at the end of the test.
-struct ScratchDir {
-    fs::path path;
-    explicit ScratchDir(const std::string& name)
-        : path(fs::temp_directory_path() / ("tlsmon_tests_simulate_" + std::to_string(::getpid())) /
-               name) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~ScratchDir() { fs::remove_all(path.parent_path()); }
-};
+using tlsmon::test::read_file;
+using tlsmon::test::TempDir;
+using tlsmon::test::write_file;
 
 int run(const std::string& args, const fs::path& log) {
     const std::string cmd =
@@ -37,24 +25,18 @@ int run(const std::string& args, const fs::path& log) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
 TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
-    const ScratchDir scratch("series");
-    const fs::path& dir = scratch.path;
+    const TempDir scratch;
+    const fs::path& dir = scratch.path();
     const fs::path scene = dir / "scene.toml";
-    std::ofstream(scene) << "preset = \"small\"\n[events]\nmissing_epochs = [1]\n"
-                            "cut_short_epoch = 2\n";
+    write_file(scene,
+               "preset = \"small\"\n[events]\nmissing_epochs = [1]\n"
+               "cut_short_epoch = 2\n");
     ASSERT_EQ(run("--config " + scene.string() + " --out " + (dir / "out").string() +
                       " --epochs 3 --cadence 30min --start 2026-06-01T22:00:00Z",
                   dir / "log"),
               0)
-        << slurp(dir / "log");
+        << read_file(dir / "log");
     const fs::path out = dir / "out";
     EXPECT_TRUE(fs::exists(out / "small_20260601T220000Z.ptx"));
     EXPECT_TRUE(fs::exists(out / "small_20260601T220000Z.truth.json"));
@@ -70,11 +52,12 @@ TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
 }
 
 TEST(SimulateCommand, RealtimeAndSlowCopyDeliverCompleteFiles) {
-    const ScratchDir scratch("realtime");
-    const fs::path& dir = scratch.path;
+    const TempDir scratch;
+    const fs::path dir = scratch / "out";
+    fs::create_directories(dir);
     ASSERT_EQ(run("--preset small --out " + dir.string() +
                       " --epochs 2 --realtime 0.3 --slow-copy 0.2 --seed 9",
-                  dir.parent_path() / "realtime.log"),
+                  scratch / "realtime.log"),
               0);
     int ptx = 0;
     for (const auto& e : fs::directory_iterator(dir)) {
@@ -88,19 +71,19 @@ TEST(SimulateCommand, RealtimeAndSlowCopyDeliverCompleteFiles) {
 }
 
 TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
-    const ScratchDir scratch("errors");
-    const fs::path& dir = scratch.path;
+    const TempDir scratch;
+    const fs::path& dir = scratch.path();
     const fs::path scene = dir / "bad.toml";
-    std::ofstream(scene) << "preset = \"small\"\n\n[noise]\nrange_a = 0.001\nrange_bppm = 10\n";
+    write_file(scene, "preset = \"small\"\n\n[noise]\nrange_a = 0.001\nrange_bppm = 10\n");
     EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
-    const std::string log = slurp(dir / "log");
+    const std::string log = read_file(dir / "log");
     EXPECT_NE(log.find("bad.toml:5"), std::string::npos) << log;
     EXPECT_NE(log.find("noise.range_bppm"), std::string::npos) << log;
     EXPECT_NE(log.find("unknown key"), std::string::npos) << log;
 
-    std::ofstream(scene, std::ios::trunc) << "[scanner]\nazimuth_step_deg = -0.1\n";
+    write_file(scene, "[scanner]\nazimuth_step_deg = -0.1\n");
     EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
-    const std::string log2 = slurp(dir / "log");
+    const std::string log2 = read_file(dir / "log");
     EXPECT_NE(log2.find("bad.toml:2"), std::string::npos) << log2;
     EXPECT_NE(log2.find("scanner.azimuth_step_deg"), std::string::npos) << log2;
     EXPECT_TRUE(fs::is_empty(dir) || !fs::exists(dir / "small_20260601T060000Z.ptx"));
@@ -108,16 +91,16 @@ TEST(SimulateCommand, SceneFileErrorsNameTheKeyAndLine) {
 
 // etc/simulator-small.toml spells out the `small` preset: rendering it gives the same bytes.
 TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
-    const ScratchDir scratch("example");
-    const fs::path& dir = scratch.path;
+    const TempDir scratch;
+    const fs::path& dir = scratch.path();
     const std::string etc = std::string(TLSMON_SOURCE_DIR) + "/etc/simulator-small.toml";
     ASSERT_EQ(
         run("--config " + etc + " --out " + (dir / "a").string() + " --epochs 2", dir / "log_a"), 0)
-        << slurp(dir / "log_a");
+        << read_file(dir / "log_a");
     ASSERT_EQ(run("--preset small --out " + (dir / "b").string() + " --epochs 2", dir / "log_b"),
               0);
     for (const char* name : {"small_20260601T061500Z.ptx", "small_20260601T061500Z.truth.json"}) {
-        const std::string a = slurp(dir / "a" / name), b = slurp(dir / "b" / name);
+        const std::string a = read_file(dir / "a" / name), b = read_file(dir / "b" / name);
         EXPECT_GT(a.size(), 1000u);
         EXPECT_TRUE(a == b) << name;
     }
@@ -126,10 +109,10 @@ TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
 // Targets and events from a scene file reach the truth: the knocked target (named in the
 // file) has moved 10 mm at its epoch; fewer than 4 targets is an error.
 TEST(SimulateCommand, SceneFileTargetsAndKnockedTargetReachTheTruth) {
-    const ScratchDir scratch("targets");
-    const fs::path& dir = scratch.path;
+    const TempDir scratch;
+    const fs::path& dir = scratch.path();
     const fs::path scene = dir / "scene.toml";
-    std::ofstream(scene) << R"(preset = "small"
+    write_file(scene, R"(preset = "small"
 [events]
 knocked_target = "B"
 knocked_epoch = 1
@@ -148,13 +131,13 @@ centre = [-0.8, 22.0, 1.0]
 name = "D"
 kind = "checkerboard"
 centre = [0.4, 22.0, 1.2]
-)";
+)");
     ASSERT_EQ(
         run("--config " + scene.string() + " --out " + dir.string() + " --epochs 2", dir / "log"),
         0)
-        << slurp(dir / "log");
-    const auto t0 = nlohmann::json::parse(slurp(dir / "small_20260601T060000Z.truth.json"));
-    const auto t1 = nlohmann::json::parse(slurp(dir / "small_20260601T061500Z.truth.json"));
+        << read_file(dir / "log");
+    const auto t0 = nlohmann::json::parse(read_file(dir / "small_20260601T060000Z.truth.json"));
+    const auto t1 = nlohmann::json::parse(read_file(dir / "small_20260601T061500Z.truth.json"));
     ASSERT_EQ(t1["targets"].size(), 4u);
     EXPECT_EQ(t1["targets"][1]["name"], "B");
     EXPECT_EQ(t1["targets"][1]["kind"], "checkerboard");
@@ -164,10 +147,10 @@ centre = [0.4, 22.0, 1.2]
     EXPECT_NEAR(dx, 0.010, 1e-12);
     EXPECT_EQ(t0["targets"][0]["centre"], t1["targets"][0]["centre"]);
 
-    std::ofstream(scene, std::ios::trunc) << "[[target]]\nname = \"A\"\ncentre = [8, 18, 1]\n";
+    write_file(scene, "[[target]]\nname = \"A\"\ncentre = [8, 18, 1]\n");
     EXPECT_EQ(run("--config " + scene.string() + " --out " + dir.string(), dir / "log"), 1);
-    EXPECT_NE(slurp(dir / "log").find("at least 4 targets"), std::string::npos)
-        << slurp(dir / "log");
+    EXPECT_NE(read_file(dir / "log").find("at least 4 targets"), std::string::npos)
+        << read_file(dir / "log");
 }
 
 }  // namespace

@@ -2,17 +2,15 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <sys/mount.h>
 #include <unistd.h>
 
 #include <atomic>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <thread>
 
+#include "fake_sha256.hpp"
 #include "storage/epoch_database.hpp"
-#include "temp_dir.hpp"
+#include "tests/support/small_tmpfs.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -107,34 +105,15 @@ TEST(DiskFull, ErrorCodesAreClassified) {
     EXPECT_FALSE(StorageError("x", SQLITE_FULL, SQLITE_FULL).busy());
 }
 
-// A real full file system: a 1 MiB tmpfs mounted for the test (needs root, as in CI).
-class SmallTmpfs {
-  public:
-    explicit SmallTmpfs(const std::filesystem::path& at) : at_(at) {
-        std::filesystem::create_directories(at_);
-        mounted_ = ::mount("tmpfs", at_.c_str(), "tmpfs", 0, "size=1m") == 0;
-    }
-    ~SmallTmpfs() {
-        if (mounted_) ::umount(at_.c_str());
-    }
-    bool mounted() const { return mounted_; }
-
-  private:
-    std::filesystem::path at_;
-    bool mounted_ = false;
-};
-
 TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     if (::geteuid() != 0) GTEST_SKIP() << "mounting a tmpfs needs root";
     test::TempDir dir;
-    SmallTmpfs fs(dir / "mnt");
-    ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << std::strerror(errno);
+    // A real full file system: a 1 MiB tmpfs mounted for the test.
+    test::SmallTmpfs fs(dir / "mnt", "1m");
+    ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << fs.error();
     const auto path = dir / "mnt" / "e.sqlite";
     const auto filler = dir / "mnt" / "filler";
-    {
-        std::ofstream out(filler, std::ios::binary);
-        out << std::string(600 * 1024, '\0');
-    }
+    test::write_file(filler, std::string(600 * 1024, '\0'));
     int done = 0;
     EpochId stuck = 0;
     {

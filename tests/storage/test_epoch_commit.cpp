@@ -4,8 +4,9 @@
 
 #include <cmath>
 
+#include "fake_sha256.hpp"
 #include "storage/epoch_database.hpp"
-#include "temp_dir.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {

@@ -2,11 +2,10 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <gtest/gtest.h>
 
-#include <fstream>
-
+#include "fake_sha256.hpp"
 #include "storage/epoch_database.hpp"
 #include "storage/schema_migrations.hpp"
-#include "temp_dir.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -112,10 +111,7 @@ TEST(Migrations, ReadOnlyNeverCreatesOrMigrates) {
 TEST(Migrations, NotADatabaseIsAClearError) {
     test::TempDir dir;
     const auto path = dir / "garbage.sqlite";
-    {
-        std::ofstream out(path);
-        out << std::string(4096, 'x');
-    }
+    test::write_file(path, std::string(4096, 'x'));
     try {
         EpochDatabase::open(path, Mode::read_write);
         FAIL() << "a text file opened as a database";
