@@ -27,7 +27,7 @@ struct PathsConfig {
 
 struct IngestConfig {
     // File name extensions (without the dot, compared case-insensitively) taken as scans.
-    std::vector<std::string> extensions = {"ptx", "pts", "xyz", "ply", "pcd", "las", "e57"};
+    std::vector<std::string> extensions = {"ptx", "pts", "xyz", "ply", "pcd", "las", "laz", "e57"};
     double stable_seconds = 10.0;   // size and mtime unchanged this long -> complete
     double rescan_interval = 60.0;  // full folder scan (inotify misses network shares)
     double max_growing = 3600.0;    // a file still growing after this is reported

@@ -9,7 +9,7 @@
 namespace tlsmon {
 
 class FormatError : public Error {
-public:
+  public:
     using Error::Error;
 };
 

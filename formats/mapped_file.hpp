@@ -8,7 +8,7 @@
 namespace tlsmon {
 
 class MappedFile {
-public:
+  public:
     explicit MappedFile(const std::filesystem::path& path);  // throws FormatError
     ~MappedFile();
     MappedFile(const MappedFile&) = delete;
@@ -19,7 +19,7 @@ public:
     std::string_view text() const { return {data_, size_}; }
     const std::filesystem::path& path() const { return path_; }
 
-private:
+  private:
     std::filesystem::path path_;
     const char* data_ = nullptr;
     std::size_t size_ = 0;

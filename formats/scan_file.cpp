@@ -16,15 +16,24 @@ namespace tlsmon {
 
 std::string to_string(ScanFormat f) {
     switch (f) {
-        case ScanFormat::ptx: return "PTX";
-        case ScanFormat::pts: return "PTS";
-        case ScanFormat::xyz: return "XYZ";
-        case ScanFormat::ply: return "PLY";
-        case ScanFormat::pcd: return "PCD";
-        case ScanFormat::las: return "LAS";
-        case ScanFormat::laz: return "LAZ";
-        case ScanFormat::e57: return "E57";
-        case ScanFormat::unknown: break;
+        case ScanFormat::ptx:
+            return "PTX";
+        case ScanFormat::pts:
+            return "PTS";
+        case ScanFormat::xyz:
+            return "XYZ";
+        case ScanFormat::ply:
+            return "PLY";
+        case ScanFormat::pcd:
+            return "PCD";
+        case ScanFormat::las:
+            return "LAS";
+        case ScanFormat::laz:
+            return "LAZ";
+        case ScanFormat::e57:
+            return "E57";
+        case ScanFormat::unknown:
+            break;
     }
     return "unknown";
 }
@@ -69,14 +78,22 @@ std::vector<Scan> read_scans(const std::filesystem::path& path) {
     switch (format) {
         // Each reader adds its case here.
         case ScanFormat::las:  // a .laz that is in fact uncompressed is read too
-        case ScanFormat::laz: return read_las(path);
-        case ScanFormat::ply: return read_ply(path);
-        case ScanFormat::pcd: return read_pcd(path);
-        case ScanFormat::ptx: return read_ptx(path);
-        case ScanFormat::pts: return read_pts(path);
-        case ScanFormat::xyz: return read_xyz(path);
-        case ScanFormat::e57: return read_e57(path);
-        default: break;
+        case ScanFormat::laz:
+            return read_las(path);
+        case ScanFormat::ply:
+            return read_ply(path);
+        case ScanFormat::pcd:
+            return read_pcd(path);
+        case ScanFormat::ptx:
+            return read_ptx(path);
+        case ScanFormat::pts:
+            return read_pts(path);
+        case ScanFormat::xyz:
+            return read_xyz(path);
+        case ScanFormat::e57:
+            return read_e57(path);
+        default:
+            break;
     }
     throw_format_error(path, "no reader for format " + to_string(format));
 }
