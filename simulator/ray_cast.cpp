@@ -82,6 +82,12 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h) : site(&s), epoch(e),
         n.z() = 0.0;
         target_normals.push_back(n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitY());
     }
+    // A bound on |u| at this epoch (s(t) <= 1, (z/H)^p <= 1), plus 1 mm.
+    const Deformation& d = s.deformation;
+    if (d.enabled) pier_reach += std::abs(d.top_displacement) + std::abs(d.vertical_extension);
+    if (s.events.step_epoch >= 0 && e >= s.events.step_epoch) {
+        pier_reach += s.events.step_displacement.norm();
+    }
 }
 
 Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
@@ -100,22 +106,35 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
         }
     }
 
-    // Pier: cast against the undeformed box, then move onto the deformed face (see header).
+    // Pier: each face is its displaced surface {q + u(q) : q on the face}; the nearest
+    // front-facing intersection whose material point lies on the face is the hit (see header).
     const Pier& pier = site.pier;
-    const BoxHit bh = intersect_box({pier.x0, pier.y0, 0.0}, {pier.x1, pier.y1, pier.height}, o, d);
-    if (bh.axis >= 0 && bh.t < best.range + 1.0) {
-        const int face = pier_face(bh);
-        Eigen::Vector3d n = Eigen::Vector3d::Zero();
-        n[bh.axis] = bh.low ? -1.0 : 1.0;
-        const double dn = d.dot(n);
-        Eigen::Vector3d q = o + bh.t * d;
-        double t = bh.t;
-        for (int pass = 0; pass < 3 && std::abs(dn) > 1e-12; ++pass) {
-            const Eigen::Vector3d u = pier_displacement(site, q, scene.epoch, scene.hours);
-            t = n.dot(q + u - o) / dn;
-            q = o + t * d - u;
-        }
-        if (t > 0.0 && t < best.range) {
+    const Eigen::Vector3d lo(pier.x0, pier.y0, 0.0), hi(pier.x1, pier.y1, pier.height);
+    const Eigen::Vector3d reach = Eigen::Vector3d::Constant(scene.pier_reach);
+    if (intersect_box(lo - reach, hi + reach, o, d).axis >= 0) {
+        for (int face = 0; face < 5; ++face) {
+            const int axis = face / 2;
+            const bool low = face == 0 || face == 2;
+            Eigen::Vector3d n = Eigen::Vector3d::Zero();
+            n[axis] = low ? -1.0 : 1.0;
+            const double dn = d.dot(n);
+            if (dn > -1e-12) continue;  // seen from behind or edge-on
+            double t = ((low ? lo : hi)[axis] - o[axis]) / d[axis];
+            Eigen::Vector3d q = o + t * d;
+            for (int pass = 0; pass < 20; ++pass) {
+                const Eigen::Vector3d u = pier_displacement(site, q, scene.epoch, scene.hours);
+                const double next = n.dot(q + u - o) / dn;
+                q = o + next * d - u;
+                const bool converged = std::abs(next - t) < 1e-9;
+                t = next;
+                if (converged) break;
+            }
+            if (!(t > 0.0 && t < best.range)) continue;
+            bool on_face = true;
+            for (int a = 0; a < 3; ++a) {
+                if (a != axis && (q[a] < lo[a] || q[a] > hi[a])) on_face = false;
+            }
+            if (!on_face) continue;
             const Eigen::Vector2d uv = face_uv(face, q);
             consider(best, {Surface::pier, t, n,
                             concrete_albedo(site.texture, face, uv.x(), uv.y()), -1});

@@ -2,16 +2,20 @@
 // Ray casting against the simulated scene at one epoch: ground plane, pier (deformed),
 // optional deck, sphere and checkerboard targets.
 //
-// How the deformed pier stays geometrically consistent: the ray is first cast against the
-// undeformed box, giving a material point q on face f (normal n). The deformed face near q
-// is the plane through q + u(q) with normal n (the field bends the face by at most a few
-// centimetres over tens of metres, so the change of the normal, ~1e-6 rad, is neglected).
-// The ray is intersected with that plane, giving x; the material point seen there is
-// q = x − u(q), which lies on the undeformed face again. Two more passes converge to
-// micrometres because u varies slowly along the face. The range is |x − origin| along the
+// How the deformed pier stays geometrically consistent: each face f (normal n) of the box
+// becomes the surface {q + u(q) : q on f}. Starting from the ray's hit q on the undeformed
+// face plane, the deformed face near q is the plane through q + u(q) with normal n (the
+// field bends the face by at most a few centimetres over tens of metres, so the change of
+// the normal, ~1e-6 rad, is neglected). The ray is intersected with that plane, giving x;
+// the material point seen there is q = x − u(q), which lies on the undeformed face plane
+// again. The passes repeat until the range changes by less than 1 nm (a fixed point is
+// exactly x = q + u(q)); u varies slowly, so two or three passes suffice. The hit counts
+// only if q lies within the face: on the grazing west wall a shift δ along n moves the hit
+// by δ / |cos incidence| (≈ 0.5 m for 20 mm at 87°) along the ray, so a ray cast against the
+// undeformed box alone would see wall beyond the displaced edges and miss the band the top
+// edge moved into. The nearest front-facing face wins. The range is |x − origin| along the
 // ray, and the reflectance is taken at the material point q, so the texture moves with the
-// surface exactly as the field says (what keypoint tracking measures). Rays within a few
-// centimetres of a face edge may see the undeformed silhouette; that edge band is ignored.
+// surface exactly as the field says (what keypoint tracking measures).
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
@@ -37,6 +41,7 @@ struct SceneAtEpoch {
     double hours = 0.0;
     std::vector<Eigen::Vector3d> target_centres;  // true centres at this epoch
     std::vector<Eigen::Vector3d> target_normals;  // checkerboards: facing the scanner
+    double pier_reach = 0.001;                    // m, bound on |u| at this epoch
 
     SceneAtEpoch(const Site& s, int epoch, double hours);
 };

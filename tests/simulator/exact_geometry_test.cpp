@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "simulator/deformation.hpp"
+#include "simulator/ray_cast.hpp"
 #include "simulator/render.hpp"
 #include "simulator/texture.hpp"
 
@@ -79,6 +80,37 @@ TEST(SimulatorExact, DeformedFaceIsWhereTheFieldMovedIt) {
     }
     EXPECT_GT(n, 30'000u);
     EXPECT_GT(max_seen, 0.030);  // near the top the face moved by ~35 mm towards the scanner
+}
+
+// The displaced pier ends where its displaced edges are. At the peak the west wall moved
+// 11 mm east and 19 mm south at z = 30 m; seen at 87° incidence that shifts the hit by
+// ~0.3 m along the ray, so rays near the wall's ends and the top edge must be cast against
+// the displaced faces themselves, not against the undeformed box.
+TEST(SimulatorExact, DisplacedPierEdgesAreWhereTheFieldMovedThem) {
+    Site s = noise_free_small();
+    s.deformation.enabled = true;
+    const SceneAtEpoch scene(s, 24, 6.0);
+    const Eigen::Vector3d o = s.scanner.position;
+    const auto displaced = [&](const Eigen::Vector3d& q) {
+        return Eigen::Vector3d(q + pier_displacement(s, q, 24, 6.0));
+    };
+    // Material points on the grazing west wall 0.1 m from its south end, on the head-on
+    // south wall 10 mm below its top edge, and on the west wall 0.1 m from its north end:
+    // each is seen at exactly its displaced position.
+    for (const Eigen::Vector3d& q : {Eigen::Vector3d(s.pier.x0, s.pier.y0 + 0.1, 20.0),
+                                     Eigen::Vector3d(9.5, s.pier.y0, s.pier.height - 0.01),
+                                     Eigen::Vector3d(s.pier.x0, s.pier.y1 - 0.1, 30.0)}) {
+        const Eigen::Vector3d p = displaced(q);
+        const Hit h = cast_ray(scene, o, (p - o).normalized(), s.scanner.max_range);
+        EXPECT_EQ(h.surface, Surface::pier) << q.transpose();
+        if (h.surface != Surface::pier) continue;
+        EXPECT_NEAR(h.range, (p - o).norm(), 1e-7) << q.transpose();
+    }
+    // 0.2 m beyond the displaced north end of the west wall there is only sky.
+    const Eigen::Vector3d beyond =
+        displaced(Eigen::Vector3d(s.pier.x0, s.pier.y1, 30.0)) + Eigen::Vector3d(0, 0.2, 0);
+    const Hit h = cast_ray(scene, o, (beyond - o).normalized(), s.scanner.max_range);
+    EXPECT_EQ(h.surface, Surface::none) << "range " << h.range;
 }
 
 // A sphere target's points are on the sphere around its true centre; after the knock
