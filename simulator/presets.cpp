@@ -64,7 +64,7 @@ Site preset_hochmosel() {
     Site s;
     s.scanner.station = "hochmosel";
     s.pier = {2.0, 17.0, 100.0, 107.0, 140.0};
-    // Pier at 100–172 m range; 1134 columns x 2101 rows = 2.4 M cells at 0.03°.
+    // Pier at 100–175 m range; 1134 columns x 2101 rows = 2.4 M cells at 0.03°.
     s.scanner.azimuth_min_deg = 68.0;
     s.scanner.azimuth_max_deg = 102.0;
     s.scanner.elevation_min_deg = -5.0;
