@@ -96,7 +96,7 @@ struct Events {
     Eigen::Vector3d knocked_displacement{0.010, 0.0, 0.0};
     std::vector<int> missing_epochs;
     int cut_short_epoch = -1;
-    double cut_short_fraction = 0.5;  // fraction of point lines written before the cut
+    double cut_short_fraction = 0.5;  // fraction of the file's bytes written (at a line end)
 };
 
 struct Texture {
