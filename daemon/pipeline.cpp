@@ -1,10 +1,13 @@
 #include "daemon/pipeline.hpp"
 
 #include <spdlog/spdlog.h>
+#include <sys/stat.h>
 
+#include <cerrno>
 #include <chrono>
 
 #include "daemon/ingest_files.hpp"
+#include "daemon/sha256.hpp"
 #include "formats/scan_file.hpp"
 
 namespace tlsmon {
@@ -23,11 +26,21 @@ bool names_reference(const Config& config, const Epoch& e) {
     return want == e.sha256 || want == fs::path(e.file_path).filename().string();
 }
 
-EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& reason) {
+// Size and mtime of a file, to see whether it changed while it was read.
+std::pair<std::int64_t, std::int64_t> size_and_mtime(const fs::path& file) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) return {-1, -1};
+    return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
+}
+
+// `quarantine`: move the file to quarantine. Not when the file holds another content than
+// the epoch's: that content is another epoch, which ingest finds under this name.
+EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& reason,
+                  bool quarantine = true) {
     const fs::path file(epoch.file_path);
     std::optional<std::string> moved_to;
     std::error_code ec;
-    if (fs::exists(file, ec)) {
+    if (quarantine && fs::exists(file, ec)) {
         const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
                                       epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
@@ -76,11 +89,36 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
         if (!fs::exists(file, ec)) {
             return fail(ctx, epoch, "the file vanished before it was processed");
         }
+        // The file must still hold the epoch's bytes: a file replaced under the same name
+        // while its epoch waited is another epoch, whose results must not go to this one.
+        const auto before = size_and_mtime(file);
+        try {
+            if (sha256_file(file) != epoch.sha256) {
+                return fail(
+                    ctx, epoch,
+                    file.string() + ": the file was replaced by other content before it was read",
+                    false);
+            }
+        } catch (const FileAccessError& e) {
+            if (e.error_number() == ENOENT) {
+                return fail(ctx, epoch, "the file vanished before it was processed");
+            }
+            return fail(ctx, epoch, e.what());
+        }
+        const auto read_again = [&] {
+            ctx.db.release_epoch(epoch.id);
+            spdlog::warn("{}: changed while it was read; epoch {} is read again", file.string(),
+                         epoch.id);
+            return EpochOutcome::skipped;
+        };
         EpochResults results;
         try {
             const auto t_read = std::chrono::steady_clock::now();
             const std::vector<Scan> scans = read_scans(file);
             results.timings.read_ms = ms_since(t_read);
+            if (size_and_mtime(file) != before) {  // written to while read: check it again
+                return read_again();
+            }
             std::int64_t points = 0;
             for (const auto& s : scans) points += static_cast<std::int64_t>(s.size());
             if (points == 0) return fail(ctx, epoch, file.string() + ": the file holds no points");
@@ -88,6 +126,9 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
         } catch (const StorageError&) {
             throw;
         } catch (const std::exception& e) {
+            if (size_and_mtime(file) != before) {  // the error may come from the change
+                return read_again();
+            }
             return fail(ctx, epoch, e.what());
         }
         // Registration and the analyses plug in here as they become available.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "daemon/pipeline.hpp"
+#include "daemon/sha256.hpp"
 #include "daemon_harness.hpp"
 #include "tests/support/small_tmpfs.hpp"
 
@@ -29,7 +30,7 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     SystemEventLog events;
     IngestContext ctx{db, config, std::nullopt, events};
     const EpochInsert ins =
-        db.insert_epoch(NewEpoch{std::string(64, 'a'), 1780293600, scan, 100, std::nullopt});
+        db.insert_epoch(NewEpoch{sha256_file(scan), 1780293600, scan, 100, std::nullopt});
     ASSERT_TRUE(ins.inserted);
 
     // SQLite reuses the space of a checkpointed WAL; truncate it (with the sqlite3 client)

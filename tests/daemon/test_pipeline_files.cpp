@@ -1,0 +1,63 @@
+// ingest_file and process_epoch when the file of a pending epoch changes before it is
+// processed: replaced by other content under the same name, or renamed. In-process, on real
+// files and a real SQLite database.
+#include <gtest/gtest.h>
+
+#include "daemon/pipeline.hpp"
+#include "daemon/sha256.hpp"
+#include "daemon_harness.hpp"
+
+namespace tlsmon::test {
+namespace {
+
+const fs::path kData = TLSMON_DATA_DIR;
+
+struct PipelineSite {
+    Site site{"pipefiles"};
+    Config config = parse_config("[paths]\ningest = \"ingest\"\ndatabase = \"db/tlsmon.sqlite\"\n",
+                                 "test.toml", site.root);
+    EpochDatabase db = open();
+    SystemEventLog events;
+    IngestContext ctx{db, config, std::nullopt, events};
+
+    EpochDatabase open() {
+        fs::create_directories(config.paths.archive);
+        fs::create_directories(config.paths.quarantine);
+        fs::create_directories(config.paths.database.parent_path());
+        return EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
+    }
+    // Processes every pending epoch, as the daemon's backlog does.
+    void process_backlog() {
+        for (const Epoch& e : db.pending_epochs()) process_epoch(ctx, e);
+    }
+    std::optional<Epoch> by_content(const fs::path& original) {
+        return db.epoch_by_sha256(sha256_file(original));
+    }
+};
+
+TEST(PipelineFiles, FileReplacedUnderTheSameNameWhilePendingIsTwoEpochs) {
+    PipelineSite s;
+    const fs::path first = kData / "ptx/no-color.ptx";            // 15 points
+    const fs::path second = kData / "ptx/complex-transform.ptx";  // 4 points
+    const fs::path scan = s.site.ingest() / "small_20260601T060000Z.ptx";
+    fs::copy_file(first, scan);
+    ASSERT_EQ(ingest_file(s.ctx, scan), IngestOutcome::new_epoch);
+    // The scanner exports again under the same name before the epoch was processed.
+    fs::copy_file(second, scan, fs::copy_options::overwrite_existing);
+    ASSERT_EQ(ingest_file(s.ctx, scan), IngestOutcome::new_epoch);
+    s.process_backlog();
+
+    const auto a = s.by_content(first);
+    const auto b = s.by_content(second);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->status, EpochStatus::failed);
+    EXPECT_NE(a->reason.find("replaced by other content"), std::string::npos) << a->reason;
+    EXPECT_NE(a->point_count, 15) << "the first content is gone; it was never read";
+    EXPECT_EQ(b->status, EpochStatus::done) << b->reason;
+    EXPECT_EQ(b->point_count, 4) << "the second content's points, in its own epoch";
+    ASSERT_TRUE(b->archive_path);
+    EXPECT_EQ(read_file(*b->archive_path), read_file(second));
+}
+
+}  // namespace
+}  // namespace tlsmon::test
