@@ -78,6 +78,17 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
 // The file has the content of an epoch that exists already.
 IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch& epoch) {
     const bool same_path = fs::path(epoch.file_path) == file;
+    // The content of an epoch that was never read, its own file gone (renamed, or deleted
+    // and copied in again): the epoch takes this file rather than lose the content.
+    std::error_code gone;
+    const bool unread_and_gone = (epoch.status == EpochStatus::pending && !same_path &&
+                                  !fs::exists(epoch.file_path, gone) && !gone) ||
+                                 (epoch.status == EpochStatus::failed && !epoch.archive_path);
+    if (unread_and_gone && ctx.db.relocate_epoch(epoch.id, file)) {
+        spdlog::info("{}: the content of epoch {} ({}, {}); the epoch now takes this file",
+                     file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
+        return IngestOutcome::known;
+    }
     if (!finished(epoch.status)) {
         if (same_path) return IngestOutcome::known;  // queued already (e.g. after a restart)
     } else if (epoch.archive_path && !fs::exists(*epoch.archive_path) &&

@@ -271,6 +271,11 @@ class EpochDatabase {
                     std::optional<std::string> moved_to = std::nullopt);
     void reject_epoch(EpochId id, const std::string& reason,
                       std::optional<std::string> moved_to = std::nullopt);
+    // The content of an epoch that was never read (pending, or failed without a file to
+    // move because its file had vanished) was found again at `file` (renamed, copied in
+    // again): the epoch now points at `file` and is pending. False if the epoch is in
+    // another state.
+    bool relocate_epoch(EpochId id, const std::filesystem::path& file);
     // At start: every `processing` epoch left by a crash goes back to `pending`. Returns how
     // many.
     std::int64_t recover_interrupted();

@@ -174,6 +174,19 @@ void EpochDatabase::reject_epoch(EpochId id, const std::string& reason,
     finish_unprocessed(*impl_, id, EpochStatus::rejected, reason, moved_to);
 }
 
+bool EpochDatabase::relocate_epoch(EpochId id, const std::filesystem::path& file) {
+    return guarded(*impl_, "relocating an epoch", [&] {
+        SQLite::Statement s(impl_->db,
+                            "UPDATE epochs SET file_path = ?, status = 'pending', reason = '',"
+                            " updated = ? WHERE id = ? AND (status = 'pending' OR"
+                            " (status = 'failed' AND archive_path IS NULL))");
+        s.bind(1, file.string());
+        s.bind(2, static_cast<std::int64_t>(now_utc()));
+        s.bind(3, id);
+        return s.exec() == 1;
+    });
+}
+
 std::int64_t EpochDatabase::recover_interrupted() {
     return guarded(*impl_, "recovering interrupted epochs", [&] {
         SQLite::Statement s(impl_->db,

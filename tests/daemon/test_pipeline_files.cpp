@@ -59,5 +59,39 @@ TEST(PipelineFiles, FileReplacedUnderTheSameNameWhilePendingIsTwoEpochs) {
     EXPECT_EQ(read_file(*b->archive_path), read_file(second));
 }
 
+TEST(PipelineFiles, FileRenamedWhilePendingKeepsItsEpoch) {
+    PipelineSite s;
+    const fs::path first = kData / "ptx/no-color.ptx";
+    const fs::path second = kData / "ptx/complex-transform.ptx";
+    // Renamed after ingest, and the new name taken before the epoch is processed.
+    const fs::path a = s.site.ingest() / "a.ptx";
+    fs::copy_file(first, a);
+    ASSERT_EQ(ingest_file(s.ctx, a), IngestOutcome::new_epoch);
+    fs::rename(a, s.site.ingest() / "a-renamed.ptx");
+    EXPECT_EQ(ingest_file(s.ctx, s.site.ingest() / "a-renamed.ptx"), IngestOutcome::known);
+    EXPECT_TRUE(fs::exists(s.site.ingest() / "a-renamed.ptx")) << "not removed as a duplicate";
+    // Renamed after ingest, processed (the file is gone) before the new name is taken.
+    const fs::path b = s.site.ingest() / "b.ptx";
+    fs::copy_file(second, b);
+    ASSERT_EQ(ingest_file(s.ctx, b), IngestOutcome::new_epoch);
+    fs::rename(b, s.site.ingest() / "b-renamed.ptx");
+    s.process_backlog();
+    EXPECT_EQ(s.by_content(second)->status, EpochStatus::failed);
+    EXPECT_EQ(ingest_file(s.ctx, s.site.ingest() / "b-renamed.ptx"), IngestOutcome::known);
+    s.process_backlog();
+
+    for (const auto& [original, points, name] :
+         {std::tuple{first, 15, "a-renamed.ptx"}, std::tuple{second, 4, "b-renamed.ptx"}}) {
+        const auto e = s.by_content(original);
+        ASSERT_TRUE(e);
+        EXPECT_EQ(e->status, EpochStatus::done) << name << ": " << e->reason;
+        EXPECT_EQ(e->point_count, points) << name;
+        EXPECT_EQ(e->reason, "") << name;
+        EXPECT_EQ(e->archive_path, (s.config.paths.archive / name).string());
+        EXPECT_EQ(read_file(s.config.paths.archive / name), read_file(original)) << name;
+    }
+    EXPECT_EQ(s.db.epochs_in_range({}).size(), 2u);
+}
+
 }  // namespace
 }  // namespace tlsmon::test

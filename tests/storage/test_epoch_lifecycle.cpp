@@ -102,6 +102,38 @@ TEST(EpochLifecycle, StatusTransitions) {
     EXPECT_THROW(db.release_epoch(999), StorageError);  // no such epoch
 }
 
+// An epoch whose file was renamed or vanished takes its content's new file if it was never
+// read; an epoch that was read, or whose file was moved to quarantine, does not.
+TEST(EpochLifecycle, RelocateOnlyUnreadEpochs) {
+    test::TempDir dir;
+    auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
+    const EpochId pending = db.insert_epoch(scan(1, 1000)).id;
+    EXPECT_TRUE(db.relocate_epoch(pending, "/ingest/renamed1.ptx"));
+    EXPECT_EQ(db.epoch(pending)->file_path, "/ingest/renamed1.ptx");
+    EXPECT_EQ(db.epoch(pending)->status, EpochStatus::pending);
+
+    const EpochId vanished = db.insert_epoch(scan(2, 2000)).id;
+    ASSERT_TRUE(db.claim_epoch(vanished));
+    db.fail_epoch(vanished, "the file vanished before it was processed");
+    EXPECT_TRUE(db.relocate_epoch(vanished, "/ingest/renamed2.ptx"));
+    EXPECT_EQ(db.epoch(vanished)->status, EpochStatus::pending);
+    EXPECT_EQ(db.epoch(vanished)->reason, "");
+    EXPECT_EQ(db.epoch(vanished)->file_path, "/ingest/renamed2.ptx");
+
+    const EpochId quarantined = db.insert_epoch(scan(3, 3000)).id;
+    ASSERT_TRUE(db.claim_epoch(quarantined));
+    db.fail_epoch(quarantined, "corrupt", "/quarantine/scan3.ptx");
+    EXPECT_FALSE(db.relocate_epoch(quarantined, "/ingest/again3.ptx"));
+    EXPECT_EQ(db.epoch(quarantined)->status, EpochStatus::failed);
+
+    const EpochId processing = db.insert_epoch(scan(4, 4000)).id;
+    ASSERT_TRUE(db.claim_epoch(processing));
+    EXPECT_FALSE(db.relocate_epoch(processing, "/ingest/again4.ptx"));
+    db.commit_epoch(processing, EpochResults{});
+    EXPECT_FALSE(db.relocate_epoch(processing, "/ingest/again4.ptx"));
+    EXPECT_EQ(db.epoch(processing)->file_path, "/ingest/scan4.ptx");
+}
+
 // A writer killed while an epoch is `processing` leaves it so; the next start puts it back.
 TEST(EpochLifecycle, CrashLeavesProcessingWhichRecoveryRequeues) {
     test::TempDir dir;
