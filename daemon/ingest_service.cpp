@@ -107,8 +107,10 @@ void Daemon::reload() {
         if (fresh.paths.ingest != config_.paths.ingest ||
             fresh.paths.database != config_.paths.database) {
             spdlog::warn("reload: paths.ingest and paths.database change only on restart");
-            fresh.paths = config_.paths;
+            fresh.paths.ingest = config_.paths.ingest;
+            fresh.paths.database = config_.paths.database;
         }
+        create_folders(fresh);  // a new archive or quarantine folder
         setup_logging(fresh.logging);
         config_ = std::move(fresh);
         watcher_.set_config(config_.ingest);

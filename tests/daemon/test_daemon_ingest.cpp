@@ -265,6 +265,32 @@ TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
     EXPECT_EQ(daemon.wait(5), 0);
 }
 
+TEST(DaemonIngest, SighupToNewArchiveAndQuarantineFoldersCreatesThem) {
+    Site site("newfolders");
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
+    std::string text = read_file(site.config());
+    text.replace(text.find("archive = \"archive\""), 19, "archive = \"new/archive\"");
+    text.replace(text.find("quarantine = \"quarantine\""), 25, "quarantine = \"new/quar\"");
+    std::ofstream(site.config()) << text;
+    daemon.signal(SIGHUP);
+    ASSERT_TRUE(
+        wait_until([&] { return has_event(site, "config_reload", "configuration reloaded"); }, 10))
+        << read_file(site.log());
+    fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "good.ptx");
+    std::ofstream(site.ingest() / "empty.ptx").flush();
+    ASSERT_TRUE(wait_until([&] { return all_epochs(site).size() == 2; }, 10))
+        << read_file(site.log());
+    ASSERT_TRUE(wait_until([&] { return !fs::exists(site.ingest() / "good.ptx"); }, 10))
+        << read_file(site.log());
+    EXPECT_EQ(read_file(site.root / "new/archive/good.ptx"), read_file(kData / "ptx/no-color.ptx"));
+    EXPECT_TRUE(fs::exists(site.root / "new/quar/empty.ptx"));
+    EXPECT_TRUE(fs::exists(site.root / "new/quar/empty.ptx.reason.txt"));
+    EXPECT_FALSE(fs::exists(site.ingest() / "empty.ptx"));
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(5), 0);
+}
+
 TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     Site site("reference", "", "reference_epoch = \"small_20260601T061500Z.ptx\"\n");
     fs::copy_file(kData / "ptx/complex-transform.ptx",
