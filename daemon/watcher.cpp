@@ -53,13 +53,17 @@ FolderWatcher::FolderWatcher(fs::path folder, IngestConfig config)
     : folder_(std::move(folder)), config_(std::move(config)) {
     inotify_fd_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
     if (inotify_fd_ < 0) throw Error(std::string("inotify_init1: ") + std::strerror(errno));
-    const std::uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_MODIFY | IN_DELETE |
-                               IN_MOVED_FROM | IN_ONLYDIR;
-    if (::inotify_add_watch(inotify_fd_, folder_.c_str(), mask) < 0) {
+    if (!add_watch()) {
         const int e = errno;
         ::close(inotify_fd_);
         throw Error(folder_.string() + ": cannot watch the ingest folder: " + std::strerror(e));
     }
+}
+
+bool FolderWatcher::add_watch() {
+    const std::uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_MODIFY | IN_DELETE |
+                               IN_MOVED_FROM | IN_ONLYDIR;
+    return ::inotify_add_watch(inotify_fd_, folder_.c_str(), mask) >= 0;
 }
 
 FolderWatcher::~FolderWatcher() {
@@ -103,6 +107,11 @@ void FolderWatcher::read_events(SteadyTime now) {
                 rescan(now);
                 continue;
             }
+            if (ev->mask & IN_IGNORED) {  // the folder was deleted or moved away
+                spdlog::warn("{}: the ingest folder is gone; watched again once it is back",
+                             folder_.string());
+                continue;
+            }
             if (ev->len == 0) continue;
             const std::string name(ev->name);
             if (ev->mask & (IN_DELETE | IN_MOVED_FROM)) {
@@ -118,6 +127,9 @@ void FolderWatcher::read_events(SteadyTime now) {
 }
 
 void FolderWatcher::rescan(SteadyTime now) {
+    // The same watch if the folder is still there; a new one if it was deleted and created
+    // again (the old watch ended with the folder: no events came since).
+    add_watch();
     std::error_code ec;
     for (fs::directory_iterator it(folder_, ec), end; !ec && it != end; it.increment(ec)) {
         touch(it->path().filename().string(), now, false, false);

@@ -72,6 +72,7 @@ class FolderWatcher {
         std::int64_t mtime_ns = -1;
     };
 
+    bool add_watch();  // false (errno set) if the folder cannot be watched
     void touch(const std::string& name, SteadyTime now, bool writing, bool closed);
 
     std::filesystem::path folder_;

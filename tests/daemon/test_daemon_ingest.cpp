@@ -291,6 +291,41 @@ TEST(DaemonIngest, SighupToNewArchiveAndQuarantineFoldersCreatesThem) {
     EXPECT_EQ(daemon.wait(5), 0);
 }
 
+TEST(DaemonIngest, IngestFolderDeletedAndCreatedAgainIsWatchedAgain) {
+    Site site("recreated");
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
+    fs::remove_all(site.ingest());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    fs::create_directories(site.ingest());
+    std::this_thread::sleep_for(std::chrono::seconds(2));  // a rescan (every 1 s) in between
+    // Written slowly, pausing longer than stable_seconds (0.3 s) while the file is open:
+    // only inotify tells that it is still being written.
+    const std::string text = read_file(kData / "ptx/no-color.ptx");
+    {
+        std::ofstream out(site.ingest() / "slow.ptx");
+        const std::size_t chunk = text.size() / 4 + 1;
+        for (std::size_t at = 0; at < text.size(); at += chunk) {
+            out << text.substr(at, chunk) << std::flush;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        }
+    }
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto e = all_epochs(site);
+            return !e.empty() && e.back().status != EpochStatus::pending &&
+                   e.back().status != EpochStatus::processing;
+        },
+        10))
+        << read_file(site.log());
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(5), 0);
+    const auto epochs = all_epochs(site);
+    ASSERT_EQ(epochs.size(), 1u) << read_file(site.log());
+    EXPECT_EQ(epochs[0].status, EpochStatus::done) << epochs[0].reason;
+    EXPECT_EQ(epochs[0].point_count, 15);
+}
+
 TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     Site site("reference", "", "reference_epoch = \"small_20260601T061500Z.ptx\"\n");
     fs::copy_file(kData / "ptx/complex-transform.ptx",
