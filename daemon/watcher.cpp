@@ -104,6 +104,9 @@ void FolderWatcher::read_events(SteadyTime now) {
             off += static_cast<ssize_t>(sizeof(inotify_event) + ev->len);
             if (ev->mask & IN_Q_OVERFLOW) {
                 spdlog::warn("{}: inotify queue overflowed; rescanning", folder_.string());
+                // Close events may be lost: from now on only a stable size and mtime
+                // tell when these files are complete, as for a file found by a scan.
+                for (auto& [name, c] : candidates_) c.writing = false;
                 rescan(now);
                 continue;
             }

@@ -2,6 +2,8 @@
 // name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "daemon/ingest_files.hpp"
 #include "daemon/sha256.hpp"
 #include "daemon/watcher.hpp"
@@ -84,6 +86,37 @@ TEST(IngestParts, FreeNameNeverOverwrites) {
     EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123.ptx");
     test::write_file(d / "a.0123.ptx", "2");
     EXPECT_EQ(free_name(d, "a.ptx", "0123"), d / "a.0123-2.ptx");
+}
+
+// A file whose close event was lost when the inotify queue overflowed is complete once its
+// size and mtime are stable, as a file found by a scan.
+TEST(IngestParts, WatcherAfterQueueOverflowTakesAFileWhoseCloseWasLost) {
+    const test::TempDir d;
+    IngestConfig config;
+    config.stable_seconds = 0;
+    FolderWatcher watcher(d.path(), config);
+    const auto now = std::chrono::steady_clock::now();
+    std::vector<GrowingFile> growing;
+    {
+        std::ofstream scan(d / "scan.ptx");
+        scan << "written" << std::flush;
+        watcher.read_events(now);  // IN_CREATE, IN_MODIFY: being written
+        EXPECT_TRUE(watcher.take_complete(now, growing).empty());
+        // More events than the queue holds (fs.inotify.max_queued_events, 16384 by
+        // default), alternating between two files so that they are not merged.
+        std::ifstream limit("/proc/sys/fs/inotify/max_queued_events");
+        int max_events = 16384;
+        limit >> max_events;
+        std::ofstream a(d / "a.txt"), b(d / "b.txt");
+        for (int i = 0; i < max_events; ++i) {
+            a << 'x' << std::flush;
+            b << 'x' << std::flush;
+        }
+    }  // the close of scan.ptx is lost
+    watcher.read_events(now);
+    const auto complete = watcher.take_complete(now + std::chrono::seconds(1), growing);
+    ASSERT_EQ(complete.size(), 1u);
+    EXPECT_EQ(complete[0], d / "scan.ptx");
 }
 
 }  // namespace
