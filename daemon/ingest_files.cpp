@@ -121,15 +121,15 @@ void move_file(const fs::path& from, const fs::path& to) {
     std::error_code ec;
     fs::copy_file(from, tmp, fs::copy_options::overwrite_existing, ec);
     if (!ec) {
+        // The source is removed below: the copy must be on disk first.
         const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd >= 0) {
-            ::fsync(fd);
-            ::close(fd);
-        }
-        fs::rename(tmp, to, ec);
+        if (fd < 0 || ::fsync(fd) != 0) ec.assign(errno, std::generic_category());
+        if (fd >= 0) ::close(fd);
     }
+    if (!ec) fs::rename(tmp, to, ec);
     if (ec) {
-        fs::remove(tmp);
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
         throw Error("cannot copy " + from.string() + " to " + to.string() + ": " + ec.message());
     }
     sync_folder(to.parent_path());
