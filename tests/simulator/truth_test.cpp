@@ -103,6 +103,45 @@ TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
     EXPECT_LT(worst_true, 1e-9);
 }
 
+// Yaw alone (the ground test above cannot see it): the scanner head turned by ψ about its
+// standing axis, so a point at horizontal angle φ in the project frame is read at φ − ψ.
+// header_to_true must be the rotation by +ψ about the station's vertical (x, y of a south
+// face point move by r·ψ ≈ 4 mm for 50″ at 17 m off the y axis), and the
+// reported yaw must have that sign.
+TEST(SimulatorTruth, HeaderToTrueTurnsByTheReportedYaw) {
+    Site s = preset_small();
+    s.noise.enabled = false;
+    s.deformation.enabled = false;
+    s.drift = {};
+    s.drift.yaw_amplitude_arcsec = 50.0;
+    s.drift.yaw_jitter_arcsec = 0.0;
+    s.drift.tilt_amplitude_arcsec = 0.0;
+    s.drift.tilt_jitter_arcsec = 0.0;
+    s.drift.translation_sigma = 0.0;
+    const EpochFiles f = simulate_epoch(s, 24, kStart, 2);  // 6 h: ψ = 50″ · sin(π/2)
+    const nlohmann::json& sc = f.truth["scanner"];
+    const double yaw = sc["pose_error"]["yaw_arcsec"].get<double>();
+    EXPECT_NEAR(yaw, 50.0, 1e-9);
+    const Eigen::Affine3d h = affine(sc["header_to_true"]);
+    const double psi = yaw * kDeg / 3600.0;
+    EXPECT_NEAR(std::atan2(h.linear()(1, 0), h.linear()(0, 0)), psi, 1e-12);
+    const RenderedScan r = render_epoch(s, 24, 6.0, 2);
+    const Eigen::Vector3d o = s.scanner.position;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {
+        const Eigen::Vector3d& p = r.scan.xyz[i];
+        if (p.z() < 1.0 || std::abs(p.y() - s.pier.y0) > 0.1) continue;  // south face
+        if (p.x() < s.pier.x0 + 0.5 || p.x() > s.pier.x1 - 0.5) continue;
+        // Header coordinates: the true point turned by −ψ about the station.
+        const Eigen::Vector3d t = h * p;
+        ASSERT_NEAR(t.y(), s.pier.y0, 1e-9);
+        const Eigen::Vector3d turned = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * (p - o);
+        ASSERT_LT((t - o - turned).norm(), 1e-9);
+        ++n;
+    }
+    EXPECT_GT(n, 30'000u);
+}
+
 TEST(SimulatorTruth, MissingAndCutShortEpochs) {
     Site s = preset_small();
     s.events.missing_epochs = {2};
