@@ -127,7 +127,8 @@ void add_simulate_command(CLI::App& app) {
                     "Time between scans, e.g. 15min (default: the scene's, 15min)");
     cmd->add_option("--start", o->start, "Acquisition time of epoch 0 (UTC)")
         ->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Measurement noise seed (default: the scene's)")
+    cmd->add_option("--seed", o->seed,
+                    "Seed of the measurement noise and the drift jitter (default: the scene's)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--realtime", o->realtime,
                     "Write one scan every SECONDS (temporary name, then rename)")
