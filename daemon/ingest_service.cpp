@@ -159,6 +159,7 @@ void Daemon::process_backlog() {
         if (backoff_ > 0) db_.recover_interrupted();
         for (const Epoch& epoch : db_.pending_epochs()) {
             if (shutdown_.stop_requested()) return;
+            systemd_.watchdog();  // one epoch may take the whole WatchdogSec
             const EpochOutcome outcome = process_epoch(ctx, epoch);
             if (outcome == EpochOutcome::retry_later) {
                 backoff_ = backoff_ == 0 ? config_.ingest.retry_initial

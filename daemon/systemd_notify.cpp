@@ -23,13 +23,15 @@ void SystemdNotify::status(const std::string& text) {
     sd_notify(0, ("STATUS=" + text).c_str());
 }
 
+void SystemdNotify::watchdog() {
+    if (!watchdog_period_) return;
+    sd_notify(0, "WATCHDOG=1");
+    last_ping_ = std::chrono::steady_clock::now();
+}
+
 void SystemdNotify::watchdog_if_due() {
     if (!watchdog_period_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_ping_ >= *watchdog_period_) {
-        sd_notify(0, "WATCHDOG=1");
-        last_ping_ = now;
-    }
+    if (std::chrono::steady_clock::now() - last_ping_ >= *watchdog_period_) watchdog();
 }
 
 std::optional<std::chrono::steady_clock::duration> SystemdNotify::until_watchdog() const {

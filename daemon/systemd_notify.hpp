@@ -14,6 +14,8 @@ class SystemdNotify {
     void ready();
     void stopping();
     void status(const std::string& text);
+    // Sends WATCHDOG=1 now (before a long step, so that it gets the whole interval).
+    void watchdog();
     // Sends WATCHDOG=1 when half the watchdog interval has passed since the last one.
     void watchdog_if_due();
     // Time until the next watchdog ping is due (nullopt: no watchdog).
