@@ -89,22 +89,9 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
         if (!fs::exists(file, ec)) {
             return fail(ctx, epoch, "the file vanished before it was processed");
         }
-        // The file must still hold the epoch's bytes: a file replaced under the same name
-        // while its epoch waited is another epoch, whose results must not go to this one.
+        // The bytes parsed are the bytes hashed: a file replaced under the same name while
+        // its epoch waited is another epoch, whose results must not go to this one.
         const auto before = size_and_mtime(file);
-        try {
-            if (sha256_file(file) != epoch.sha256) {
-                return fail(
-                    ctx, epoch,
-                    file.string() + ": the file was replaced by other content before it was read",
-                    false);
-            }
-        } catch (const FileAccessError& e) {
-            if (e.error_number() == ENOENT) {
-                return fail(ctx, epoch, "the file vanished before it was processed");
-            }
-            return fail(ctx, epoch, e.what());
-        }
         const auto read_again = [&] {
             ctx.db.release_epoch(epoch.id);
             spdlog::warn("{}: changed while it was read; epoch {} is read again", file.string(),
@@ -112,11 +99,27 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
             return EpochOutcome::skipped;
         };
         EpochResults results;
+        const auto t_read = std::chrono::steady_clock::now();
+        std::string bytes;
         try {
-            const auto t_read = std::chrono::steady_clock::now();
-            const std::vector<Scan> scans = read_scans(file);
+            bytes = read_file_bytes(file);
+        } catch (const FileAccessError& e) {
+            if (e.error_number() == ENOENT) {
+                return fail(ctx, epoch, "the file vanished before it was processed");
+            }
+            return fail(ctx, epoch, e.what());
+        }
+        if (sha256_text(bytes) != epoch.sha256) {
+            if (size_and_mtime(file) != before) return read_again();  // still being written
+            return fail(
+                ctx, epoch,
+                file.string() + ": the file was replaced by other content before it was read",
+                false);
+        }
+        try {
+            const std::vector<Scan> scans = parse_scans(bytes, file);
             results.timings.read_ms = ms_since(t_read);
-            if (size_and_mtime(file) != before) {  // written to while read: check it again
+            if (size_and_mtime(file) != before) {  // PLY/PCD are read from the file again
                 return read_again();
             }
             std::int64_t points = 0;

@@ -43,13 +43,16 @@ class Digest {
 
 }  // namespace
 
-std::string sha256_file(const std::filesystem::path& path) {
+namespace {
+
+// Reads the whole file in 1 MiB chunks, handing each to `take`. Throws FileAccessError.
+template <typename Take>
+void read_chunks(const std::filesystem::path& path, Take&& take) {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
         const int e = errno;
         throw FileAccessError(path.string() + ": cannot open: " + std::strerror(e), e);
     }
-    Digest digest;
     std::vector<char> buffer(1 << 20);
     for (;;) {
         const ssize_t n = ::read(fd, buffer.data(), buffer.size());
@@ -60,10 +63,26 @@ std::string sha256_file(const std::filesystem::path& path) {
             ::close(fd);
             throw FileAccessError(path.string() + ": read error: " + std::strerror(e), e);
         }
-        digest.update(buffer.data(), static_cast<std::size_t>(n));
+        take(buffer.data(), static_cast<std::size_t>(n));
     }
     ::close(fd);
+}
+
+}  // namespace
+
+std::string sha256_file(const std::filesystem::path& path) {
+    Digest digest;
+    read_chunks(path, [&](const char* data, std::size_t n) { digest.update(data, n); });
     return digest.hex();
+}
+
+std::string read_file_bytes(const std::filesystem::path& path) {
+    std::string bytes;
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!ec) bytes.reserve(size);
+    read_chunks(path, [&](const char* data, std::size_t n) { bytes.append(data, n); });
+    return bytes;
 }
 
 std::string sha256_text(const std::string& bytes) {

@@ -23,4 +23,8 @@ std::string sha256_file(const std::filesystem::path& path);
 // The same for bytes in memory.
 std::string sha256_text(const std::string& bytes);
 
+// The whole file in memory (the daemon hashes and parses these same bytes). Throws
+// FileAccessError.
+std::string read_file_bytes(const std::filesystem::path& path);
+
 }  // namespace tlsmon

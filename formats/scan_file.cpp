@@ -40,15 +40,8 @@ std::string to_string(ScanFormat f) {
 
 namespace {
 
-ScanFormat by_magic(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    char head[8] = {};
-    in.read(head, sizeof head);
-    const auto n = static_cast<std::size_t>(in.gcount());
-    const auto starts = [&](const char* magic) {
-        const std::size_t m = std::strlen(magic);
-        return n >= m && std::memcmp(head, magic, m) == 0;
-    };
+ScanFormat by_magic(std::string_view head) {
+    const auto starts = [&](const char* magic) { return head.starts_with(magic); };
     if (starts("ASTM-E57")) return ScanFormat::e57;
     if (starts("LASF")) return ScanFormat::las;
     if (starts("ply")) return ScanFormat::ply;
@@ -56,9 +49,14 @@ ScanFormat by_magic(const std::filesystem::path& path) {
     return ScanFormat::unknown;
 }
 
-}  // namespace
+ScanFormat by_magic(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    in.read(head, sizeof head);
+    return by_magic(std::string_view(head, static_cast<std::size_t>(in.gcount())));
+}
 
-ScanFormat detect_format(const std::filesystem::path& path) {
+ScanFormat by_extension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -70,7 +68,14 @@ ScanFormat detect_format(const std::filesystem::path& path) {
     if (ext == ".las") return ScanFormat::las;
     if (ext == ".laz") return ScanFormat::laz;
     if (ext == ".e57") return ScanFormat::e57;
-    return by_magic(path);
+    return ScanFormat::unknown;
+}
+
+}  // namespace
+
+ScanFormat detect_format(const std::filesystem::path& path) {
+    const ScanFormat f = by_extension(path);
+    return f != ScanFormat::unknown ? f : by_magic(path);
 }
 
 std::vector<Scan> read_scans(const std::filesystem::path& path) {
@@ -92,6 +97,30 @@ std::vector<Scan> read_scans(const std::filesystem::path& path) {
             return read_xyz(path);
         case ScanFormat::e57:
             return read_e57(path);
+        default:
+            break;
+    }
+    throw_format_error(path, "no reader for format " + to_string(format));
+}
+
+std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::path& path) {
+    ScanFormat format = by_extension(path);
+    if (format == ScanFormat::unknown) format = by_magic(bytes.substr(0, 8));
+    switch (format) {
+        case ScanFormat::las:
+        case ScanFormat::laz:
+            return {parse_las(bytes.data(), bytes.size(), path)};
+        case ScanFormat::ptx:
+            return parse_ptx(bytes, path);
+        case ScanFormat::pts:
+            return parse_pts(bytes, path);
+        case ScanFormat::xyz:
+            return parse_xyz(bytes, path);
+        case ScanFormat::e57:
+            return parse_e57(bytes.data(), bytes.size(), path);
+        case ScanFormat::ply:  // PCL reads the file itself
+        case ScanFormat::pcd:
+            return read_scans(path);
         default:
             break;
     }

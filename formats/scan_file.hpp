@@ -2,6 +2,7 @@
 // Choosing the reader for a scanner export by its name and first bytes.
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "formats/scan.hpp"
@@ -18,5 +19,11 @@ ScanFormat detect_format(const std::filesystem::path& path);
 
 // Every scan in the file, in file order. Throws FormatError naming file and position.
 std::vector<Scan> read_scans(const std::filesystem::path& path);
+
+// The same from the file's bytes already in memory (`path` names the file in messages and
+// chooses the format by extension): the daemon parses exactly the bytes whose sha256
+// identifies the epoch, and a file truncated by another process meanwhile cannot fault a
+// memory map under the reader. PLY and PCD are read from `path` by PCL itself.
+std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::path& path);
 
 }  // namespace tlsmon
