@@ -10,6 +10,7 @@
 #include "formats/ascii_reader.hpp"
 #include "formats/format_error.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/rejected_files.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -28,26 +29,7 @@ double mean_z(const Scan& s) {
     return sum / static_cast<double>(s.size());
 }
 
-class AsciiFiles : public ::testing::Test {
-  protected:
-    fs::path write(const std::string& name, const std::string& content) const {
-        return tlsmon::test::write_file(dir_ / name, content);
-    }
-
-    // Rejected by read_scans with a FormatError "<file>:<line>: ..." containing `what`.
-    static void expect_rejected(const fs::path& p, int line, const std::string& what) {
-        try {
-            tlsmon::read_scans(p);
-            ADD_FAILURE() << p << " was accepted";
-        } catch (const FormatError& e) {
-            const std::string msg = e.what();
-            EXPECT_EQ(msg.rfind(p.string() + ":" + std::to_string(line) + ": ", 0), 0u) << msg;
-            EXPECT_NE(msg.find(what), std::string::npos) << msg;
-        }
-    }
-
-    tlsmon::test::TempDir dir_;
-};
+class AsciiFiles : public tlsmon::test::RejectedFiles {};
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 #include "formats/format_error.hpp"
 #include "formats/ptx_reader.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/rejected_files.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -22,26 +23,7 @@ namespace {
 
 const fs::path data = fs::path(TLSMON_DATA_DIR) / "ptx";
 
-class PtxBroken : public ::testing::Test {
-  protected:
-    fs::path write(const std::string& name, const std::string& content) const {
-        return tlsmon::test::write_file(dir_ / name, content);
-    }
-
-    // The file must be rejected with a FormatError "<file>:<line>: ..." containing `what`.
-    static void expect_rejected(const fs::path& p, int line, const std::string& what) {
-        try {
-            read_ptx(p);
-            ADD_FAILURE() << p << " was accepted";
-        } catch (const FormatError& e) {
-            const std::string msg = e.what();
-            EXPECT_EQ(msg.rfind(p.string() + ":" + std::to_string(line) + ": ", 0), 0u) << msg;
-            EXPECT_NE(msg.find(what), std::string::npos) << msg;
-        }
-    }
-
-    tlsmon::test::TempDir dir_;
-};
+class PtxBroken : public tlsmon::test::RejectedFiles {};
 
 // no-color.ptx with its text replaced: line `n` (1-based) becomes `text`.
 std::string no_color_with_line(int n, const std::string& text) {
