@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "storage/utc_time.hpp"
+#include "core/utc_time.hpp"
 
 namespace fs = std::filesystem;
 using namespace tlsmon;

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "daemon/commands.hpp"
-#include "daemon/simulator_config.hpp"
+#include "simulator/scene_file.hpp"
 #include "simulator/series.hpp"
 
 namespace tlsmon {
@@ -67,7 +67,7 @@ void run_simulate(const SimulateOptions& o) {
     const std::optional<std::string> preset =
         o.preset.empty() ? std::nullopt : std::optional<std::string>(o.preset);
     sim::Site site = o.config.empty() ? sim::preset(preset.value_or("small"))
-                                      : load_simulator_config(o.config, preset);
+                                      : load_scene_file(o.config, preset);
     if (!o.cadence.empty()) site.cadence_seconds = parse_duration_seconds(o.cadence);
     if (site.cadence_seconds <= 0) throw ConfigError("--cadence must be positive");
     if (o.seed) site.noise.seed = static_cast<std::uint64_t>(*o.seed);

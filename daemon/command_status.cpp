@@ -3,7 +3,7 @@
 
 #include "daemon/commands.hpp"
 #include "daemon/query_output.hpp"
-#include "storage/utc_time.hpp"
+#include "core/utc_time.hpp"
 
 namespace tlsmon {
 

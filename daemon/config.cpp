@@ -217,4 +217,13 @@ std::vector<std::string> describe(const Config& c) {
     return l;
 }
 
+PipelineConfig pipeline_config(const Config& config) {
+    PipelineConfig p;
+    p.archive = config.paths.archive;
+    p.quarantine = config.paths.quarantine;
+    p.archive_mode = config.ingest.archive == "keep" ? ArchiveMode::keep : ArchiveMode::move;
+    p.reference_epoch = config.ingest.reference_epoch;
+    return p;
+}
+
 }  // namespace tlsmon

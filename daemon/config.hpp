@@ -10,7 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "daemon/toml_fields.hpp"
+#include "core/toml_fields.hpp"
+#include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
 
@@ -73,6 +74,9 @@ Config load_config(const std::filesystem::path& path);
 // The same from text; relative paths resolve against `base_dir`.
 Config parse_config(std::string_view text, const std::string& source_name,
                     const std::filesystem::path& base_dir);
+
+// The pipeline's part of the configuration.
+PipelineConfig pipeline_config(const Config& config);
 
 // The effective configuration as TOML lines ("ingest.stable_seconds = 10"), one per key.
 std::vector<std::string> describe(const Config& config);

@@ -7,29 +7,14 @@
 #include <chrono>
 
 #include "daemon/ingest_files.hpp"
-#include "daemon/sha256.hpp"
+#include "pipeline/epoch_files.hpp"
+#include "pipeline/sha256.hpp"
 
 namespace tlsmon {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-UtcSeconds now_utc() {
-    return std::chrono::duration_cast<std::chrono::seconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
-
-void log_at(const std::string& level, const std::string& message) {
-    if (level == "error") {
-        spdlog::error("{}", message);
-    } else if (level == "warning") {
-        spdlog::warn("{}", message);
-    } else {
-        spdlog::info("{}", message);
-    }
-}
 
 bool finished(EpochStatus s) {
     return s == EpochStatus::done || s == EpochStatus::failed || s == EpochStatus::rejected;
@@ -122,26 +107,6 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
 }
 
 }  // namespace
-
-void SystemEventLog::record(EpochDatabase& db, const std::string& level, const std::string& kind,
-                            const std::string& message, std::optional<EpochId> epoch) {
-    log_at(level, message);
-    if (waiting_.size() >= capacity) waiting_.pop_front();
-    waiting_.push_back(SystemEvent{now_utc(), level, kind, message, epoch});
-    flush(db);
-}
-
-void SystemEventLog::flush(EpochDatabase& db) {
-    while (!waiting_.empty()) {
-        try {
-            db.record_system_event(waiting_.front());
-        } catch (const StorageError& e) {
-            spdlog::debug("system event kept for later: {}", e.what());
-            return;
-        }
-        waiting_.pop_front();
-    }
-}
 
 IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
     try {

@@ -1,6 +1,5 @@
 #pragma once
-// File-level steps of ingest: the acquisition time of a scan file, and moving a file to the
-// archive or to quarantine (with its <name>.reason.txt) without overwriting anything.
+// The acquisition time of a scan file, as ingest records it with the new epoch.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -21,17 +20,5 @@ std::optional<std::int64_t> file_mtime(const std::filesystem::path& path);
 // to mtime, then to now. `used` names the source taken.
 std::int64_t acquisition_time(const std::filesystem::path& path,
                               const std::vector<std::string>& precedence, std::string& used);
-
-// A free name for `name` in `folder`: name itself, else "stem.<tag>.ext", "stem.<tag>-2.ext".
-std::filesystem::path free_name(const std::filesystem::path& folder, const std::string& name,
-                                const std::string& tag);
-
-// Renames `from` to `to` (same file system), else copies, syncs and removes. Throws Error.
-void move_file(const std::filesystem::path& from, const std::filesystem::path& to);
-
-// Writes "<file>.reason.txt" next to `file` (the quarantined copy). Returns false if it
-// could not be written.
-bool write_reason_file(const std::filesystem::path& file, const std::string& original,
-                       const std::string& reason);
 
 }  // namespace tlsmon

@@ -11,7 +11,7 @@
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/logging.hpp"
-#include "daemon/pipeline.hpp"
+#include "pipeline/epoch_pipeline.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
@@ -58,12 +58,14 @@ class Daemon {
           once_(once),
           shutdown_(shutdown),
           db_(EpochDatabase::open(config_.paths.database, EpochDatabase::Mode::read_write)),
-          watcher_(config_.paths.ingest, config_.ingest) {}
+          watcher_(config_.paths.ingest, config_.ingest),
+          pipeline_config_(pipeline_config(config_)) {}
 
     void run();
 
   private:
     IngestContext context() { return IngestContext{db_, config_, station_, events_}; }
+    PipelineContext pipeline() { return PipelineContext{db_, pipeline_config_, events_}; }
     void start();
     void reload();
     void ingest_complete_files(Clock::time_point now);
@@ -77,6 +79,7 @@ class Daemon {
     Shutdown& shutdown_;
     EpochDatabase db_;
     FolderWatcher watcher_;
+    PipelineConfig pipeline_config_;
     SystemdNotify systemd_;
     SystemEventLog events_;
     std::optional<StationId> station_;
@@ -95,7 +98,7 @@ void Daemon::start() {
     events_.record(db_, "info", "start",
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
                        " interrupted epoch(s) back to pending");
-    auto ctx = context();
+    auto ctx = pipeline();
     ensure_reference(ctx);
     watcher_.rescan(Clock::now());
     next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
@@ -113,6 +116,7 @@ void Daemon::reload() {
         create_folders(fresh);  // a new archive or quarantine folder
         setup_logging(fresh.logging);
         config_ = std::move(fresh);
+        pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
         station_ = db_.upsert_station(config_.station.name, {0.0, 0.0, 0.0});
         for (const auto& z : config_.zones) db_.upsert_zone(z.name, zone_json(z));
@@ -153,7 +157,7 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
 
 void Daemon::process_backlog() {
     if (Clock::now() < retry_at_) return;
-    auto ctx = context();
+    auto ctx = pipeline();
     try {
         events_.flush(db_);
         if (backoff_ > 0) db_.recover_interrupted();

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "daemon/config.hpp"
-#include "storage/utc_time.hpp"
+#include "core/utc_time.hpp"
 
 namespace tlsmon {
 

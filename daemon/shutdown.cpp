@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

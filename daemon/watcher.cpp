@@ -10,7 +10,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

@@ -7,26 +7,12 @@
 #include <string_view>
 
 #include "formats/e57_bitstream.hpp"
+#include "core/utc_time.hpp"
 #include "formats/e57_pages.hpp"
 #include "formats/e57_xml.hpp"
 #include "formats/mapped_file.hpp"
 
 namespace tlsmon {
-
-double gps_to_utc(double gps_seconds) {
-    // GPS - UTC grows by one second at each leap second. Listed as GPS seconds at which
-    // the new offset starts (UTC date of the leap second + the offset in force then).
-    constexpr double gps_epoch_unix = 315964800.0;  // 1980-01-06T00:00:00Z
-    constexpr std::array<double, 18> leap_unix = {
-        362793600, 394329600,  425865600,  489024000,  567993600,  631152000,
-        662688000, 709948800,  741484800,  773020800,  820454400,  867715200,
-        915148800, 1136073600, 1230768000, 1341100800, 1435708800, 1483228800};
-    double utc = gps_seconds + gps_epoch_unix;
-    int offset = 0;
-    for (const double leap : leap_unix)
-        if (utc - (offset + 1) >= leap) ++offset;
-    return utc - offset;
-}
 
 namespace {
 

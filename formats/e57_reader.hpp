@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 
 namespace tlsmon {
 
@@ -20,9 +20,5 @@ std::vector<Scan> parse_e57(const char* data, std::size_t size,
 // The acquisitionStart of the first scan that has one, in UTC, reading only the file
 // header and the XML section (not the points): for ingest, which needs the time early.
 std::optional<double> read_e57_acquired_utc(const std::filesystem::path& path);
-
-// GPS time (seconds since 1980-01-06T00:00:00, no leap seconds) -> seconds since the Unix
-// epoch in UTC, with the leap seconds inserted up to 2017-01-01.
-double gps_to_utc(double gps_seconds);
 
 }  // namespace tlsmon

@@ -1,3 +1,4 @@
+#include "core/utc_time.hpp"
 #include "formats/e57_writer.hpp"
 
 #include <algorithm>
@@ -288,12 +289,7 @@ std::string write_scan(PageFile& file, const Scan& scan, const E57WriteOptions& 
             std::to_string(std::max<std::int64_t>(scan.grid->columns, 1) - 1) +
             "</columnMaximum></indexBounds>\n";
     if (scan.acquired_utc) {
-        // Inverse of the reader's GPS -> UTC conversion: the leap seconds in force.
-        double gps = *scan.acquired_utc - 315964800.0;
-        for (int n = 0; n < 3; ++n) {
-            const double back = gps_to_utc(gps);
-            gps += *scan.acquired_utc - back;
-        }
+        const double gps = utc_to_gps(*scan.acquired_utc);
         xml += "<acquisitionStart type=\"Structure\"><dateTimeValue type=\"Float\">" + num(gps) +
                "</dateTimeValue></acquisitionStart>\n";
     }

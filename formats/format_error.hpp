@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

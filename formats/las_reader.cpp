@@ -1,3 +1,4 @@
+#include "core/utc_time.hpp"
 #include "formats/las_reader.hpp"
 
 #include <algorithm>
@@ -56,22 +57,6 @@ std::size_t required_header_size(unsigned minor) {
     if (minor >= 4) return 375;
     if (minor == 3) return 235;
     return 227;
-}
-
-// UTC seconds since 1970 of a GPS time in seconds since 1980-01-06: GPS time runs ahead of
-// UTC by the leap seconds inserted since 1980 (IERS Bulletin C; table starts and ends with
-// the UTC instant from which GPS − UTC equals its index + 1).
-double gps_to_unix_utc(double gps_seconds) {
-    static constexpr std::array<double, 18> kLeapSecondUtc{
-        362793600, 394329600,  425865600,  489024000,  567993600,  631152000,
-        662688000, 709948800,  741484800,  773020800,  820454400,  867715200,
-        915148800, 1136073600, 1230768000, 1341100800, 1435708800, 1483228800};
-    const double gps_on_unix_scale = gps_seconds + 315964800.0;  // 1980-01-06T00:00:00Z
-    int leap = 0;
-    for (std::size_t k = 0; k < kLeapSecondUtc.size(); ++k) {
-        if (gps_on_unix_scale >= kLeapSecondUtc[k] + static_cast<double>(k + 1)) leap = int(k) + 1;
-    }
-    return gps_on_unix_scale - leap;
 }
 
 bool is_laszip_vlr(const char* user_id) {
@@ -283,7 +268,7 @@ class LasParser {
             }
         }
         if (dated && std::isfinite(earliest_gps)) {
-            scan.acquired_utc = gps_to_unix_utc(earliest_gps + 1e9);
+            scan.acquired_utc = gps_to_utc(earliest_gps + 1e9);
         }
         return scan;
     }

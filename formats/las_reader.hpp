@@ -19,7 +19,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 
 namespace tlsmon {
 

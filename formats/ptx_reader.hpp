@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 
 namespace tlsmon {
 

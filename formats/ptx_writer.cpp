@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

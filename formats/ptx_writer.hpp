@@ -13,7 +13,7 @@
 #include <ostream>
 #include <string>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 
 namespace tlsmon {
 

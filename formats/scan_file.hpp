@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 
 namespace tlsmon {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <exception>
 #include <numbers>
-#include <thread>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
+#include "core/parallel_for.hpp"
 #include "simulator/random.hpp"
 #include "simulator/ray_cast.hpp"
 
@@ -114,22 +114,8 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
         }
     };
 
-    const unsigned n = std::max(1u, threads);
-    std::vector<std::exception_ptr> errors(n);
-    std::vector<std::thread> pool;
-    for (unsigned k = 0; k < n; ++k) {
-        pool.emplace_back([&, k] {
-            try {
-                for (std::uint32_t c = k; c < shape.columns; c += n) render_column(c);
-            } catch (...) {
-                errors[k] = std::current_exception();
-            }
-        });
-    }
-    for (auto& t : pool) t.join();
-    for (auto& e : errors) {
-        if (e) std::rethrow_exception(e);
-    }
+    parallel_for(shape.columns, [&](std::size_t c) { render_column(static_cast<std::uint32_t>(c)); },
+                 threads);
 
     Scan& scan = out.scan;
     scan.name = sc.station;

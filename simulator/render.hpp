@@ -16,7 +16,7 @@
 // and a cell whose noise-free intensity is below `min_return` has no point.
 #include <cstdint>
 
-#include "formats/scan.hpp"
+#include "core/scan.hpp"
 #include "simulator/drift.hpp"
 #include "simulator/scene.hpp"
 

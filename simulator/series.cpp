@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 #include "simulator/render.hpp"
 #include "simulator/truth.hpp"
 

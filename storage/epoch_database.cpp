@@ -61,12 +61,6 @@ void throw_storage(const EpochDatabase::Impl& impl, const std::string& what) {
     throw StorageError(impl.path.string() + ": " + what);
 }
 
-UtcSeconds now_utc() {
-    return std::chrono::duration_cast<std::chrono::seconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
-
 int EpochDatabase::latest_schema_version() {
     int latest = 0;
     for (const auto& m : schema_migrations()) latest = std::max(latest, m.version);

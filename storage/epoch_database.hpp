@@ -21,7 +21,8 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
+#include "core/utc_time.hpp"
 
 namespace tlsmon {
 
@@ -46,8 +47,7 @@ using EpochId = std::int64_t;
 using StationId = std::int64_t;
 using ZoneId = std::int64_t;
 using AlarmRuleId = std::int64_t;
-// Times are UTC seconds since 1970-01-01 (storage/utc_time.hpp converts to ISO-8601).
-using UtcSeconds = std::int64_t;
+// Times are UtcSeconds (core/utc_time.hpp converts to ISO-8601).
 
 enum class EpochStatus { pending, processing, done, failed, rejected };
 std::string_view to_string(EpochStatus status);

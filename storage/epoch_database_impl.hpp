@@ -35,8 +35,6 @@ auto guarded(const EpochDatabase::Impl& impl, const char* context, F&& f) {
 
 [[noreturn]] void throw_storage(const EpochDatabase::Impl& impl, const std::string& what);
 
-UtcSeconds now_utc();
-
 inline void bind_optional(SQLite::Statement& s, int index, const std::optional<double>& v) {
     if (v) {
         s.bind(index, *v);

@@ -5,7 +5,8 @@
 #include <fstream>
 
 #include "daemon/ingest_files.hpp"
-#include "daemon/sha256.hpp"
+#include "pipeline/epoch_files.hpp"
+#include "pipeline/sha256.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/e57_writer.hpp"
 #include "tests/support/small_tmpfs.hpp"

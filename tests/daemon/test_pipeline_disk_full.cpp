@@ -3,8 +3,9 @@
 // once there is room. In-process, on a real SQLite file on a small tmpfs.
 #include <gtest/gtest.h>
 
-#include "daemon/pipeline.hpp"
-#include "daemon/sha256.hpp"
+#include "daemon/config.hpp"
+#include "pipeline/epoch_pipeline.hpp"
+#include "pipeline/sha256.hpp"
 #include "daemon_harness.hpp"
 #include "tests/support/small_tmpfs.hpp"
 
@@ -28,7 +29,8 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
 
     EpochDatabase db = EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
     SystemEventLog events;
-    IngestContext ctx{db, config, std::nullopt, events};
+    const PipelineConfig pipeline = pipeline_config(config);
+    PipelineContext ctx{db, pipeline, events};
     const EpochInsert ins =
         db.insert_epoch(NewEpoch{sha256_file(scan), 1780293600, scan, 100, std::nullopt});
     ASSERT_TRUE(ins.inserted);

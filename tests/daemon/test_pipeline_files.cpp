@@ -3,8 +3,10 @@
 // files and a real SQLite database.
 #include <gtest/gtest.h>
 
-#include "daemon/pipeline.hpp"
-#include "daemon/sha256.hpp"
+#include "daemon/config.hpp"
+#include "daemon/ingest.hpp"
+#include "pipeline/epoch_pipeline.hpp"
+#include "pipeline/sha256.hpp"
 #include "daemon_harness.hpp"
 
 namespace tlsmon::test {
@@ -19,6 +21,8 @@ struct PipelineSite {
     EpochDatabase db = open();
     SystemEventLog events;
     IngestContext ctx{db, config, std::nullopt, events};
+    PipelineConfig pipeline = pipeline_config(config);
+    PipelineContext pipeline_ctx{db, pipeline, events};
 
     EpochDatabase open() {
         fs::create_directories(config.paths.archive);
@@ -28,7 +32,7 @@ struct PipelineSite {
     }
     // Processes every pending epoch, as the daemon's backlog does.
     void process_backlog() {
-        for (const Epoch& e : db.pending_epochs()) process_epoch(ctx, e);
+        for (const Epoch& e : db.pending_epochs()) process_epoch(pipeline_ctx, e);
     }
     std::optional<Epoch> by_content(const fs::path& original) {
         return db.epoch_by_sha256(sha256_file(original));

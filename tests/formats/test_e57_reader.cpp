@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "core/utc_time.hpp"
 #include "formats/e57_reader.hpp"
 #include "formats/e57_writer.hpp"
 #include "formats/format_error.hpp"

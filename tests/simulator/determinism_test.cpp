@@ -5,7 +5,7 @@
 #include <chrono>
 #include <iostream>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 #include "simulator/series.hpp"
 
 namespace tlsmon::sim {

@@ -1,4 +1,4 @@
-#include "daemon/toml_fields.hpp"
+#include "core/toml_fields.hpp"
 
 #include <charconv>
 #include <cmath>

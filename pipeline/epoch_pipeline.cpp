@@ -1,4 +1,4 @@
-#include "daemon/pipeline.hpp"
+#include "pipeline/epoch_pipeline.hpp"
 
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
@@ -6,8 +6,8 @@
 #include <cerrno>
 #include <chrono>
 
-#include "daemon/ingest_files.hpp"
-#include "daemon/sha256.hpp"
+#include "pipeline/epoch_files.hpp"
+#include "pipeline/sha256.hpp"
 #include "formats/scan_file.hpp"
 
 namespace tlsmon {
@@ -20,8 +20,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-bool names_reference(const Config& config, const Epoch& e) {
-    const std::string& want = config.ingest.reference_epoch;
+bool names_reference(const PipelineConfig& config, const Epoch& e) {
+    const std::string& want = config.reference_epoch;
     if (want.empty()) return true;
     return want == e.sha256 || want == fs::path(e.file_path).filename().string();
 }
@@ -35,13 +35,13 @@ std::pair<std::int64_t, std::int64_t> size_and_mtime(const fs::path& file) {
 
 // `quarantine`: move the file to quarantine. Not when the file holds another content than
 // the epoch's: that content is another epoch, which ingest finds under this name.
-EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& reason,
+EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& reason,
                   bool quarantine = true) {
     const fs::path file(epoch.file_path);
     std::optional<std::string> moved_to;
     std::error_code ec;
     if (quarantine && fs::exists(file, ec)) {
-        const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
+        const fs::path to = free_name(ctx.config.quarantine, file.filename().string(),
                                       epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
         moved_to = to.string();
@@ -67,7 +67,7 @@ EpochOutcome fail(IngestContext& ctx, const Epoch& epoch, const std::string& rea
 
 }  // namespace
 
-void ensure_reference(IngestContext& ctx) {
+void ensure_reference(PipelineContext& ctx) {
     if (ctx.db.reference_epoch()) return;
     for (const auto& e : ctx.db.epochs_in_range({})) {  // by acquisition time
         if (e.status != EpochStatus::done || !names_reference(ctx.config, e)) continue;
@@ -80,7 +80,7 @@ void ensure_reference(IngestContext& ctx) {
     }
 }
 
-EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
+EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
         if (!ctx.db.claim_epoch(epoch.id)) return EpochOutcome::skipped;
@@ -136,8 +136,8 @@ EpochOutcome process_epoch(IngestContext& ctx, const Epoch& epoch) {
         }
         // Registration and the analyses plug in here as they become available.
         std::optional<fs::path> archive_to;
-        if (ctx.config.ingest.archive == "move") {
-            archive_to = free_name(ctx.config.paths.archive, file.filename().string(),
+        if (ctx.config.archive_mode == ArchiveMode::move) {
+            archive_to = free_name(ctx.config.archive, file.filename().string(),
                                    epoch.sha256.substr(0, 12));
             results.archive_path = archive_to->string();
         }

@@ -1,4 +1,4 @@
-#include "daemon/simulator_config.hpp"
+#include "simulator/scene_file.hpp"
 
 #include <cmath>
 #include <limits>
@@ -202,13 +202,13 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
 
 }  // namespace
 
-sim::Site load_simulator_config(const std::filesystem::path& path,
+sim::Site load_scene_file(const std::filesystem::path& path,
                                 const std::optional<std::string>& preset) {
     const toml::table doc = parse_toml_file(path);
     return read_site(doc, path.string(), preset);
 }
 
-sim::Site parse_simulator_config(std::string_view text, const std::string& source_name,
+sim::Site parse_scene_file(std::string_view text, const std::string& source_name,
                                  const std::optional<std::string>& preset) {
     const toml::table doc = parse_toml_string(text, source_name);
     return read_site(doc, source_name, preset);

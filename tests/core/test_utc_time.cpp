@@ -1,7 +1,7 @@
 // ISO-8601 UTC text <-> seconds.
 #include <gtest/gtest.h>
 
-#include "storage/utc_time.hpp"
+#include "core/utc_time.hpp"
 
 namespace tlsmon {
 namespace {

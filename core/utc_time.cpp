@@ -1,6 +1,7 @@
 // ISO-8601 UTC text <-> seconds (the subset of ISO 8601 / RFC 3339 that people type).
-#include "storage/utc_time.hpp"
+#include "core/utc_time.hpp"
 
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -34,6 +35,38 @@ void expect(std::string_view text, std::size_t& pos, char c) {
 }
 
 }  // namespace
+
+namespace {
+// The UTC instants (seconds since 1970) from which GPS - UTC equals index + 1.
+constexpr std::array<double, 18> kLeapSecondUtc{
+    362793600, 394329600,  425865600,  489024000,  567993600,  631152000,
+    662688000, 709948800,  741484800,  773020800,  820454400,  867715200,
+    915148800, 1136073600, 1230768000, 1341100800, 1435708800, 1483228800};
+constexpr double kGpsEpochUtc = 315964800.0;  // 1980-01-06T00:00:00Z
+}  // namespace
+
+double gps_to_utc(double gps_seconds) {
+    const double gps_on_utc_scale = gps_seconds + kGpsEpochUtc;
+    int leap = 0;
+    for (std::size_t k = 0; k < kLeapSecondUtc.size(); ++k) {
+        if (gps_on_utc_scale >= kLeapSecondUtc[k] + static_cast<double>(k + 1)) leap = int(k) + 1;
+    }
+    return gps_on_utc_scale - leap;
+}
+
+double utc_to_gps(double utc_seconds) {
+    int leap = 0;
+    for (std::size_t k = 0; k < kLeapSecondUtc.size(); ++k) {
+        if (utc_seconds >= kLeapSecondUtc[k]) leap = int(k) + 1;
+    }
+    return utc_seconds - kGpsEpochUtc + leap;
+}
+
+UtcSeconds now_utc() {
+    return std::chrono::duration_cast<std::chrono::seconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
 
 std::string format_utc(UtcSeconds t) {
     using namespace std::chrono;

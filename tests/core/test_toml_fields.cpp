@@ -1,7 +1,7 @@
 // TomlFields: each getter fills a value or names file:line:column and the key.
 #include <gtest/gtest.h>
 
-#include "daemon/toml_fields.hpp"
+#include "core/toml_fields.hpp"
 
 namespace tlsmon {
 namespace {

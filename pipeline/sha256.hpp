@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

@@ -7,16 +7,16 @@
 #include <optional>
 #include <string>
 
-#include "daemon/toml_fields.hpp"
+#include "core/toml_fields.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon {
 
 // `preset`: the caller's choice (command line), or nullopt to use the file's `preset` key
 // (default "small"). A file naming a different preset than the caller is an error.
-sim::Site load_simulator_config(const std::filesystem::path& path,
+sim::Site load_scene_file(const std::filesystem::path& path,
                                 const std::optional<std::string>& preset);
-sim::Site parse_simulator_config(std::string_view text, const std::string& source_name,
+sim::Site parse_scene_file(std::string_view text, const std::string& source_name,
                                  const std::optional<std::string>& preset);
 
 }  // namespace tlsmon

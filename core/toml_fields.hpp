@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/error.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 

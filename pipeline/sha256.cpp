@@ -1,4 +1,4 @@
-#include "daemon/sha256.hpp"
+#include "pipeline/sha256.hpp"
 
 #include <fcntl.h>
 #include <openssl/evp.h>

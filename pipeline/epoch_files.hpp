@@ -1,0 +1,21 @@
+#pragma once
+// Moving an epoch's file to the archive or to quarantine (with its <name>.reason.txt)
+// without overwriting anything.
+#include <filesystem>
+#include <string>
+
+namespace tlsmon {
+
+// A free name for `name` in `folder`: name itself, else "stem.<tag>.ext", "stem.<tag>-2.ext".
+std::filesystem::path free_name(const std::filesystem::path& folder, const std::string& name,
+                                const std::string& tag);
+
+// Renames `from` to `to` (same file system), else copies, syncs and removes. Throws Error.
+void move_file(const std::filesystem::path& from, const std::filesystem::path& to);
+
+// Writes "<file>.reason.txt" next to `file` (the quarantined copy). Returns false if it
+// could not be written.
+bool write_reason_file(const std::filesystem::path& file, const std::string& original,
+                       const std::string& reason);
+
+}  // namespace tlsmon

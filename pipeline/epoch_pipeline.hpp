@@ -1,0 +1,40 @@
+#pragma once
+// Processing one pending epoch: claim -> read the scan -> the stages that exist (recording
+// what was done: point count, timings) -> commit in one transaction -> archive the file.
+// An unreadable file goes to quarantine and the epoch is `failed` with the reason; a disk
+// or database failure puts the epoch back to `pending` for a later retry.
+#include <filesystem>
+#include <string>
+
+#include "pipeline/system_event_log.hpp"
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+
+enum class ArchiveMode { move, keep };
+
+// What the pipeline needs of the daemon's configuration (daemon/config.hpp fills it).
+struct PipelineConfig {
+    std::filesystem::path archive;     // processed files go here (ArchiveMode::move)
+    std::filesystem::path quarantine;  // unreadable files + <name>.reason.txt
+    ArchiveMode archive_mode = ArchiveMode::move;
+    std::string reference_epoch;  // "" = first accepted epoch; else file name or sha256
+};
+
+struct PipelineContext {
+    EpochDatabase& db;
+    const PipelineConfig& config;
+    SystemEventLog& events;
+};
+
+enum class EpochOutcome { done, failed, retry_later, skipped };
+
+EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch);
+
+// The reference epoch (epoch 0 of the analyses), set once: the epoch named by
+// `reference_epoch` (file name or sha256), else the first accepted one (earliest
+// acquisition among the done epochs). Called after each commit and at start, so a stop
+// or a database error between a commit and this call is repaired later.
+void ensure_reference(PipelineContext& ctx);
+
+}  // namespace tlsmon
