@@ -1,7 +1,7 @@
 // Epoch database benchmark (reported, not asserted):
 //  1. bytes of database per epoch for a 50-zone configuration (50 zones x 4 quantities,
 //     registration with 6 targets, two per-core-point float32 arrays of 10,000 values),
-//     and the time of one commit_epoch (synchronous=FULL);
+//     and the time of one epoch commit (synchronous=FULL);
 //  2. the series query for one zone and quantity over one year of 15-minute epochs
 //     (35,040 epochs, generated), through the API and through `tlsmon query series`
 //     end to end. Target: under 100 ms.
@@ -88,15 +88,16 @@ EpochResults epoch_results(int i, bool with_arrays) {
 }
 
 void fill(EpochDatabase& db, int epochs, bool with_arrays, std::vector<double>* commit_ms) {
-    for (int z = 0; z < kZones; ++z) db.upsert_zone(zone_name(z), "{}");
+    for (int z = 0; z < kZones; ++z) db.site().upsert_zone(zone_name(z), "{}");
     for (int i = 0; i < epochs; ++i) {
-        const auto id = db.insert_epoch({sha(i + 1), kStart + 900LL * i, "/ingest/scan.ptx",
-                                         180'000'000, std::nullopt})
+        const auto id = db.epochs()
+                            .insert({sha(i + 1), kStart + 900LL * i, "/ingest/scan.ptx",
+                                     180'000'000, std::nullopt})
                             .id;
-        db.claim_epoch(id);
+        db.epochs().claim(id);
         const auto results = epoch_results(i, with_arrays);
         const auto t = Clock::now();
-        db.commit_epoch(id, results);
+        db.results().commit(id, results);
         if (commit_ms) commit_ms->push_back(ms_since(t));
     }
 }
@@ -168,7 +169,7 @@ int main(int argc, char** argv) {
     std::size_t rows = 0;
     for (int k = 0; k < 11; ++k) {
         const auto t = Clock::now();
-        rows = db.series("zone 17", "m3c2_mean_m", {}).size();
+        rows = db.series().points("zone 17", "m3c2_mean_m", {}).size();
         api_ms.push_back(ms_since(t));
     }
     std::printf(

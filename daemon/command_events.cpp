@@ -18,7 +18,7 @@ void add_events_command(CLI::App& app) {
             const auto range = time_range(*options);
             const auto db = open_for_reading(*options);
             const auto events =
-                db.events(range, kind->empty() ? std::nullopt : std::optional(*kind));
+                db.series().events(range, kind->empty() ? std::nullopt : std::optional(*kind));
             Table t{{"time", "source", "level", "kind", "rule", "epoch", "message"}, {}};
             for (const auto& e : events) {
                 t.rows.push_back({format_utc(e.time), e.source, e.level, e.kind, e.rule,

@@ -43,12 +43,12 @@ std::string joined(const std::vector<std::string>& names) {
 void check_series_names(const EpochDatabase& db, const std::string& zone,
                         const std::string& quantity) {
     std::vector<std::string> zones;
-    for (const auto& z : db.zones()) zones.push_back(z.first);
+    for (const auto& z : db.site().zones()) zones.push_back(z.first);
     if (std::find(zones.begin(), zones.end(), zone) == zones.end()) {
         throw Error("no zone '" + zone + "' in " + db.path().string() +
                     " (zones: " + joined(zones) + ")");
     }
-    const auto quantities = db.quantities(zone);
+    const auto quantities = db.series().quantities(zone);
     if (!quantities.empty() &&
         std::find(quantities.begin(), quantities.end(), quantity) == quantities.end()) {
         throw Error("zone '" + zone + "' has no quantity '" + quantity +
@@ -69,7 +69,7 @@ void add_query_command(CLI::App& app) {
         run_reporting_errors("query epochs", [&] {
             const auto range = time_range(*epochs_options);
             const auto db = open_for_reading(*epochs_options);
-            print(std::cout, epochs_table(db.epochs_in_range(range)),
+            print(std::cout, epochs_table(db.series().epochs_in_range(range)),
                   output_format(*epochs_options));
         });
     });
@@ -86,7 +86,7 @@ void add_query_command(CLI::App& app) {
             const auto range = time_range(*series_options);
             const auto db = open_for_reading(*series_options);
             check_series_names(db, *zone, *quantity);
-            print(std::cout, series_table(db.series(*zone, *quantity, range)),
+            print(std::cout, series_table(db.series().points(*zone, *quantity, range)),
                   output_format(*series_options));
         });
     });

@@ -58,7 +58,7 @@ void add_status_command(CLI::App& app) {
     cmd->callback([options] {
         run_reporting_errors("status", [&] {
             const auto db = open_for_reading(*options);
-            print_fields(std::cout, status_fields(db, db.status_summary()),
+            print_fields(std::cout, status_fields(db, db.series().status_summary()),
                          output_format(*options));
         });
     });

@@ -41,13 +41,13 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
     std::string used;
     NewEpoch row{unreadable_identity(file), acquisition_time(file, {"file_name", "mtime"}, used),
                  file, size_of(file), ctx.station};
-    const EpochInsert ins = ctx.db.insert_epoch(row);
+    const EpochInsert ins = ctx.db.epochs().insert(row);
     if (!ins.inserted) return IngestOutcome::known;
-    if (!ctx.db.claim_epoch(ins.id)) return IngestOutcome::known;
+    if (!ctx.db.epochs().claim(ins.id)) return IngestOutcome::known;
     const fs::path to =
         free_name(ctx.config.paths.quarantine, file.filename().string(), row.sha256.substr(0, 12));
     write_reason_file(to, file.string(), reason);
-    ctx.db.fail_epoch(ins.id, reason, to.string());
+    ctx.db.epochs().fail(ins.id, reason, to.string());
     try {
         move_file(file, to);
         ctx.events.record(ctx.db, "error", "unreadable",
@@ -69,7 +69,7 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
     const bool unread_and_gone = (epoch.status == EpochStatus::pending && !same_path &&
                                   !fs::exists(epoch.file_path, gone) && !gone) ||
                                  (epoch.status == EpochStatus::failed && !epoch.archive_path);
-    if (unread_and_gone && ctx.db.relocate_epoch(epoch.id, file)) {
+    if (unread_and_gone && ctx.db.epochs().relocate(epoch.id, file)) {
         spdlog::info("{}: the content of epoch {} ({}, {}); the epoch now takes this file",
                      file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
         return IngestOutcome::known;
@@ -117,14 +117,15 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
             if (e.error_number() == ENOENT) return IngestOutcome::known;  // gone meanwhile
             return record_unreadable(ctx, file, e.what());
         }
-        if (auto epoch = ctx.db.epoch_by_sha256(sha)) return handle_known(ctx, file, *epoch);
+        if (auto epoch = ctx.db.epochs().find_by_sha256(sha))
+            return handle_known(ctx, file, *epoch);
         std::string used;
         const UtcSeconds acquired =
             acquisition_time(file, ctx.config.ingest.acquisition_time, used);
         const EpochInsert ins =
-            ctx.db.insert_epoch(NewEpoch{sha, acquired, file, size_of(file), ctx.station});
+            ctx.db.epochs().insert(NewEpoch{sha, acquired, file, size_of(file), ctx.station});
         if (!ins.inserted) {
-            if (auto epoch = ctx.db.epoch(ins.id)) return handle_known(ctx, file, *epoch);
+            if (auto epoch = ctx.db.epochs().find(ins.id)) return handle_known(ctx, file, *epoch);
             return IngestOutcome::known;
         }
         spdlog::info("{}: new epoch {} (sha256 {}, acquired {} from {})", file.string(), ins.id,

@@ -92,9 +92,9 @@ class Daemon {
 };
 
 void Daemon::start() {
-    station_ = db_.upsert_station(config_.station.name, {0.0, 0.0, 0.0});
-    for (const auto& z : config_.zones) db_.upsert_zone(z.name, zone_json(z));
-    const std::int64_t recovered = db_.recover_interrupted();
+    station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
+    for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
+    const std::int64_t recovered = db_.epochs().recover_interrupted();
     events_.record(db_, "info", "start",
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
                        " interrupted epoch(s) back to pending");
@@ -118,8 +118,8 @@ void Daemon::reload() {
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
-        station_ = db_.upsert_station(config_.station.name, {0.0, 0.0, 0.0});
-        for (const auto& z : config_.zones) db_.upsert_zone(z.name, zone_json(z));
+        station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
+        for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
         log_config(config_);
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
@@ -160,8 +160,8 @@ void Daemon::process_backlog() {
     auto ctx = pipeline();
     try {
         events_.flush(db_);
-        if (backoff_ > 0) db_.recover_interrupted();
-        for (const Epoch& epoch : db_.pending_epochs()) {
+        if (backoff_ > 0) db_.epochs().recover_interrupted();
+        for (const Epoch& epoch : db_.epochs().pending()) {
             if (shutdown_.stop_requested()) return;
             systemd_.watchdog();  // one epoch may take the whole WatchdogSec
             const EpochOutcome outcome = process_epoch(ctx, epoch);

@@ -48,7 +48,7 @@ EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& r
     }
     // The row first, then the move: after a stop in between, ingest finds the file again,
     // sees the failed epoch and finishes the move (ingest.cpp, handle_known).
-    ctx.db.fail_epoch(epoch.id, reason, moved_to);
+    ctx.db.epochs().fail(epoch.id, reason, moved_to);
     std::string where = "left in place";
     if (moved_to) {
         try {
@@ -68,10 +68,10 @@ EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& r
 }  // namespace
 
 void ensure_reference(PipelineContext& ctx) {
-    if (ctx.db.reference_epoch()) return;
-    for (const auto& e : ctx.db.epochs_in_range({})) {  // by acquisition time
+    if (ctx.db.epochs().reference()) return;
+    for (const auto& e : ctx.db.series().epochs_in_range({})) {  // by acquisition time
         if (e.status != EpochStatus::done || !names_reference(ctx.config, e)) continue;
-        ctx.db.set_reference_epoch(e.id);
+        ctx.db.epochs().set_reference(e.id);
         ctx.events.record(
             ctx.db, "info", "reference_epoch",
             "epoch " + std::to_string(e.id) + " (" + e.file_path + ") is the reference epoch",
@@ -83,7 +83,7 @@ void ensure_reference(PipelineContext& ctx) {
 EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
-        if (!ctx.db.claim_epoch(epoch.id)) return EpochOutcome::skipped;
+        if (!ctx.db.epochs().claim(epoch.id)) return EpochOutcome::skipped;
         const fs::path file(epoch.file_path);
         std::error_code ec;
         if (!fs::exists(file, ec)) {
@@ -93,7 +93,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         // its epoch waited is another epoch, whose results must not go to this one.
         const auto before = size_and_mtime(file);
         const auto read_again = [&] {
-            ctx.db.release_epoch(epoch.id);
+            ctx.db.epochs().release(epoch.id);
             spdlog::warn("{}: changed while it was read; epoch {} is read again", file.string(),
                          epoch.id);
             return EpochOutcome::skipped;
@@ -142,7 +142,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
             results.archive_path = archive_to->string();
         }
         results.timings.total_ms = ms_since(t0);
-        ctx.db.commit_epoch(epoch.id, results);
+        ctx.db.results().commit(epoch.id, results);
         spdlog::info("epoch {} done: {} points, read {:.0f} ms ({})", epoch.id,
                      *results.point_count, *results.timings.read_ms, file.string());
         if (archive_to) {
@@ -164,7 +164,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
             "epoch " + std::to_string(epoch.id) + " kept pending, will retry: " + e.what(),
             epoch.id);
         try {
-            ctx.db.release_epoch(epoch.id);
+            ctx.db.epochs().release(epoch.id);
         } catch (const StorageError&) {
             // Still `processing`: recover_interrupted() before the retry puts it back.
         }

@@ -29,7 +29,7 @@ void SystemEventLog::record(EpochDatabase& db, const std::string& level, const s
 void SystemEventLog::flush(EpochDatabase& db) {
     while (!waiting_.empty()) {
         try {
-            db.record_system_event(waiting_.front());
+            db.events().record(waiting_.front());
         } catch (const StorageError& e) {
             spdlog::debug("system event kept for later: {}", e.what());
             return;

@@ -37,7 +37,7 @@ std::string without(std::string text, const std::string& folder) {
 
 std::map<std::string, Outcome> outcomes(const Site& site) {
     std::map<std::string, Outcome> out;
-    for (const auto& e : site.open_db().epochs_in_range({})) {
+    for (const auto& e : site.open_db().series().epochs_in_range({})) {
         EXPECT_FALSE(out.count(e.sha256)) << "epoch twice: " << e.sha256;
         out[e.sha256] = Outcome{e.acquired, e.file_size, e.status,
                                 without(e.reason, site.root.string()), e.point_count};
@@ -47,8 +47,8 @@ std::map<std::string, Outcome> outcomes(const Site& site) {
 
 std::string reference_sha(const Site& site) {
     const auto db = site.open_db();
-    const auto ref = db.reference_epoch();
-    return ref ? db.epoch(*ref)->sha256 : "";
+    const auto ref = db.epochs().reference();
+    return ref ? db.epochs().find(*ref)->sha256 : "";
 }
 
 TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
@@ -139,7 +139,7 @@ TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
     DaemonProcess daemon(site.config(), site.log());
     ASSERT_TRUE(wait_until(
         [&] {
-            const auto s = site.open_db().status_summary();
+            const auto s = site.open_db().series().status_summary();
             return s.epochs_by_status.at(EpochStatus::done) >= 2;
         },
         20))
@@ -150,7 +150,7 @@ TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
     const double stop_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
     EXPECT_LT(stop_s, 2.0) << "one epoch of the small preset at most, then stop";
-    const auto s = site.open_db().status_summary();
+    const auto s = site.open_db().series().status_summary();
     EXPECT_EQ(s.epochs_by_status.at(EpochStatus::processing), 0);
     EXPECT_EQ(
         s.epochs_by_status.at(EpochStatus::done) + s.epochs_by_status.at(EpochStatus::pending), 12);
@@ -158,7 +158,7 @@ TEST(DaemonCrash, SigtermDuringBacklogStopsQuicklyLeavingEpochsDoneOrPending) {
     // The rest is taken after a restart.
     DaemonProcess again(site.config(), site.log(), true);
     ASSERT_EQ(again.wait(60), 0);
-    EXPECT_EQ(site.open_db().status_summary().epochs_by_status.at(EpochStatus::done), 12);
+    EXPECT_EQ(site.open_db().series().status_summary().epochs_by_status.at(EpochStatus::done), 12);
 }
 
 }  // namespace

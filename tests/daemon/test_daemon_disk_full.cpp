@@ -26,7 +26,7 @@ TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
     DaemonProcess daemon(site.config(), site.log());
     ASSERT_TRUE(wait_until(
         [&] {
-            for (const auto& e : site.open_db().events({})) {
+            for (const auto& e : site.open_db().series().events({})) {
                 if (e.kind == "start") return true;
             }
             return false;
@@ -49,14 +49,14 @@ TEST(DaemonDiskFull, EpochsWaitAndAreProcessedWhenSpaceReturns) {
     fs::remove(filler);
     ASSERT_TRUE(wait_until(
         [&] {
-            const auto epochs = site.open_db().epochs_in_range({});
+            const auto epochs = site.open_db().series().epochs_in_range({});
             return epochs.size() == 2 && epochs[0].status == EpochStatus::done &&
                    epochs[1].status == EpochStatus::done;
         },
         15))
         << read_file(site.log());
     bool recorded = false;
-    for (const auto& e : site.open_db().events({}, std::string("disk_full"))) {
+    for (const auto& e : site.open_db().series().events({}, std::string("disk_full"))) {
         recorded = recorded || e.message.find("full") != std::string::npos;
     }
     EXPECT_TRUE(recorded) << "a disk_full system event is written once there is room";

@@ -15,7 +15,7 @@ namespace {
 const fs::path kData = TLSMON_DATA_DIR;
 
 std::vector<Epoch> all_epochs(const Site& site) {
-    return site.open_db().epochs_in_range({});  // by acquisition time
+    return site.open_db().series().epochs_in_range({});  // by acquisition time
 }
 
 const Epoch* by_name(const std::vector<Epoch>& epochs, const std::string& name) {
@@ -27,7 +27,7 @@ const Epoch* by_name(const std::vector<Epoch>& epochs, const std::string& name) 
 
 bool has_event(const Site& site, const std::string& kind, const std::string& text) {
     if (!fs::exists(site.database())) return false;  // the daemon has not created it yet
-    for (const auto& e : site.open_db().events({})) {
+    for (const auto& e : site.open_db().series().events({})) {
         if (e.kind == kind && e.message.find(text) != std::string::npos) return true;
     }
     return false;
@@ -69,8 +69,8 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
     EXPECT_NE(bad->reason.find("small_20260601T063000Z.ptx:"), std::string::npos) << bad->reason;
     EXPECT_EQ(empty->status, EpochStatus::failed);
     EXPECT_NE(empty->reason.find("empty"), std::string::npos) << empty->reason;
-    ASSERT_TRUE(site.open_db().reference_epoch());
-    EXPECT_EQ(*site.open_db().reference_epoch(), e0->id);
+    ASSERT_TRUE(site.open_db().epochs().reference());
+    EXPECT_EQ(*site.open_db().epochs().reference(), e0->id);
     // Processed in acquisition order: the log's "epoch N done/failed" lines, mapped to the
     // epochs' acquisition times, never go back in time.
     std::vector<std::int64_t> order;
@@ -150,7 +150,7 @@ TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
     ASSERT_EQ(r.status, 0) << r.output;
     ASSERT_TRUE(wait_until(
         [&] {
-            const auto s = site.open_db().status_summary();
+            const auto s = site.open_db().series().status_summary();
             return s.epochs_by_status.at(EpochStatus::done) == 5;
         },
         30))
@@ -174,7 +174,7 @@ TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
             EXPECT_GT(epochs[i].id, epochs[i - 1].id);  // taken in acquisition order
         }
     }
-    EXPECT_EQ(site.open_db().reference_epoch(), epochs.front().id);
+    EXPECT_EQ(site.open_db().epochs().reference(), epochs.front().id);
     EXPECT_TRUE(has_event(site, "stop", "5 epoch(s) done"));
     EXPECT_NE(read_file(site.log()).find("dup.ptx: same content as epoch"), std::string::npos);
     EXPECT_GT(queries.load(), 3);
@@ -216,7 +216,8 @@ TEST(DaemonIngest, GrowingAndUnreadableFilesAreRecorded) {
             }
         }
     }
-    ASSERT_TRUE(wait_until([&] { return site.open_db().epochs_in_range({}).size() == 2; }, 10))
+    ASSERT_TRUE(
+        wait_until([&] { return site.open_db().series().epochs_in_range({}).size() == 2; }, 10))
         << read_file(site.log());
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.wait(5), 0);
@@ -232,7 +233,7 @@ TEST(DaemonIngest, GrowingAndUnreadableFilesAreRecorded) {
     ASSERT_TRUE(grown);
     EXPECT_EQ(grown->status, EpochStatus::failed);  // its content is no PTX header
     int growing_events = 0;
-    for (const auto& e : site.open_db().events({}, std::string("file_growing"))) {
+    for (const auto& e : site.open_db().series().events({}, std::string("file_growing"))) {
         growing_events += e.message.find(growing.filename().string()) != std::string::npos;
     }
     EXPECT_EQ(growing_events, 1) << "reported once";
@@ -336,7 +337,7 @@ TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     const auto epochs = all_epochs(site);
     const Epoch* named = by_name(epochs, "small_20260601T061500Z.ptx");
     ASSERT_TRUE(named);
-    EXPECT_EQ(site.open_db().reference_epoch(), named->id);
+    EXPECT_EQ(site.open_db().epochs().reference(), named->id);
 }
 
 TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {

@@ -32,7 +32,7 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     const PipelineConfig pipeline = pipeline_config(config);
     PipelineContext ctx{db, pipeline, events};
     const EpochInsert ins =
-        db.insert_epoch(NewEpoch{sha256_file(scan), 1780293600, scan, 100, std::nullopt});
+        db.epochs().insert(NewEpoch{sha256_file(scan), 1780293600, scan, 100, std::nullopt});
     ASSERT_TRUE(ins.inserted);
 
     // SQLite reuses the space of a checkpointed WAL; truncate it (with the sqlite3 client)
@@ -42,18 +42,18 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     ASSERT_EQ(truncate.status, 0) << truncate.output;
     ASSERT_EQ(fs::file_size(config.paths.database.string() + "-wal"), 0u);
     fill_file_system(db_folder / "filler");
-    const Epoch pending = *db.epoch(ins.id);
+    const Epoch pending = *db.epochs().find(ins.id);
     EXPECT_EQ(process_epoch(ctx, pending), EpochOutcome::retry_later);
     EXPECT_TRUE(fs::exists(scan)) << "the file stays until its epoch is committed";
     EXPECT_GE(events.waiting(), 1u) << "the disk_full event waits for room";
 
     fs::remove(db_folder / "filler");
-    db.recover_interrupted();  // what the daemon does before a retry
-    const Epoch again = *db.epoch(ins.id);
+    db.epochs().recover_interrupted();  // what the daemon does before a retry
+    const Epoch again = *db.epochs().find(ins.id);
     EXPECT_EQ(again.status, EpochStatus::pending);
     EXPECT_FALSE(again.point_count) << "nothing of the refused commit was stored";
     EXPECT_EQ(process_epoch(ctx, again), EpochOutcome::done);
-    const Epoch done = *db.epoch(ins.id);
+    const Epoch done = *db.epochs().find(ins.id);
     EXPECT_EQ(done.status, EpochStatus::done);
     EXPECT_EQ(done.point_count, 15);
     EXPECT_FALSE(fs::exists(scan));
@@ -61,7 +61,7 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     events.flush(db);
     EXPECT_EQ(events.waiting(), 0u);
     bool recorded = false;
-    for (const auto& e : db.events({}, std::string("disk_full"))) {
+    for (const auto& e : db.series().events({}, std::string("disk_full"))) {
         recorded = recorded || e.epoch == ins.id;
     }
     EXPECT_TRUE(recorded);

@@ -32,10 +32,10 @@ struct PipelineSite {
     }
     // Processes every pending epoch, as the daemon's backlog does.
     void process_backlog() {
-        for (const Epoch& e : db.pending_epochs()) process_epoch(pipeline_ctx, e);
+        for (const Epoch& e : db.epochs().pending()) process_epoch(pipeline_ctx, e);
     }
     std::optional<Epoch> by_content(const fs::path& original) {
-        return db.epoch_by_sha256(sha256_file(original));
+        return db.epochs().find_by_sha256(sha256_file(original));
     }
 };
 
@@ -94,7 +94,7 @@ TEST(PipelineFiles, FileRenamedWhilePendingKeepsItsEpoch) {
         EXPECT_EQ(e->archive_path, (s.config.paths.archive / name).string());
         EXPECT_EQ(read_file(s.config.paths.archive / name), read_file(original)) << name;
     }
-    EXPECT_EQ(s.db.epochs_in_range({}).size(), 2u);
+    EXPECT_EQ(s.db.series().epochs_in_range({}).size(), 2u);
 }
 
 }  // namespace

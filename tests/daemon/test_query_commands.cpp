@@ -54,16 +54,17 @@ class QueryCommands : public ::testing::Test {
     void SetUp() override {
         db_path_ = dir_ / "e.sqlite";
         auto db = EpochDatabase::open(db_path_, EpochDatabase::Mode::read_write);
-        db.upsert_zone("pier P3 top", "{}");
-        db.upsert_zone("segment 7", "{}");
-        db.upsert_alarm_rule({0, "P3 settlement", "pier P3 top", "m3c2_mean_m", "{}", true});
+        db.site().upsert_zone("pier P3 top", "{}");
+        db.site().upsert_zone("segment 7", "{}");
+        db.alarms().upsert_rule({0, "P3 settlement", "pier P3 top", "m3c2_mean_m", "{}", true});
         const double values[] = {-0.0012, -0.0042};
         for (int i = 0; i < 3; ++i) {
             const auto id =
-                db.insert_epoch({sha(i), kT0 + 900 * i, "/ingest/s" + std::to_string(i) + ".ptx",
-                                 1000 + i, std::nullopt})
+                db.epochs()
+                    .insert({sha(i), kT0 + 900 * i, "/ingest/s" + std::to_string(i) + ".ptx",
+                             1000 + i, std::nullopt})
                     .id;
-            db.claim_epoch(id);
+            db.epochs().claim(id);
             EpochResults r;
             if (i < 2) {
                 r.point_count = 500000 + i;
@@ -76,15 +77,15 @@ class QueryCommands : public ::testing::Test {
                 r.outcome = EpochStatus::rejected;
                 r.reason = "registration RMS 12.0 mm > 5.0 mm";
             }
-            db.commit_epoch(id, r);
+            db.results().commit(id, r);
         }
-        db.insert_epoch({sha(7), kT0 + 2700, "/ingest/s3.ptx", 1003, std::nullopt});
-        db.set_reference_epoch(1);
-        db.record_system_event({kT0 - 60, "info", "start", "tlsmon started", std::nullopt});
-        db.record_system_event(
+        db.epochs().insert({sha(7), kT0 + 2700, "/ingest/s3.ptx", 1003, std::nullopt});
+        db.epochs().set_reference(1);
+        db.events().record({kT0 - 60, "info", "start", "tlsmon started", std::nullopt});
+        db.events().record(
             {kT0 + 1000, "error", "disk_full", "write failed, \"/var\" full", std::nullopt});
-        db.set_alarm_state({"P3 settlement", "unack", "H", kT0 + 900, -0.0042, 2});
-        db.record_alarm_event(
+        db.alarms().set_state({"P3 settlement", "unack", "H", kT0 + 900, -0.0042, 2});
+        db.alarms().record_event(
             {kT0 + 900, "P3 settlement", "raise", "H", -0.0042, 2, "P3 top settled 4.2 mm"});
     }
     std::string db() const { return "--db " + db_path_.string(); }

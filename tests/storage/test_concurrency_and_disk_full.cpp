@@ -28,7 +28,7 @@ TEST(Concurrency, ReaderDoesNotWaitForAnOpenWriteTransaction) {
     const auto path = dir / "e.sqlite";
     {
         auto db = EpochDatabase::open(path, Mode::read_write);
-        db.insert_epoch({test::fake_sha256(1), 1000, "/i/a.ptx", 1, std::nullopt});
+        db.epochs().insert({test::fake_sha256(1), 1000, "/i/a.ptx", 1, std::nullopt});
     }
     // Another process's writer in the middle of a transaction, holding the write lock.
     SQLite::Database writer(path.string(), SQLite::OPEN_READWRITE);
@@ -40,37 +40,38 @@ TEST(Concurrency, ReaderDoesNotWaitForAnOpenWriteTransaction) {
 
     const auto start = std::chrono::steady_clock::now();
     auto reader = EpochDatabase::open(path, Mode::read_only, std::chrono::milliseconds(5000));
-    const auto s = reader.status_summary();
+    const auto s = reader.series().status_summary();
     const auto waited = std::chrono::steady_clock::now() - start;
     EXPECT_EQ(s.epochs_by_status.at(EpochStatus::pending), 1);  // not the uncommitted one
     EXPECT_LT(waited, std::chrono::seconds(1));
     // A second writer does wait, and after the busy timeout says so distinguishably.
     auto other = EpochDatabase::open(path, Mode::read_write, std::chrono::milliseconds(100));
     try {
-        other.insert_epoch({test::fake_sha256(3), 3000, "/i/c.ptx", 1, std::nullopt});
+        other.epochs().insert({test::fake_sha256(3), 3000, "/i/c.ptx", 1, std::nullopt});
         FAIL() << "wrote while another connection held the write lock";
     } catch (const StorageError& e) {
         EXPECT_TRUE(e.busy()) << e.what();
         EXPECT_FALSE(e.disk_full()) << e.what();
     }
     tx.commit();
-    EXPECT_EQ(reader.pending_epochs().size(), 2u);
+    EXPECT_EQ(reader.epochs().pending().size(), 2u);
 }
 
 TEST(Concurrency, ReadersSeeWholeEpochsWhileTheWriterCommits) {
     test::TempDir dir;
     const auto path = dir / "e.sqlite";
     auto db = EpochDatabase::open(path, Mode::read_write);
-    db.upsert_zone("deck", "{}");
+    db.site().upsert_zone("deck", "{}");
     constexpr int kEpochs = 150;
     std::atomic<bool> writing{true};
     std::thread writer([&] {
         for (int i = 0; i < kEpochs; ++i) {
             const auto id =
-                db.insert_epoch({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
+                db.epochs()
+                    .insert({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
                     .id;
-            db.claim_epoch(id);
-            db.commit_epoch(id, one_zone(0.001 * i));
+            db.epochs().claim(id);
+            db.results().commit(id, one_zone(0.001 * i));
         }
         writing = false;
     });
@@ -79,9 +80,9 @@ TEST(Concurrency, ReadersSeeWholeEpochsWhileTheWriterCommits) {
     std::int64_t last_done = 0;
     bool consistent = true;
     while (writing || reads == 0) {
-        const auto s = reader.status_summary();
+        const auto s = reader.series().status_summary();
         const auto done = s.epochs_by_status.at(EpochStatus::done);
-        const auto series = reader.series("deck", "m3c2_mean_m", {});
+        const auto series = reader.series().points("deck", "m3c2_mean_m", {});
         // Series read after the summary: at least as many rows, never a torn epoch.
         if (done < last_done || static_cast<std::int64_t>(series.size()) < done) {
             consistent = false;
@@ -92,8 +93,9 @@ TEST(Concurrency, ReadersSeeWholeEpochsWhileTheWriterCommits) {
     writer.join();
     EXPECT_TRUE(consistent);
     EXPECT_GT(reads, 1);
-    EXPECT_EQ(reader.status_summary().epochs_by_status.at(EpochStatus::done), kEpochs);
-    EXPECT_EQ(reader.series("deck", "m3c2_mean_m", {}).size(), static_cast<std::size_t>(kEpochs));
+    EXPECT_EQ(reader.series().status_summary().epochs_by_status.at(EpochStatus::done), kEpochs);
+    EXPECT_EQ(reader.series().points("deck", "m3c2_mean_m", {}).size(),
+              static_cast<std::size_t>(kEpochs));
 }
 
 TEST(DiskFull, ErrorCodesAreClassified) {
@@ -120,17 +122,18 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     EpochId stuck = 0;
     {
         auto db = EpochDatabase::open(path, Mode::read_write);
-        db.upsert_zone("deck", "{}");
+        db.site().upsert_zone("deck", "{}");
         bool full = false;
         for (int i = 0; i < 100 && !full; ++i) {
             const auto id =
-                db.insert_epoch({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
+                db.epochs()
+                    .insert({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
                     .id;
-            ASSERT_TRUE(db.claim_epoch(id));
+            ASSERT_TRUE(db.epochs().claim(id));
             auto r = one_zone(0.001 * i);
             r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.001f * i)}};
             try {
-                db.commit_epoch(id, r);
+                db.results().commit(id, r);
                 ++done;
             } catch (const StorageError& e) {
                 EXPECT_TRUE(e.disk_full()) << e.what();
@@ -141,18 +144,19 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
         }
         ASSERT_TRUE(full) << "the 1 MiB file system never filled";
         EXPECT_GT(done, 0);
-        EXPECT_EQ(db.epoch(stuck)->status, EpochStatus::processing);
-        EXPECT_FALSE(db.core_point_array(stuck, "m3c2_distance_m"));
+        EXPECT_EQ(db.epochs().find(stuck)->status, EpochStatus::processing);
+        EXPECT_FALSE(db.series().core_point_array(stuck, "m3c2_distance_m"));
     }
     // Space comes back (the operator cleans up); the daemon restarts and retries the epoch.
     std::filesystem::remove(filler);
     auto db = EpochDatabase::open(path, Mode::read_write);
-    EXPECT_EQ(db.recover_interrupted(), 1);
-    ASSERT_TRUE(db.claim_epoch(stuck));
+    EXPECT_EQ(db.epochs().recover_interrupted(), 1);
+    ASSERT_TRUE(db.epochs().claim(stuck));
     auto r = one_zone(0.5);
     r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.5f)}};
-    db.commit_epoch(stuck, r);
-    EXPECT_EQ(db.series("deck", "m3c2_mean_m", {}).size(), static_cast<std::size_t>(done + 1));
+    db.results().commit(stuck, r);
+    EXPECT_EQ(db.series().points("deck", "m3c2_mean_m", {}).size(),
+              static_cast<std::size_t>(done + 1));
     SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
     EXPECT_EQ(raw.execAndGet("PRAGMA integrity_check").getString(), "ok");
 }

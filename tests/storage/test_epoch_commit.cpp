@@ -1,4 +1,4 @@
-// commit_epoch writes everything of an epoch in one transaction; the reads return it.
+// ResultsWriter::commit writes everything of an epoch in one transaction; the reads return it.
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <gtest/gtest.h>
 
@@ -17,15 +17,15 @@ struct Fixture {
     test::TempDir dir;
     EpochDatabase db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
     Fixture() {
-        db.upsert_zone("pier P3 top", R"({"box":[0,0,0,1,1,10]})");
-        db.upsert_zone("segment 7", R"({"box":[10,0,0,20,1,2]})");
-        db.upsert_alarm_rule({0, "P3 settlement", "pier P3 top", "m3c2_mean_m",
-                              R"({"high":0.005,"highhigh":0.01})", true});
+        db.site().upsert_zone("pier P3 top", R"({"box":[0,0,0,1,1,10]})");
+        db.site().upsert_zone("segment 7", R"({"box":[10,0,0,20,1,2]})");
+        db.alarms().upsert_rule({0, "P3 settlement", "pier P3 top", "m3c2_mean_m",
+                                 R"({"high":0.005,"highhigh":0.01})", true});
     }
     EpochId claimed(int n, UtcSeconds t) {
         const auto id =
-            db.insert_epoch({test::fake_sha256(n), t, "/ingest/s.ptx", 10, std::nullopt}).id;
-        EXPECT_TRUE(db.claim_epoch(id));
+            db.epochs().insert({test::fake_sha256(n), t, "/ingest/s.ptx", 10, std::nullopt}).id;
+        EXPECT_TRUE(db.epochs().claim(id));
         return id;
     }
     std::int64_t rows(const std::string& table) {
@@ -67,16 +67,16 @@ TEST(EpochCommit, EverythingIsStoredAndReadBack) {
     Fixture f;
     const auto id = f.claimed(1, 1000);
     const auto results = full_results(id);
-    f.db.commit_epoch(id, results);
+    f.db.results().commit(id, results);
 
-    const auto e = f.db.epoch(id);
+    const auto e = f.db.epochs().find(id);
     EXPECT_EQ(e->status, EpochStatus::done);
     EXPECT_EQ(e->point_count, 123456);
     EXPECT_DOUBLE_EQ(e->timings.register_ms.value_or(-1), 300.25);
     EXPECT_DOUBLE_EQ(e->timings.total_ms.value_or(-1), 5600.75);
     EXPECT_EQ(e->archive_path.value_or(""), "/archive/2026/03/s.ptx");
 
-    const auto reg = f.db.registration(id);
+    const auto reg = f.db.series().registration(id);
     ASSERT_TRUE(reg);
     EXPECT_EQ(reg->transform, results.registration->transform);
     EXPECT_EQ(reg->target_count, 4);
@@ -85,14 +85,14 @@ TEST(EpochCommit, EverythingIsStoredAndReadBack) {
     EXPECT_TRUE(reg->accepted);
     EXPECT_EQ(reg->quality_json, R"({"chi2_p":0.41})");
 
-    const auto targets = f.db.target_observations(id);
+    const auto targets = f.db.series().target_observations(id);
     ASSERT_EQ(targets.size(), 2u);
     EXPECT_EQ(targets[1].target, "T2");
     EXPECT_EQ(targets[1].kind, "plane");
     EXPECT_DOUBLE_EQ(targets[1].residual[0], 0.004);
     EXPECT_FALSE(targets[1].stable);
 
-    const auto series = f.db.series("pier P3 top", "m3c2_mean_m", {});
+    const auto series = f.db.series().points("pier P3 top", "m3c2_mean_m", {});
     ASSERT_EQ(series.size(), 1u);
     EXPECT_EQ(series[0].epoch, id);
     EXPECT_EQ(series[0].acquired, 1000);
@@ -100,22 +100,22 @@ TEST(EpochCommit, EverythingIsStoredAndReadBack) {
     EXPECT_EQ(series[0].uncertainty, 0.0018);
     EXPECT_EQ(series[0].n, 812);
     EXPECT_TRUE(series[0].significant);
-    const auto kp = f.db.series("pier P3 top", "keypoint_dz_m", {});
+    const auto kp = f.db.series().points("pier P3 top", "keypoint_dz_m", {});
     ASSERT_EQ(kp.size(), 1u);
     EXPECT_FALSE(kp[0].uncertainty);
-    EXPECT_EQ(f.db.quantities("pier P3 top"),
+    EXPECT_EQ(f.db.series().quantities("pier P3 top"),
               (std::vector<std::string>{"keypoint_dz_m", "m3c2_mean_m"}));
 
-    const auto array = f.db.core_point_array(id, "m3c2_distance_m");
+    const auto array = f.db.series().core_point_array(id, "m3c2_distance_m");
     ASSERT_TRUE(array);
     EXPECT_EQ(array->values, results.core_point_arrays[0].values);
-    EXPECT_FALSE(f.db.core_point_array(id, "no_such_quantity"));
+    EXPECT_FALSE(f.db.series().core_point_array(id, "no_such_quantity"));
 
-    const auto states = f.db.alarm_states();
+    const auto states = f.db.alarms().states();
     ASSERT_EQ(states.size(), 1u);
     EXPECT_EQ(states[0].state, "unack");
     EXPECT_EQ(states[0].epoch, id);
-    const auto events = f.db.events({});
+    const auto events = f.db.series().events({});
     ASSERT_EQ(events.size(), 2u);
     EXPECT_EQ(events[0].source, "system");  // same second: system before alarm
     EXPECT_EQ(events[1].source, "alarm");
@@ -131,7 +131,7 @@ TEST(EpochCommit, FailureMidTransactionStoresNothing) {
     auto results = full_results(id);
     results.zone_results.push_back(results.zone_results[0]);
     try {
-        f.db.commit_epoch(id, results);
+        f.db.results().commit(id, results);
         FAIL() << "a duplicate zone result was accepted";
     } catch (const StorageError& e) {
         const std::string what = e.what();
@@ -139,16 +139,16 @@ TEST(EpochCommit, FailureMidTransactionStoresNothing) {
         EXPECT_NE(what.find("UNIQUE"), std::string::npos) << what;
         EXPECT_FALSE(e.disk_full());
     }
-    EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::processing);
-    EXPECT_FALSE(f.db.epoch(id)->point_count);
+    EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::processing);
+    EXPECT_FALSE(f.db.epochs().find(id)->point_count);
     for (const char* table :
          {"registrations", "target_observations", "quantities", "zone_results", "core_point_arrays",
           "alarm_states", "alarm_events", "system_events"}) {
         EXPECT_EQ(f.rows(table), 0) << table;
     }
     // The same epoch commits cleanly afterwards.
-    f.db.commit_epoch(id, full_results(id));
-    EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::done);
+    f.db.results().commit(id, full_results(id));
+    EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::done);
     EXPECT_EQ(f.rows("zone_results"), 3);
 }
 
@@ -159,14 +159,14 @@ TEST(EpochCommit, UnknownZoneIsRefusedWithItsName) {
     r.zone_results = {{"pier P3 top", "m3c2_mean_m", 0.001, 0.002, 10, false},
                       {"pier P9", "m3c2_mean_m", 0.001, 0.002, 10, false}};
     try {
-        f.db.commit_epoch(id, r);
+        f.db.results().commit(id, r);
         FAIL();
     } catch (const StorageError& e) {
         EXPECT_NE(std::string(e.what()).find("no zone named 'pier P9'"), std::string::npos)
             << e.what();
     }
     EXPECT_EQ(f.rows("zone_results"), 0);
-    EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::processing);
+    EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::processing);
 }
 
 TEST(EpochCommit, RejectedKeepsRegistrationButNoResults) {
@@ -174,27 +174,27 @@ TEST(EpochCommit, RejectedKeepsRegistrationButNoResults) {
     const auto id = f.claimed(1, 1000);
     EpochResults r = full_results(id);
     r.outcome = EpochStatus::rejected;
-    EXPECT_THROW(f.db.commit_epoch(id, r), StorageError);  // no reason, has zone results
+    EXPECT_THROW(f.db.results().commit(id, r), StorageError);  // no reason, has zone results
     r.reason = "registration RMS 12.0 mm > 5.0 mm";
-    EXPECT_THROW(f.db.commit_epoch(id, r), StorageError);  // still has zone results
+    EXPECT_THROW(f.db.results().commit(id, r), StorageError);  // still has zone results
     r.zone_results.clear();
     r.core_point_arrays.clear();
     r.alarm_states.clear();
     r.alarm_events.clear();
-    f.db.commit_epoch(id, r);
-    EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::rejected);
-    EXPECT_EQ(f.db.epoch(id)->reason, "registration RMS 12.0 mm > 5.0 mm");
-    EXPECT_TRUE(f.db.registration(id));
-    EXPECT_TRUE(f.db.series("pier P3 top", "m3c2_mean_m", {}).empty());
+    f.db.results().commit(id, r);
+    EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::rejected);
+    EXPECT_EQ(f.db.epochs().find(id)->reason, "registration RMS 12.0 mm > 5.0 mm");
+    EXPECT_TRUE(f.db.series().registration(id));
+    EXPECT_TRUE(f.db.series().points("pier P3 top", "m3c2_mean_m", {}).empty());
 }
 
 TEST(EpochCommit, CommitNeedsAClaimedEpoch) {
     Fixture f;
     const auto id =
-        f.db.insert_epoch({test::fake_sha256(1), 1000, "/ingest/s.ptx", 10, std::nullopt}).id;
-    EXPECT_THROW(f.db.commit_epoch(id, full_results(id)), StorageError);  // still pending
+        f.db.epochs().insert({test::fake_sha256(1), 1000, "/ingest/s.ptx", 10, std::nullopt}).id;
+    EXPECT_THROW(f.db.results().commit(id, full_results(id)), StorageError);  // still pending
     EXPECT_EQ(f.rows("zone_results"), 0);
-    EXPECT_EQ(f.db.epoch(id)->status, EpochStatus::pending);
+    EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::pending);
 }
 
 TEST(EpochCommit, SeriesAndEpochRangesAndStatus) {
@@ -210,27 +210,27 @@ TEST(EpochCommit, SeriesAndEpochRangesAndStatus) {
         } else {
             r.zone_results = {{"pier P3 top", "m3c2_mean_m", -0.001 * (i + 1), 0.002, 100, i > 0}};
         }
-        f.db.commit_epoch(id, r);
+        f.db.results().commit(id, r);
     }
-    f.db.insert_epoch({test::fake_sha256(9), t0 + 2700, "/ingest/late.ptx", 10, std::nullopt});
-    f.db.set_reference_epoch(1);
+    f.db.epochs().insert({test::fake_sha256(9), t0 + 2700, "/ingest/late.ptx", 10, std::nullopt});
+    f.db.epochs().set_reference(1);
 
-    const auto all = f.db.series("pier P3 top", "m3c2_mean_m", {});
+    const auto all = f.db.series().points("pier P3 top", "m3c2_mean_m", {});
     ASSERT_EQ(all.size(), 2u);
     EXPECT_DOUBLE_EQ(all[1].value, -0.002);
-    const auto late = f.db.series("pier P3 top", "m3c2_mean_m", {t0 + 1, std::nullopt});
+    const auto late = f.db.series().points("pier P3 top", "m3c2_mean_m", {t0 + 1, std::nullopt});
     ASSERT_EQ(late.size(), 1u);
     EXPECT_EQ(late[0].acquired, t0 + 900);
-    EXPECT_TRUE(f.db.series("segment 7", "m3c2_mean_m", {}).empty());
-    EXPECT_TRUE(f.db.series("no such zone", "m3c2_mean_m", {}).empty());
+    EXPECT_TRUE(f.db.series().points("segment 7", "m3c2_mean_m", {}).empty());
+    EXPECT_TRUE(f.db.series().points("no such zone", "m3c2_mean_m", {}).empty());
 
-    const auto middle = f.db.epochs_in_range({t0 + 900, t0 + 1800});
+    const auto middle = f.db.series().epochs_in_range({t0 + 900, t0 + 1800});
     ASSERT_EQ(middle.size(), 2u);
     EXPECT_EQ(middle[0].status, EpochStatus::done);
     EXPECT_EQ(middle[1].status, EpochStatus::rejected);
-    EXPECT_EQ(f.db.epochs_in_range({}).size(), 4u);
+    EXPECT_EQ(f.db.series().epochs_in_range({}).size(), 4u);
 
-    const auto s = f.db.status_summary();
+    const auto s = f.db.series().status_summary();
     EXPECT_EQ(s.epochs_by_status.at(EpochStatus::done), 2);
     EXPECT_EQ(s.epochs_by_status.at(EpochStatus::rejected), 1);
     EXPECT_EQ(s.epochs_by_status.at(EpochStatus::pending), 1);
@@ -248,23 +248,23 @@ TEST(EpochCommit, SeriesAndEpochRangesAndStatus) {
 
 TEST(EpochCommit, EventsFilterByTimeAndKind) {
     Fixture f;
-    f.db.record_system_event({100, "info", "start", "tlsmon 0.1.0 started", std::nullopt});
-    f.db.record_system_event({200, "error", "disk_full", "database or disk is full", std::nullopt});
-    f.db.record_alarm_event(
+    f.db.events().record({100, "info", "start", "tlsmon 0.1.0 started", std::nullopt});
+    f.db.events().record({200, "error", "disk_full", "database or disk is full", std::nullopt});
+    f.db.alarms().record_event(
         {150, "P3 settlement", "ack", "H", std::nullopt, std::nullopt, "acknowledged by SCADA"});
-    EXPECT_THROW(f.db.record_system_event({300, "fatal", "x", "", std::nullopt}), StorageError);
+    EXPECT_THROW(f.db.events().record({300, "fatal", "x", "", std::nullopt}), StorageError);
     EXPECT_THROW(
-        f.db.record_alarm_event({300, "no rule", "raise", "", std::nullopt, std::nullopt, ""}),
+        f.db.alarms().record_event({300, "no rule", "raise", "", std::nullopt, std::nullopt, ""}),
         StorageError);
-    const auto all = f.db.events({});
+    const auto all = f.db.series().events({});
     ASSERT_EQ(all.size(), 3u);
     EXPECT_EQ(all[0].kind, "start");
     EXPECT_EQ(all[1].kind, "ack");
     EXPECT_EQ(all[2].kind, "disk_full");
-    const auto window = f.db.events({120, 250});
+    const auto window = f.db.series().events({120, 250});
     ASSERT_EQ(window.size(), 2u);
     EXPECT_EQ(window[0].time, 150);
-    const auto full = f.db.events({}, std::string("disk_full"));
+    const auto full = f.db.series().events({}, std::string("disk_full"));
     ASSERT_EQ(full.size(), 1u);
     EXPECT_EQ(full[0].level, "error");
 }

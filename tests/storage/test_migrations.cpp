@@ -56,12 +56,12 @@ TEST(Migrations, ReopenIsIdempotentAndKeepsData) {
     const auto path = dir / "epochs.sqlite";
     {
         auto db = EpochDatabase::open(path, Mode::read_write);
-        db.insert_epoch({test::fake_sha256(1), 1000, "/ingest/a.ptx", 10, std::nullopt});
+        db.epochs().insert({test::fake_sha256(1), 1000, "/ingest/a.ptx", 10, std::nullopt});
     }
     for (int i = 0; i < 2; ++i) {
         auto db = EpochDatabase::open(path, Mode::read_write);
         EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
-        ASSERT_EQ(db.pending_epochs().size(), 1u);
+        ASSERT_EQ(db.epochs().pending().size(), 1u);
     }
     SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
     EXPECT_EQ(raw.execAndGet("SELECT count(*) FROM schema_migrations").getInt(),

@@ -1,5 +1,6 @@
 #pragma once
-// Private to storage/: the connection behind EpochDatabase and the helpers its files share.
+// Private to storage/: the one SQLite connection behind an EpochDatabase and the helpers the
+// stores share. Nothing outside storage/ includes this (only storage/ knows SQL).
 #include <SQLiteCpp/SQLiteCpp.h>
 
 #include <cstdint>
@@ -12,28 +13,28 @@
 
 namespace tlsmon {
 
-struct EpochDatabase::Impl {
-    Impl(std::filesystem::path p, Mode m, SQLite::Database d)
+struct Connection {
+    Connection(std::filesystem::path p, EpochDatabase::Mode m, SQLite::Database d)
         : path(std::move(p)), mode(m), db(std::move(d)) {}
     std::filesystem::path path;
-    Mode mode;
+    EpochDatabase::Mode mode;
     SQLite::Database db;
-    int version = 0;
+    int version = 0;  // schema version, read at open
 };
 
 // Runs `f`, turning an SQLite failure into a StorageError that names the database file and
 // what was being done (the SQL context), with SQLite's result codes kept.
 template <class F>
-auto guarded(const EpochDatabase::Impl& impl, const char* context, F&& f) {
+auto guarded(const Connection& c, const char* context, F&& f) {
     try {
         return f();
     } catch (const SQLite::Exception& e) {
-        throw StorageError(impl.path.string() + ": " + context + ": " + e.what(), e.getErrorCode(),
+        throw StorageError(c.path.string() + ": " + context + ": " + e.what(), e.getErrorCode(),
                            e.getExtendedErrorCode());
     }
 }
 
-[[noreturn]] void throw_storage(const EpochDatabase::Impl& impl, const std::string& what);
+[[noreturn]] void throw_storage(const Connection& c, const std::string& what);
 
 inline void bind_optional(SQLite::Statement& s, int index, const std::optional<double>& v) {
     if (v) {
@@ -65,17 +66,5 @@ inline std::optional<std::int64_t> optional_int64(const SQLite::Column& c) {
 inline std::optional<std::string> optional_string(const SQLite::Column& c) {
     return c.isNull() ? std::nullopt : std::optional<std::string>(c.getString());
 }
-
-// Lookups by name; an unknown name is a StorageError naming it.
-ZoneId zone_id_by_name(EpochDatabase::Impl& impl, const std::string& zone);
-AlarmRuleId rule_id_by_name(EpochDatabase::Impl& impl, const std::string& rule);
-// Single-row writes shared by commit_epoch and the stand-alone calls (no transaction here).
-void write_alarm_state(EpochDatabase::Impl& impl, const AlarmState& state);
-void write_alarm_event(EpochDatabase::Impl& impl, const AlarmEvent& event);
-void write_system_event(EpochDatabase::Impl& impl, const SystemEvent& event);
-
-// The columns of an epoch row in the order read_epoch expects.
-extern const char* const kEpochColumns;
-Epoch read_epoch(SQLite::Statement& s);
 
 }  // namespace tlsmon

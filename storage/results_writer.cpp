@@ -1,12 +1,14 @@
-// commit_epoch: everything one processed epoch produced, and its final status, in ONE
+// ResultsWriter::commit: everything one processed epoch produced, and its final status, in ONE
 // transaction (DESIGN.md "SQLite"): a crash or an error leaves nothing of it stored and the
 // epoch `processing`, which recover_interrupted() turns back into `pending`.
+#include "storage/results_writer.hpp"
+
 #include <bit>
 #include <cstring>
 #include <map>
 
-#include "storage/epoch_database.hpp"
-#include "storage/epoch_database_impl.hpp"
+#include "storage/connection.hpp"
+#include "storage/shared_rows.hpp"
 
 namespace tlsmon {
 
@@ -16,22 +18,22 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "core point arrays and transforms are stored as little-endian floats");
 
-void check_results(EpochDatabase::Impl& impl, EpochId id, const EpochResults& r) {
+void check_results(Connection& c, EpochId id, const EpochResults& r) {
     const std::string epoch = "epoch " + std::to_string(id) + ": ";
     if (r.outcome != EpochStatus::done && r.outcome != EpochStatus::rejected) {
-        throw_storage(impl, epoch + "commit_epoch ends in done or rejected, not " +
-                                std::string(to_string(r.outcome)));
+        throw_storage(c, epoch + "an epoch commit ends in done or rejected, not " +
+                             std::string(to_string(r.outcome)));
     }
     if (r.outcome == EpochStatus::rejected) {
-        if (r.reason.empty()) throw_storage(impl, epoch + "a rejected epoch needs a reason");
+        if (r.reason.empty()) throw_storage(c, epoch + "a rejected epoch needs a reason");
         if (!r.zone_results.empty() || !r.core_point_arrays.empty()) {
-            throw_storage(impl, epoch + "a rejected epoch has no analysis results");
+            throw_storage(c, epoch + "a rejected epoch has no analysis results");
         }
     }
 }
 
-void write_registration(EpochDatabase::Impl& impl, EpochId id, const RegistrationRow& reg) {
-    SQLite::Statement s(impl.db,
+void write_registration(Connection& c, EpochId id, const RegistrationRow& reg) {
+    SQLite::Statement s(c.db,
                         "INSERT INTO registrations (epoch_id, method, transform, target_count,"
                         " rms_m, max_residual_m, sigma0, accepted, quality_json)"
                         " VALUES (?,?,?,?,?,?,?,?,?)");
@@ -47,10 +49,9 @@ void write_registration(EpochDatabase::Impl& impl, EpochId id, const Registratio
     s.exec();
 }
 
-void write_targets(EpochDatabase::Impl& impl, EpochId id,
-                   const std::vector<TargetObservation>& targets) {
+void write_targets(Connection& c, EpochId id, const std::vector<TargetObservation>& targets) {
     if (targets.empty()) return;
-    SQLite::Statement s(impl.db,
+    SQLite::Statement s(c.db,
                         "INSERT INTO target_observations (epoch_id, target, kind, measured_x,"
                         " measured_y, measured_z, residual_x, residual_y, residual_z, stable,"
                         " used) VALUES (?,?,?,?,?,?,?,?,?,?,?)");
@@ -68,34 +69,33 @@ void write_targets(EpochDatabase::Impl& impl, EpochId id,
 }
 
 // The id of a quantity name, inserted on first use (inside the epoch's transaction).
-std::int64_t quantity_id(EpochDatabase::Impl& impl, const std::string& name) {
-    if (name.empty()) throw_storage(impl, "a zone result needs a quantity name");
+std::int64_t quantity_id(Connection& c, const std::string& name) {
+    if (name.empty()) throw_storage(c, "a zone result needs a quantity name");
     SQLite::Statement insert(
-        impl.db, "INSERT INTO quantities (name) VALUES (?) ON CONFLICT (name) DO NOTHING");
+        c.db, "INSERT INTO quantities (name) VALUES (?) ON CONFLICT (name) DO NOTHING");
     insert.bind(1, name);
     insert.exec();
-    SQLite::Statement s(impl.db, "SELECT id FROM quantities WHERE name = ?");
+    SQLite::Statement s(c.db, "SELECT id FROM quantities WHERE name = ?");
     s.bind(1, name);
-    if (!s.executeStep()) throw_storage(impl, "quantity '" + name + "' vanished");
+    if (!s.executeStep()) throw_storage(c, "quantity '" + name + "' vanished");
     return s.getColumn(0).getInt64();
 }
 
-void write_zone_results(EpochDatabase::Impl& impl, EpochId id,
-                        const std::vector<ZoneResult>& results) {
+void write_zone_results(Connection& c, EpochId id, const std::vector<ZoneResult>& results) {
     if (results.empty()) return;
     std::map<std::string, ZoneId> zone_ids;
     std::map<std::string, std::int64_t> quantity_ids;
-    SQLite::Statement s(impl.db,
+    SQLite::Statement s(c.db,
                         "INSERT INTO zone_results (zone_id, quantity_id, epoch_id, value,"
                         " uncertainty, n, significant) VALUES (?,?,?,?,?,?,?)");
     for (const auto& r : results) {
         auto zone = zone_ids.find(r.zone);
         if (zone == zone_ids.end()) {
-            zone = zone_ids.emplace(r.zone, zone_id_by_name(impl, r.zone)).first;
+            zone = zone_ids.emplace(r.zone, zone_id_by_name(c, r.zone)).first;
         }
         auto quantity = quantity_ids.find(r.quantity);
         if (quantity == quantity_ids.end()) {
-            quantity = quantity_ids.emplace(r.quantity, quantity_id(impl, r.quantity)).first;
+            quantity = quantity_ids.emplace(r.quantity, quantity_id(c, r.quantity)).first;
         }
         s.reset();
         s.bind(1, zone->second);
@@ -109,10 +109,9 @@ void write_zone_results(EpochDatabase::Impl& impl, EpochId id,
     }
 }
 
-void write_core_point_arrays(EpochDatabase::Impl& impl, EpochId id,
-                             const std::vector<CorePointArray>& arrays) {
+void write_core_point_arrays(Connection& c, EpochId id, const std::vector<CorePointArray>& arrays) {
     if (arrays.empty()) return;
-    SQLite::Statement s(impl.db,
+    SQLite::Statement s(c.db,
                         "INSERT INTO core_point_arrays (epoch_id, quantity, count, data)"
                         " VALUES (?,?,?,?)");
     for (const auto& a : arrays) {
@@ -126,8 +125,8 @@ void write_core_point_arrays(EpochDatabase::Impl& impl, EpochId id,
     }
 }
 
-void write_status(EpochDatabase::Impl& impl, EpochId id, const EpochResults& r) {
-    SQLite::Statement s(impl.db,
+void write_status(Connection& c, EpochId id, const EpochResults& r) {
+    SQLite::Statement s(c.db,
                         "UPDATE epochs SET status = ?, reason = ?, updated = ?, point_count = ?,"
                         " read_ms = ?, register_ms = ?, analyse_ms = ?, total_ms = ?,"
                         " archive_path = coalesce(?, archive_path)"
@@ -143,28 +142,28 @@ void write_status(EpochDatabase::Impl& impl, EpochId id, const EpochResults& r) 
     bind_optional(s, 9, r.archive_path);
     s.bind(10, id);
     if (s.exec() != 1) {
-        throw_storage(impl, "epoch " + std::to_string(id) +
-                                " is not processing; claim it before commit_epoch");
+        throw_storage(c, "epoch " + std::to_string(id) +
+                             " is not processing; claim it before committing its results");
     }
 }
 
 }  // namespace
 
-void EpochDatabase::commit_epoch(EpochId id, const EpochResults& results) {
-    check_results(*impl_, id, results);
+void ResultsWriter::commit(EpochId id, const EpochResults& results) {
+    check_results(*c_, id, results);
     const std::string context = "committing epoch " + std::to_string(id);
-    guarded(*impl_, context.c_str(), [&] {
+    guarded(*c_, context.c_str(), [&] {
         // IMMEDIATE: take the write lock at BEGIN, so a busy database fails before any work.
-        SQLite::Transaction tx(impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+        SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
         // The status first: an epoch that is not ours fails before anything is written.
-        write_status(*impl_, id, results);
-        if (results.registration) write_registration(*impl_, id, *results.registration);
-        write_targets(*impl_, id, results.targets);
-        write_zone_results(*impl_, id, results.zone_results);
-        write_core_point_arrays(*impl_, id, results.core_point_arrays);
-        for (const auto& a : results.alarm_states) write_alarm_state(*impl_, a);
-        for (const auto& e : results.alarm_events) write_alarm_event(*impl_, e);
-        for (const auto& e : results.system_events) write_system_event(*impl_, e);
+        write_status(*c_, id, results);
+        if (results.registration) write_registration(*c_, id, *results.registration);
+        write_targets(*c_, id, results.targets);
+        write_zone_results(*c_, id, results.zone_results);
+        write_core_point_arrays(*c_, id, results.core_point_arrays);
+        for (const auto& a : results.alarm_states) write_alarm_state(*c_, a);
+        for (const auto& e : results.alarm_events) write_alarm_event(*c_, e);
+        for (const auto& e : results.system_events) write_system_event(*c_, e);
         tx.commit();
     });
 }

@@ -1,9 +1,12 @@
 // Read functions for `tlsmon status|query|events` and the HTTP API.
+#include "storage/series_reader.hpp"
+
 #include <cstring>
 #include <limits>
 
-#include "storage/epoch_database.hpp"
-#include "storage/epoch_database_impl.hpp"
+#include "storage/alarm_store.hpp"
+#include "storage/connection.hpp"
+#include "storage/shared_rows.hpp"
 
 namespace tlsmon {
 
@@ -16,9 +19,9 @@ std::int64_t range_to(const TimeRange& r) {
     return r.to.value_or(std::numeric_limits<std::int64_t>::max());
 }
 
-std::optional<Epoch> first_epoch(EpochDatabase::Impl& impl, const std::string& where_order) {
-    SQLite::Statement s(impl.db, std::string("SELECT ") + kEpochColumns + " FROM epochs " +
-                                     where_order + " LIMIT 1");
+std::optional<Epoch> first_epoch(Connection& c, const std::string& where_order) {
+    SQLite::Statement s(
+        c.db, std::string("SELECT ") + kEpochColumns + " FROM epochs " + where_order + " LIMIT 1");
     if (!s.executeStep()) return std::nullopt;
     return read_epoch(s);
 }
@@ -31,50 +34,49 @@ std::int64_t file_bytes(const std::filesystem::path& p) {
 
 }  // namespace
 
-std::int64_t EpochDatabase::database_bytes() const {
-    return file_bytes(impl_->path) + file_bytes(impl_->path.string() + "-wal");
+std::int64_t SeriesReader::database_bytes() const {
+    return file_bytes(c_->path) + file_bytes(c_->path.string() + "-wal");
 }
 
-StatusSummary EpochDatabase::status_summary() const {
+StatusSummary SeriesReader::status_summary() const {
     StatusSummary out;
-    guarded(*impl_, "reading the status summary", [&] {
+    guarded(*c_, "reading the status summary", [&] {
         for (auto s : {EpochStatus::pending, EpochStatus::processing, EpochStatus::done,
                        EpochStatus::failed, EpochStatus::rejected}) {
             out.epochs_by_status[s] = 0;
         }
         // One read transaction: every figure from the same snapshot.
-        SQLite::Transaction tx(impl_->db, SQLite::TransactionBehavior::DEFERRED);
-        SQLite::Statement counts(impl_->db, "SELECT status, count(*) FROM epochs GROUP BY status");
+        SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::DEFERRED);
+        SQLite::Statement counts(c_->db, "SELECT status, count(*) FROM epochs GROUP BY status");
         while (counts.executeStep()) {
             out.epochs_by_status[epoch_status_from_string(counts.getColumn(0).getString())] =
                 counts.getColumn(1).getInt64();
         }
         out.backlog = out.epochs_by_status[EpochStatus::pending] +
                       out.epochs_by_status[EpochStatus::processing];
-        out.last_done =
-            first_epoch(*impl_, "WHERE status = 'done' ORDER BY acquired DESC, id DESC");
+        out.last_done = first_epoch(*c_, "WHERE status = 'done' ORDER BY acquired DESC, id DESC");
         out.last_failure = first_epoch(
-            *impl_, "WHERE status IN ('failed', 'rejected') ORDER BY updated DESC, id DESC");
-        SQLite::Statement oldest(impl_->db,
+            *c_, "WHERE status IN ('failed', 'rejected') ORDER BY updated DESC, id DESC");
+        SQLite::Statement oldest(c_->db,
                                  "SELECT min(acquired) FROM epochs WHERE status = 'pending'");
         if (oldest.executeStep()) out.oldest_pending = optional_int64(oldest.getColumn(0));
-        out.reference_epoch = reference_epoch();
-        out.alarm_states = alarm_states();
+        out.reference_epoch = Epochs(*c_).reference();
+        out.alarm_states = AlarmStore(*c_).states();
         for (const auto& a : out.alarm_states) {
             if (a.state != "normal") ++out.alarms_active;
             if (a.state == "unack" || a.state == "rtn_unack") ++out.alarms_unacknowledged;
         }
     });
     out.database_bytes = database_bytes();
-    out.schema_version = impl_->version;
+    out.schema_version = c_->version;
     return out;
 }
 
-std::vector<Epoch> EpochDatabase::epochs_in_range(const TimeRange& range) const {
-    return guarded(*impl_, "listing epochs", [&] {
-        SQLite::Statement s(impl_->db, std::string("SELECT ") + kEpochColumns +
-                                           " FROM epochs WHERE acquired BETWEEN ? AND ?"
-                                           " ORDER BY acquired, id");
+std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range) const {
+    return guarded(*c_, "listing epochs", [&] {
+        SQLite::Statement s(c_->db, std::string("SELECT ") + kEpochColumns +
+                                        " FROM epochs WHERE acquired BETWEEN ? AND ?"
+                                        " ORDER BY acquired, id");
         s.bind(1, range_from(range));
         s.bind(2, range_to(range));
         std::vector<Epoch> out;
@@ -83,12 +85,12 @@ std::vector<Epoch> EpochDatabase::epochs_in_range(const TimeRange& range) const 
     });
 }
 
-std::vector<SeriesPoint> EpochDatabase::series(const std::string& zone, const std::string& quantity,
-                                               const TimeRange& range) const {
-    return guarded(*impl_, "reading a time series", [&] {
+std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std::string& quantity,
+                                              const TimeRange& range) const {
+    return guarded(*c_, "reading a time series", [&] {
         // Served by the key (zone_id, quantity_id, epoch_id) of zone_results and the epochs
         // key.
-        SQLite::Statement s(impl_->db,
+        SQLite::Statement s(c_->db,
                             "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant"
                             " FROM zone_results r JOIN epochs e ON e.id = r.epoch_id"
                             " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
@@ -109,9 +111,9 @@ std::vector<SeriesPoint> EpochDatabase::series(const std::string& zone, const st
     });
 }
 
-std::vector<std::string> EpochDatabase::quantities(const std::string& zone) const {
-    return guarded(*impl_, "listing quantities", [&] {
-        SQLite::Statement s(impl_->db,
+std::vector<std::string> SeriesReader::quantities(const std::string& zone) const {
+    return guarded(*c_, "listing quantities", [&] {
+        SQLite::Statement s(c_->db,
                             "SELECT q.name FROM quantities q WHERE EXISTS (SELECT 1"
                             " FROM zone_results r WHERE r.zone_id ="
                             " (SELECT id FROM zones WHERE name = ?) AND r.quantity_id = q.id)"
@@ -123,11 +125,11 @@ std::vector<std::string> EpochDatabase::quantities(const std::string& zone) cons
     });
 }
 
-std::vector<EventRow> EpochDatabase::events(const TimeRange& range,
-                                            const std::optional<std::string>& kind) const {
-    return guarded(*impl_, "listing events", [&] {
+std::vector<EventRow> SeriesReader::events(const TimeRange& range,
+                                           const std::optional<std::string>& kind) const {
+    return guarded(*c_, "listing events", [&] {
         SQLite::Statement s(
-            impl_->db,
+            c_->db,
             "SELECT time, 'system' AS source, level, kind, message, epoch_id, '' AS rule, id"
             " FROM system_events WHERE time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR kind = ?3)"
             " UNION ALL"
@@ -149,10 +151,10 @@ std::vector<EventRow> EpochDatabase::events(const TimeRange& range,
     });
 }
 
-std::optional<CorePointArray> EpochDatabase::core_point_array(EpochId id,
-                                                              const std::string& quantity) const {
-    return guarded(*impl_, "reading a core point array", [&]() -> std::optional<CorePointArray> {
-        SQLite::Statement s(impl_->db,
+std::optional<CorePointArray> SeriesReader::core_point_array(EpochId id,
+                                                             const std::string& quantity) const {
+    return guarded(*c_, "reading a core point array", [&]() -> std::optional<CorePointArray> {
+        SQLite::Statement s(c_->db,
                             "SELECT count, data FROM core_point_arrays"
                             " WHERE epoch_id = ? AND quantity = ?");
         s.bind(1, id);
@@ -161,9 +163,9 @@ std::optional<CorePointArray> EpochDatabase::core_point_array(EpochId id,
         const auto count = s.getColumn(0).getInt64();
         const auto data = s.getColumn(1);
         if (count < 0 || data.getBytes() != count * static_cast<std::int64_t>(sizeof(float))) {
-            throw_storage(*impl_, "epoch " + std::to_string(id) + " core point array '" + quantity +
-                                      "': " + std::to_string(data.getBytes()) + " bytes for " +
-                                      std::to_string(count) + " values");
+            throw_storage(*c_, "epoch " + std::to_string(id) + " core point array '" + quantity +
+                                   "': " + std::to_string(data.getBytes()) + " bytes for " +
+                                   std::to_string(count) + " values");
         }
         CorePointArray out{quantity, std::vector<float>(static_cast<std::size_t>(count))};
         if (count > 0) std::memcpy(out.values.data(), data.getBlob(), data.getBytes());
@@ -171,9 +173,9 @@ std::optional<CorePointArray> EpochDatabase::core_point_array(EpochId id,
     });
 }
 
-std::optional<RegistrationRow> EpochDatabase::registration(EpochId id) const {
-    return guarded(*impl_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
-        SQLite::Statement s(impl_->db,
+std::optional<RegistrationRow> SeriesReader::registration(EpochId id) const {
+    return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
+        SQLite::Statement s(c_->db,
                             "SELECT method, transform, target_count, rms_m, max_residual_m,"
                             " sigma0, accepted, quality_json FROM registrations"
                             " WHERE epoch_id = ?");
@@ -183,8 +185,8 @@ std::optional<RegistrationRow> EpochDatabase::registration(EpochId id) const {
         r.method = s.getColumn(0).getString();
         const auto t = s.getColumn(1);
         if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
-            throw_storage(*impl_, "epoch " + std::to_string(id) + ": transform has " +
-                                      std::to_string(t.getBytes()) + " bytes, not 128");
+            throw_storage(*c_, "epoch " + std::to_string(id) + ": transform has " +
+                                   std::to_string(t.getBytes()) + " bytes, not 128");
         }
         std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
         r.target_count = s.getColumn(2).getInt64();
@@ -197,9 +199,9 @@ std::optional<RegistrationRow> EpochDatabase::registration(EpochId id) const {
     });
 }
 
-std::vector<TargetObservation> EpochDatabase::target_observations(EpochId id) const {
-    return guarded(*impl_, "reading target observations", [&] {
-        SQLite::Statement s(impl_->db,
+std::vector<TargetObservation> SeriesReader::target_observations(EpochId id) const {
+    return guarded(*c_, "reading target observations", [&] {
+        SQLite::Statement s(c_->db,
                             "SELECT target, kind, measured_x, measured_y, measured_z, residual_x,"
                             " residual_y, residual_z, stable, used FROM target_observations"
                             " WHERE epoch_id = ? ORDER BY target");

@@ -1,0 +1,71 @@
+#pragma once
+// What one processed epoch produces: registration, target observations, zone results (the
+// points of the time series), core point arrays, and the alarm and system events it caused.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/alarm_store.hpp"
+#include "storage/epochs.hpp"
+#include "storage/event_log.hpp"
+
+namespace tlsmon {
+
+// Registration of one epoch onto the reference targets (filled by the registration stage).
+struct RegistrationRow {
+    std::string method;                  // e.g. "targets-helmert"
+    std::array<double, 16> transform{};  // 4x4 row-major, scan frame -> project frame
+    std::int64_t target_count = 0;       // targets used
+    double rms_m = 0;                    // RMS of the target residuals
+    double max_residual_m = 0;
+    std::optional<double> sigma0;     // a-posteriori standard deviation of unit weight
+    bool accepted = false;            // passed the quality gate
+    std::string quality_json = "{}";  // further quality figures, free form
+};
+
+struct TargetObservation {
+    std::string target;                // name of the reference target
+    std::string kind;                  // "sphere", "plane", ...
+    std::array<double, 3> measured{};  // centre in the scan frame, metres
+    std::array<double, 3> residual{};  // project frame, metres
+    bool stable = true;                // passed the stability test
+    bool used = true;                  // used in the transformation estimate
+};
+
+// Aggregate of one quantity over one zone in one epoch: one point of a time series.
+struct ZoneResult {
+    std::string zone;      // zone name (the zone must exist: Site::upsert_zone)
+    std::string quantity;  // e.g. "m3c2_mean_m", "keypoint_dz_m"
+    double value = 0;
+    std::optional<double> uncertainty;  // e.g. LoD95 or standard error, same unit as value
+    std::int64_t n = 0;                 // number of core points / keypoints aggregated
+    bool significant = false;           // |value| > LoD
+};
+
+// One value per core point (in the reference's core point order), stored as float32.
+struct CorePointArray {
+    std::string quantity;  // e.g. "m3c2_distance_m", "lod95_m"
+    std::vector<float> values;
+};
+
+// Everything one processed epoch produces, written by ResultsWriter::commit in one
+// transaction.
+struct EpochResults {
+    // done (analysed) or rejected (quality gate; reason required, zone results not allowed).
+    EpochStatus outcome = EpochStatus::done;
+    std::string reason;
+    std::optional<std::int64_t> point_count;
+    EpochTimings timings;
+    std::optional<std::string> archive_path;
+    std::optional<RegistrationRow> registration;
+    std::vector<TargetObservation> targets;
+    std::vector<ZoneResult> zone_results;
+    std::vector<CorePointArray> core_point_arrays;
+    std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed
+    std::vector<AlarmEvent> alarm_events;
+    std::vector<SystemEvent> system_events;
+};
+
+}  // namespace tlsmon

@@ -1,0 +1,80 @@
+#pragma once
+// Reads for `tlsmon status|query|events` and the HTTP API: the status summary, epochs and
+// time series by acquisition time, events, and the per-epoch results.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/utc_time.hpp"
+#include "storage/alarm_store.hpp"
+#include "storage/epoch_results.hpp"
+#include "storage/epochs.hpp"
+#include "storage/ids.hpp"
+
+namespace tlsmon {
+
+struct TimeRange {
+    std::optional<UtcSeconds> from;  // inclusive
+    std::optional<UtcSeconds> to;    // inclusive
+};
+
+struct SeriesPoint {
+    EpochId epoch = 0;
+    UtcSeconds acquired = 0;
+    double value = 0;
+    std::optional<double> uncertainty;
+    std::int64_t n = 0;
+    bool significant = false;
+};
+
+// A system or alarm event in one list (tlsmon events).
+struct EventRow {
+    UtcSeconds time = 0;
+    std::string source;  // "system" or "alarm"
+    std::string level;
+    std::string kind;
+    std::string message;
+    std::optional<EpochId> epoch;
+    std::string rule;  // alarm events only
+};
+
+struct StatusSummary {
+    std::map<EpochStatus, std::int64_t> epochs_by_status;  // every status present, 0 if none
+    std::optional<Epoch> last_done;                        // latest acquisition among done
+    std::int64_t backlog = 0;                              // pending + processing
+    std::optional<UtcSeconds> oldest_pending;              // acquisition time
+    std::optional<Epoch> last_failure;                     // latest failed or rejected
+    std::optional<EpochId> reference_epoch;
+    std::int64_t alarms_active = 0;  // rules whose state is not "normal"
+    std::int64_t alarms_unacknowledged = 0;
+    std::vector<AlarmState> alarm_states;  // every rule with a state
+    std::int64_t database_bytes = 0;       // main file + WAL
+    int schema_version = 0;
+};
+
+class SeriesReader {
+  public:
+    explicit SeriesReader(Connection& connection) : c_(&connection) {}
+
+    StatusSummary status_summary() const;
+    std::vector<Epoch> epochs_in_range(const TimeRange& range) const;  // by acquisition time
+    // The time series of one quantity in one zone, by acquisition time.
+    std::vector<SeriesPoint> points(const std::string& zone, const std::string& quantity,
+                                    const TimeRange& range) const;
+    // Distinct quantities stored for a zone.
+    std::vector<std::string> quantities(const std::string& zone) const;
+    // System and alarm events by time; `kind` filters on the event kind when given.
+    std::vector<EventRow> events(const TimeRange& range,
+                                 const std::optional<std::string>& kind = std::nullopt) const;
+    std::optional<CorePointArray> core_point_array(EpochId id, const std::string& quantity) const;
+    std::optional<RegistrationRow> registration(EpochId id) const;
+    std::vector<TargetObservation> target_observations(EpochId id) const;
+    std::int64_t database_bytes() const;  // main file + WAL on disk
+
+  private:
+    Connection* c_;
+};
+
+}  // namespace tlsmon

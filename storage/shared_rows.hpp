@@ -1,0 +1,27 @@
+#pragma once
+// Private to storage/: row reads and single-row writes used by more than one store (the
+// epoch commit writes alarm and system events in its own transaction). No transaction here.
+#include <SQLiteCpp/SQLiteCpp.h>
+
+#include <string>
+
+#include "storage/alarm_store.hpp"
+#include "storage/epochs.hpp"
+#include "storage/event_log.hpp"
+#include "storage/ids.hpp"
+
+namespace tlsmon {
+
+// The columns of an epoch row in the order read_epoch expects.
+extern const char* const kEpochColumns;
+Epoch read_epoch(SQLite::Statement& s);
+
+// Lookups by name; an unknown name is a StorageError naming it.
+ZoneId zone_id_by_name(Connection& c, const std::string& zone);
+AlarmRuleId rule_id_by_name(Connection& c, const std::string& rule);
+
+void write_alarm_state(Connection& c, const AlarmState& state);
+void write_alarm_event(Connection& c, const AlarmEvent& event);
+void write_system_event(Connection& c, const SystemEvent& event);
+
+}  // namespace tlsmon
