@@ -67,6 +67,7 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       site_(*connection_),
       results_(*connection_),
       series_(*connection_),
+      reference_cache_(*connection_),
       alarms_(*connection_),
       events_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;

@@ -1,10 +1,12 @@
 #pragma once
 // The epoch database: one SQLite file holding every scan seen (an epoch), its processing
-// status, the results of its analyses per zone (the time series), alarm state and the
-// system's event log. Only storage/ knows SQL; everything here is plain structs.
+// status, the results of its analyses per zone (the time series), the reference-epoch
+// cache, alarm state and the system's event log. Only storage/ knows SQL; everything here is
+// plain structs.
 //
-// One EpochDatabase owns ONE connection; the stores it hands out are views of concerns over
-// events()) and live as long as it does.
+// One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
+// each over that connection (epochs(), site(), results(), series(), reference_cache(),
+// alarms(), events()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -22,6 +24,7 @@
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
 #include "storage/ids.hpp"
+#include "storage/reference_cache_store.hpp"
 #include "storage/results_writer.hpp"
 #include "storage/series_reader.hpp"
 #include "storage/site.hpp"
@@ -57,6 +60,8 @@ class EpochDatabase {
     const Site& site() const { return site_; }
     ResultsWriter& results() { return results_; }
     const SeriesReader& series() const { return series_; }
+    ReferenceCacheStore& reference_cache() { return reference_cache_; }
+    const ReferenceCacheStore& reference_cache() const { return reference_cache_; }
     AlarmStore& alarms() { return alarms_; }
     const AlarmStore& alarms() const { return alarms_; }
     EventLog& events() { return events_; }
@@ -70,6 +75,7 @@ class EpochDatabase {
     Site site_;
     ResultsWriter results_;
     SeriesReader series_;
+    ReferenceCacheStore reference_cache_;
     AlarmStore alarms_;
     EventLog events_;
 };

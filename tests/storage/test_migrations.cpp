@@ -45,7 +45,7 @@ TEST(Migrations, AppliedAndRecordedOnCreate) {
     for (const char* table :
          {"stations", "epochs", "reference_epoch", "registrations", "target_observations", "zones",
           "quantities", "zone_results", "core_point_arrays", "alarm_rules", "alarm_states",
-          "alarm_events", "system_events"}) {
+          "alarm_events", "system_events", "reference_cache"}) {
         EXPECT_TRUE(raw.tableExists(table)) << table;
     }
     EXPECT_EQ(raw.execAndGet("PRAGMA journal_mode").getString(), "wal");
@@ -66,6 +66,32 @@ TEST(Migrations, ReopenIsIdempotentAndKeepsData) {
     SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
     EXPECT_EQ(raw.execAndGet("SELECT count(*) FROM schema_migrations").getInt(),
               static_cast<int>(schema_migrations().size()));
+}
+
+// A file written by a tlsmon that knew only 0001 gets the later migrations at the next
+// read_write open, its epochs kept; a reader refuses it until then.
+TEST(Migrations, OlderDatabaseIsMigratedKeepingData) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    {
+        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+        raw.exec(
+            "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT NULL,"
+            " applied INTEGER NOT NULL)");
+        raw.exec(schema_migrations()[0].sql);
+        raw.exec("INSERT INTO schema_migrations VALUES (1, '0001_initial', 0)");
+        raw.exec(
+            "INSERT INTO epochs (sha256, acquired, discovered, updated, file_path, file_size)"
+            " VALUES ('" +
+            test::fake_sha256(7) + "', 100, 100, 100, '/ingest/a.ptx', 1)");
+    }
+    EXPECT_THROW(EpochDatabase::open(path, Mode::read_only), StorageError);
+    auto db = EpochDatabase::open(path, Mode::read_write);
+    EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
+    EXPECT_GE(db.schema_version(), 2);
+    EXPECT_EQ(db.epochs().find_by_sha256(test::fake_sha256(7))->file_path, "/ingest/a.ptx");
+    EXPECT_EQ(db.reference_cache().load({"s", test::fake_sha256(7), "p", 1}).status,
+              CacheLookup::missing);
 }
 
 TEST(Migrations, NewerDatabaseIsRefused) {

@@ -1,0 +1,25 @@
+#include "storage/payload_checksum.hpp"
+
+#include <openssl/evp.h>
+
+#include "storage/storage_error.hpp"
+
+namespace tlsmon {
+
+std::string payload_sha256(std::string_view bytes) {
+    unsigned char md[EVP_MAX_MD_SIZE];
+    unsigned int n = 0;
+    if (EVP_Digest(bytes.data(), bytes.size(), md, &n, EVP_sha256(), nullptr) != 1) {
+        throw StorageError("SHA-256 of a reference cache payload: OpenSSL failed");
+    }
+    static const char* digits = "0123456789abcdef";
+    std::string out;
+    out.reserve(2 * n);
+    for (unsigned int i = 0; i < n; ++i) {
+        out += digits[md[i] >> 4];
+        out += digits[md[i] & 15];
+    }
+    return out;
+}
+
+}  // namespace tlsmon
