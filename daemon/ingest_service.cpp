@@ -11,10 +11,10 @@
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/logging.hpp"
-#include "pipeline/epoch_pipeline.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
+#include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
 
@@ -65,13 +65,19 @@ class Daemon {
 
   private:
     IngestContext context() { return IngestContext{db_, config_, station_, events_}; }
-    PipelineContext pipeline() { return PipelineContext{db_, pipeline_config_, events_}; }
+    PipelineContext pipeline() {
+        return PipelineContext{db_, pipeline_config_, events_, reference_cache_};
+    }
     void start();
     void reload();
     void ingest_complete_files(Clock::time_point now);
     // Processes pending epochs until none is left, a retry is due later, or stop.
     void process_backlog();
     void report_status();
+    std::string since_start() const {
+        return std::to_string(done_) + " epoch(s) done, " + std::to_string(rejected_) +
+               " rejected, " + std::to_string(failed_) + " failed since start";
+    }
     Clock::duration next_wait(Clock::time_point now) const;
 
     Config config_;
@@ -80,6 +86,7 @@ class Daemon {
     EpochDatabase db_;
     FolderWatcher watcher_;
     PipelineConfig pipeline_config_;
+    ReferenceCache reference_cache_{db_};
     SystemdNotify systemd_;
     SystemEventLog events_;
     std::optional<StationId> station_;
@@ -88,7 +95,7 @@ class Daemon {
     double backoff_ = 0;
     std::vector<fs::path> retry_files_;
     Clock::time_point next_status_{};
-    std::int64_t done_ = 0, failed_ = 0;
+    std::int64_t done_ = 0, rejected_ = 0, failed_ = 0;
 };
 
 void Daemon::start() {
@@ -173,6 +180,7 @@ void Daemon::process_backlog() {
                 return;
             }
             if (outcome == EpochOutcome::done) ++done_;
+            if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;
             backoff_ = 0;
             systemd_.watchdog_if_due();
@@ -192,8 +200,7 @@ void Daemon::report_status() {
     const auto now = Clock::now();
     if (now < next_status_) return;
     next_status_ = now + seconds(config_.daemon.status_interval);
-    std::string text = std::to_string(done_) + " epoch(s) done, " + std::to_string(failed_) +
-                       " failed since start";
+    std::string text = since_start();
     if (now < retry_at_) text += "; waiting to retry after a disk/database error";
     systemd_.status(text);
 }
@@ -234,9 +241,7 @@ void Daemon::run() {
         if (fds[1].revents & POLLIN) shutdown_.clear_wakeup();
     }
     systemd_.stopping();
-    events_.record(db_, "info", "stop",
-                   "tlsmon stopped; " + std::to_string(done_) + " epoch(s) done, " +
-                       std::to_string(failed_) + " failed since start");
+    events_.record(db_, "info", "stop", "tlsmon stopped; " + since_start());
 }
 
 }  // namespace

@@ -6,9 +6,10 @@
 #include <cerrno>
 #include <chrono>
 
+#include "core/utc_time.hpp"
+#include "formats/scan_file.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "pipeline/sha256.hpp"
-#include "formats/scan_file.hpp"
 
 namespace tlsmon {
 
@@ -33,6 +34,26 @@ std::pair<std::int64_t, std::int64_t> size_and_mtime(const fs::path& file) {
     return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
 }
 
+// The reference epoch's scans, read again from where its file is now (the archive, or the
+// ingest folder with archive = "keep") and checked against its sha256.
+ReferenceEpoch::Scans read_reference_scans(const Epoch& reference) {
+    const fs::path file =
+        reference.archive_path ? fs::path(*reference.archive_path) : fs::path(reference.file_path);
+    HashedBytes content;
+    try {
+        content = read_file_hashed(file);
+    } catch (const FileAccessError& e) {
+        throw Error("the reference epoch's scan is needed and cannot be read: " +
+                    std::string(e.what()));
+    }
+    if (content.sha256 != reference.sha256) {
+        throw Error("the reference epoch's scan is needed, and " + file.string() +
+                    " no longer holds its content (sha256 " + content.sha256.substr(0, 12) +
+                    " instead of " + reference.sha256.substr(0, 12) + ")");
+    }
+    return std::make_shared<const std::vector<Scan>>(parse_scans(content.bytes, file));
+}
+
 // `quarantine`: move the file to quarantine. Not when the file holds another content than
 // the epoch's: that content is another epoch, which ingest finds under this name.
 EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& reason,
@@ -41,8 +62,8 @@ EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& r
     std::optional<std::string> moved_to;
     std::error_code ec;
     if (quarantine && fs::exists(file, ec)) {
-        const fs::path to = free_name(ctx.config.quarantine, file.filename().string(),
-                                      epoch.sha256.substr(0, 12));
+        const fs::path to =
+            free_name(ctx.config.quarantine, file.filename().string(), epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
         moved_to = to.string();
     }
@@ -80,6 +101,60 @@ void ensure_reference(PipelineContext& ctx) {
     }
 }
 
+namespace {
+
+// The reference epoch for `epoch`: the one the database names, or `epoch` itself when none is
+// set yet and it may be the reference (ensure_reference records it after the commit).
+std::optional<ReferenceEpoch> reference_for(PipelineContext& ctx, const Epoch& epoch,
+                                            const ReferenceEpoch::Scans& scans) {
+    if (const auto id = ctx.db.epochs().reference()) {
+        const auto reference = ctx.db.epochs().find(*id);
+        if (!reference) return std::nullopt;
+        return ReferenceEpoch(*reference, [reference] { return read_reference_scans(*reference); });
+    }
+    if (!names_reference(ctx.config, epoch)) return std::nullopt;
+    return ReferenceEpoch(epoch, [scans] { return scans; });
+}
+
+// The stages in order. Each gets the epoch, the reference and its own config section, and
+// records its time; the first that cannot run for this epoch decides its rejection.
+StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResults& results) {
+    std::optional<ReferenceEpoch> reference = reference_for(ctx, input.epoch, input.scans);
+    if (!reference) {
+        StageVerdict none;
+        none.rejected = "no reference epoch yet: ingest.reference_epoch = '" +
+                        ctx.config.reference_epoch + "' has not been processed";
+        return none;
+    }
+    const auto timed = [&](const char* stage, auto&& run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        StageVerdict verdict;
+        try {
+            verdict = run();
+        } catch (const StorageError&) {
+            throw;
+        } catch (const Error& e) {  // e.g. the reference's file is gone and a product is not cached
+            verdict.rejected = std::string(stage) + ": " + e.what();
+        }
+        results.stages.push_back(StageRun{stage, ms_since(t0), verdict.rejected, verdict.note});
+        return verdict;
+    };
+
+    CoverageResult coverage;
+    if (auto v = timed("coverage",
+                       [&] {
+                           return check_coverage(ctx.config.coverage, input, *reference, ctx.cache,
+                                                 coverage);
+                       });
+        !v.ran()) {
+        return v;
+    }
+    // Registration, M3C2, keypoints, zones and alarms follow here, in this order.
+    return {};
+}
+
+}  // namespace
+
 EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
@@ -100,30 +175,28 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         };
         EpochResults results;
         const auto t_read = std::chrono::steady_clock::now();
-        std::string bytes;
+        HashedBytes content;
         try {
-            bytes = read_file_bytes(file);
+            content = read_file_hashed(file);
         } catch (const FileAccessError& e) {
             if (e.error_number() == ENOENT) {
                 return fail(ctx, epoch, "the file vanished before it was processed");
             }
             return fail(ctx, epoch, e.what());
         }
-        if (sha256_text(bytes) != epoch.sha256) {
+        if (content.sha256 != epoch.sha256) {
             if (size_and_mtime(file) != before) return read_again();  // still being written
             return fail(
                 ctx, epoch,
                 file.string() + ": the file was replaced by other content before it was read",
                 false);
         }
+        std::shared_ptr<const std::vector<Scan>> scans;
         try {
-            const std::vector<Scan> scans = parse_scans(bytes, file);
+            scans = std::make_shared<const std::vector<Scan>>(parse_scans(content.bytes, file));
             results.timings.read_ms = ms_since(t_read);
-            if (size_and_mtime(file) != before) {  // PLY/PCD are read from the file again
-                return read_again();
-            }
             std::int64_t points = 0;
-            for (const auto& s : scans) points += static_cast<std::int64_t>(s.size());
+            for (const auto& s : *scans) points += static_cast<std::int64_t>(s.size());
             if (points == 0) return fail(ctx, epoch, file.string() + ": the file holds no points");
             results.point_count = points;
         } catch (const StorageError&) {
@@ -134,17 +207,36 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
             }
             return fail(ctx, epoch, e.what());
         }
-        // Registration and the analyses plug in here as they become available.
+        content = {};  // the scan is parsed; its bytes are not needed any more
+
+        const auto t_analyse = std::chrono::steady_clock::now();
+        const StageVerdict verdict = run_stages(ctx, EpochInput{epoch, scans}, results);
+        results.timings.analyse_ms = ms_since(t_analyse);
+        if (!verdict.ran()) {
+            results.outcome = EpochStatus::rejected;
+            results.reason = verdict.rejected;
+        }
+
         std::optional<fs::path> archive_to;
         if (ctx.config.archive_mode == ArchiveMode::move) {
-            archive_to = free_name(ctx.config.archive, file.filename().string(),
-                                   epoch.sha256.substr(0, 12));
+            archive_to =
+                free_name(ctx.config.archive, file.filename().string(), epoch.sha256.substr(0, 12));
             results.archive_path = archive_to->string();
         }
         results.timings.total_ms = ms_since(t0);
+        if (!verdict.ran()) {
+            results.system_events.push_back(SystemEvent{
+                now_utc(), "warning", "epoch_rejected",
+                "epoch " + std::to_string(epoch.id) + " rejected: " + verdict.rejected, epoch.id});
+        }
         ctx.db.results().commit(epoch.id, results);
-        spdlog::info("epoch {} done: {} points, read {:.0f} ms ({})", epoch.id,
-                     *results.point_count, *results.timings.read_ms, file.string());
+        if (verdict.ran()) {
+            spdlog::info("epoch {} done: {} points, read {:.0f} ms, analyses {:.0f} ms ({})",
+                         epoch.id, *results.point_count, *results.timings.read_ms,
+                         *results.timings.analyse_ms, file.string());
+        } else {
+            spdlog::warn("epoch {} rejected: {} ({})", epoch.id, verdict.rejected, file.string());
+        }
         if (archive_to) {
             try {
                 move_file(file, *archive_to);
@@ -157,7 +249,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         } catch (const StorageError& e) {
             spdlog::warn("the reference epoch is not set yet: {}", e.what());
         }
-        return EpochOutcome::done;
+        return verdict.ran() ? EpochOutcome::done : EpochOutcome::rejected;
     } catch (const StorageError& e) {
         ctx.events.record(
             ctx.db, "error", e.disk_full() ? "disk_full" : "database_error",

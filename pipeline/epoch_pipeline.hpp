@@ -1,11 +1,15 @@
 #pragma once
-// Processing one pending epoch: claim -> read the scan -> the stages that exist (recording
-// what was done: point count, timings) -> commit in one transaction -> archive the file.
-// An unreadable file goes to quarantine and the epoch is `failed` with the reason; a disk
-// or database failure puts the epoch back to `pending` for a later retry.
+// Processing one pending epoch: claim -> read the file once and check its sha256 -> parse ->
+// the stages in order against the reference epoch (run_stages in epoch_pipeline.cpp) ->
+// commit everything in one transaction -> archive the file.
+// An unreadable file goes to quarantine and the epoch is `failed` with the reason; an epoch
+// a stage cannot analyse is `rejected` with the stage's reason; a disk or database failure
+// puts the epoch back to `pending` for a later retry.
 #include <filesystem>
 #include <string>
 
+#include "pipeline/coverage_stage.hpp"
+#include "pipeline/reference_cache.hpp"
 #include "pipeline/system_event_log.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -19,15 +23,17 @@ struct PipelineConfig {
     std::filesystem::path quarantine;  // unreadable files + <name>.reason.txt
     ArchiveMode archive_mode = ArchiveMode::move;
     std::string reference_epoch;  // "" = first accepted epoch; else file name or sha256
+    CoverageConfig coverage;
 };
 
 struct PipelineContext {
     EpochDatabase& db;
     const PipelineConfig& config;
     SystemEventLog& events;
+    ReferenceCache& cache;  // lives as long as the daemon: products stay in memory
 };
 
-enum class EpochOutcome { done, failed, retry_later, skipped };
+enum class EpochOutcome { done, rejected, failed, retry_later, skipped };
 
 EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch);
 

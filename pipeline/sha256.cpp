@@ -2,8 +2,10 @@
 
 #include <fcntl.h>
 #include <openssl/evp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <memory>
@@ -45,44 +47,71 @@ class Digest {
 
 namespace {
 
-// Reads the whole file in 1 MiB chunks, handing each to `take`. Throws FileAccessError.
-template <typename Take>
-void read_chunks(const std::filesystem::path& path, Take&& take) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        const int e = errno;
-        throw FileAccessError(path.string() + ": cannot open: " + std::strerror(e), e);
+constexpr std::size_t kChunk = 1 << 20;
+
+class InputFile {
+  public:
+    explicit InputFile(const std::filesystem::path& path) : path_(path) {
+        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd_ < 0) {
+            const int e = errno;
+            throw FileAccessError(path.string() + ": cannot open: " + std::strerror(e), e);
+        }
     }
-    std::vector<char> buffer(1 << 20);
-    for (;;) {
-        const ssize_t n = ::read(fd, buffer.data(), buffer.size());
-        if (n == 0) break;
-        if (n < 0) {
+    InputFile(const InputFile&) = delete;
+    InputFile& operator=(const InputFile&) = delete;
+    ~InputFile() { ::close(fd_); }
+
+    // Up to `n` bytes into `to`; 0 at the end of the file. Throws FileAccessError.
+    std::size_t read(char* to, std::size_t n) {
+        for (;;) {
+            const ssize_t got = ::read(fd_, to, n);
+            if (got >= 0) return static_cast<std::size_t>(got);
             if (errno == EINTR) continue;
             const int e = errno;
-            ::close(fd);
-            throw FileAccessError(path.string() + ": read error: " + std::strerror(e), e);
+            throw FileAccessError(path_.string() + ": read error: " + std::strerror(e), e);
         }
-        take(buffer.data(), static_cast<std::size_t>(n));
     }
-    ::close(fd);
-}
+    std::size_t size() const {
+        struct stat st {};
+        return ::fstat(fd_, &st) == 0 ? static_cast<std::size_t>(st.st_size) : 0;
+    }
+
+  private:
+    const std::filesystem::path& path_;
+    int fd_ = -1;
+};
 
 }  // namespace
 
 std::string sha256_file(const std::filesystem::path& path) {
+    InputFile file(path);
     Digest digest;
-    read_chunks(path, [&](const char* data, std::size_t n) { digest.update(data, n); });
+    std::vector<char> buffer(kChunk);
+    while (const std::size_t n = file.read(buffer.data(), buffer.size()))
+        digest.update(buffer.data(), n);
     return digest.hex();
 }
 
-std::string read_file_bytes(const std::filesystem::path& path) {
-    std::string bytes;
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!ec) bytes.reserve(size);
-    read_chunks(path, [&](const char* data, std::size_t n) { bytes.append(data, n); });
-    return bytes;
+HashedBytes read_file_hashed(const std::filesystem::path& path) {
+    InputFile file(path);
+    Digest digest;
+    HashedBytes out;
+    // Read into the final buffer (sized from fstat, grown if the file grows meanwhile) and
+    // hash each chunk right after it arrives.
+    std::size_t used = 0;
+    out.bytes.resize(file.size() + 1);  // +1: the read that finds the end needs room
+    for (;;) {
+        if (used == out.bytes.size()) out.bytes.resize(out.bytes.size() * 2);
+        const std::size_t n =
+            file.read(out.bytes.data() + used, std::min(kChunk, out.bytes.size() - used));
+        if (n == 0) break;
+        digest.update(out.bytes.data() + used, n);
+        used += n;
+    }
+    out.bytes.resize(used);
+    out.sha256 = digest.hex();
+    return out;
 }
 
 std::string sha256_text(const std::string& bytes) {

@@ -23,8 +23,14 @@ std::string sha256_file(const std::filesystem::path& path);
 // The same for bytes in memory.
 std::string sha256_text(const std::string& bytes);
 
-// The whole file in memory (the daemon hashes and parses these same bytes). Throws
-// FileAccessError.
-std::string read_file_bytes(const std::filesystem::path& path);
+// A whole file in memory with the SHA-256 of exactly those bytes.
+struct HashedBytes {
+    std::string bytes;
+    std::string sha256;
+};
+// Reads the file once, straight into its final buffer, and hashes each chunk while it is
+// still in cache: one pass over the data, so the bytes the daemon parses are the bytes whose
+// hash it compares with the epoch's. Throws FileAccessError.
+HashedBytes read_file_hashed(const std::filesystem::path& path);
 
 }  // namespace tlsmon

@@ -52,12 +52,21 @@ struct CorePointArray {
 
 // Everything one processed epoch produces, written by ResultsWriter::commit in one
 // transaction.
+// One pipeline stage that ran for the epoch, in the order they ran.
+struct StageRun {
+    std::string stage;
+    double ms = 0;
+    std::string rejected;  // why this stage rejected the epoch; "" when it ran through
+    std::string note;      // what it measured, in a few words
+};
+
 struct EpochResults {
     // done (analysed) or rejected (quality gate; reason required, zone results not allowed).
     EpochStatus outcome = EpochStatus::done;
     std::string reason;
     std::optional<std::int64_t> point_count;
     EpochTimings timings;
+    std::vector<StageRun> stages;
     std::optional<std::string> archive_path;
     std::optional<RegistrationRow> registration;
     std::vector<TargetObservation> targets;

@@ -125,6 +125,23 @@ void write_core_point_arrays(Connection& c, EpochId id, const std::vector<CorePo
     }
 }
 
+void write_stages(Connection& c, EpochId id, const std::vector<StageRun>& stages) {
+    if (stages.empty()) return;
+    SQLite::Statement s(c.db,
+                        "INSERT INTO epoch_stages (epoch_id, position, stage, ms, rejected, note)"
+                        " VALUES (?,?,?,?,?,?)");
+    for (std::size_t k = 0; k < stages.size(); ++k) {
+        s.reset();
+        s.bind(1, id);
+        s.bind(2, static_cast<std::int64_t>(k));
+        s.bind(3, stages[k].stage);
+        s.bind(4, stages[k].ms);
+        s.bind(5, stages[k].rejected);
+        s.bind(6, stages[k].note);
+        s.exec();
+    }
+}
+
 void write_status(Connection& c, EpochId id, const EpochResults& r) {
     SQLite::Statement s(c.db,
                         "UPDATE epochs SET status = ?, reason = ?, updated = ?, point_count = ?,"
@@ -157,6 +174,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results) {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
         // The status first: an epoch that is not ours fails before anything is written.
         write_status(*c_, id, results);
+        write_stages(*c_, id, results.stages);
         if (results.registration) write_registration(*c_, id, *results.registration);
         write_targets(*c_, id, results.targets);
         write_zone_results(*c_, id, results.zone_results);

@@ -221,4 +221,19 @@ std::vector<TargetObservation> SeriesReader::target_observations(EpochId id) con
     });
 }
 
+std::vector<StageRun> SeriesReader::stages(EpochId id) const {
+    return guarded(*c_, "reading the stages of an epoch", [&] {
+        SQLite::Statement s(c_->db,
+                            "SELECT stage, ms, rejected, note FROM epoch_stages WHERE epoch_id = ?"
+                            " ORDER BY position");
+        s.bind(1, id);
+        std::vector<StageRun> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getString(), s.getColumn(1).getDouble(),
+                           s.getColumn(2).getString(), s.getColumn(3).getString()});
+        }
+        return out;
+    });
+}
+
 }  // namespace tlsmon

@@ -30,7 +30,8 @@ TEST(PipelineDiskFull, CommitRefusedKeepsTheEpochAndSucceedsLater) {
     EpochDatabase db = EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
     SystemEventLog events;
     const PipelineConfig pipeline = pipeline_config(config);
-    PipelineContext ctx{db, pipeline, events};
+    ReferenceCache cache{db};
+    PipelineContext ctx{db, pipeline, events, cache};
     const EpochInsert ins =
         db.epochs().insert(NewEpoch{sha256_file(scan), 1780293600, scan, 100, std::nullopt});
     ASSERT_TRUE(ins.inserted);

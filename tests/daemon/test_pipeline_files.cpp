@@ -22,7 +22,8 @@ struct PipelineSite {
     SystemEventLog events;
     IngestContext ctx{db, config, std::nullopt, events};
     PipelineConfig pipeline = pipeline_config(config);
-    PipelineContext pipeline_ctx{db, pipeline, events};
+    ReferenceCache cache{db};
+    PipelineContext pipeline_ctx{db, pipeline, events, cache};
 
     EpochDatabase open() {
         fs::create_directories(config.paths.archive);
