@@ -1,5 +1,6 @@
-// Opening the SQLite connection of an EpochDatabase: a writer creates and migrates; a reader
-// writes nothing and reads from a folder it cannot write.
+// Opening the SQLite connection of an EpochDatabase: a writer creates, migrates and says
+// which permission is missing; a reader writes nothing and reads from a folder it cannot
+// write.
 #include "storage/open_connection.hpp"
 
 #include <sqlite3.h>
@@ -76,6 +77,12 @@ std::unique_ptr<Connection> open_and_migrate(const fs::path& path,
                                              std::chrono::milliseconds busy_timeout) {
     auto c = connect(path, path.string(), Mode::read_write,
                      SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE, busy_timeout);
+    // SQLite quietly opens a file it may not write read-only; the daemon would then start
+    // and fail at its first write. Refuse it here, where the permission can be named.
+    if (sqlite3_db_readonly(c->db.getHandle(), "main") == 1) {
+        throw StorageError(path.string() + ": opening the epoch database: opened read-only",
+                           SQLITE_READONLY, SQLITE_READONLY);
+    }
     guarded(*c, "setting connection pragmas", [&] {
         c->db.exec("PRAGMA foreign_keys = ON");
         const std::string journal = c->db.execAndGet("PRAGMA journal_mode = WAL");
@@ -97,7 +104,19 @@ std::unique_ptr<Connection> open_and_migrate(const fs::path& path,
 
 std::unique_ptr<Connection> open_read_write(const fs::path& path,
                                             std::chrono::milliseconds busy_timeout) {
-    return open_and_migrate(path, busy_timeout);
+    try {
+        return open_and_migrate(path, busy_timeout);
+    } catch (const StorageError& e) {
+        // SQLite says only "unable to open database file" or "attempt to write a readonly
+        // database"; name the folder or file and the permission instead. Checked after the
+        // failure, so a successful open costs nothing and no check can disagree with it.
+        if (!has_primary_code(e, {SQLITE_CANTOPEN, SQLITE_READONLY, SQLITE_PERM, SQLITE_IOERR})) {
+            throw;
+        }
+        const auto why = missing_write_permission(path);
+        if (!why) throw;
+        throw StorageError(*why + " (" + e.what() + ")", e.sqlite_code(), e.extended_code());
+    }
 }
 
 // A reader first opens as SQLite intends (read-only). Since SQLite 3.22 that reads a WAL

@@ -8,7 +8,9 @@
 
 namespace tlsmon {
 
-// Creates the file if needed, WAL and synchronous=FULL, migrated to the latest schema.
+// Creates the file if needed, WAL and synchronous=FULL, migrated to the latest schema. A
+// failure caused by a folder or file the user may not write is a StorageError naming it and
+// the permission missing (file_access.hpp).
 std::unique_ptr<Connection> open_read_write(const std::filesystem::path& path,
                                             std::chrono::milliseconds busy_timeout);
 
