@@ -5,10 +5,14 @@
 //  2. the series query for one zone and quantity over one year of 15-minute epochs
 //     (35,040 epochs, generated), through the API and through `tlsmon query series`
 //     end to end. Target: under 100 ms.
-// Usage: bench_epoch_database [DIR [TLSMON]]  (DIR: where the databases go, default a temp
-// folder; TLSMON: the binary, default ../daemon/tlsmon next to this program).
+// Every time is reported as its median and spread (quartiles and range), not only the best.
+// Usage: bench_epoch_database [DIR [TLSMON]]  (DIR: where the databases go, kept for reruns;
+// default a new temporary folder, removed at the end; TLSMON: the binary, default
+// ../daemon/tlsmon next to this program).
 #include "storage/epoch_database.hpp"
 
+#include <signal.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,7 +21,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/utc_time.hpp"
@@ -102,9 +108,27 @@ void fill(EpochDatabase& db, int epochs, bool with_arrays, std::vector<double>* 
     }
 }
 
+// The value at fraction q (0..1) of the sorted sample, interpolated between neighbours.
+double quantile(const std::vector<double>& sorted, double q) {
+    const double at = q * static_cast<double>(sorted.size() - 1);
+    const auto below = static_cast<std::size_t>(at);
+    const std::size_t above = std::min(below + 1, sorted.size() - 1);
+    return sorted[below] + (at - static_cast<double>(below)) * (sorted[above] - sorted[below]);
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
+    return quantile(v, 0.5);
+}
+
+// "median 1.23 ms (quartiles 1.10-1.40, range 1.02-2.50, n=11)".
+std::string spread(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "median %.2f ms (quartiles %.2f-%.2f, range %.2f-%.2f, n=%zu)",
+                  quantile(v, 0.5), quantile(v, 0.25), quantile(v, 0.75), v.front(), v.back(),
+                  v.size());
+    return buf;
 }
 
 double run_binary(const std::string& command) {
@@ -112,23 +136,78 @@ double run_binary(const std::string& command) {
     const int status = std::system(command.c_str());
     const double ms = ms_since(t);
     if (status != 0) {
-        std::fprintf(stderr, "failed (%d): %s\n", status, command.c_str());
-        std::exit(1);
+        throw std::runtime_error("failed (" + std::to_string(status) + "): " + command);
     }
     return ms;
 }
 
+// A new folder under the system's temporary folder (mkdtemp: a fresh unique name, never a
+// fixed path another user could have prepared), removed with its contents at the end.
+class ScratchFolder {
+  public:
+    ScratchFolder() {
+        std::string name = (fs::temp_directory_path() / "tlsmon-bench-db-XXXXXX").string();
+        if (!::mkdtemp(name.data())) throw std::runtime_error("mkdtemp failed for " + name);
+        path_ = name;
+    }
+    // Ctrl-C or a timeout during the long year generation would leave a database of about a
+    // gigabyte behind: SIGINT and SIGTERM go to a thread that removes the folder and ends the
+    // program (called before any other thread starts, so every thread has them blocked).
+    void remove_on_signal() const {
+        sigset_t set;
+        sigemptyset(&set);
+        sigaddset(&set, SIGINT);
+        sigaddset(&set, SIGTERM);
+        pthread_sigmask(SIG_BLOCK, &set, nullptr);
+        std::thread([set, dir = path_] {
+            int sig = 0;
+            sigwait(&set, &sig);
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+            std::_Exit(128 + sig);
+        }).detach();
+    }
+    ~ScratchFolder() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    ScratchFolder(const ScratchFolder&) = delete;
+    ScratchFolder& operator=(const ScratchFolder&) = delete;
+    const fs::path& path() const { return path_; }
+
+  private:
+    fs::path path_;
+};
+
+void run(const fs::path& dir, const fs::path& tlsmon);
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    const fs::path dir =
-        argc > 1 ? fs::path(argv[1])
-                 : fs::temp_directory_path() / ("tlsmon-bench-db-" + std::to_string(::getpid()));
-    const fs::path tlsmon =
-        argc > 2 ? fs::path(argv[2])
-                 : fs::read_symlink("/proc/self/exe").parent_path() / ".." / "daemon" / "tlsmon";
-    fs::create_directories(dir);
+    // Line by line, so a run stopped during the long year generation keeps what it measured.
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    try {
+        const fs::path tlsmon = argc > 2 ? fs::path(argv[2])
+                                         : fs::read_symlink("/proc/self/exe").parent_path() / ".." /
+                                               "daemon" / "tlsmon";
+        if (argc > 1) {
+            fs::create_directories(argv[1]);
+            run(argv[1], tlsmon);
+        } else {
+            ScratchFolder scratch;
+            scratch.remove_on_signal();
+            run(scratch.path(), tlsmon);
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_epoch_database: %s\n", e.what());
+        return 1;
+    }
+}
 
+namespace {
+
+void run(const fs::path& dir, const fs::path& tlsmon) {
     // 1. Bytes per epoch: N epochs, then closed (the WAL is checkpointed into the file).
     constexpr int kSizeEpochs = 200;
     for (bool arrays : {false, true}) {
@@ -148,10 +227,10 @@ int main(int argc, char** argv) {
         const auto bytes = static_cast<std::int64_t>(fs::file_size(path));
         std::printf(
             "bytes per epoch, %d zones x 4 quantities%s: %.0f B (%d epochs, file %lld B);"
-            " commit_epoch median %.2f ms\n",
+            " epoch commit %s\n",
             kZones, arrays ? " + 2 x 10,000 float32 core point arrays" : "",
             double(bytes - empty_bytes) / kSizeEpochs, kSizeEpochs, static_cast<long long>(bytes),
-            median(commit_ms));
+            spread(commit_ms).c_str());
     }
 
     // 2. One year of 15-minute epochs, 50 zones x 4 quantities each (7,008,000 series rows);
@@ -167,26 +246,25 @@ int main(int argc, char** argv) {
     auto db = EpochDatabase::open(year, EpochDatabase::Mode::read_only);
     std::vector<double> api_ms;
     std::size_t rows = 0;
-    for (int k = 0; k < 11; ++k) {
+    for (int k = 0; k < 12; ++k) {  // the first one cold, then 11
         const auto t = Clock::now();
         rows = db.series().points("zone 17", "m3c2_mean_m", {}).size();
         api_ms.push_back(ms_since(t));
     }
     std::printf(
-        "series query (API), one zone over one year: %zu rows, first %.1f ms,"
-        " median of 11 %.1f ms (target 100 ms: %.2fx)\n",
-        rows, api_ms.front(), median(api_ms), median(api_ms) / 100.0);
+        "series query (API), one zone over one year: %zu rows, first %.1f ms, then %s"
+        " (target 100 ms: %.2fx)\n",
+        rows, api_ms.front(), spread({api_ms.begin() + 1, api_ms.end()}).c_str(),
+        median({api_ms.begin() + 1, api_ms.end()}) / 100.0);
     for (const char* format : {"table", "csv", "json"}) {
         std::vector<double> cli_ms;
         const std::string cmd = tlsmon.string() + " query series --db " + year.string() +
                                 " --zone 'zone 17' --quantity m3c2_mean_m --format " + format +
                                 " --from 2026-01-01 --to 2026-12-31T23:59:59Z > /dev/null";
-        for (int k = 0; k < 5; ++k) cli_ms.push_back(run_binary(cmd));
-        std::printf(
-            "tlsmon query series --format %s, end to end: median of 5 %.1f ms"
-            " (target 100 ms: %.2fx)\n",
-            format, median(cli_ms), median(cli_ms) / 100.0);
+        for (int k = 0; k < 7; ++k) cli_ms.push_back(run_binary(cmd));
+        std::printf("tlsmon query series --format %s, end to end: %s (target 100 ms: %.2fx)\n",
+                    format, spread(cli_ms).c_str(), median(cli_ms) / 100.0);
     }
-    if (argc <= 1) fs::remove_all(dir);
-    return 0;
 }
+
+}  // namespace

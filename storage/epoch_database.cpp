@@ -1,11 +1,11 @@
-// Opening the epoch database: connection settings, migrations, version check; the stores.
+// The epoch database: its connection (open_connection.cpp) and the stores over it.
 #include "storage/epoch_database.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 #include "storage/connection.hpp"
-#include "storage/migrations.hpp"
+#include "storage/open_connection.hpp"
 #include "storage/schema_migrations.hpp"
 
 namespace tlsmon {
@@ -22,43 +22,8 @@ int EpochDatabase::latest_schema_version() {
 
 EpochDatabase EpochDatabase::open(const std::filesystem::path& path, Mode mode,
                                   std::chrono::milliseconds busy_timeout) {
-    if (mode == Mode::read_only && !std::filesystem::exists(path)) {
-        throw StorageError(path.string() + ": no such epoch database");
-    }
-    const int flags = mode == Mode::read_only ? SQLite::OPEN_READONLY
-                                              : (SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-    std::unique_ptr<Connection> c;
-    try {
-        c = std::make_unique<Connection>(
-            path, mode, SQLite::Database(path, flags, static_cast<int>(busy_timeout.count())));
-    } catch (const SQLite::Exception& e) {
-        throw StorageError(path.string() + ": opening the epoch database: " + e.what(),
-                           e.getErrorCode(), e.getExtendedErrorCode());
-    }
-    guarded(*c, "setting connection pragmas", [&] {
-        c->db.exec("PRAGMA foreign_keys = ON");
-        if (mode == Mode::read_write) {
-            const std::string journal = c->db.execAndGet("PRAGMA journal_mode = WAL");
-            if (journal != "wal") {
-                throw SQLite::Exception("journal_mode is '" + journal + "', not 'wal'");
-            }
-            c->db.exec("PRAGMA synchronous = FULL");
-        }
-    });
-    int version = applied_version(*c);
-    check_not_newer(*c, version);
-    if (mode == Mode::read_write) {
-        migrate(*c, version);
-        version = applied_version(*c);
-        check_not_newer(*c, version);
-    } else if (version < latest_schema_version()) {
-        throw_storage(*c, "database schema version " + std::to_string(version) +
-                              " is older than this tlsmon's (" +
-                              std::to_string(latest_schema_version()) +
-                              "); start the daemon once to migrate it");
-    }
-    c->version = version;
-    return EpochDatabase(std::move(c));
+    return EpochDatabase(mode == Mode::read_write ? open_read_write(path, busy_timeout)
+                                                  : open_read_only(path, busy_timeout));
 }
 
 EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
