@@ -60,9 +60,15 @@ Eigen::Affine3d read_pose(TextCursor& cur) {
 
 Scan read_scan(TextCursor& cur, std::string_view first_line, std::size_t index) {
     if (!is_single_count(first_line)) {
+        // Only a later scan has a previous header whose cells may have been miscounted; a
+        // file whose first line is no count is most likely not PTX at all.
+        const std::string hint = index == 0
+                                     ? " (a PTX file starts with the column count of its first "
+                                       "scan: is this a PTX export?)"
+                                     : " (more point lines than the previous header's "
+                                       "columns × rows?)";
         cur.fail("expected the column count that starts scan " + std::to_string(index + 1) +
-                 ", found '" + quote_token(first_line) +
-                 "' (more point lines than the previous header's columns × rows?)");
+                 ", found '" + quote_token(first_line) + "'" + hint);
     }
     const std::uint64_t columns = parse_count(first_line, "column count", cur);
     std::string_view line;
