@@ -25,6 +25,7 @@ class TextCursor {
     bool at_end() const { return pos_ >= text_.size(); }
     std::uint64_t line_number() const { return line_; }
     std::size_t remaining_bytes() const { return text_.size() - pos_; }
+    std::string_view rest() const { return text_.substr(pos_); }
     const std::filesystem::path& file() const { return file_; }
 
     // FormatError "<file>:<line>: what" at the current line.
