@@ -154,7 +154,7 @@ void read_ascii(std::string_view text, const PcdHeader& h, const ScanFields& f, 
     const std::size_t tx = token_of(f.x), ty = token_of(f.y), tz = token_of(f.z);
     const std::size_t ti = f.intensity ? token_of(f.intensity) : 0;
     const std::size_t tc = f.rgb ? token_of(f.rgb) : 0;
-    std::vector<std::string_view> tokens(values);
+    std::vector<std::string_view> tokens(h.points() > 0 ? values : 0);  // bounded by the caller
     std::string_view line;
     const std::uint64_t points = h.points();
     for (std::uint64_t i = 0; i < points; ++i) {
@@ -194,7 +194,14 @@ std::vector<Scan> parse_pcd(std::string_view bytes, const std::filesystem::path&
 
     if (h.data == PcdData::ascii) {
         // The line loop finds a short file; the reservation is only capped by what the bytes
-        // can hold (a value takes a character and a separator or line break).
+        // can hold (a value takes a character and a separator or line break). COUNTs that a
+        // single line could not hold are refused before the line's tokens are allocated.
+        if (points > 0 && 2 * h.values_per_point() > left + 1) {
+            throw_at_byte(path, h.data_offset,
+                          "a point line of " + std::to_string(h.values_per_point()) +
+                              " values needs more than the " + std::to_string(left) +
+                              " bytes that follow");
+        }
         ScanBuilder b(h, fields, path, (left + 1) / (2 * h.values_per_point()));
         read_ascii(data, h, fields, b, path);
         return {b.finish()};

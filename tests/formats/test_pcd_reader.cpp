@@ -311,6 +311,13 @@ TEST_F(PcdReader, HugeCountsAreRefusedWithoutAllocating) {
     EXPECT_NE(error_of(ascii).find("huge_ascii.pcd:13: file ends after 1 points"),
               std::string::npos)
         << error_of(ascii);
+    // A COUNT no line of the file could hold.
+    const fs::path wide = write("wide.pcd",
+                                "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                                "COUNT 1 1 4000000000\nWIDTH 1\nDATA ascii\n1 2 3\n");
+    EXPECT_NE(error_of(wide).find("a point line of 4000000002 values needs more than the 6 bytes"),
+              std::string::npos)
+        << error_of(wide);
     // binary_compressed claiming a small file expands to a lot.
     std::string z = pcd_header("binary_compressed", 1000000, 1);
     append(z, std::uint32_t{2}), append(z, std::uint32_t{32000000});
