@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_support.hpp"
 #include "formats/e57_reader.hpp"
 #include "formats/e57_writer.hpp"
 
@@ -30,13 +31,9 @@ void measure(const char* what, const std::filesystem::path& file, int repeats) {
         points = 0;
         for (const auto& s : scans) points += s.size();
     }
-    std::sort(seconds.begin(), seconds.end());
-    const double median = seconds[seconds.size() / 2];
-    std::printf(
-        "%-28s %9.1f MB %10zu points  median %.3f s (best %.3f) of %d: %7.1f MB/s %6.2f "
-        "Mpoints/s\n",
-        what, mb, points, median, seconds.front(), repeats, mb / median,
-        static_cast<double>(points) / median / 1e6);
+    std::printf("%s: %.1f MB, %zu points\n", what, mb, points);
+    tlsmon::bench::print_rate("wall", tlsmon::bench::spread_of(seconds), mb,
+                              static_cast<double>(points));
 }
 
 // A structured scan of about `n` points: columns of 1000 rows, every 5th cell empty.
@@ -70,15 +67,15 @@ int main(int argc, char** argv) {
         std::filesystem::path(TLSMON_DATA_DIR) / "e57" / "pumpARowColumnIndexNoInvalidPoints.e57",
         20);
 
-    const auto file = std::filesystem::temp_directory_path() / "tlsmon_bench_read_e57.e57";
+    const tlsmon::bench::BenchDir dir;
+    const auto file = dir / "generated.e57";
     {
         const auto t0 = Clock::now();
         tlsmon::write_e57(file, {generated_scan(n)}, {.coordinate_scale = 1e-4});
         std::printf("generated %zu points in %.1f s\n", n,
                     std::chrono::duration<double>(Clock::now() - t0).count());
     }
-    measure("generated (ScaledInteger)", file, 3);
-    std::filesystem::remove(file);
+    measure("generated (ScaledInteger)", file, 5);
 
     rusage u{};
     getrusage(RUSAGE_SELF, &u);

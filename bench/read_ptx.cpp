@@ -1,7 +1,7 @@
-// PTX reading speed on one core: a generated 5-million-point scan (written to /tmp once)
-// and the real pump-room scan. Prints MB/s and points/s, best of several runs, with the
-// file in the page cache.
-#include <time.h>
+// PTX reading speed on one core: a generated 5-million-point scan (written into a private
+// temporary folder, removed at the end) and the real pump-room scan. Prints MB/s and
+// points/s, median and spread of several runs, with the file in the page cache.
+#include <sys/resource.h>
 
 #include <charconv>
 #include <chrono>
@@ -11,7 +11,9 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "bench/bench_support.hpp"
 #include "formats/ptx_reader.hpp"
 
 namespace fs = std::filesystem;
@@ -61,47 +63,38 @@ void write_scan(const fs::path& path) {
     out << chunk;
 }
 
-double thread_cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 // Wall time and this thread's CPU time (on a shared machine the CPU time is the one-core
 // figure; the wall time includes waiting for the core).
 void measure(const fs::path& path, int runs) {
     const double mb = static_cast<double>(fs::file_size(path)) / 1e6;
-    double best_wall = 1e30, best_cpu = 1e30;
+    std::vector<double> wall, cpu;
     std::size_t points = 0;
     for (int k = 0; k < runs; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
-        const double c0 = thread_cpu_seconds();
+        const double c0 = tlsmon::bench::thread_cpu_seconds();
         const auto scans = tlsmon::read_ptx(path);
-        best_cpu = std::min(best_cpu, thread_cpu_seconds() - c0);
-        best_wall =
-            std::min(best_wall,
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        cpu.push_back(tlsmon::bench::thread_cpu_seconds() - c0);
+        wall.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         points = 0;
         for (const auto& scan : scans) points += scan.size();
     }
     const double n = static_cast<double>(points);
-    std::printf("%s: %.1f MB, %zu points, best of %d\n", path.filename().c_str(), mb, points, runs);
-    std::printf("  cpu  %.3f s: %.0f MB/s, %.2f M points/s\n", best_cpu, mb / best_cpu,
-                n / best_cpu / 1e6);
-    std::printf("  wall %.3f s: %.0f MB/s, %.2f M points/s\n", best_wall, mb / best_wall,
-                n / best_wall / 1e6);
+    std::printf("%s: %.1f MB, %zu points\n", path.filename().c_str(), mb, points);
+    tlsmon::bench::print_rate("cpu", tlsmon::bench::spread_of(cpu), mb, n);
+    tlsmon::bench::print_rate("wall", tlsmon::bench::spread_of(wall), mb, n);
 }
 
 }  // namespace
 
 int main() {
-    const fs::path generated = "/tmp/tlsmon_bench_5M.ptx";
-    if (!fs::exists(generated)) {
-        std::printf("writing %s ...\n", generated.c_str());
-        const fs::path partial = generated.string() + ".part";
-        write_scan(partial);
-        fs::rename(partial, generated);
-    }
-    measure(generated, 3);
-    measure(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 5);
+    const tlsmon::bench::BenchDir dir;
+    const fs::path generated = dir / "generated_5M.ptx";
+    std::printf("writing %s ...\n", generated.c_str());
+    write_scan(generated);
+    measure(generated, 5);
+    measure(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 9);
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    std::printf("peak RSS %.0f MB\n", static_cast<double>(u.ru_maxrss) / 1024.0);
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/toml_fields.hpp"
+#include "formats/scan_file.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -28,7 +29,7 @@ struct PathsConfig {
 
 struct IngestConfig {
     // File name extensions (without the dot, compared case-insensitively) taken as scans.
-    std::vector<std::string> extensions = {"ptx", "pts", "xyz", "ply", "pcd", "las", "laz", "e57"};
+    std::vector<std::string> extensions = scan_extensions();  // one per format of the table
     double stable_seconds = 10.0;   // size and mtime unchanged this long -> complete
     double rescan_interval = 60.0;  // full folder scan (inotify misses network shares)
     double max_growing = 3600.0;    // a file still growing after this is reported

@@ -1,5 +1,6 @@
 #pragma once
-// Choosing the reader for a scanner export by its name and first bytes.
+// Choosing the reader for a scanner export by its name and first bytes: one table of
+// formats (name, extensions, magic bytes, parse function) in scan_file.cpp.
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -14,8 +15,13 @@ enum class ScanFormat { ptx, pts, xyz, ply, pcd, las, laz, e57, unknown };
 std::string to_string(ScanFormat f);
 
 // By extension first (case-insensitive), then by magic bytes for LAS ("LASF"), E57
-// ("ASTM-E57"), PLY ("ply\n") and PCD ("# .PCD").
+// ("ASTM-E57"), PLY ("ply") and PCD ("# .PCD" or "VERSION").
 ScanFormat detect_format(const std::filesystem::path& path);
+
+// The extensions (lower case, without the dot) the ingest folder takes by default: the
+// first extension of every format in the table. .txt and .asc are read as XYZ when named,
+// but not taken by default: notes and logs carry those names too.
+std::vector<std::string> scan_extensions();
 
 // Every scan in the file, in file order. Throws FormatError naming file and position.
 std::vector<Scan> read_scans(const std::filesystem::path& path);
@@ -23,7 +29,7 @@ std::vector<Scan> read_scans(const std::filesystem::path& path);
 // The same from the file's bytes already in memory (`path` names the file in messages and
 // chooses the format by extension): the daemon parses exactly the bytes whose sha256
 // identifies the epoch, and a file truncated by another process meanwhile cannot fault a
-// memory map under the reader. PLY and PCD are read from `path` by PCL itself.
+// memory map under the reader.
 std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::path& path);
 
 }  // namespace tlsmon

@@ -75,6 +75,33 @@ int parse_numbers(std::string_view line, double* out, int max, const TextCursor&
     }
 }
 
+std::size_t split_tokens(std::string_view line, std::string_view* out, std::size_t max) {
+    const char* p = line.data();
+    const char* const end = p + line.size();
+    std::size_t n = 0;
+    for (;;) {
+        while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+        if (p == end) return n;
+        const char* start = p;
+        while (p < end && *p != ' ' && *p != '\t' && *p != '\r') ++p;
+        if (n < max) out[n] = {start, static_cast<std::size_t>(p - start)};
+        ++n;
+    }
+}
+
+double parse_value(std::string_view token, const TextCursor& at) {
+    const char* p = token.data();
+    const char* const end = p + token.size();
+    if (p < end && *p == '+') ++p;  // from_chars rejects an explicit plus sign
+    double v = 0.0;
+    const auto [q, ec] = std::from_chars(p, end, v);
+    if (ec == std::errc::result_out_of_range) {
+        at.fail("value out of range: '" + quote_token(token) + "'");
+    }
+    if (ec != std::errc() || q != end) at.fail("\"" + quote_token(token) + "\" is not a number");
+    return v;
+}
+
 bool is_single_count(std::string_view line) {
     const char* p = line.data();
     const char* const end = p + line.size();

@@ -12,8 +12,11 @@ namespace tlsmon {
 
 class TextCursor {
   public:
-    TextCursor(std::string_view text, const std::filesystem::path& file)
-        : text_(text), file_(file) {}
+    // `lines_before`: lines of the file before `text` (a header read elsewhere), so that
+    // line numbers count from the start of the file.
+    TextCursor(std::string_view text, const std::filesystem::path& file,
+               std::uint64_t lines_before = 0)
+        : text_(text), file_(file), line_(lines_before) {}
 
     // The next line that is not blank (whitespace only), without its end of line; false at
     // the end of the text. The line number then names that line (1-based).
@@ -22,6 +25,7 @@ class TextCursor {
     bool at_end() const { return pos_ >= text_.size(); }
     std::uint64_t line_number() const { return line_; }
     std::size_t remaining_bytes() const { return text_.size() - pos_; }
+    std::string_view rest() const { return text_.substr(pos_); }
     const std::filesystem::path& file() const { return file_; }
 
     // FormatError "<file>:<line>: what" at the current line.
@@ -31,7 +35,7 @@ class TextCursor {
     std::string_view text_;
     const std::filesystem::path& file_;
     std::size_t pos_ = 0;
-    std::uint64_t line_ = 0;
+    std::uint64_t line_;
 };
 
 // Splits `line` into numbers separated by spaces, tabs or commas and stores at most `max`
@@ -39,6 +43,15 @@ class TextCursor {
 // number followed by other characters, a non-finite value (nan, inf), or more than `max`
 // numbers is a FormatError at the cursor's line.
 int parse_numbers(std::string_view line, double* out, int max, const TextCursor& at);
+
+// Splits `line` at spaces, tabs and carriage returns, storing at most `max` tokens in `out`.
+// Returns how many tokens the line holds (more than `max` when it holds more).
+std::size_t split_tokens(std::string_view line, std::string_view* out, std::size_t max);
+
+// One token as a number. Unlike parse_numbers, NaN and infinities are accepted ("nan",
+// "inf"): PCL writes them for points without a return. Anything else that is not a whole
+// number is a FormatError at the cursor's line.
+double parse_value(std::string_view token, const TextCursor& at);
 
 // The line's single unsigned integer (a header count), or a FormatError naming `what`.
 std::uint64_t parse_count(std::string_view line, const char* what, const TextCursor& at);

@@ -4,7 +4,8 @@
 # shared test data into a temporary folder. Prints the executions per target; exits
 # non-zero when a target crashes (the reproducer is kept in build-fuzz/crashes/).
 #
-#   fuzz/run.sh [SECONDS]        environment: JOBS (build jobs, default 2),
+#   fuzz/run.sh [SECONDS [TARGET...]]   TARGET: e.g. ply pcd (default: every fuzz/*.cpp)
+#                                environment: JOBS (build jobs, default 2),
 #                                TLSMON_DATA_DIR (default ../shared/data)
 set -euo pipefail
 
@@ -15,20 +16,41 @@ data=${TLSMON_DATA_DIR:-$root/../shared/data}
 jobs=${JOBS:-2}
 max_len=65536  # seeds are cut to this size, so what is fuzzed is what is in the corpus
 
-names=()
-for src in "$root"/fuzz/*.cpp; do names+=("$(basename "$src" .cpp)"); done
+names=("${@:2}")
+if [ ${#names[@]} -eq 0 ]; then
+  for src in "$root"/fuzz/*.cpp; do names+=("$(basename "$src" .cpp)"); done
+fi
 [ ${#names[@]} -gt 0 ] || { echo "fuzz/run.sh: no fuzz/*.cpp" >&2; exit 1; }
 
 CXX=${CXX:-clang++} cmake -S "$root" -B "$build" -DTLSMON_FUZZ=ON \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTLSMON_DATA_DIR="$data" >/dev/null
 cmake --build "$build" -j"$jobs" --target "${names[@]/#/fuzz_}"
 
-# Seed files of a target: the data files of its format.
+# Seed files of a target: the data files of its format. The shared data has no PLY or PCD
+# files, so write_seeds adds a few small ones of every encoding for those targets.
 seed_patterns() {
   case "$1" in
     ascii) echo "*.xyz *.pts" ;;
     las) echo "*.las *.laz" ;;
     *) echo "*.$1" ;;
+  esac
+}
+
+write_seeds() {  # target corpus-folder
+  local xyz='property float x\nproperty float y\nproperty float z\n'
+  case "$1" in
+    ply)
+      printf "ply\nformat ascii 1.0\nelement vertex 2\n${xyz}property uchar intensity\nproperty list uchar int l\nend_header\n1 2 3 50 2 7 8\nnan 0 0 0 0\n" >"$2/ascii.ply"
+      printf "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int v\nelement vertex 1\n${xyz}property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n\x01\x05\x00\x00\x00\x00\x00\x80\x3f\x00\x00\x00\x40\x00\x00\x40\x40\x0a\x14\x1e" >"$2/binary.ply"
+      printf "ply\nformat binary_big_endian 1.0\nelement vertex 1\n${xyz}element camera 1\nproperty float view_px\nproperty int viewportx\nproperty int viewporty\nend_header\n\x3f\x80\x00\x00\x40\x00\x00\x00\x40\x40\x00\x00\x41\x20\x00\x00\x00\x00\x00\x01\x00\x00\x00\x01" >"$2/big.ply"
+      ;;
+    pcd)
+      local head='VERSION 0.7\nFIELDS x y z intensity rgb\nSIZE 4 4 4 1 4\nTYPE F F F U U\nCOUNT 1 1 1 1 1\n'
+      printf "# .PCD v0.7\n${head}WIDTH 2\nHEIGHT 1\nVIEWPOINT 1 2 3 1 0 0 0\nPOINTS 2\nDATA ascii\n1 2 3 50 16711680\nnan nan nan 0 0\n" >"$2/ascii.pcd"
+      printf "${head}WIDTH 1\nHEIGHT 2\nPOINTS 2\nDATA binary\n\x00\x00\x80\x3f\x00\x00\x00\x40\x00\x00\x40\x40\x32\x00\x00\xff\x00\x00\x00\xc0\x7f\x00\x00\xc0\x7f\x00\x00\xc0\x7f\x00\x00\x00\x00\x00" >"$2/binary.pcd"
+      # 2 points of 17 bytes = 34 bytes: a literal run of 8, then a back reference of 26
+      printf "${head}WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary_compressed\n\x0c\x00\x00\x00\x22\x00\x00\x00\x07\x00\x00\x80\x3f\x00\x00\x80\x3f\xe0\x11\x07\x00" >"$2/compressed.pcd"
+      ;;
   esac
 }
 
@@ -46,6 +68,7 @@ for name in "${names[@]}"; do
       head -c "$max_len" "$f" >"$corpus/$(printf '%s' "$f" | sha1sum | cut -c1-16)"
     done < <(find "$data" -type f -name "$pattern" -print0)
   done
+  write_seeds "$name" "$corpus"
   seeds=$(find "$corpus" -type f | wc -l)
   echo "== fuzz_$name: $seconds s, $seeds seed files"
   log=$work/$name.log

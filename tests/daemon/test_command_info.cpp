@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/support/temp_dir.hpp"
@@ -144,6 +145,30 @@ TEST_F(InfoCommand, UnreadableFilesGoToStderrWithExitCode2AndOthersAreStillRepor
     EXPECT_NE(r.out.find("format: XYZ"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("points: 441"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("grid: none"), std::string::npos) << r.out;
+}
+
+// Operator defect 7: for a bad PLY or PCD the first line on stderr is tlsmon's own error
+// naming the file and the place (PCL used to print its "[pcl::...]" messages first).
+TEST_F(InfoCommand, BadPlyAndPcdGiveTlsmonsOwnErrorAsTheFirstLine) {
+    const fs::path ply = dir_ / "bad.ply";
+    tlsmon::test::write_file(ply,
+                             "ply\nformat binary_little_endian 1.0\nelement vertex 9\n"
+                             "property float x\nproperty float y\nproperty float z\n"
+                             "end_header\n\x01\x02");
+    const fs::path pcd = dir_ / "bad.pcd";
+    tlsmon::test::write_file(pcd, "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n");
+    for (const auto& [file, first] :
+         {std::pair{ply, "tlsmon info: " + ply.string() +
+                             ":3: element vertex declares 9 records of at least 12 bytes, "
+                             "but only 2 bytes follow\n"},
+          std::pair{pcd, "tlsmon info: " + pcd.string() +
+                             ":5: file ends inside the PCD header (no DATA line)\n"}}) {
+        const CommandRun r = info({file.string()});
+        EXPECT_EQ(r.exit_code, 2);
+        EXPECT_EQ(r.err, first);  // the whole of stderr: one line, tlsmon's own
+        EXPECT_EQ(r.err.find("[pcl"), std::string::npos) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
 }
 
 TEST_F(InfoCommand, EveryReadableFileInTheDataFolder) {

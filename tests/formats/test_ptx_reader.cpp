@@ -33,6 +33,15 @@ std::string no_color_with_line(int n, const std::string& text) {
     return out;
 }
 
+std::string error_of(const fs::path& p) {
+    try {
+        read_ptx(p);
+    } catch (const FormatError& e) {
+        return e.what();
+    }
+    return "";
+}
+
 }  // namespace
 
 TEST(PtxReader, NoColorHasFifteenPointsInOneRow) {
@@ -174,6 +183,23 @@ TEST_F(PtxBroken, WrongCountsAreRejectedAtTheirLine) {
     expect_rejected(write("three.ptx", no_color_with_line(11, "1 2 3")), 11, "4, 7 or 10 values");
     expect_rejected(write("mixed.ptx", no_color_with_line(13, "1 2 3 0.5 1 2 3")), 13,
                     "earlier lines");
+}
+
+// Operator defect 12: scan 1 has no previous header, so its error must not blame one; the
+// hint about too many point lines belongs to the second and later scans only.
+TEST_F(PtxBroken, FirstScanErrorDoesNotMentionAPreviousHeader) {
+    const fs::path first = write("first.ptx", "hello world\n");
+    const std::string m = error_of(first);
+    EXPECT_NE(m.find("expected the column count that starts scan 1, found 'hello world'"),
+              std::string::npos)
+        << m;
+    EXPECT_EQ(m.find("previous"), std::string::npos) << m;
+    // The 15th of 14 declared lines is read as the header of scan 2: that hint is kept.
+    const std::string second = error_of(write("second.ptx", no_color_with_line(1, "14")));
+    EXPECT_NE(second.find("starts scan 2"), std::string::npos) << second;
+    EXPECT_NE(second.find("more point lines than the previous header's columns × rows"),
+              std::string::npos)
+        << second;
 }
 
 TEST_F(PtxBroken, NonNumbersAndNonFiniteValuesAreRejectedAtTheirLine) {

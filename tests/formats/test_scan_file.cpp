@@ -3,6 +3,10 @@
 // its first bytes.
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <string>
+#include <vector>
+
 #include "formats/format_error.hpp"
 #include "formats/scan_file.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -50,6 +54,38 @@ TEST(ScanFile, FormatWithoutKnownExtensionComesFromTheFirstBytes) {
     const fs::path text = test::write_file(dir / "notes.bin", "hello\n");
     EXPECT_EQ(detect_format(text), ScanFormat::unknown);
     EXPECT_THROW(parse_scans(test::read_file(text), text), FormatError);
+}
+
+TEST(ScanFile, PlyAndPcdAreFoundFromTheirFirstBytes) {
+    test::TempDir dir;
+    const fs::path ply = test::write_file(
+        dir / "cloud.bin",
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n1 2 3\n");
+    EXPECT_EQ(detect_format(ply), ScanFormat::ply);
+    EXPECT_EQ(parse_scans(test::read_file(ply), ply).at(0).xyz.at(0), Eigen::Vector3d(1, 2, 3));
+    const fs::path pcd = test::write_file(
+        dir / "cloud.dat",
+        "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n"
+        "4 5 6\n");
+    EXPECT_EQ(detect_format(pcd), ScanFormat::pcd);
+    EXPECT_EQ(read_scans(pcd).at(0).xyz.at(0), Eigen::Vector3d(4, 5, 6));
+}
+
+// The ingest default is the first extension of each format in the table: .txt and .asc
+// (XYZ) are read when named but not taken from the ingest folder by default.
+TEST(ScanFile, ScanExtensionsAreOnePerFormat) {
+    EXPECT_EQ(scan_extensions(),
+              (std::vector<std::string>{"ptx", "pts", "xyz", "ply", "pcd", "las", "laz", "e57"}));
+    for (const std::string& ext : scan_extensions()) {
+        const ScanFormat f = detect_format("scan." + ext);
+        EXPECT_NE(f, ScanFormat::unknown) << ext;
+        std::string upper = ext;
+        for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        EXPECT_EQ(to_string(f), upper);
+    }
+    EXPECT_EQ(detect_format("notes.TXT"), ScanFormat::xyz);
+    EXPECT_EQ(to_string(ScanFormat::unknown), "unknown");
 }
 
 }  // namespace

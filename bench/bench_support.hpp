@@ -1,0 +1,72 @@
+#pragma once
+// Shared by the bench programs: a private temporary folder (mkdtemp, removed at the end,
+// so that runs by several users or in parallel never share a fixed /tmp path), and the
+// median and spread of repeated timings.
+#include <stdlib.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace tlsmon::bench {
+
+class BenchDir {
+  public:
+    BenchDir() {
+        std::string pattern =
+            (std::filesystem::temp_directory_path() / "tlsmon-bench-XXXXXX").string();
+        if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed for " + pattern);
+        path_ = pattern;
+    }
+    ~BenchDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    BenchDir(const BenchDir&) = delete;
+    BenchDir& operator=(const BenchDir&) = delete;
+
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+  private:
+    std::filesystem::path path_;
+};
+
+inline double thread_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Median, fastest and slowest of repeated runs (seconds).
+struct Spread {
+    double median = 0, min = 0, max = 0;
+    std::size_t runs = 0;
+};
+
+inline Spread spread_of(std::vector<double> seconds) {
+    std::sort(seconds.begin(), seconds.end());
+    Spread s;
+    s.runs = seconds.size();
+    if (seconds.empty()) return s;
+    const std::size_t n = seconds.size();
+    s.median = n % 2 ? seconds[n / 2] : (seconds[n / 2 - 1] + seconds[n / 2]) / 2;
+    s.min = seconds.front();
+    s.max = seconds.back();
+    return s;
+}
+
+// "<label> median 0.412 s (0.398 .. 0.455, 5 runs): 250 MB/s, 12.1 M points/s"
+inline void print_rate(const char* label, const Spread& s, double mb, double points) {
+    std::printf(
+        "  %-5s median %.3f s (%.3f .. %.3f, %zu runs): %.0f MB/s (%.0f .. %.0f), %.2f M "
+        "points/s\n",
+        label, s.median, s.min, s.max, s.runs, mb / s.median, mb / s.max, mb / s.min,
+        points / s.median / 1e6);
+}
+
+}  // namespace tlsmon::bench
