@@ -6,9 +6,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <vector>
 
 #include "core/error.hpp"
+#include "core/text_escape.hpp"
 
 namespace tlsmon {
 
@@ -69,9 +70,20 @@ void move_file(const fs::path& from, const fs::path& to) {
 
 bool write_reason_file(const fs::path& file, const std::string& original,
                        const std::string& reason) {
-    std::ofstream out(file.string() + ".reason.txt");
-    out << "file: " << original << "\nreason: " << reason << '\n';
-    return static_cast<bool>(out.flush());
+    // Two lines whatever the names hold: control characters escaped.
+    const std::string text = "file: " + escape_control_characters(original) +
+                             "\nreason: " + escape_control_characters(reason) + "\n";
+    const int fd = ::open((file.string() + ".reason.txt").c_str(),
+                          O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) return false;
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += static_cast<std::size_t>(n);
+    }
+    return ::close(fd) == 0 && done == text.size();
 }
 
 }  // namespace tlsmon

@@ -340,6 +340,44 @@ TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     EXPECT_EQ(site.open_db().epochs().reference(), named->id);
 }
 
+std::string truncated_ptx() {
+    const std::string text = read_file(kData / "ptx/pumpA_from_e57.ptx");
+    return text.substr(0, text.size() / 2);
+}
+
+// A file name with a newline and other control characters cannot forge a log record or a
+// line of a reason file: they are escaped (\n, \r, \t, \xNN).
+TEST(DaemonIngest, ControlCharactersInFileNamesAreEscapedInLogsAndReasonFiles) {
+    TempDir logs("escapelog");
+    const fs::path log_file = logs / "tlsmon.log";
+    Site site("escape", "[logging]\nfile = \"" + log_file.string() + "\"\n");
+    const std::string name =
+        "x\n2026-06-01T06:00:00.000+0000 critical forged\r\t\x1b[2J\x7f\xc2\x9b\xff.ptx";
+    const std::string escaped =
+        "x\\n2026-06-01T06:00:00.000+0000 critical forged\\r\\t\\x1b[2J\\x7f\\xc2\\x9b\\xff.ptx";
+    std::ofstream(site.ingest() / name) << truncated_ptx();
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    for (const fs::path& log : {site.log(), log_file}) {
+        const std::string text = read_file(log);
+        EXPECT_NE(text.find(escaped), std::string::npos) << log << "\n" << text;
+        EXPECT_EQ(text.find("\n2026-06-01T06:00:00.000+0000 critical forged"), std::string::npos)
+            << log;
+        for (const char c : {'\r', '\t', '\x1b', '\x7f'}) {
+            EXPECT_EQ(text.find(c), std::string::npos) << log << ": byte " << int(c);
+        }
+        EXPECT_EQ(text.find("\xc2\x9b"), std::string::npos) << log;
+    }
+    const fs::path reason = site.root / "quarantine" / (name + ".reason.txt");
+    ASSERT_TRUE(fs::exists(reason)) << read_file(site.log());
+    const std::string text = read_file(reason);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2) << text;
+    EXPECT_EQ(text.find('\x1b'), std::string::npos) << text;
+    EXPECT_NE(text.find("file: " + (site.ingest() / escaped).string() + "\n"), std::string::npos)
+        << text;
+}
+
 TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {
     Site site("badconfig", "[ingest]\nstable_seconds = 3\n");  // [ingest] twice: TOML error
     const auto r =
