@@ -115,6 +115,12 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
             sha = sha256_file(file);
         } catch (const FileAccessError& e) {
             if (e.error_number() == ENOENT) return IngestOutcome::known;  // gone meanwhile
+            if (e.error_number() == ELOOP || e.error_number() == EINVAL) {
+                // Replaced by a symbolic link (or a FIFO) since the watcher saw it: never
+                // read through; the watcher reports the link.
+                spdlog::warn("{}", e.what());
+                return IngestOutcome::not_a_file;
+            }
             return record_unreadable(ctx, file, e.what());
         }
         if (auto epoch = ctx.db.epochs().find_by_sha256(sha))

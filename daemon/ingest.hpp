@@ -16,6 +16,7 @@ enum class IngestOutcome {
     known,        // already an epoch (queued, or the file left in place in keep mode)
     duplicate,    // same content as an earlier epoch: removed or archived, no new epoch
     unreadable,   // could not be read (permission): recorded as a failed epoch
+    not_a_file,   // a symbolic link or other non-regular entry: never read, left in place
     retry_later,  // the database refused (disk full, locked): try again later
 };
 

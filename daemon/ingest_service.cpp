@@ -137,6 +137,15 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
                            std::to_string(static_cast<long>(g.seconds)) + " s (" +
                            std::to_string(g.size) + " bytes); not processed while it grows");
     }
+    for (const auto& link : watcher_.take_symlinks()) {
+        std::error_code ec;
+        const fs::path target = fs::read_symlink(link, ec);
+        events_.record(db_, "warning", "symlink",
+                       link.string() + " is a symbolic link" +
+                           (ec ? std::string() : " to " + target.string()) +
+                           "; links in the ingest folder are never followed: left in place, "
+                           "not ingested (copy or move the scan itself into the folder)");
+    }
     if (now >= retry_at_) {
         files.insert(files.begin(), retry_files_.begin(), retry_files_.end());
         retry_files_.clear();

@@ -8,7 +8,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -32,16 +38,21 @@ namespace {
 struct FileState {
     bool exists = false;
     bool regular = false;
+    bool symlink = false;
+    std::uint64_t inode = 0;
     std::int64_t size = -1;
     std::int64_t mtime_ns = -1;
 };
 
+// The folder entry itself: a symbolic link is not followed.
 FileState stat_file(const fs::path& p) {
     struct stat st {};
     FileState s;
-    if (::stat(p.c_str(), &st) != 0) return s;
+    if (::lstat(p.c_str(), &st) != 0) return s;
     s.exists = true;
     s.regular = S_ISREG(st.st_mode);
+    s.symlink = S_ISLNK(st.st_mode);
+    s.inode = st.st_ino;
     s.size = st.st_size;
     s.mtime_ns = std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec;
     return s;
@@ -74,6 +85,10 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     if (!is_scan_name(name, config_.extensions)) return;
     const fs::path path = folder_ / name;
     const FileState st = stat_file(path);
+    if (st.symlink) {
+        note_symlink(name, st.inode);
+        return;
+    }
     if (!st.exists || !st.regular) return;
     if (auto h = handed_.find(name); h != handed_.end()) {
         if (h->second.size == st.size && h->second.mtime_ns == st.mtime_ns) return;
@@ -89,6 +104,19 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     }
     if (writing) c.writing = true;
     if (closed) c.writing = false;
+}
+
+void FolderWatcher::note_symlink(const std::string& name, std::uint64_t inode) {
+    candidates_.erase(name);
+    handed_.erase(name);
+    auto [it, added] = symlinks_.try_emplace(name, inode);
+    if (!added && it->second == inode) return;  // reported already
+    it->second = inode;
+    new_symlinks_.push_back(folder_ / name);
+}
+
+std::vector<fs::path> FolderWatcher::take_symlinks() {
+    return std::exchange(new_symlinks_, {});
 }
 
 void FolderWatcher::read_events(SteadyTime now) {
@@ -120,6 +148,7 @@ void FolderWatcher::read_events(SteadyTime now) {
             if (ev->mask & (IN_DELETE | IN_MOVED_FROM)) {
                 candidates_.erase(name);
                 handed_.erase(name);
+                symlinks_.erase(name);
             } else if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
                 touch(name, now, false, true);
             } else if (ev->mask & (IN_CREATE | IN_MODIFY)) {
@@ -141,6 +170,9 @@ void FolderWatcher::rescan(SteadyTime now) {
     // Forget handed-out names whose file is gone (moved to the archive).
     for (auto it = handed_.begin(); it != handed_.end();) {
         it = stat_file(folder_ / it->first).exists ? std::next(it) : handed_.erase(it);
+    }
+    for (auto it = symlinks_.begin(); it != symlinks_.end();) {
+        it = stat_file(folder_ / it->first).symlink ? std::next(it) : symlinks_.erase(it);
     }
 }
 

@@ -49,6 +49,9 @@ class FolderWatcher {
     // after max_growing.
     std::vector<std::filesystem::path> take_complete(SteadyTime now,
                                                      std::vector<GrowingFile>& growing);
+    // Symbolic links with a scan's name seen since the last call, each once (again only
+    // after it was removed or replaced).
+    std::vector<std::filesystem::path> take_symlinks();
     // Hand the file out again at the next rescan (e.g. the database was full).
     void forget(const std::filesystem::path& path);
 
@@ -74,12 +77,15 @@ class FolderWatcher {
 
     bool add_watch();  // false (errno set) if the folder cannot be watched
     void touch(const std::string& name, SteadyTime now, bool writing, bool closed);
+    void note_symlink(const std::string& name, std::uint64_t inode);
 
     std::filesystem::path folder_;
     IngestConfig config_;
     int inotify_fd_ = -1;
     std::map<std::string, Candidate> candidates_;
     std::map<std::string, Handed> handed_;
+    std::map<std::string, std::uint64_t> symlinks_;  // name -> inode of the link, reported
+    std::vector<std::filesystem::path> new_symlinks_;
 };
 
 }  // namespace tlsmon

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <openssl/evp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -45,13 +46,26 @@ class Digest {
 
 namespace {
 
-// Reads the whole file in 1 MiB chunks, handing each to `take`. Throws FileAccessError.
-template <typename Take>
-void read_chunks(const std::filesystem::path& path, Take&& take) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+// Reads the whole file in 1 MiB chunks, handing each to `take`; `size` first gets the
+// file's size. A symbolic link is not followed (ELOOP): only the folder's own files are
+// read. Throws FileAccessError.
+template <typename Size, typename Take>
+void read_chunks(const std::filesystem::path& path, Size&& size, Take&& take) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         const int e = errno;
-        throw FileAccessError(path.string() + ": cannot open: " + std::strerror(e), e);
+        throw FileAccessError(path.string() + ": cannot open: " +
+                                  (e == ELOOP ? std::string("a symbolic link, not followed")
+                                              : std::string(std::strerror(e))),
+                              e);
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) == 0) {
+        if (!S_ISREG(st.st_mode)) {  // a FIFO or device with a scan's name
+            ::close(fd);
+            throw FileAccessError(path.string() + ": not a regular file", EINVAL);
+        }
+        size(static_cast<std::size_t>(st.st_size));
     }
     std::vector<char> buffer(1 << 20);
     for (;;) {
@@ -72,16 +86,16 @@ void read_chunks(const std::filesystem::path& path, Take&& take) {
 
 std::string sha256_file(const std::filesystem::path& path) {
     Digest digest;
-    read_chunks(path, [&](const char* data, std::size_t n) { digest.update(data, n); });
+    read_chunks(
+        path, [](std::size_t) {}, [&](const char* data, std::size_t n) { digest.update(data, n); });
     return digest.hex();
 }
 
 std::string read_file_bytes(const std::filesystem::path& path) {
     std::string bytes;
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (!ec) bytes.reserve(size);
-    read_chunks(path, [&](const char* data, std::size_t n) { bytes.append(data, n); });
+    read_chunks(
+        path, [&](std::size_t size) { bytes.reserve(size); },
+        [&](const char* data, std::size_t n) { bytes.append(data, n); });
     return bytes;
 }
 

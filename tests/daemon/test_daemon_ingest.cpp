@@ -340,9 +340,62 @@ TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     EXPECT_EQ(site.open_db().epochs().reference(), named->id);
 }
 
+int count_events(const Site& site, const std::string& kind, const std::string& text) {
+    int n = 0;
+    for (const auto& e : site.open_db().series().events({}, kind)) {
+        n += e.message.find(text) != std::string::npos;
+    }
+    return n;
+}
+
 std::string truncated_ptx() {
     const std::string text = read_file(kData / "ptx/pumpA_from_e57.ptx");
     return text.substr(0, text.size() / 2);
+}
+
+// A symbolic link in the ingest folder is never followed nor read, whether it was there
+// before the start or appears while the daemon runs: it is reported once (a `symlink`
+// system event per link) and left where it is.
+TEST(DaemonIngest, SymlinksAreNeverFollowedAndReportedOnce) {
+    Site site("symlinks");
+    const fs::path in = site.ingest();
+    const fs::path outside = site.root / "outside.ptx";  // a valid scan outside the folder
+    fs::copy_file(kData / "ptx/no-color.ptx", outside);
+    fs::create_symlink(outside, in / "small_20260601T060000Z.ptx");  // there before the start
+    fs::create_symlink("/etc", in / "etc.ptx");                      // a folder
+    fs::create_symlink(site.root / "missing.ptx", in / "dangling.ptx");
+
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 20))
+        << read_file(site.log());
+    fs::create_symlink(outside, in / "small_20260601T061500Z.ptx");  // while running
+    fs::copy_file(kData / "ptx/complex-transform.ptx", in / "real.ptx");
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto e = all_epochs(site);
+            const Epoch* real = by_name(e, "real.ptx");
+            return real && real->status == EpochStatus::done;
+        },
+        30))
+        << read_file(site.log());
+    ASSERT_TRUE(
+        wait_until([&] { return has_event(site, "symlink", "small_20260601T061500Z.ptx"); }, 10))
+        << read_file(site.log());
+    // Several rescans (every 1 s) later: still reported once, never taken.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(10), 0);
+
+    const auto epochs = all_epochs(site);
+    EXPECT_EQ(epochs.size(), 1u) << read_file(site.log());
+    for (const char* link :
+         {"small_20260601T060000Z.ptx", "etc.ptx", "dangling.ptx", "small_20260601T061500Z.ptx"}) {
+        EXPECT_TRUE(fs::is_symlink(fs::symlink_status(in / link))) << link << " left in place";
+        EXPECT_EQ(count_events(site, "symlink", (in / link).string()), 1) << link;
+    }
+    EXPECT_EQ(read_file(outside), read_file(kData / "ptx/no-color.ptx"));
+    EXPECT_FALSE(fs::exists(site.root / "quarantine/small_20260601T060000Z.ptx.reason.txt"));
+    EXPECT_TRUE(!fs::exists(site.root / "quarantine") || fs::is_empty(site.root / "quarantine"));
 }
 
 // A file name with a newline and other control characters cannot forge a log record or a

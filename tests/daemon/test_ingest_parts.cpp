@@ -2,13 +2,15 @@
 // name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <fstream>
 
 #include "daemon/ingest_files.hpp"
-#include "pipeline/epoch_files.hpp"
-#include "pipeline/sha256.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/e57_writer.hpp"
+#include "pipeline/epoch_files.hpp"
+#include "pipeline/sha256.hpp"
 #include "tests/support/small_tmpfs.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -119,6 +121,49 @@ TEST(IngestParts, WatcherAfterQueueOverflowTakesAFileWhoseCloseWasLost) {
     const auto complete = watcher.take_complete(now + std::chrono::seconds(1), growing);
     ASSERT_EQ(complete.size(), 1u);
     EXPECT_EQ(complete[0], d / "scan.ptx");
+}
+
+// A symbolic link is never a candidate (never polled, never handed out); it is reported
+// once, and again only when the link is replaced.
+TEST(IngestParts, WatcherReportsSymlinksOnceAndNeverTracksThem) {
+    const test::TempDir d;
+    test::write_file(d / "target.ptx.bak", "bytes outside the scan names");
+    IngestConfig config;
+    config.stable_seconds = 0;
+    FolderWatcher watcher(d.path(), config);
+    fs::create_symlink(d / "target.ptx.bak", d / "link.ptx");
+    fs::create_symlink("/etc", d / "etc.ptx");
+    const auto now = std::chrono::steady_clock::now();
+    watcher.read_events(now);  // IN_CREATE of both links
+    watcher.rescan(now);
+    std::vector<GrowingFile> growing;
+    EXPECT_TRUE(watcher.take_complete(now + std::chrono::seconds(1), growing).empty());
+    EXPECT_FALSE(watcher.has_candidates());
+    EXPECT_EQ(watcher.until_next_check(now), std::chrono::hours(1));
+    auto links = watcher.take_symlinks();
+    std::sort(links.begin(), links.end());
+    EXPECT_EQ(links, (std::vector<fs::path>{d / "etc.ptx", d / "link.ptx"}));
+    watcher.rescan(now + std::chrono::seconds(2));
+    EXPECT_TRUE(watcher.take_symlinks().empty()) << "reported once";
+    fs::remove(d / "link.ptx");
+    fs::create_symlink("/etc/passwd", d / "link.ptx");
+    watcher.read_events(now + std::chrono::seconds(3));
+    watcher.rescan(now + std::chrono::seconds(3));
+    EXPECT_EQ(watcher.take_symlinks(), std::vector<fs::path>{d / "link.ptx"});
+}
+
+// Files are opened without following a symbolic link: the hash never reads the target.
+TEST(IngestParts, Sha256NeverFollowsASymlink) {
+    const test::TempDir d;
+    test::write_file(d / "target", "secret");
+    fs::create_symlink(d / "target", d / "link.ptx");
+    try {
+        sha256_file(d / "link.ptx");
+        FAIL() << "a symbolic link was followed";
+    } catch (const FileAccessError& e) {
+        EXPECT_EQ(e.error_number(), ELOOP);
+    }
+    EXPECT_THROW(read_file_bytes(d / "link.ptx"), FileAccessError);
 }
 
 TEST(IngestParts, MoveFileToAnotherFileSystemCopiesSyncsAndRemoves) {
