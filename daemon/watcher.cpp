@@ -1,5 +1,6 @@
 #include "daemon/watcher.hpp"
 
+#include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/inotify.h>
 #include <sys/stat.h>
@@ -58,7 +59,74 @@ FileState stat_file(const fs::path& p) {
     return s;
 }
 
+// A lease break notifies the holder with SIGIO, whose default action ends the process; the
+// lease is only held for the instant of the check, the notification is of no use.
+void ignore_lease_break_signal() {
+    static std::once_flag once;
+    std::call_once(once, [] { std::signal(SIGIO, SIG_IGN); });
+}
+
+// true/false: open for writing or not; nullopt: no lease can be taken here.
+std::optional<bool> open_for_writing_by_lease(const fs::path& path) {
+    ignore_lease_break_signal();
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    std::optional<bool> open_for_writing;
+    if (::fcntl(fd, F_SETLEASE, F_RDLCK) == 0) {
+        ::fcntl(fd, F_SETLEASE, F_UNLCK);
+        open_for_writing = false;
+    } else if (errno == EAGAIN) {  // a writer (or a write lease) exists
+        open_for_writing = true;
+    }  // EACCES (not the owner), EINVAL (no leases on this file system): cannot tell
+    ::close(fd);
+    return open_for_writing;
+}
+
+bool all_digits(const std::string& s) {
+    return !s.empty() &&
+           std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+}
+
+// The access mode in /proc/<pid>/fdinfo/<fd> ("flags:\t0100002", octal).
+std::optional<int> fd_access_mode(const fs::path& fdinfo) {
+    std::ifstream in(fdinfo);
+    std::string key;
+    while (in >> key) {
+        if (key == "flags:") {
+            unsigned long flags = 0;
+            if (!(in >> std::oct >> flags)) return std::nullopt;
+            return static_cast<int>(flags & O_ACCMODE);
+        }
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    return std::nullopt;
+}
+
 }  // namespace
+
+bool held_open_for_writing_by_proc(const fs::path& path) {
+    struct stat target {};
+    if (::lstat(path.c_str(), &target) != 0 || !S_ISREG(target.st_mode)) return false;
+    std::error_code ec;
+    for (fs::directory_iterator p("/proc", ec), end; !ec && p != end; p.increment(ec)) {
+        if (!all_digits(p->path().filename().string())) continue;
+        std::error_code fd_ec;  // another user's process: not visible, skipped
+        for (fs::directory_iterator f(p->path() / "fd", fd_ec), fend; !fd_ec && f != fend;
+             f.increment(fd_ec)) {
+            struct stat st {};
+            if (::stat(f->path().c_str(), &st) != 0) continue;
+            if (st.st_dev != target.st_dev || st.st_ino != target.st_ino) continue;
+            const auto mode = fd_access_mode(p->path() / "fdinfo" / f->path().filename());
+            if (!mode || *mode != O_RDONLY) return true;
+        }
+    }
+    return false;
+}
+
+bool held_open_for_writing(const fs::path& path) {
+    if (const auto by_lease = open_for_writing_by_lease(path)) return *by_lease;
+    return held_open_for_writing_by_proc(path);
+}
 
 FolderWatcher::FolderWatcher(fs::path folder, IngestConfig config)
     : folder_(std::move(folder)), config_(std::move(config)) {
@@ -195,10 +263,20 @@ std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
             c.last_change = now;
         }
         if (!c.writing && now - c.last_change >= stable) {
-            complete.push_back(path);
-            handed_[it->first] = Handed{st.size, st.mtime_ns};
-            it = candidates_.erase(it);
-            continue;
+            if (!held_open_for_writing(path)) {
+                complete.push_back(path);
+                handed_[it->first] = Handed{st.size, st.mtime_ns};
+                it = candidates_.erase(it);
+                continue;
+            }
+            // Stable but still open (e.g. found by the scan at a restart while its writer
+            // pauses): not complete; checked again stable_seconds later.
+            c.last_change = now;
+            if (!c.reported_open) {
+                c.reported_open = true;
+                spdlog::info("{}: still open for writing; waiting until it is closed",
+                             path.string());
+            }
         }
         if (!c.reported_growing && now - c.first_seen >= max_growing) {
             c.reported_growing = true;

@@ -1,7 +1,9 @@
 // `tlsmon run` end to end: the real binary on real and simulated scans, checked in the
 // SQLite epoch database it writes.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -396,6 +398,57 @@ TEST(DaemonIngest, SymlinksAreNeverFollowedAndReportedOnce) {
     EXPECT_EQ(read_file(outside), read_file(kData / "ptx/no-color.ptx"));
     EXPECT_FALSE(fs::exists(site.root / "quarantine/small_20260601T060000Z.ptx.reason.txt"));
     EXPECT_TRUE(!fs::exists(site.root / "quarantine") || fs::is_empty(site.root / "quarantine"));
+}
+
+// The daemon (re)starts while a writer holds a half-written scan open and pauses longer
+// than stable_seconds: the file is waited for, and taken whole once the writer closes it.
+TEST(DaemonIngest, StartWhileAWriterHoldsTheFileOpenWaitsForIt) {
+    Site site("openwriter");
+    const std::string text = read_file(kData / "ptx/no-color.ptx");
+    const fs::path file = site.ingest() / "small_20260601T060000Z.ptx";
+    // The writer's descriptor is close-on-exec: the daemon started below must not inherit it.
+    const int out = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    ASSERT_GE(out, 0);
+    const auto write_part = [&](const std::string& part) {
+        ASSERT_EQ(::write(out, part.data(), part.size()), static_cast<ssize_t>(part.size()));
+    };
+    write_part(text.substr(0, text.size() / 2));
+    fs::copy_file(kData / "ptx/complex-transform.ptx",
+                  site.ingest() / "small_20260601T054500Z.ptx");
+
+    DaemonProcess daemon(site.config(), site.log());
+    // The other scan found by the same first folder scan is taken: so was the open file,
+    // had it been judged by its stable size alone.
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const Epoch* other = by_name(all_epochs(site), "small_20260601T054500Z.ptx");
+            return other && other->status == EpochStatus::done;
+        },
+        30))
+        << read_file(site.log());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // 5 x stable_seconds
+    EXPECT_FALSE(by_name(all_epochs(site), file.filename().string()))
+        << "a file open for writing must not become an epoch\n"
+        << read_file(site.log());
+    EXPECT_TRUE(fs::exists(file));
+
+    write_part(text.substr(text.size() / 2));
+    ::close(out);
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const Epoch* e = by_name(all_epochs(site), file.filename().string());
+            return e && e->status != EpochStatus::pending && e->status != EpochStatus::processing;
+        },
+        30))
+        << read_file(site.log());
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(10), 0);
+    const Epoch* e = by_name(all_epochs(site), file.filename().string());
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->status, EpochStatus::done) << e->reason;
+    EXPECT_EQ(e->point_count, 15);
+    EXPECT_EQ(all_epochs(site).size(), 2u);
+    EXPECT_TRUE(fs::exists(site.root / "archive" / file.filename()));
 }
 
 // A file name with a newline and other control characters cannot forge a log record or a

@@ -166,6 +166,34 @@ TEST(IngestParts, Sha256NeverFollowsASymlink) {
     EXPECT_THROW(read_file_bytes(d / "link.ptx"), FileAccessError);
 }
 
+// A file some process still has open for writing is not complete, however long its size
+// stays the same (found by a folder scan, e.g. after a restart, no close event comes first).
+TEST(IngestParts, WatcherWaitsForAFileOpenForWriting) {
+    const test::TempDir d;
+    IngestConfig config;
+    config.stable_seconds = 0.5;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<GrowingFile> growing;
+    std::ofstream out(d / "scan.ptx");
+    out << "half a scan" << std::flush;
+    EXPECT_TRUE(held_open_for_writing(d / "scan.ptx"));
+    EXPECT_TRUE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    FolderWatcher watcher(d.path(), config);
+    watcher.rescan(t0);
+    EXPECT_TRUE(watcher.take_complete(t0 + std::chrono::seconds(1), growing).empty());
+    EXPECT_TRUE(watcher.take_complete(t0 + std::chrono::seconds(5), growing).empty());
+    out.close();
+    EXPECT_FALSE(held_open_for_writing(d / "scan.ptx"));
+    EXPECT_FALSE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    // A reader is no writer.
+    std::ifstream reader(d / "scan.ptx");
+    EXPECT_FALSE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    watcher.read_events(t0 + std::chrono::seconds(5));  // the close
+    const auto complete = watcher.take_complete(t0 + std::chrono::seconds(10), growing);
+    ASSERT_EQ(complete.size(), 1u);
+    EXPECT_EQ(complete[0], d / "scan.ptx");
+}
+
 TEST(IngestParts, MoveFileToAnotherFileSystemCopiesSyncsAndRemoves) {
     const test::TempDir d;
     const test::SmallTmpfs other(d / "other", "1m");
