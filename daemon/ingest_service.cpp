@@ -7,6 +7,7 @@
 #include <chrono>
 #include <iostream>
 #include <thread>
+#include <utility>
 
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
@@ -69,6 +70,9 @@ class Daemon {
     void start();
     void reload();
     void ingest_complete_files(Clock::time_point now);
+    // Copies of epochs that were not processed yet, once those epochs are.
+    void ingest_waiting_copies();
+    void ingest(const fs::path& file);
     // Processes pending epochs until none is left, a retry is due later, or stop.
     void process_backlog();
     void report_status();
@@ -87,6 +91,11 @@ class Daemon {
     Clock::time_point retry_at_{};  // processing / ingest paused until then (disk full)
     double backoff_ = 0;
     std::vector<fs::path> retry_files_;
+    struct WaitingCopy {
+        fs::path file;
+        EpochId epoch = 0;
+    };
+    std::vector<WaitingCopy> waiting_copies_;
     Clock::time_point next_status_{};
     std::int64_t done_ = 0, failed_ = 0;
 };
@@ -153,14 +162,39 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
         retry_files_.insert(retry_files_.end(), files.begin(), files.end());
         return;
     }
-    auto ctx = context();
-    for (const auto& f : files) {
-        if (ingest_file(ctx, f) == IngestOutcome::retry_later) retry_files_.push_back(f);
-    }
+    for (const auto& f : files) ingest(f);
     if (!retry_files_.empty() && retry_at_ <= now) {
         backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                  : std::min(backoff_ * 2, config_.ingest.retry_max);
         retry_at_ = now + seconds(backoff_);
+    }
+}
+
+void Daemon::ingest(const fs::path& file) {
+    auto ctx = context();
+    EpochId epoch = 0;
+    const IngestOutcome outcome = ingest_file(ctx, file, &epoch);
+    if (outcome == IngestOutcome::retry_later) retry_files_.push_back(file);
+    if (outcome == IngestOutcome::wait_for_epoch) waiting_copies_.push_back({file, epoch});
+}
+
+void Daemon::ingest_waiting_copies() {
+    if (waiting_copies_.empty() || Clock::now() < retry_at_) return;
+    std::vector<WaitingCopy> waiting = std::exchange(waiting_copies_, {});
+    for (std::size_t i = 0; i < waiting.size(); ++i) {
+        try {
+            const auto epoch = db_.epochs().find(waiting[i].epoch);
+            if (epoch && (epoch->status == EpochStatus::pending ||
+                          epoch->status == EpochStatus::processing)) {
+                waiting_copies_.push_back(waiting[i]);  // not yet: hashed again only then
+                continue;
+            }
+        } catch (const StorageError& e) {
+            spdlog::warn("{}", e.what());
+            waiting_copies_.insert(waiting_copies_.end(), waiting.begin() + i, waiting.end());
+            return;
+        }
+        ingest(waiting[i].file);
     }
 }
 
@@ -228,11 +262,12 @@ void Daemon::run() {
         }
         ingest_complete_files(now);
         process_backlog();
+        ingest_waiting_copies();
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();
         report_status();
         if (once_ && !watcher_.has_candidates_in_time() && retry_files_.empty() &&
-            Clock::now() >= retry_at_) {
+            waiting_copies_.empty() && Clock::now() >= retry_at_) {
             break;
         }
         const auto wait = next_wait(Clock::now());

@@ -451,6 +451,37 @@ TEST(DaemonIngest, StartWhileAWriterHoldsTheFileOpenWaitsForIt) {
     EXPECT_TRUE(fs::exists(site.root / "archive" / file.filename()));
 }
 
+// Empty files all have the same sha256, as have copies of one broken file: none of them is
+// a duplicate to delete; each is quarantined with its reason.
+TEST(DaemonIngest, EmptyAndBrokenCopiesAreQuarantinedNotRemovedAsDuplicates) {
+    Site site("emptycopies");
+    const fs::path in = site.ingest();
+    for (const char* name : {"a.ptx", "b.ptx", "c.ptx"}) std::ofstream(in / name).flush();
+    std::ofstream(in / "broken1.ptx") << truncated_ptx();
+    std::ofstream(in / "broken2.ptx") << truncated_ptx();
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    const fs::path q = site.root / "quarantine";
+    for (const char* name : {"a.ptx", "b.ptx", "c.ptx"}) {
+        EXPECT_FALSE(fs::exists(in / name)) << name;
+        ASSERT_TRUE(fs::exists(q / name)) << name << "\n" << read_file(site.log());
+        EXPECT_NE(read_file(q / (std::string(name) + ".reason.txt")).find("empty"),
+                  std::string::npos)
+            << name;
+    }
+    for (const char* name : {"broken1.ptx", "broken2.ptx"}) {
+        EXPECT_FALSE(fs::exists(in / name)) << name;
+        ASSERT_TRUE(fs::exists(q / name)) << name << "\n" << read_file(site.log());
+        EXPECT_NE(read_file(q / (std::string(name) + ".reason.txt")).find("broken1.ptx:"),
+                  std::string::npos)
+            << name << ": the reason of the first copy's epoch";
+    }
+    EXPECT_EQ(all_epochs(site).size(), 2u);  // one per content
+    EXPECT_EQ(count_events(site, "quarantine", (in / "b.ptx").string()), 1);
+    EXPECT_EQ(count_events(site, "quarantine", (in / "broken2.ptx").string()), 1);
+}
+
 // A file name with a newline and other control characters cannot forge a log record or a
 // line of a reason file: they are escaped (\n, \r, \t, \xNN).
 TEST(DaemonIngest, ControlCharactersInFileNamesAreEscapedInLogsAndReasonFiles) {
