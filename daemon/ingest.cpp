@@ -124,14 +124,17 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
                                "same content as epoch " + std::to_string(epoch.id) + " (" +
                                    epoch.file_path + "), which failed: " + epoch.reason);
     }
+    const std::string what = file.string() + ": same content as epoch " + std::to_string(epoch.id) +
+                             " (" + epoch.file_path + ", " + std::string(to_string(epoch.status)) +
+                             "); duplicate ";
     if (ctx.config.ingest.archive == "move") {
         std::error_code ec;
         fs::remove(file, ec);
-        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate removed", file.string(),
-                     epoch.id, epoch.file_path, to_string(epoch.status));
+        ctx.events.record(ctx.db, "info", "duplicate",
+                          what + (ec ? "could not be removed: " + ec.message() : "removed"),
+                          epoch.id);
     } else {
-        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate left in place",
-                     file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
+        ctx.events.record(ctx.db, "info", "duplicate", what + "left in place", epoch.id);
     }
     return IngestOutcome::duplicate;
 }

@@ -482,6 +482,29 @@ TEST(DaemonIngest, EmptyAndBrokenCopiesAreQuarantinedNotRemovedAsDuplicates) {
     EXPECT_EQ(count_events(site, "quarantine", (in / "broken2.ptx").string()), 1);
 }
 
+// Removing a second copy of a known scan is recorded as a system event naming the file
+// and the epoch.
+TEST(DaemonIngest, RemovedDuplicateIsASystemEvent) {
+    Site site("dupevent");
+    fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "small_20260601T060000Z.ptx");
+    DaemonProcess first(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(first.wait(60), 0) << read_file(site.log());
+    ASSERT_EQ(all_epochs(site).size(), 1u);
+    const EpochId id = all_epochs(site)[0].id;
+    fs::copy_file(site.root / "archive/small_20260601T060000Z.ptx", site.ingest() / "again.ptx");
+    DaemonProcess second(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(second.wait(60), 0) << read_file(site.log());
+    EXPECT_FALSE(fs::exists(site.ingest() / "again.ptx"));
+    bool found = false;
+    for (const auto& e : site.open_db().series().events({}, std::string("duplicate"))) {
+        if (e.message.find((site.ingest() / "again.ptx").string()) == std::string::npos) continue;
+        found = true;
+        EXPECT_EQ(e.epoch, id);
+        EXPECT_NE(e.message.find("epoch " + std::to_string(id)), std::string::npos) << e.message;
+    }
+    EXPECT_TRUE(found) << read_file(site.log());
+}
+
 // A file name with a newline and other control characters cannot forge a log record or a
 // line of a reason file: they are escaped (\n, \r, \t, \xNN).
 TEST(DaemonIngest, ControlCharactersInFileNamesAreEscapedInLogsAndReasonFiles) {
