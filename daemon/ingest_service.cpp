@@ -11,6 +11,7 @@
 
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
+#include "daemon/ingest_files.hpp"
 #include "daemon/logging.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "daemon/shutdown.hpp"
@@ -162,6 +163,12 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
         retry_files_.insert(retry_files_.end(), files.begin(), files.end());
         return;
     }
+    // Copies of one scan arriving together: the one whose name carries a time stamp comes
+    // first and becomes the epoch (with the acquisition time of its name); the others are
+    // its duplicates.
+    std::stable_partition(files.begin(), files.end(), [](const fs::path& f) {
+        return time_from_file_name(f.filename().string()).has_value();
+    });
     for (const auto& f : files) ingest(f);
     if (!retry_files_.empty() && retry_at_ <= now) {
         backoff_ = backoff_ == 0 ? config_.ingest.retry_initial

@@ -54,10 +54,9 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
 
     const auto epochs = all_epochs(site);
     ASSERT_EQ(epochs.size(), 4u) << read_file(site.log());
-    // The same bytes under two names are one epoch, whichever name was seen first.
-    const Epoch* e1 = by_name(epochs, "small_20260601T061500Z.ptx");
-    const std::string e1_name = e1 ? "small_20260601T061500Z.ptx" : "copy-of-first.ptx";
-    if (!e1) e1 = by_name(epochs, "copy-of-first.ptx");
+    // The same bytes under two names are one epoch, under the name with the time stamp.
+    const std::string e1_name = "small_20260601T061500Z.ptx";
+    const Epoch* e1 = by_name(epochs, e1_name);
     const Epoch* e0 = by_name(epochs, "small_20260601T060000Z.ptx");
     const Epoch* bad = by_name(epochs, "small_20260601T063000Z.ptx");
     const Epoch* empty = by_name(epochs, "small_20260601T064500Z.ptx");
@@ -480,6 +479,31 @@ TEST(DaemonIngest, EmptyAndBrokenCopiesAreQuarantinedNotRemovedAsDuplicates) {
     EXPECT_EQ(all_epochs(site).size(), 2u);  // one per content
     EXPECT_EQ(count_events(site, "quarantine", (in / "b.ptx").string()), 1);
     EXPECT_EQ(count_events(site, "quarantine", (in / "broken2.ptx").string()), 1);
+}
+
+// Two copies of one scan arriving together: the copy whose name carries the time stamp
+// becomes the epoch (its acquisition time from the name, not mtime), the other is removed
+// and named in the `duplicate` system event.
+TEST(DaemonIngest, DuplicateCopiesArrivingTogetherKeepTheTimeStampedName) {
+    Site site("dupstamp");
+    const fs::path in = site.ingest();
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "a-copy.ptx");  // first alphabetically
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "small_20260601T061500Z.ptx");
+    const auto old = fs::file_time_type::clock::now() - std::chrono::hours(24 * 144);
+    fs::last_write_time(in / "a-copy.ptx", old);
+    fs::last_write_time(in / "small_20260601T061500Z.ptx", old);
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    const auto epochs = all_epochs(site);
+    ASSERT_EQ(epochs.size(), 1u);
+    EXPECT_EQ(fs::path(epochs[0].file_path).filename(), "small_20260601T061500Z.ptx");
+    EXPECT_EQ(epochs[0].acquired, 1780294500);
+    EXPECT_EQ(epochs[0].status, EpochStatus::done);
+    EXPECT_TRUE(fs::exists(site.root / "archive/small_20260601T061500Z.ptx"));
+    EXPECT_FALSE(fs::exists(in / "a-copy.ptx"));
+    EXPECT_EQ(count_events(site, "duplicate", (in / "a-copy.ptx").string()), 1)
+        << read_file(site.log());
 }
 
 // Removing a second copy of a known scan is recorded as a system event naming the file
