@@ -60,6 +60,27 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
     return IngestOutcome::unreadable;
 }
 
+// A file that is no duplicate to delete (empty, or a copy of an epoch that failed) goes to
+// quarantine with its reason; no new epoch (the content has one), a system event instead.
+IngestOutcome quarantine_copy(IngestContext& ctx, const fs::path& file, const Epoch& epoch,
+                              const std::string& reason) {
+    const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
+                                  epoch.sha256.substr(0, 12));
+    write_reason_file(to, file.string(), reason);
+    try {
+        move_file(file, to);
+        ctx.events.record(ctx.db, "error", "quarantine",
+                          file.string() + ": " + reason + "; moved to " + to.string(), epoch.id);
+    } catch (const Error& e) {
+        std::error_code ignored;
+        fs::remove(to.string() + ".reason.txt", ignored);
+        ctx.events.record(ctx.db, "error", "quarantine",
+                          file.string() + ": " + reason + "; left in place (" + e.what() + ")",
+                          epoch.id);
+    }
+    return IngestOutcome::quarantined;
+}
+
 // The file has the content of an epoch that exists already.
 IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch& epoch) {
     const bool same_path = fs::path(epoch.file_path) == file;
@@ -74,13 +95,17 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
                      file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
         return IngestOutcome::known;
     }
+    struct stat st {};
+    const bool empty = ::lstat(file.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0;
     if (!finished(epoch.status)) {
         if (same_path) return IngestOutcome::known;  // queued already (e.g. after a restart)
-    } else if (epoch.archive_path && !fs::exists(*epoch.archive_path) &&
-               fs::path(*epoch.archive_path)
-                   .filename()
-                   .string()
-                   .starts_with(file.stem().string())) {
+        if (empty) return quarantine_copy(ctx, file, epoch, "the file is empty");
+        // Whether this is a duplicate or a copy of a broken file is known once the epoch
+        // is processed.
+        return IngestOutcome::wait_for_epoch;
+    }
+    if (epoch.archive_path && !fs::exists(*epoch.archive_path) &&
+        fs::path(*epoch.archive_path).filename().string().starts_with(file.stem().string())) {
         // The epoch was committed but the daemon stopped before moving its file: finish.
         try {
             move_file(file, *epoch.archive_path);
@@ -91,39 +116,56 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
                          to_string(epoch.status), e.what());
         }
         return IngestOutcome::known;
-    } else if (same_path && ctx.config.ingest.archive == "keep") {
-        return IngestOutcome::known;
     }
+    if (same_path && ctx.config.ingest.archive == "keep") return IngestOutcome::known;
+    if (empty) return quarantine_copy(ctx, file, epoch, "the file is empty");
+    if (epoch.status == EpochStatus::failed) {
+        return quarantine_copy(ctx, file, epoch,
+                               "same content as epoch " + std::to_string(epoch.id) + " (" +
+                                   epoch.file_path + "), which failed: " + epoch.reason);
+    }
+    const std::string what = file.string() + ": same content as epoch " + std::to_string(epoch.id) +
+                             " (" + epoch.file_path + ", " + std::string(to_string(epoch.status)) +
+                             "); duplicate ";
     if (ctx.config.ingest.archive == "move") {
         std::error_code ec;
         fs::remove(file, ec);
-        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate removed", file.string(),
-                     epoch.id, epoch.file_path, to_string(epoch.status));
+        ctx.events.record(ctx.db, "info", "duplicate",
+                          what + (ec ? "could not be removed: " + ec.message() : "removed"),
+                          epoch.id);
     } else {
-        spdlog::info("{}: same content as epoch {} ({}, {}); duplicate left in place",
-                     file.string(), epoch.id, epoch.file_path, to_string(epoch.status));
+        ctx.events.record(ctx.db, "info", "duplicate", what + "left in place", epoch.id);
     }
     return IngestOutcome::duplicate;
 }
 
 }  // namespace
 
-IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file) {
+IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* matched) {
     try {
         std::string sha;
         try {
             sha = sha256_file(file);
         } catch (const FileAccessError& e) {
             if (e.error_number() == ENOENT) return IngestOutcome::known;  // gone meanwhile
+            if (e.error_number() == ELOOP || e.error_number() == EINVAL) {
+                // Replaced by a symbolic link (or a FIFO) since the watcher saw it: never
+                // read through; the watcher reports the link.
+                spdlog::warn("{}", e.what());
+                return IngestOutcome::not_a_file;
+            }
             return record_unreadable(ctx, file, e.what());
         }
-        if (auto epoch = ctx.db.epochs().find_by_sha256(sha))
+        if (auto epoch = ctx.db.epochs().find_by_sha256(sha)) {
+            if (matched) *matched = epoch->id;
             return handle_known(ctx, file, *epoch);
+        }
         std::string used;
         const UtcSeconds acquired =
             acquisition_time(file, ctx.config.ingest.acquisition_time, used);
         const EpochInsert ins =
             ctx.db.epochs().insert(NewEpoch{sha, acquired, file, size_of(file), ctx.station});
+        if (matched) *matched = ins.id;
         if (!ins.inserted) {
             if (auto epoch = ctx.db.epochs().find(ins.id)) return handle_known(ctx, file, *epoch);
             return IngestOutcome::known;

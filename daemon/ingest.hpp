@@ -12,11 +12,14 @@
 namespace tlsmon {
 
 enum class IngestOutcome {
-    new_epoch,    // a pending epoch was inserted
-    known,        // already an epoch (queued, or the file left in place in keep mode)
-    duplicate,    // same content as an earlier epoch: removed or archived, no new epoch
-    unreadable,   // could not be read (permission): recorded as a failed epoch
-    retry_later,  // the database refused (disk full, locked): try again later
+    new_epoch,       // a pending epoch was inserted
+    known,           // already an epoch (queued, or the file left in place in keep mode)
+    duplicate,       // same content as an earlier epoch: removed or left, no new epoch
+    quarantined,     // empty, or a copy of an epoch that failed: quarantined with the reason
+    wait_for_epoch,  // a copy of an epoch not processed yet: ask again once it is
+    unreadable,      // could not be read (permission): recorded as a failed epoch
+    not_a_file,      // a symbolic link or other non-regular entry: never read, left in place
+    retry_later,     // the database refused (disk full, locked): try again later
 };
 
 struct IngestContext {
@@ -26,6 +29,11 @@ struct IngestContext {
     SystemEventLog& events;
 };
 
-IngestOutcome ingest_file(IngestContext& ctx, const std::filesystem::path& file);
+// An empty file, or a copy of a scan that could not be read, is never a duplicate to
+// delete: it goes to quarantine with its reason. A copy of an epoch not yet processed
+// waits (wait_for_epoch) until that epoch is done or failed. `epoch` receives the epoch the
+// file was matched to, if any.
+IngestOutcome ingest_file(IngestContext& ctx, const std::filesystem::path& file,
+                          EpochId* epoch = nullptr);
 
 }  // namespace tlsmon

@@ -7,9 +7,11 @@
 #include <chrono>
 #include <iostream>
 #include <thread>
+#include <utility>
 
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
+#include "daemon/ingest_files.hpp"
 #include "daemon/logging.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/systemd_notify.hpp"
@@ -71,6 +73,9 @@ class Daemon {
     void start();
     void reload();
     void ingest_complete_files(Clock::time_point now);
+    // Copies of epochs that were not processed yet, once those epochs are.
+    void ingest_waiting_copies();
+    void ingest(const fs::path& file);
     // Processes pending epochs until none is left, a retry is due later, or stop.
     void process_backlog();
     void report_status();
@@ -94,6 +99,11 @@ class Daemon {
     Clock::time_point retry_at_{};  // processing / ingest paused until then (disk full)
     double backoff_ = 0;
     std::vector<fs::path> retry_files_;
+    struct WaitingCopy {
+        fs::path file;
+        EpochId epoch = 0;
+    };
+    std::vector<WaitingCopy> waiting_copies_;
     Clock::time_point next_status_{};
     std::int64_t done_ = 0, rejected_ = 0, failed_ = 0;
 };
@@ -144,6 +154,15 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
                            std::to_string(static_cast<long>(g.seconds)) + " s (" +
                            std::to_string(g.size) + " bytes); not processed while it grows");
     }
+    for (const auto& link : watcher_.take_symlinks()) {
+        std::error_code ec;
+        const fs::path target = fs::read_symlink(link, ec);
+        events_.record(db_, "warning", "symlink",
+                       link.string() + " is a symbolic link" +
+                           (ec ? std::string() : " to " + target.string()) +
+                           "; links in the ingest folder are never followed: left in place, "
+                           "not ingested (copy or move the scan itself into the folder)");
+    }
     if (now >= retry_at_) {
         files.insert(files.begin(), retry_files_.begin(), retry_files_.end());
         retry_files_.clear();
@@ -151,14 +170,45 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
         retry_files_.insert(retry_files_.end(), files.begin(), files.end());
         return;
     }
-    auto ctx = context();
-    for (const auto& f : files) {
-        if (ingest_file(ctx, f) == IngestOutcome::retry_later) retry_files_.push_back(f);
-    }
+    // Copies of one scan arriving together: the one whose name carries a time stamp comes
+    // first and becomes the epoch (with the acquisition time of its name); the others are
+    // its duplicates.
+    std::stable_partition(files.begin(), files.end(), [](const fs::path& f) {
+        return time_from_file_name(f.filename().string()).has_value();
+    });
+    for (const auto& f : files) ingest(f);
     if (!retry_files_.empty() && retry_at_ <= now) {
         backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                  : std::min(backoff_ * 2, config_.ingest.retry_max);
         retry_at_ = now + seconds(backoff_);
+    }
+}
+
+void Daemon::ingest(const fs::path& file) {
+    auto ctx = context();
+    EpochId epoch = 0;
+    const IngestOutcome outcome = ingest_file(ctx, file, &epoch);
+    if (outcome == IngestOutcome::retry_later) retry_files_.push_back(file);
+    if (outcome == IngestOutcome::wait_for_epoch) waiting_copies_.push_back({file, epoch});
+}
+
+void Daemon::ingest_waiting_copies() {
+    if (waiting_copies_.empty() || Clock::now() < retry_at_) return;
+    std::vector<WaitingCopy> waiting = std::exchange(waiting_copies_, {});
+    for (std::size_t i = 0; i < waiting.size(); ++i) {
+        try {
+            const auto epoch = db_.epochs().find(waiting[i].epoch);
+            if (epoch && (epoch->status == EpochStatus::pending ||
+                          epoch->status == EpochStatus::processing)) {
+                waiting_copies_.push_back(waiting[i]);  // not yet: hashed again only then
+                continue;
+            }
+        } catch (const StorageError& e) {
+            spdlog::warn("{}", e.what());
+            waiting_copies_.insert(waiting_copies_.end(), waiting.begin() + i, waiting.end());
+            return;
+        }
+        ingest(waiting[i].file);
     }
 }
 
@@ -226,11 +276,12 @@ void Daemon::run() {
         }
         ingest_complete_files(now);
         process_backlog();
+        ingest_waiting_copies();
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();
         report_status();
         if (once_ && !watcher_.has_candidates_in_time() && retry_files_.empty() &&
-            Clock::now() >= retry_at_) {
+            waiting_copies_.empty() && Clock::now() >= retry_at_) {
             break;
         }
         const auto wait = next_wait(Clock::now());

@@ -1,6 +1,7 @@
 #include "daemon/logging.hpp"
 
 #include <spdlog/sinks/rotating_file_sink.h>
+#include <spdlog/sinks/sink.h>
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/sinks/systemd_sink.h>
 #include <spdlog/spdlog.h>
@@ -9,7 +10,41 @@
 #include <memory>
 #include <vector>
 
+#include "core/text_escape.hpp"
+
 namespace tlsmon {
+
+namespace {
+
+// Every sink gets the message with its control characters escaped (core/text_escape.hpp):
+// a file name with a newline cannot forge a log record, nor an ESC sequence reach a
+// terminal, whichever call site logged it.
+class EscapingSink final : public spdlog::sinks::sink {
+  public:
+    explicit EscapingSink(spdlog::sink_ptr inner) : inner_(std::move(inner)) {}
+
+    void log(const spdlog::details::log_msg& msg) override {
+        const std::string_view payload(msg.payload.data(), msg.payload.size());
+        const std::string escaped = escape_control_characters(payload);
+        if (escaped.size() == payload.size()) {  // nothing escaped
+            inner_->log(msg);
+            return;
+        }
+        spdlog::details::log_msg copy = msg;
+        copy.payload = spdlog::string_view_t(escaped.data(), escaped.size());
+        inner_->log(copy);
+    }
+    void flush() override { inner_->flush(); }
+    void set_pattern(const std::string& pattern) override { inner_->set_pattern(pattern); }
+    void set_formatter(std::unique_ptr<spdlog::formatter> formatter) override {
+        inner_->set_formatter(std::move(formatter));
+    }
+
+  private:
+    spdlog::sink_ptr inner_;
+};
+
+}  // namespace
 
 bool running_under_systemd() {
     const char* stream = std::getenv("JOURNAL_STREAM");
@@ -41,6 +76,7 @@ void setup_logging(const LoggingConfig& config) {
                               "' cannot be opened: " + e.what());
         }
     }
+    for (auto& sink : sinks) sink = std::make_shared<EscapingSink>(std::move(sink));
     auto logger = std::make_shared<spdlog::logger>("tlsmon", sinks.begin(), sinks.end());
     logger->set_level(spdlog::level::from_str(config.level));
     logger->flush_on(spdlog::level::info);

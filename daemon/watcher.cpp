@@ -1,5 +1,6 @@
 #include "daemon/watcher.hpp"
 
+#include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/inotify.h>
 #include <sys/stat.h>
@@ -8,7 +9,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -32,22 +39,94 @@ namespace {
 struct FileState {
     bool exists = false;
     bool regular = false;
+    bool symlink = false;
+    std::uint64_t inode = 0;
     std::int64_t size = -1;
     std::int64_t mtime_ns = -1;
 };
 
+// The folder entry itself: a symbolic link is not followed.
 FileState stat_file(const fs::path& p) {
     struct stat st {};
     FileState s;
-    if (::stat(p.c_str(), &st) != 0) return s;
+    if (::lstat(p.c_str(), &st) != 0) return s;
     s.exists = true;
     s.regular = S_ISREG(st.st_mode);
+    s.symlink = S_ISLNK(st.st_mode);
+    s.inode = st.st_ino;
     s.size = st.st_size;
     s.mtime_ns = std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec;
     return s;
 }
 
+// A lease break notifies the holder with SIGIO, whose default action ends the process; the
+// lease is only held for the instant of the check, the notification is of no use.
+void ignore_lease_break_signal() {
+    static std::once_flag once;
+    std::call_once(once, [] { std::signal(SIGIO, SIG_IGN); });
+}
+
+// true/false: open for writing or not; nullopt: no lease can be taken here.
+std::optional<bool> open_for_writing_by_lease(const fs::path& path) {
+    ignore_lease_break_signal();
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    std::optional<bool> open_for_writing;
+    if (::fcntl(fd, F_SETLEASE, F_RDLCK) == 0) {
+        ::fcntl(fd, F_SETLEASE, F_UNLCK);
+        open_for_writing = false;
+    } else if (errno == EAGAIN) {  // a writer (or a write lease) exists
+        open_for_writing = true;
+    }  // EACCES (not the owner), EINVAL (no leases on this file system): cannot tell
+    ::close(fd);
+    return open_for_writing;
+}
+
+bool all_digits(const std::string& s) {
+    return !s.empty() &&
+           std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+}
+
+// The access mode in /proc/<pid>/fdinfo/<fd> ("flags:\t0100002", octal).
+std::optional<int> fd_access_mode(const fs::path& fdinfo) {
+    std::ifstream in(fdinfo);
+    std::string key;
+    while (in >> key) {
+        if (key == "flags:") {
+            unsigned long flags = 0;
+            if (!(in >> std::oct >> flags)) return std::nullopt;
+            return static_cast<int>(flags & O_ACCMODE);
+        }
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    return std::nullopt;
+}
+
 }  // namespace
+
+bool held_open_for_writing_by_proc(const fs::path& path) {
+    struct stat target {};
+    if (::lstat(path.c_str(), &target) != 0 || !S_ISREG(target.st_mode)) return false;
+    std::error_code ec;
+    for (fs::directory_iterator p("/proc", ec), end; !ec && p != end; p.increment(ec)) {
+        if (!all_digits(p->path().filename().string())) continue;
+        std::error_code fd_ec;  // another user's process: not visible, skipped
+        for (fs::directory_iterator f(p->path() / "fd", fd_ec), fend; !fd_ec && f != fend;
+             f.increment(fd_ec)) {
+            struct stat st {};
+            if (::stat(f->path().c_str(), &st) != 0) continue;
+            if (st.st_dev != target.st_dev || st.st_ino != target.st_ino) continue;
+            const auto mode = fd_access_mode(p->path() / "fdinfo" / f->path().filename());
+            if (!mode || *mode != O_RDONLY) return true;
+        }
+    }
+    return false;
+}
+
+bool held_open_for_writing(const fs::path& path) {
+    if (const auto by_lease = open_for_writing_by_lease(path)) return *by_lease;
+    return held_open_for_writing_by_proc(path);
+}
 
 FolderWatcher::FolderWatcher(fs::path folder, IngestConfig config)
     : folder_(std::move(folder)), config_(std::move(config)) {
@@ -74,6 +153,10 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     if (!is_scan_name(name, config_.extensions)) return;
     const fs::path path = folder_ / name;
     const FileState st = stat_file(path);
+    if (st.symlink) {
+        note_symlink(name, st.inode);
+        return;
+    }
     if (!st.exists || !st.regular) return;
     if (auto h = handed_.find(name); h != handed_.end()) {
         if (h->second.size == st.size && h->second.mtime_ns == st.mtime_ns) return;
@@ -89,6 +172,19 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     }
     if (writing) c.writing = true;
     if (closed) c.writing = false;
+}
+
+void FolderWatcher::note_symlink(const std::string& name, std::uint64_t inode) {
+    candidates_.erase(name);
+    handed_.erase(name);
+    auto [it, added] = symlinks_.try_emplace(name, inode);
+    if (!added && it->second == inode) return;  // reported already
+    it->second = inode;
+    new_symlinks_.push_back(folder_ / name);
+}
+
+std::vector<fs::path> FolderWatcher::take_symlinks() {
+    return std::exchange(new_symlinks_, {});
 }
 
 void FolderWatcher::read_events(SteadyTime now) {
@@ -120,6 +216,7 @@ void FolderWatcher::read_events(SteadyTime now) {
             if (ev->mask & (IN_DELETE | IN_MOVED_FROM)) {
                 candidates_.erase(name);
                 handed_.erase(name);
+                symlinks_.erase(name);
             } else if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
                 touch(name, now, false, true);
             } else if (ev->mask & (IN_CREATE | IN_MODIFY)) {
@@ -142,6 +239,9 @@ void FolderWatcher::rescan(SteadyTime now) {
     for (auto it = handed_.begin(); it != handed_.end();) {
         it = stat_file(folder_ / it->first).exists ? std::next(it) : handed_.erase(it);
     }
+    for (auto it = symlinks_.begin(); it != symlinks_.end();) {
+        it = stat_file(folder_ / it->first).symlink ? std::next(it) : symlinks_.erase(it);
+    }
 }
 
 std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
@@ -163,10 +263,20 @@ std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
             c.last_change = now;
         }
         if (!c.writing && now - c.last_change >= stable) {
-            complete.push_back(path);
-            handed_[it->first] = Handed{st.size, st.mtime_ns};
-            it = candidates_.erase(it);
-            continue;
+            if (!held_open_for_writing(path)) {
+                complete.push_back(path);
+                handed_[it->first] = Handed{st.size, st.mtime_ns};
+                it = candidates_.erase(it);
+                continue;
+            }
+            // Stable but still open (e.g. found by the scan at a restart while its writer
+            // pauses): not complete; checked again stable_seconds later.
+            c.last_change = now;
+            if (!c.reported_open) {
+                c.reported_open = true;
+                spdlog::info("{}: still open for writing; waiting until it is closed",
+                             path.string());
+            }
         }
         if (!c.reported_growing && now - c.first_seen >= max_growing) {
             c.reported_growing = true;

@@ -6,8 +6,12 @@
 // A file is complete when
 //   - it is not being written: no IN_CREATE/IN_MODIFY since its last IN_CLOSE_WRITE or
 //     IN_MOVED_TO (a file only found by a scan counts as closed), and
-//   - its size and mtime have not changed for stable_seconds.
+//   - its size and mtime have not changed for stable_seconds, and
+//   - no process has it open for writing (held_open_for_writing): a file found by a scan
+//     after a restart while its writer pauses is waited for, not taken half-written.
 // Hidden and temporary names (".x.part", "x.tmp", "x~") and other extensions are ignored.
+// Only regular files are taken. A symbolic link with a scan's name is never followed nor
+// read nor tracked: it is reported once (take_symlinks) and left where it is.
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -23,6 +27,14 @@ using SteadyTime = std::chrono::steady_clock::time_point;
 
 // Whether `name` looks like a scan the daemon should take (extension, not hidden/temporary).
 bool is_scan_name(const std::string& name, const std::vector<std::string>& extensions);
+
+// Whether some process has `path` open for writing. A read lease (fcntl F_SETLEASE) cannot
+// be taken while any process, of any user, has the file open for writing; where no lease
+// can be taken (another user's file without CAP_LEASE, a file system without leases), the
+// open files of the processes this one may inspect (/proc/<pid>/fd and fdinfo).
+bool held_open_for_writing(const std::filesystem::path& path);
+// The /proc part alone (tests).
+bool held_open_for_writing_by_proc(const std::filesystem::path& path);
 
 struct GrowingFile {
     std::filesystem::path path;
@@ -49,6 +61,9 @@ class FolderWatcher {
     // after max_growing.
     std::vector<std::filesystem::path> take_complete(SteadyTime now,
                                                      std::vector<GrowingFile>& growing);
+    // Symbolic links with a scan's name seen since the last call, each once (again only
+    // after it was removed or replaced).
+    std::vector<std::filesystem::path> take_symlinks();
     // Hand the file out again at the next rescan (e.g. the database was full).
     void forget(const std::filesystem::path& path);
 
@@ -66,6 +81,7 @@ class FolderWatcher {
         SteadyTime last_change;
         bool writing = false;
         bool reported_growing = false;
+        bool reported_open = false;
     };
     struct Handed {
         std::int64_t size = -1;
@@ -74,12 +90,15 @@ class FolderWatcher {
 
     bool add_watch();  // false (errno set) if the folder cannot be watched
     void touch(const std::string& name, SteadyTime now, bool writing, bool closed);
+    void note_symlink(const std::string& name, std::uint64_t inode);
 
     std::filesystem::path folder_;
     IngestConfig config_;
     int inotify_fd_ = -1;
     std::map<std::string, Candidate> candidates_;
     std::map<std::string, Handed> handed_;
+    std::map<std::string, std::uint64_t> symlinks_;  // name -> inode of the link, reported
+    std::vector<std::filesystem::path> new_symlinks_;
 };
 
 }  // namespace tlsmon

@@ -30,7 +30,7 @@ bool names_reference(const PipelineConfig& config, const Epoch& e) {
 // Size and mtime of a file, to see whether it changed while it was read.
 std::pair<std::int64_t, std::int64_t> size_and_mtime(const fs::path& file) {
     struct stat st {};
-    if (::stat(file.c_str(), &st) != 0) return {-1, -1};
+    if (::lstat(file.c_str(), &st) != 0) return {-1, -1};
     return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
 }
 
@@ -61,9 +61,11 @@ EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& r
     const fs::path file(epoch.file_path);
     std::optional<std::string> moved_to;
     std::error_code ec;
-    if (quarantine && fs::exists(file, ec)) {
-        const fs::path to =
-            free_name(ctx.config.quarantine, file.filename().string(), epoch.sha256.substr(0, 12));
+    // Only a regular file is moved: a symbolic link put in its place is never followed,
+    // nor moved.
+    if (quarantine && fs::is_regular_file(fs::symlink_status(file, ec))) {
+        const fs::path to = free_name(ctx.config.quarantine, file.filename().string(),
+                                      epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
         moved_to = to.string();
     }
@@ -161,7 +163,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         if (!ctx.db.epochs().claim(epoch.id)) return EpochOutcome::skipped;
         const fs::path file(epoch.file_path);
         std::error_code ec;
-        if (!fs::exists(file, ec)) {
+        if (!fs::exists(fs::symlink_status(file, ec))) {
             return fail(ctx, epoch, "the file vanished before it was processed");
         }
         // The bytes parsed are the bytes hashed: a file replaced under the same name while

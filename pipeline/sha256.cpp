@@ -49,13 +49,23 @@ namespace {
 
 constexpr std::size_t kChunk = 1 << 20;
 
+// A scan file opened for reading. A symbolic link is not followed (ELOOP) and only a regular
+// file is read (not a FIFO or device with a scan's name): only the folder's own files.
 class InputFile {
   public:
     explicit InputFile(const std::filesystem::path& path) : path_(path) {
-        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        fd_ = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
         if (fd_ < 0) {
             const int e = errno;
-            throw FileAccessError(path.string() + ": cannot open: " + std::strerror(e), e);
+            throw FileAccessError(path.string() + ": cannot open: " +
+                                      (e == ELOOP ? std::string("a symbolic link, not followed")
+                                                  : std::string(std::strerror(e))),
+                                  e);
+        }
+        struct stat st {};
+        if (::fstat(fd_, &st) == 0 && !S_ISREG(st.st_mode)) {
+            ::close(fd_);
+            throw FileAccessError(path.string() + ": not a regular file", EINVAL);
         }
     }
     InputFile(const InputFile&) = delete;

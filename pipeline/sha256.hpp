@@ -18,7 +18,8 @@ class FileAccessError : public Error {
     int error_number_;
 };
 
-// 64 lower-case hex digits. Throws FileAccessError.
+// 64 lower-case hex digits. Throws FileAccessError; a symbolic link is never followed
+// (error number ELOOP), nor is anything but a regular file read (EINVAL).
 std::string sha256_file(const std::filesystem::path& path);
 // The same for bytes in memory.
 std::string sha256_text(const std::string& bytes);

@@ -1,7 +1,9 @@
 // `tlsmon run` end to end: the real binary on real and simulated scans, checked in the
 // SQLite epoch database it writes.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -52,10 +54,9 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
 
     const auto epochs = all_epochs(site);
     ASSERT_EQ(epochs.size(), 4u) << read_file(site.log());
-    // The same bytes under two names are one epoch, whichever name was seen first.
-    const Epoch* e1 = by_name(epochs, "small_20260601T061500Z.ptx");
-    const std::string e1_name = e1 ? "small_20260601T061500Z.ptx" : "copy-of-first.ptx";
-    if (!e1) e1 = by_name(epochs, "copy-of-first.ptx");
+    // The same bytes under two names are one epoch, under the name with the time stamp.
+    const std::string e1_name = "small_20260601T061500Z.ptx";
+    const Epoch* e1 = by_name(epochs, e1_name);
     const Epoch* e0 = by_name(epochs, "small_20260601T060000Z.ptx");
     const Epoch* bad = by_name(epochs, "small_20260601T063000Z.ptx");
     const Epoch* empty = by_name(epochs, "small_20260601T064500Z.ptx");
@@ -338,6 +339,227 @@ TEST(DaemonIngest, ConfiguredReferenceEpochWinsOverTheFirst) {
     const Epoch* named = by_name(epochs, "small_20260601T061500Z.ptx");
     ASSERT_TRUE(named);
     EXPECT_EQ(site.open_db().epochs().reference(), named->id);
+}
+
+int count_events(const Site& site, const std::string& kind, const std::string& text) {
+    int n = 0;
+    for (const auto& e : site.open_db().series().events({}, kind)) {
+        n += e.message.find(text) != std::string::npos;
+    }
+    return n;
+}
+
+std::string truncated_ptx() {
+    const std::string text = read_file(kData / "ptx/pumpA_from_e57.ptx");
+    return text.substr(0, text.size() / 2);
+}
+
+// A symbolic link in the ingest folder is never followed nor read, whether it was there
+// before the start or appears while the daemon runs: it is reported once (a `symlink`
+// system event per link) and left where it is.
+TEST(DaemonIngest, SymlinksAreNeverFollowedAndReportedOnce) {
+    Site site("symlinks");
+    const fs::path in = site.ingest();
+    const fs::path outside = site.root / "outside.ptx";  // a valid scan outside the folder
+    fs::copy_file(kData / "ptx/no-color.ptx", outside);
+    fs::create_symlink(outside, in / "small_20260601T060000Z.ptx");  // there before the start
+    fs::create_symlink("/etc", in / "etc.ptx");                      // a folder
+    fs::create_symlink(site.root / "missing.ptx", in / "dangling.ptx");
+
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 20))
+        << read_file(site.log());
+    fs::create_symlink(outside, in / "small_20260601T061500Z.ptx");  // while running
+    fs::copy_file(kData / "ptx/complex-transform.ptx", in / "real.ptx");
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto e = all_epochs(site);
+            const Epoch* real = by_name(e, "real.ptx");
+            return real && real->status == EpochStatus::done;
+        },
+        30))
+        << read_file(site.log());
+    ASSERT_TRUE(
+        wait_until([&] { return has_event(site, "symlink", "small_20260601T061500Z.ptx"); }, 10))
+        << read_file(site.log());
+    // Several rescans (every 1 s) later: still reported once, never taken.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(10), 0);
+
+    const auto epochs = all_epochs(site);
+    EXPECT_EQ(epochs.size(), 1u) << read_file(site.log());
+    for (const char* link :
+         {"small_20260601T060000Z.ptx", "etc.ptx", "dangling.ptx", "small_20260601T061500Z.ptx"}) {
+        EXPECT_TRUE(fs::is_symlink(fs::symlink_status(in / link))) << link << " left in place";
+        EXPECT_EQ(count_events(site, "symlink", (in / link).string()), 1) << link;
+    }
+    EXPECT_EQ(read_file(outside), read_file(kData / "ptx/no-color.ptx"));
+    EXPECT_FALSE(fs::exists(site.root / "quarantine/small_20260601T060000Z.ptx.reason.txt"));
+    EXPECT_TRUE(!fs::exists(site.root / "quarantine") || fs::is_empty(site.root / "quarantine"));
+}
+
+// The daemon (re)starts while a writer holds a half-written scan open and pauses longer
+// than stable_seconds: the file is waited for, and taken whole once the writer closes it.
+TEST(DaemonIngest, StartWhileAWriterHoldsTheFileOpenWaitsForIt) {
+    Site site("openwriter");
+    const std::string text = read_file(kData / "ptx/no-color.ptx");
+    const fs::path file = site.ingest() / "small_20260601T060000Z.ptx";
+    // The writer's descriptor is close-on-exec: the daemon started below must not inherit it.
+    const int out = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    ASSERT_GE(out, 0);
+    const auto write_part = [&](const std::string& part) {
+        ASSERT_EQ(::write(out, part.data(), part.size()), static_cast<ssize_t>(part.size()));
+    };
+    write_part(text.substr(0, text.size() / 2));
+    fs::copy_file(kData / "ptx/complex-transform.ptx",
+                  site.ingest() / "small_20260601T054500Z.ptx");
+
+    DaemonProcess daemon(site.config(), site.log());
+    // The other scan found by the same first folder scan is taken: so was the open file,
+    // had it been judged by its stable size alone.
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const Epoch* other = by_name(all_epochs(site), "small_20260601T054500Z.ptx");
+            return other && other->status == EpochStatus::done;
+        },
+        30))
+        << read_file(site.log());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // 5 x stable_seconds
+    EXPECT_FALSE(by_name(all_epochs(site), file.filename().string()))
+        << "a file open for writing must not become an epoch\n"
+        << read_file(site.log());
+    EXPECT_TRUE(fs::exists(file));
+
+    write_part(text.substr(text.size() / 2));
+    ::close(out);
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const Epoch* e = by_name(all_epochs(site), file.filename().string());
+            return e && e->status != EpochStatus::pending && e->status != EpochStatus::processing;
+        },
+        30))
+        << read_file(site.log());
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(10), 0);
+    const Epoch* e = by_name(all_epochs(site), file.filename().string());
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->status, EpochStatus::done) << e->reason;
+    EXPECT_EQ(e->point_count, 15);
+    EXPECT_EQ(all_epochs(site).size(), 2u);
+    EXPECT_TRUE(fs::exists(site.root / "archive" / file.filename()));
+}
+
+// Empty files all have the same sha256, as have copies of one broken file: none of them is
+// a duplicate to delete; each is quarantined with its reason.
+TEST(DaemonIngest, EmptyAndBrokenCopiesAreQuarantinedNotRemovedAsDuplicates) {
+    Site site("emptycopies");
+    const fs::path in = site.ingest();
+    for (const char* name : {"a.ptx", "b.ptx", "c.ptx"}) std::ofstream(in / name).flush();
+    std::ofstream(in / "broken1.ptx") << truncated_ptx();
+    std::ofstream(in / "broken2.ptx") << truncated_ptx();
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    const fs::path q = site.root / "quarantine";
+    for (const char* name : {"a.ptx", "b.ptx", "c.ptx"}) {
+        EXPECT_FALSE(fs::exists(in / name)) << name;
+        ASSERT_TRUE(fs::exists(q / name)) << name << "\n" << read_file(site.log());
+        EXPECT_NE(read_file(q / (std::string(name) + ".reason.txt")).find("empty"),
+                  std::string::npos)
+            << name;
+    }
+    for (const char* name : {"broken1.ptx", "broken2.ptx"}) {
+        EXPECT_FALSE(fs::exists(in / name)) << name;
+        ASSERT_TRUE(fs::exists(q / name)) << name << "\n" << read_file(site.log());
+        EXPECT_NE(read_file(q / (std::string(name) + ".reason.txt")).find("broken1.ptx:"),
+                  std::string::npos)
+            << name << ": the reason of the first copy's epoch";
+    }
+    EXPECT_EQ(all_epochs(site).size(), 2u);  // one per content
+    EXPECT_EQ(count_events(site, "quarantine", (in / "b.ptx").string()), 1);
+    EXPECT_EQ(count_events(site, "quarantine", (in / "broken2.ptx").string()), 1);
+}
+
+// Two copies of one scan arriving together: the copy whose name carries the time stamp
+// becomes the epoch (its acquisition time from the name, not mtime), the other is removed
+// and named in the `duplicate` system event.
+TEST(DaemonIngest, DuplicateCopiesArrivingTogetherKeepTheTimeStampedName) {
+    Site site("dupstamp");
+    const fs::path in = site.ingest();
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "a-copy.ptx");  // first alphabetically
+    fs::copy_file(kData / "ptx/no-color.ptx", in / "small_20260601T061500Z.ptx");
+    const auto old = fs::file_time_type::clock::now() - std::chrono::hours(24 * 144);
+    fs::last_write_time(in / "a-copy.ptx", old);
+    fs::last_write_time(in / "small_20260601T061500Z.ptx", old);
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    const auto epochs = all_epochs(site);
+    ASSERT_EQ(epochs.size(), 1u);
+    EXPECT_EQ(fs::path(epochs[0].file_path).filename(), "small_20260601T061500Z.ptx");
+    EXPECT_EQ(epochs[0].acquired, 1780294500);
+    EXPECT_EQ(epochs[0].status, EpochStatus::done);
+    EXPECT_TRUE(fs::exists(site.root / "archive/small_20260601T061500Z.ptx"));
+    EXPECT_FALSE(fs::exists(in / "a-copy.ptx"));
+    EXPECT_EQ(count_events(site, "duplicate", (in / "a-copy.ptx").string()), 1)
+        << read_file(site.log());
+}
+
+// Removing a second copy of a known scan is recorded as a system event naming the file
+// and the epoch.
+TEST(DaemonIngest, RemovedDuplicateIsASystemEvent) {
+    Site site("dupevent");
+    fs::copy_file(kData / "ptx/no-color.ptx", site.ingest() / "small_20260601T060000Z.ptx");
+    DaemonProcess first(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(first.wait(60), 0) << read_file(site.log());
+    ASSERT_EQ(all_epochs(site).size(), 1u);
+    const EpochId id = all_epochs(site)[0].id;
+    fs::copy_file(site.root / "archive/small_20260601T060000Z.ptx", site.ingest() / "again.ptx");
+    DaemonProcess second(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(second.wait(60), 0) << read_file(site.log());
+    EXPECT_FALSE(fs::exists(site.ingest() / "again.ptx"));
+    bool found = false;
+    for (const auto& e : site.open_db().series().events({}, std::string("duplicate"))) {
+        if (e.message.find((site.ingest() / "again.ptx").string()) == std::string::npos) continue;
+        found = true;
+        EXPECT_EQ(e.epoch, id);
+        EXPECT_NE(e.message.find("epoch " + std::to_string(id)), std::string::npos) << e.message;
+    }
+    EXPECT_TRUE(found) << read_file(site.log());
+}
+
+// A file name with a newline and other control characters cannot forge a log record or a
+// line of a reason file: they are escaped (\n, \r, \t, \xNN).
+TEST(DaemonIngest, ControlCharactersInFileNamesAreEscapedInLogsAndReasonFiles) {
+    TempDir logs("escapelog");
+    const fs::path log_file = logs / "tlsmon.log";
+    Site site("escape", "[logging]\nfile = \"" + log_file.string() + "\"\n");
+    const std::string name =
+        "x\n2026-06-01T06:00:00.000+0000 critical forged\r\t\x1b[2J\x7f\xc2\x9b\xff.ptx";
+    const std::string escaped =
+        "x\\n2026-06-01T06:00:00.000+0000 critical forged\\r\\t\\x1b[2J\\x7f\\xc2\\x9b\\xff.ptx";
+    std::ofstream(site.ingest() / name) << truncated_ptx();
+    DaemonProcess daemon(site.config(), site.log(), /*once=*/true);
+    ASSERT_EQ(daemon.wait(60), 0) << read_file(site.log());
+
+    for (const fs::path& log : {site.log(), log_file}) {
+        const std::string text = read_file(log);
+        EXPECT_NE(text.find(escaped), std::string::npos) << log << "\n" << text;
+        EXPECT_EQ(text.find("\n2026-06-01T06:00:00.000+0000 critical forged"), std::string::npos)
+            << log;
+        for (const char c : {'\r', '\t', '\x1b', '\x7f'}) {
+            EXPECT_EQ(text.find(c), std::string::npos) << log << ": byte " << int(c);
+        }
+        EXPECT_EQ(text.find("\xc2\x9b"), std::string::npos) << log;
+    }
+    const fs::path reason = site.root / "quarantine" / (name + ".reason.txt");
+    ASSERT_TRUE(fs::exists(reason)) << read_file(site.log());
+    const std::string text = read_file(reason);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2) << text;
+    EXPECT_EQ(text.find('\x1b'), std::string::npos) << text;
+    EXPECT_NE(text.find("file: " + (site.ingest() / escaped).string() + "\n"), std::string::npos)
+        << text;
 }
 
 TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {

@@ -2,13 +2,15 @@
 // name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <fstream>
 
 #include "daemon/ingest_files.hpp"
-#include "pipeline/epoch_files.hpp"
-#include "pipeline/sha256.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/e57_writer.hpp"
+#include "pipeline/epoch_files.hpp"
+#include "pipeline/sha256.hpp"
 #include "tests/support/small_tmpfs.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -117,6 +119,77 @@ TEST(IngestParts, WatcherAfterQueueOverflowTakesAFileWhoseCloseWasLost) {
     }  // the close of scan.ptx is lost
     watcher.read_events(now);
     const auto complete = watcher.take_complete(now + std::chrono::seconds(1), growing);
+    ASSERT_EQ(complete.size(), 1u);
+    EXPECT_EQ(complete[0], d / "scan.ptx");
+}
+
+// A symbolic link is never a candidate (never polled, never handed out); it is reported
+// once, and again only when the link is replaced.
+TEST(IngestParts, WatcherReportsSymlinksOnceAndNeverTracksThem) {
+    const test::TempDir d;
+    test::write_file(d / "target.ptx.bak", "bytes outside the scan names");
+    IngestConfig config;
+    config.stable_seconds = 0;
+    FolderWatcher watcher(d.path(), config);
+    fs::create_symlink(d / "target.ptx.bak", d / "link.ptx");
+    fs::create_symlink("/etc", d / "etc.ptx");
+    const auto now = std::chrono::steady_clock::now();
+    watcher.read_events(now);  // IN_CREATE of both links
+    watcher.rescan(now);
+    std::vector<GrowingFile> growing;
+    EXPECT_TRUE(watcher.take_complete(now + std::chrono::seconds(1), growing).empty());
+    EXPECT_FALSE(watcher.has_candidates());
+    EXPECT_EQ(watcher.until_next_check(now), std::chrono::hours(1));
+    auto links = watcher.take_symlinks();
+    std::sort(links.begin(), links.end());
+    EXPECT_EQ(links, (std::vector<fs::path>{d / "etc.ptx", d / "link.ptx"}));
+    watcher.rescan(now + std::chrono::seconds(2));
+    EXPECT_TRUE(watcher.take_symlinks().empty()) << "reported once";
+    fs::remove(d / "link.ptx");
+    fs::create_symlink("/etc/passwd", d / "link.ptx");
+    watcher.read_events(now + std::chrono::seconds(3));
+    watcher.rescan(now + std::chrono::seconds(3));
+    EXPECT_EQ(watcher.take_symlinks(), std::vector<fs::path>{d / "link.ptx"});
+}
+
+// Files are opened without following a symbolic link: the hash never reads the target.
+TEST(IngestParts, Sha256NeverFollowsASymlink) {
+    const test::TempDir d;
+    test::write_file(d / "target", "secret");
+    fs::create_symlink(d / "target", d / "link.ptx");
+    try {
+        sha256_file(d / "link.ptx");
+        FAIL() << "a symbolic link was followed";
+    } catch (const FileAccessError& e) {
+        EXPECT_EQ(e.error_number(), ELOOP);
+    }
+    EXPECT_THROW(read_file_hashed(d / "link.ptx"), FileAccessError);
+}
+
+// A file some process still has open for writing is not complete, however long its size
+// stays the same (found by a folder scan, e.g. after a restart, no close event comes first).
+TEST(IngestParts, WatcherWaitsForAFileOpenForWriting) {
+    const test::TempDir d;
+    IngestConfig config;
+    config.stable_seconds = 0.5;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<GrowingFile> growing;
+    std::ofstream out(d / "scan.ptx");
+    out << "half a scan" << std::flush;
+    EXPECT_TRUE(held_open_for_writing(d / "scan.ptx"));
+    EXPECT_TRUE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    FolderWatcher watcher(d.path(), config);
+    watcher.rescan(t0);
+    EXPECT_TRUE(watcher.take_complete(t0 + std::chrono::seconds(1), growing).empty());
+    EXPECT_TRUE(watcher.take_complete(t0 + std::chrono::seconds(5), growing).empty());
+    out.close();
+    EXPECT_FALSE(held_open_for_writing(d / "scan.ptx"));
+    EXPECT_FALSE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    // A reader is no writer.
+    std::ifstream reader(d / "scan.ptx");
+    EXPECT_FALSE(held_open_for_writing_by_proc(d / "scan.ptx"));
+    watcher.read_events(t0 + std::chrono::seconds(5));  // the close
+    const auto complete = watcher.take_complete(t0 + std::chrono::seconds(10), growing);
     ASSERT_EQ(complete.size(), 1u);
     EXPECT_EQ(complete[0], d / "scan.ptx");
 }
