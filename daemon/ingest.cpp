@@ -39,8 +39,9 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
                                 const std::string& problem) {
     const std::string reason = "cannot read the file: " + problem;
     std::string used;
-    NewEpoch row{unreadable_identity(file), acquisition_time(file, {"file_name", "mtime"}, used),
-                 file, size_of(file), ctx.station};
+    NewEpoch row{unreadable_identity(file),
+                 acquisition_time(file, {TimeSource::file_name, TimeSource::mtime}, used), file,
+                 size_of(file), ctx.station};
     const EpochInsert ins = ctx.db.epochs().insert(row);
     if (!ins.inserted) return IngestOutcome::known;
     if (!ctx.db.epochs().claim(ins.id)) return IngestOutcome::known;
@@ -91,10 +92,10 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
                          to_string(epoch.status), e.what());
         }
         return IngestOutcome::known;
-    } else if (same_path && ctx.config.ingest.archive == "keep") {
+    } else if (same_path && ctx.config.ingest.archive == ArchiveMode::keep) {
         return IngestOutcome::known;
     }
-    if (ctx.config.ingest.archive == "move") {
+    if (ctx.config.ingest.archive == ArchiveMode::move) {
         std::error_code ec;
         fs::remove(file, ec);
         spdlog::info("{}: same content as epoch {} ({}, {}); duplicate removed", file.string(),

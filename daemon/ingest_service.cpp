@@ -11,10 +11,10 @@
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/logging.hpp"
-#include "pipeline/epoch_pipeline.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
+#include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
 
