@@ -145,6 +145,13 @@ TEST(TomlFields, NamedChoiceBecomesItsEnumerator) {
     EXPECT_EQ(name_of(Mode::keep, kModes), "keep");
 }
 
+TEST(TomlFields, UnopenableFileGivesTheSystemsReason) {
+    std::string e = error_of([] { parse_toml_file("/nonexistent/site.toml"); });
+    EXPECT_EQ(e, "cannot open /nonexistent/site.toml: No such file or directory");
+    e = error_of([] { parse_toml_file("/"); });
+    EXPECT_EQ(e, "cannot read /: Is a directory");
+}
+
 TEST(TomlFields, SyntaxErrorNamesLine) {
     const std::string e = error_of([] { parse_toml_string("a = 1\nb = = 2\n", "bad.toml"); });
     EXPECT_NE(e.find("bad.toml:2:"), std::string::npos) << e;

@@ -175,5 +175,15 @@ TEST(Config, PipelineGetsTheArchiveModeAndFolders) {
     EXPECT_EQ(p.quarantine, "/srv/tlsmon/quarantine");
 }
 
+TEST(Config, MissingFileSaysWhy) {
+    try {
+        load_config("/nonexistent/tlsmon-site.toml");
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "cannot open /nonexistent/tlsmon-site.toml: No such file or directory");
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon
