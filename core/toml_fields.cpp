@@ -1,7 +1,12 @@
 #include "core/toml_fields.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 namespace tlsmon {
@@ -17,12 +22,25 @@ std::string position(const std::string& source, const toml::source_region& regio
 }  // namespace
 
 toml::table parse_toml_file(const std::filesystem::path& path) {
-    try {
-        return toml::parse_file(path.string());
-    } catch (const toml::parse_error& e) {
-        throw ConfigError(position(path.string(), e.source()) + ": " +
-                          std::string(e.description()));
+    // Read here rather than by toml::parse_file, whose "File could not be opened" drops
+    // the system's reason (missing file? permission?).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw ConfigError("cannot open " + path.string() + ": " + std::strerror(errno));
+    std::string text;
+    char buffer[65536];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n == 0) break;
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int error = errno;
+            ::close(fd);
+            throw ConfigError("cannot read " + path.string() + ": " + std::strerror(error));
+        }
+        text.append(buffer, static_cast<std::size_t>(n));
     }
+    ::close(fd);
+    return parse_toml_string(text, path.string());
 }
 
 toml::table parse_toml_string(std::string_view text, const std::string& source_name) {

@@ -5,11 +5,13 @@
 // (a misspelt key must not silently fall back to its default).
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/error.hpp"
@@ -21,7 +23,33 @@ class ConfigError : public Error {
     using Error::Error;
 };
 
-// Parses a TOML file; a syntax error becomes a ConfigError naming file, line and column.
+// A value chosen by name in the file: one per enumerator, e.g. {ArchiveMode::keep, "keep"}.
+template <class E>
+struct Named {
+    E value;
+    std::string_view name;
+};
+
+// The name of `value` in `names` (an array of Named<E>).
+template <class E, class Names>
+std::string_view name_of(E value, const Names& names) {
+    for (const auto& n : names) {
+        if (n.value == value) return n.name;
+    }
+    return "?";
+}
+
+// "a, b, c": the names of `names`, as an error message lists them.
+template <class Names>
+std::string list_of_names(const Names& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + std::string(n.name);
+    return out;
+}
+
+// Parses a TOML file; a syntax error becomes a ConfigError naming file, line and column,
+// a file that cannot be read one with the system's reason ("cannot open F: No such file
+// or directory").
 toml::table parse_toml_file(const std::filesystem::path& path);
 toml::table parse_toml_string(std::string_view text, const std::string& source_name);
 
@@ -38,9 +66,15 @@ class TomlFields {
     void get(const std::string& key, double& value, double min, double max);
     void get(const std::string& key, std::int64_t& value, std::int64_t min, std::int64_t max);
     void get(const std::string& key, int& value, int min, int max);
-    // One of `allowed` (an enumeration given by name in the file).
+    // One of `allowed`, kept as text (a list known only at run time, e.g. preset names).
     void get_choice(const std::string& key, std::string& value,
                     const std::vector<std::string>& allowed);
+    // One of `names` (an array of Named<E>), stored as its enumerator.
+    template <class E, class Names>
+    void get_choice(const std::string& key, E& value, const Names& names);
+    // An array of distinct names from `names`, at least one.
+    template <class E, class Names>
+    void get_choices(const std::string& key, std::vector<E>& values, const Names& names);
     // A duration written as "15min", "30s", "2h", "500ms" or a bare number of seconds.
     void get_seconds(const std::string& key, double& seconds, double min, double max);
 
@@ -71,5 +105,48 @@ class TomlFields {
 
 // Parses "15min", "30s", "2h", "1d", "500ms" or "900" (seconds). Throws ConfigError.
 double parse_duration_seconds(const std::string& text);
+
+template <class E, class Names>
+void TomlFields::get_choice(const std::string& key, E& value, const Names& names) {
+    if (!has(key)) {
+        find(key);  // absent: the default stands, and the key counts as known
+        return;
+    }
+    std::string text;
+    get(key, text);
+    for (const auto& n : names) {
+        if (n.name == text) {
+            value = n.value;
+            return;
+        }
+    }
+    fail(key, "'" + text + "' is not one of: " + list_of_names(names));
+}
+
+template <class E, class Names>
+void TomlFields::get_choices(const std::string& key, std::vector<E>& values, const Names& names) {
+    if (!has(key)) {
+        find(key);
+        return;
+    }
+    std::vector<std::string> texts;
+    get(key, texts);
+    if (texts.empty()) fail(key, "expected at least one of: " + list_of_names(names));
+    std::vector<E> out;
+    for (const auto& text : texts) {
+        const auto* named = [&]() -> const Named<E>* {
+            for (const auto& n : names) {
+                if (n.name == text) return &n;
+            }
+            return nullptr;
+        }();
+        if (!named) fail(key, "'" + text + "' is not one of: " + list_of_names(names));
+        if (std::find(out.begin(), out.end(), named->value) != out.end()) {
+            fail(key, "'" + text + "' is listed twice");
+        }
+        out.push_back(named->value);
+    }
+    values = std::move(out);
+}
 
 }  // namespace tlsmon

@@ -1,27 +1,29 @@
 // `tlsmon check-config FILE`: the effective configuration (defaults filled in, paths
-// resolved) on stdout and exit 0, or the error naming file, line and key and exit 1.
+// resolved) on stdout and exit 0, or the error naming file, line and key and exit 1. The
+// folders, database and log file are checked as `tlsmon run` checks them at start, but
+// nothing is created: a folder that run would create is named in a warning.
 #include <iostream>
 
 #include "daemon/commands.hpp"
 #include "daemon/config.hpp"
+#include "daemon/startup_checks.hpp"
 
 namespace tlsmon {
 
-void add_check_config_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("check-config",
-                                   "Validate a configuration file and print "
-                                   "the effective values");
-    auto file = std::make_shared<std::string>();
-    cmd->add_option("FILE", *file, "TOML configuration file")->required();
-    cmd->callback([file] {
-        try {
-            const Config config = load_config(*file);
-            for (const auto& line : describe(config)) std::cout << line << '\n';
-        } catch (const Error& e) {
-            std::cerr << "tlsmon check-config: " << e.what() << '\n';
-            throw CLI::RuntimeError(1);
+int run_check_config(const CheckConfigOptions& options) {
+    try {
+        const Config config = load_config(options.file);
+        const std::vector<MissingFolder> missing = check_startup(config);
+        for (const auto& line : describe(config)) std::cout << line << '\n';
+        for (const auto& m : missing) {
+            std::cerr << "tlsmon check-config: warning: " << m.key << ": " << m.path.string()
+                      << " does not exist; tlsmon run will create it\n";
         }
-    });
+    } catch (const Error& e) {
+        std::cerr << "tlsmon check-config: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
 }
 
 }  // namespace tlsmon

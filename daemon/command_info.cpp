@@ -180,13 +180,8 @@ void print_scan(std::ostream& out, const Scan& s, std::size_t k) {
     out << "    acquired: " << (s.acquired_utc ? iso_utc(*s.acquired_utc) : "unknown") << "\n";
 }
 
-struct InfoOptions {
-    std::vector<std::string> files;
-    bool json = false;
-};
-
 // Reports every file; returns false when at least one could not be read.
-bool run_info(const InfoOptions& o) {
+bool report(const InfoOptions& o) {
     bool all_read = true;
     nlohmann::json report = nlohmann::json::array();
     for (const auto& file : o.files) {
@@ -215,16 +210,8 @@ bool run_info(const InfoOptions& o) {
 
 }  // namespace
 
-void add_info_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand(
-        "info", "Describe scanner exports: format, scans, points, grid, intensity, pose");
-    auto options = std::make_shared<InfoOptions>();
-    cmd->add_option("FILE", options->files, "Scan files (PTX, PTS, XYZ, PLY, PCD, LAS, E57)")
-        ->required();
-    cmd->add_flag("--json", options->json, "Print a JSON array, one object per file");
-    cmd->callback([options] {
-        if (!run_info(*options)) throw CLI::RuntimeError(2);
-    });
+int run_info(const InfoOptions& options) {
+    return report(options) ? 0 : 2;
 }
 
 }  // namespace tlsmon

@@ -1,10 +1,11 @@
 // `tlsmon query epochs|series`: the epochs of a time range, and the time series of one zone
 // and quantity, read from the epoch database (read-only: safe while the daemon writes).
+#include <algorithm>
 #include <iostream>
 
+#include "core/utc_time.hpp"
 #include "daemon/commands.hpp"
 #include "daemon/query_output.hpp"
-#include "core/utc_time.hpp"
 
 namespace tlsmon {
 
@@ -58,37 +59,21 @@ void check_series_names(const EpochDatabase& db, const std::string& zone,
 
 }  // namespace
 
-void add_query_command(CLI::App& app) {
-    auto* query = app.add_subcommand("query", "Query the epoch database");
-    query->require_subcommand(1);
-
-    auto epochs_options = std::make_shared<ReadOptions>();
-    auto* epochs = query->add_subcommand("epochs", "Epochs acquired in a time range");
-    add_read_options(epochs, *epochs_options, true);
-    epochs->callback([epochs_options] {
-        run_reporting_errors("query epochs", [&] {
-            const auto range = time_range(*epochs_options);
-            const auto db = open_for_reading(*epochs_options);
-            print(std::cout, epochs_table(db.series().epochs_in_range(range)),
-                  output_format(*epochs_options));
-        });
+int run_query_epochs(const ReadOptions& options) {
+    return run_reporting_errors("query epochs", [&] {
+        const auto range = time_range(options);
+        const auto db = open_for_reading(options);
+        print(std::cout, epochs_table(db.series().epochs_in_range(range)), options.format);
     });
+}
 
-    auto series_options = std::make_shared<ReadOptions>();
-    auto zone = std::make_shared<std::string>();
-    auto quantity = std::make_shared<std::string>();
-    auto* series = query->add_subcommand("series", "Time series of one zone and quantity");
-    series->add_option("--zone", *zone, "Zone name")->required();
-    series->add_option("--quantity", *quantity, "Quantity (e.g. m3c2_mean_m)")->required();
-    add_read_options(series, *series_options, true);
-    series->callback([series_options, zone, quantity] {
-        run_reporting_errors("query series", [&] {
-            const auto range = time_range(*series_options);
-            const auto db = open_for_reading(*series_options);
-            check_series_names(db, *zone, *quantity);
-            print(std::cout, series_table(db.series().points(*zone, *quantity, range)),
-                  output_format(*series_options));
-        });
+int run_query_series(const SeriesOptions& o) {
+    return run_reporting_errors("query series", [&] {
+        const auto range = time_range(o.read);
+        const auto db = open_for_reading(o.read);
+        check_series_names(db, o.zone, o.quantity);
+        print(std::cout, series_table(db.series().points(o.zone, o.quantity, range)),
+              o.read.format);
     });
 }
 

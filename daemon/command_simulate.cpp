@@ -16,19 +16,6 @@ namespace tlsmon {
 
 namespace {
 
-struct SimulateOptions {
-    std::string config;
-    std::string preset;
-    std::string out;
-    int epochs = 24;
-    std::string cadence;
-    std::string start = "2026-06-01T06:00:00Z";
-    std::optional<std::int64_t> seed;
-    double realtime = 0.0;
-    double slow_copy = 0.0;
-    unsigned threads = 2;
-};
-
 void write_all(const std::filesystem::path& path, const std::string& text) {
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     f.write(text.data(), static_cast<std::streamsize>(text.size()));
@@ -63,7 +50,7 @@ void write_slowly(const std::filesystem::path& path, const std::string& text, do
     if (!f) throw Error("cannot write " + path.string());
 }
 
-void run_simulate(const SimulateOptions& o) {
+void simulate(const SimulateOptions& o) {
     const std::optional<std::string> preset =
         o.preset.empty() ? std::nullopt : std::optional<std::string>(o.preset);
     sim::Site site = o.config.empty() ? sim::preset(preset.value_or("small"))
@@ -109,44 +96,14 @@ void run_simulate(const SimulateOptions& o) {
 
 }  // namespace
 
-void add_simulate_command(CLI::App& app) {
-    auto o = std::make_shared<SimulateOptions>();
-    auto* cmd = app.add_subcommand(
-        "simulate",
-        "Write synthetic PTX scans of a bridge pier with known deformation, drift "
-        "and targets, each with its truth (JSON)");
-    cmd->add_option("--config", o->config, "Scene file (TOML), see etc/simulator-small.toml")
-        ->check(CLI::ExistingFile);
-    cmd->add_option("--preset", o->preset, "Scene preset")
-        ->check(CLI::IsMember({"small", "pier", "hochmosel"}));
-    cmd->add_option("--out", o->out, "Output folder (created if needed)")->required();
-    cmd->add_option("--epochs", o->epochs, "Number of epochs")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    cmd->add_option("--cadence", o->cadence,
-                    "Time between scans, e.g. 15min (default: the scene's, 15min)");
-    cmd->add_option("--start", o->start, "Acquisition time of epoch 0 (UTC)")
-        ->capture_default_str();
-    cmd->add_option("--seed", o->seed,
-                    "Seed of the measurement noise and the drift jitter (default: the scene's)")
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--realtime", o->realtime,
-                    "Write one scan every SECONDS (temporary name, then rename)")
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--slow-copy", o->slow_copy,
-                    "Write each scan under its final name in chunks over SECONDS")
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--threads", o->threads, "Render threads")
-        ->check(CLI::Range(1, 64))
-        ->capture_default_str();
-    cmd->callback([o] {
-        try {
-            run_simulate(*o);
-        } catch (const std::exception& e) {
-            std::cerr << "tlsmon simulate: " << e.what() << '\n';
-            throw CLI::RuntimeError(1);
-        }
-    });
+int run_simulate(const SimulateOptions& options) {
+    try {
+        simulate(options);
+    } catch (const std::exception& e) {
+        std::cerr << "tlsmon simulate: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
 }
 
 }  // namespace tlsmon

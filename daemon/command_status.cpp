@@ -1,9 +1,9 @@
 // `tlsmon status`: last epoch, backlog, failures, alarm summary, database size.
 #include <iostream>
 
+#include "core/utc_time.hpp"
 #include "daemon/commands.hpp"
 #include "daemon/query_output.hpp"
-#include "core/utc_time.hpp"
 
 namespace tlsmon {
 
@@ -27,14 +27,14 @@ std::vector<std::pair<std::string, Cell>> status_fields(const EpochDatabase& db,
         f.emplace_back("last_epoch_acquired", format_utc(s.last_done->acquired));
         f.emplace_back("last_epoch_total_ms", optional_cell(s.last_done->timings.total_ms));
     } else {
-        f.emplace_back("last_epoch", Cell());
+        f.emplace_back("last_epoch", std::monostate{});
     }
     if (s.last_failure) {
         f.emplace_back("last_failure", s.last_failure->id);
         f.emplace_back("last_failure_status", std::string(to_string(s.last_failure->status)));
         f.emplace_back("last_failure_reason", s.last_failure->reason);
     } else {
-        f.emplace_back("last_failure", Cell());
+        f.emplace_back("last_failure", std::monostate{});
     }
     f.emplace_back("alarms_active", s.alarms_active);
     f.emplace_back("alarms_unacknowledged", s.alarms_unacknowledged);
@@ -50,17 +50,10 @@ std::vector<std::pair<std::string, Cell>> status_fields(const EpochDatabase& db,
 
 }  // namespace
 
-void add_status_command(CLI::App& app) {
-    auto* cmd =
-        app.add_subcommand("status", "Last epoch, backlog, failures, alarms, database size");
-    auto options = std::make_shared<ReadOptions>();
-    add_read_options(cmd, *options, false);
-    cmd->callback([options] {
-        run_reporting_errors("status", [&] {
-            const auto db = open_for_reading(*options);
-            print_fields(std::cout, status_fields(db, db.series().status_summary()),
-                         output_format(*options));
-        });
+int run_status(const ReadOptions& options) {
+    return run_reporting_errors("status", [&] {
+        const auto db = open_for_reading(options);
+        print_fields(std::cout, status_fields(db, db.series().status_summary()), options.format);
     });
 }
 

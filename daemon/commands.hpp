@@ -1,16 +1,71 @@
 #pragma once
-// Each subcommand of the `tlsmon` binary registers itself on the CLI11 app; the file that
-// defines add_X_command owns that subcommand's options and behaviour.
-#include <CLI/CLI.hpp>
+// The subcommands of the `tlsmon` binary as plain functions: each takes its options struct
+// and returns the process exit code. Only daemon/main.cpp knows the command line (CLI11,
+// whose header costs seconds per file that includes it): it declares every option and
+// help text and fills these structs.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "daemon/ingest_service.hpp"
+#include "daemon/query_output.hpp"
 
 namespace tlsmon {
 
-void add_check_config_command(CLI::App& app);
-void add_info_command(CLI::App& app);
-void add_run_command(CLI::App& app);
-void add_simulate_command(CLI::App& app);
-void add_status_command(CLI::App& app);
-void add_query_command(CLI::App& app);
-void add_events_command(CLI::App& app);
+// `tlsmon check-config FILE`
+struct CheckConfigOptions {
+    std::string file;
+};
+// 0: valid (effective values on stdout); 1: an error naming file, line and key.
+int run_check_config(const CheckConfigOptions& options);
+
+// `tlsmon info FILE...`
+struct InfoOptions {
+    std::vector<std::string> files;
+    bool json = false;
+};
+// 0: every file read; 2: at least one could not be read (the others are still reported).
+int run_info(const InfoOptions& options);
+
+// `tlsmon status`: 0, or 1 with the error on stderr (as the other reading commands).
+int run_status(const ReadOptions& options);
+
+// `tlsmon query epochs`
+int run_query_epochs(const ReadOptions& options);
+
+// `tlsmon query series --zone Z --quantity Q`
+struct SeriesOptions {
+    ReadOptions read;
+    std::string zone;
+    std::string quantity;
+};
+int run_query_series(const SeriesOptions& options);
+
+// `tlsmon events [--kind K]`
+struct EventsOptions {
+    ReadOptions read;
+    std::string kind;  // "" = every kind
+};
+int run_events(const EventsOptions& options);
+
+// `tlsmon simulate` (compiled into the executable only: the daemon library does not link
+// the simulator).
+struct SimulateOptions {
+    std::string config;
+    std::string preset;
+    std::string out;
+    int epochs = 24;
+    std::string cadence;
+    std::string start = "2026-06-01T06:00:00Z";
+    std::optional<std::int64_t> seed;
+    double realtime = 0.0;
+    double slow_copy = 0.0;
+    unsigned threads = 2;
+};
+// 0, or 1 with the error on stderr.
+int run_simulate(const SimulateOptions& options);
+
+// `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
 
 }  // namespace tlsmon

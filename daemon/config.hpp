@@ -1,8 +1,10 @@
 #pragma once
-// The daemon's configuration: plain structs whose member initialisers are the defaults
-// (etc/tlsmon.toml and docs/configuration.md list the same values), filled from a TOML
-// file and validated in one place. Relative paths are resolved against the folder of the
-// configuration file, so a checkout runs with its own etc/tlsmon.toml.
+// The daemon's configuration: plain structs whose member initialisers are the defaults,
+// filled from a TOML file and validated in one place. daemon/config_keys.cpp declares each
+// key once (name, type, range, meaning) for the reader, describe() and the reference in
+// docs/configuration.md; tests hold etc/tlsmon.toml and the docs to these declarations.
+// A choice made by name in the file is an enum here. Relative paths are resolved against the folder
+// of the configuration file, so a checkout runs with its own etc/tlsmon.toml.
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "core/toml_fields.hpp"
+#include "daemon/ingest_files.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
@@ -30,23 +33,30 @@ struct PathsConfig {
 struct IngestConfig {
     // File name extensions (without the dot, compared case-insensitively) taken as scans.
     std::vector<std::string> extensions = scan_extensions();  // one per format of the table
-    double stable_seconds = 10.0;   // size and mtime unchanged this long -> complete
-    double rescan_interval = 60.0;  // full folder scan (inotify misses network shares)
-    double max_growing = 3600.0;    // a file still growing after this is reported
-    std::string archive = "move";   // "move" to paths.archive, or "keep" in place
-    std::string reference_epoch;    // "" = first accepted epoch; else file name or sha256
+    double stable_seconds = 10.0;             // size and mtime unchanged this long -> complete
+    double rescan_interval = 60.0;            // full folder scan (inotify misses network shares)
+    double max_growing = 3600.0;              // a file still growing after this is reported
+    ArchiveMode archive = ArchiveMode::move;  // to paths.archive, or keep in place
+    std::string reference_epoch;              // "" = first accepted epoch; else file name or sha256
     // Where an epoch's acquisition time comes from, first available wins.
-    std::vector<std::string> acquisition_time = {"scan", "file_name", "mtime"};
+    std::vector<TimeSource> acquisition_time = {TimeSource::scan, TimeSource::file_name,
+                                                TimeSource::mtime};
     double retry_initial = 5.0;  // back-off after a database/disk failure, doubling ...
     double retry_max = 300.0;    // ... up to this
 };
 
+// The lowest level logged.
+enum class LogLevel { trace, debug, info, warn, error, critical, off };
+
+// Whether the log goes to the systemd journal: when started by systemd, always, or never.
+enum class JournaldMode { automatic, on, off };
+
 struct LoggingConfig {
-    std::string level = "info";                // trace, debug, info, warn, error, critical, off
+    LogLevel level = LogLevel::info;
     std::filesystem::path file;                // optional rotating log file ("" = none)
     std::int64_t max_size = 10 * 1024 * 1024;  // bytes per log file before rotating
     int max_files = 5;                         // rotated files kept
-    std::string journald = "auto";             // auto (under systemd), on, off
+    JournaldMode journald = JournaldMode::automatic;
 };
 
 struct DaemonConfig {
@@ -67,6 +77,7 @@ struct Config {
     IngestConfig ingest;
     LoggingConfig logging;
     DaemonConfig daemon;
+    CoverageConfig coverage;  // the pipeline's stages, in their order
     std::vector<ZoneConfig> zones;
 };
 

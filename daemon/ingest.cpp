@@ -39,8 +39,9 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
                                 const std::string& problem) {
     const std::string reason = "cannot read the file: " + problem;
     std::string used;
-    NewEpoch row{unreadable_identity(file), acquisition_time(file, {"file_name", "mtime"}, used),
-                 file, size_of(file), ctx.station};
+    NewEpoch row{unreadable_identity(file),
+                 acquisition_time(file, {TimeSource::file_name, TimeSource::mtime}, used), file,
+                 size_of(file), ctx.station};
     const EpochInsert ins = ctx.db.epochs().insert(row);
     if (!ins.inserted) return IngestOutcome::known;
     if (!ctx.db.epochs().claim(ins.id)) return IngestOutcome::known;
@@ -117,7 +118,7 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
         }
         return IngestOutcome::known;
     }
-    if (same_path && ctx.config.ingest.archive == "keep") return IngestOutcome::known;
+    if (same_path && ctx.config.ingest.archive == ArchiveMode::keep) return IngestOutcome::known;
     if (empty) return quarantine_copy(ctx, file, epoch, "the file is empty");
     if (epoch.status == EpochStatus::failed) {
         return quarantine_copy(ctx, file, epoch,
@@ -127,7 +128,7 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
     const std::string what = file.string() + ": same content as epoch " + std::to_string(epoch.id) +
                              " (" + epoch.file_path + ", " + std::string(to_string(epoch.status)) +
                              "); duplicate ";
-    if (ctx.config.ingest.archive == "move") {
+    if (ctx.config.ingest.archive == ArchiveMode::move) {
         std::error_code ec;
         fs::remove(file, ec);
         ctx.events.record(ctx.db, "info", "duplicate",

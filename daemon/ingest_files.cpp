@@ -47,10 +47,10 @@ std::optional<std::int64_t> file_mtime(const fs::path& path) {
     return static_cast<std::int64_t>(st.st_mtim.tv_sec);
 }
 
-std::int64_t acquisition_time(const fs::path& path, const std::vector<std::string>& precedence,
+std::int64_t acquisition_time(const fs::path& path, const std::vector<TimeSource>& precedence,
                               std::string& used) {
     for (const auto& source : precedence) {
-        if (source == "scan" && detect_format(path) == ScanFormat::e57) {
+        if (source == TimeSource::scan && detect_format(path) == ScanFormat::e57) {
             // Only E57 carries an acquisition time in its header (acquisitionStart, read
             // from the XML section without the points).
             try {
@@ -61,12 +61,12 @@ std::int64_t acquisition_time(const fs::path& path, const std::vector<std::strin
             } catch (const Error&) {
                 // Unreadable: the pipeline reports it; the time comes from elsewhere.
             }
-        } else if (source == "file_name") {
+        } else if (source == TimeSource::file_name) {
             if (auto t = time_from_file_name(path.filename().string())) {
                 used = "file_name";
                 return *t;
             }
-        } else if (source == "mtime") {
+        } else if (source == TimeSource::mtime) {
             if (auto t = file_mtime(path)) {
                 used = "mtime";
                 return *t;

@@ -8,6 +8,13 @@
 
 namespace tlsmon {
 
+// Where an epoch's acquisition time can come from (ingest.acquisition_time).
+enum class TimeSource {
+    scan,       // the file's own header time (E57's acquisitionStart; other formats have none)
+    file_name,  // a YYYYMMDDTHHMMSSZ stamp in the name
+    mtime,      // the file's modification time
+};
+
 // "YYYYMMDDTHHMMSSZ" anywhere in the file name (e.g. "pier_20260601T061500Z.ptx"), as UTC
 // seconds; nullopt when absent or not a valid date.
 std::optional<std::int64_t> time_from_file_name(const std::string& name);
@@ -15,10 +22,9 @@ std::optional<std::int64_t> time_from_file_name(const std::string& name);
 // Modification time of the file, UTC seconds; nullopt if it cannot be read.
 std::optional<std::int64_t> file_mtime(const std::filesystem::path& path);
 
-// The first available source in `precedence` ("scan", "file_name", "mtime"); "scan" is the
-// file's own header time (E57's acquisitionStart; the other formats have none). Falls back
-// to mtime, then to now. `used` names the source taken.
+// The first available source in `precedence`. Falls back to mtime, then to now. `used`
+// names the source taken, for the log.
 std::int64_t acquisition_time(const std::filesystem::path& path,
-                              const std::vector<std::string>& precedence, std::string& used);
+                              const std::vector<TimeSource>& precedence, std::string& used);
 
 }  // namespace tlsmon

@@ -14,6 +14,7 @@
 #include "daemon/ingest_files.hpp"
 #include "daemon/logging.hpp"
 #include "daemon/shutdown.hpp"
+#include "daemon/startup_checks.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
 #include "pipeline/epoch_pipeline.hpp"
@@ -42,15 +43,6 @@ std::string zone_json(const ZoneConfig& z) {
 void log_config(const Config& config) {
     spdlog::info("configuration {}:", config.file.string());
     for (const auto& line : describe(config)) spdlog::info("  {}", line);
-}
-
-void create_folders(const Config& c) {
-    for (const fs::path& p :
-         {c.paths.ingest, c.paths.archive, c.paths.quarantine, c.paths.database.parent_path()}) {
-        std::error_code ec;
-        fs::create_directories(p, ec);
-        if (ec) throw Error(p.string() + ": cannot create the folder: " + ec.message());
-    }
 }
 
 class Daemon {
@@ -130,7 +122,7 @@ void Daemon::reload() {
             fresh.paths.ingest = config_.paths.ingest;
             fresh.paths.database = config_.paths.database;
         }
-        create_folders(fresh);  // a new archive or quarantine folder
+        create_missing_folders(check_startup(fresh));  // a new archive or quarantine folder
         setup_logging(fresh.logging);
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
@@ -300,8 +292,10 @@ void Daemon::run() {
 int run_daemon(const RunOptions& options) {
     SignalThread::block_signals();
     Config config;
+    std::vector<MissingFolder> missing;
     try {
         config = load_config(options.config_file);
+        missing = check_startup(config);  // the same checks as `tlsmon check-config`
         setup_logging(config.logging);
     } catch (const Error& e) {
         std::cerr << "tlsmon run: " << e.what() << '\n';
@@ -313,7 +307,7 @@ int run_daemon(const RunOptions& options) {
     Shutdown shutdown;
     SignalThread signals(shutdown);
     try {
-        create_folders(config);
+        create_missing_folders(missing);
         Daemon daemon(std::move(config), options.once, shutdown);
         daemon.run();
     } catch (const std::exception& e) {

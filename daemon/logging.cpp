@@ -44,6 +44,26 @@ class EscapingSink final : public spdlog::sinks::sink {
     spdlog::sink_ptr inner_;
 };
 
+spdlog::level::level_enum spdlog_level(LogLevel level) {
+    switch (level) {
+        case LogLevel::trace:
+            return spdlog::level::trace;
+        case LogLevel::debug:
+            return spdlog::level::debug;
+        case LogLevel::info:
+            return spdlog::level::info;
+        case LogLevel::warn:
+            return spdlog::level::warn;
+        case LogLevel::error:
+            return spdlog::level::err;
+        case LogLevel::critical:
+            return spdlog::level::critical;
+        case LogLevel::off:
+            return spdlog::level::off;
+    }
+    return spdlog::level::info;
+}
+
 }  // namespace
 
 bool running_under_systemd() {
@@ -54,8 +74,8 @@ bool running_under_systemd() {
 
 void setup_logging(const LoggingConfig& config) {
     std::vector<spdlog::sink_ptr> sinks;
-    const bool journal =
-        config.journald == "on" || (config.journald == "auto" && running_under_systemd());
+    const bool journal = config.journald == JournaldMode::on ||
+                         (config.journald == JournaldMode::automatic && running_under_systemd());
     if (journal) {
         // The journal stamps time and priority itself; the message stays plain.
         sinks.push_back(std::make_shared<spdlog::sinks::systemd_sink_mt>("tlsmon"));
@@ -78,7 +98,7 @@ void setup_logging(const LoggingConfig& config) {
     }
     for (auto& sink : sinks) sink = std::make_shared<EscapingSink>(std::move(sink));
     auto logger = std::make_shared<spdlog::logger>("tlsmon", sinks.begin(), sinks.end());
-    logger->set_level(spdlog::level::from_str(config.level));
+    logger->set_level(spdlog_level(config.level));
     logger->flush_on(spdlog::level::info);
     spdlog::set_default_logger(logger);
 }

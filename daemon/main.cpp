@@ -1,27 +1,182 @@
 // tlsmon: unattended deformation monitoring with a terrestrial laser scanner.
+// The whole command line is declared here, the only file that includes CLI11 (its header
+// costs seconds to compile); each subcommand is a plain function in daemon/command_*.cpp.
 #include <CLI/CLI.hpp>
-#include <exception>
-#include <iostream>
+#include <map>
+#include <string>
 
 #include "daemon/commands.hpp"
+
+namespace tlsmon {
+namespace {
+
+// --db, --config, --format (and --from/--to when `with_time_range`) of the reading
+// commands. The format is checked by name here and handed on as an enum by `finish`.
+struct ReadOptionsOnTheCommandLine {
+    ReadOptions options;
+    std::string format = "table";
+
+    void add_to(CLI::App* cmd, bool with_time_range) {
+        auto* db = cmd->add_option("--db", options.db, "Epoch database (SQLite file)");
+        auto* config = cmd->add_option("--config", options.config,
+                                       "Configuration file naming the database (paths.database)");
+        db->excludes(config);
+        cmd->add_option("--format", format, "Output format")
+            ->check(CLI::IsMember({"table", "csv", "json"}));
+        if (with_time_range) {
+            cmd->add_option("--from", options.from, "Start, ISO-8601 UTC (e.g. 2026-03-01T00:00Z)");
+            cmd->add_option("--to", options.to, "End (inclusive), ISO-8601 UTC");
+        }
+    }
+    const ReadOptions& finish() {
+        static const std::map<std::string, OutputFormat> formats = {{"table", OutputFormat::table},
+                                                                    {"csv", OutputFormat::csv},
+                                                                    {"json", OutputFormat::json}};
+        options.format = formats.at(format);
+        return options;
+    }
+};
+
+// Every subcommand's options, filled by the parser, and the exit code its callback sets.
+struct CommandLine {
+    int code = 0;
+    CheckConfigOptions check_config;
+    InfoOptions info;
+    RunOptions run;
+    std::string run_config;
+    SimulateOptions simulate;
+    ReadOptionsOnTheCommandLine status;
+    ReadOptionsOnTheCommandLine epochs;
+    ReadOptionsOnTheCommandLine series_read;
+    SeriesOptions series;
+    ReadOptionsOnTheCommandLine events_read;
+    EventsOptions events;
+};
+
+void add_check_config(CLI::App& app, CommandLine& c) {
+    auto& o = c.check_config;
+    auto* cmd = app.add_subcommand("check-config",
+                                   "Validate a configuration file and print "
+                                   "the effective values");
+    cmd->add_option("FILE", o.file, "TOML configuration file")->required();
+    cmd->callback([&] { c.code = run_check_config(o); });
+}
+
+void add_info(CLI::App& app, CommandLine& c) {
+    auto& o = c.info;
+    auto* cmd = app.add_subcommand(
+        "info", "Describe scanner exports: format, scans, points, grid, intensity, pose");
+    cmd->add_option("FILE", o.files, "Scan files (PTX, PTS, XYZ, PLY, PCD, LAS, E57)")->required();
+    cmd->add_flag("--json", o.json, "Print a JSON array, one object per file");
+    cmd->callback([&] { c.code = run_info(o); });
+}
+
+void add_run(CLI::App& app, CommandLine& c) {
+    auto& o = c.run;
+    auto* cmd = app.add_subcommand("run", "Run the ingest daemon on the configured folders");
+    cmd->add_option("--config", c.run_config, "TOML configuration file")->required();
+    cmd->add_flag("--once", o.once,
+                  "Process the files present (once complete) and the backlog, then exit");
+    cmd->callback([&] {
+        o.config_file = c.run_config;
+        c.code = run_daemon(o);
+    });
+}
+
+void add_simulate(CLI::App& app, CommandLine& c) {
+    auto& o = c.simulate;
+    auto* cmd = app.add_subcommand(
+        "simulate",
+        "Write synthetic PTX scans of a bridge pier with known deformation, drift "
+        "and targets, each with its truth (JSON)");
+    cmd->add_option("--config", o.config, "Scene file (TOML), see etc/simulator-small.toml")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--preset", o.preset, "Scene preset")
+        ->check(CLI::IsMember({"small", "pier", "hochmosel"}));
+    cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
+    cmd->add_option("--epochs", o.epochs, "Number of epochs")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    cmd->add_option("--cadence", o.cadence,
+                    "Time between scans, e.g. 15min (default: the scene's, 15min)");
+    cmd->add_option("--start", o.start, "Acquisition time of epoch 0 (UTC)")->capture_default_str();
+    cmd->add_option("--seed", o.seed,
+                    "Seed of the measurement noise and the drift jitter (default: the scene's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--realtime", o.realtime,
+                    "Write one scan every SECONDS (temporary name, then rename)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--slow-copy", o.slow_copy,
+                    "Write each scan under its final name in chunks over SECONDS")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o.threads, "Render threads")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_simulate(o); });
+}
+
+void add_status(CLI::App& app, CommandLine& c) {
+    auto& o = c.status;
+    auto* cmd =
+        app.add_subcommand("status", "Last epoch, backlog, failures, alarms, database size");
+    o.add_to(cmd, false);
+    cmd->callback([&] { c.code = run_status(o.finish()); });
+}
+
+void add_query(CLI::App& app, CommandLine& c) {
+    auto* query = app.add_subcommand("query", "Query the epoch database");
+    query->require_subcommand(1);
+
+    auto& epochs_options = c.epochs;
+    auto* epochs = query->add_subcommand("epochs", "Epochs acquired in a time range");
+    epochs_options.add_to(epochs, true);
+    epochs->callback([&] { c.code = run_query_epochs(epochs_options.finish()); });
+
+    auto& series_read = c.series_read;
+    auto& series_options = c.series;
+    auto* series = query->add_subcommand("series", "Time series of one zone and quantity");
+    series->add_option("--zone", series_options.zone, "Zone name")->required();
+    series->add_option("--quantity", series_options.quantity, "Quantity (e.g. m3c2_mean_m)")
+        ->required();
+    series_read.add_to(series, true);
+    series->callback([&] {
+        series_options.read = series_read.finish();
+        c.code = run_query_series(series_options);
+    });
+}
+
+void add_events(CLI::App& app, CommandLine& c) {
+    auto& read = c.events_read;
+    auto& o = c.events;
+    auto* cmd = app.add_subcommand("events", "List system and alarm events");
+    read.add_to(cmd, true);
+    cmd->add_option("--kind", o.kind, "Only events of this kind (e.g. disk_full, raise, ack)");
+    cmd->callback([&] {
+        o.read = read.finish();
+        c.code = run_events(o);
+    });
+}
+
+}  // namespace
+}  // namespace tlsmon
 
 int main(int argc, char** argv) {
     CLI::App app{"tlsmon: unattended deformation monitoring with a terrestrial laser scanner"};
     app.set_version_flag("--version", std::string("tlsmon ") + TLSMON_VERSION);
     app.require_subcommand(1);
-    // Subcommands (one file each under daemon/):
-    tlsmon::add_check_config_command(app);
-    tlsmon::add_info_command(app);
-    tlsmon::add_run_command(app);
-    tlsmon::add_simulate_command(app);
-    tlsmon::add_status_command(app);
-    tlsmon::add_query_command(app);
-    tlsmon::add_events_command(app);
+    tlsmon::CommandLine c;
+    tlsmon::add_check_config(app, c);
+    tlsmon::add_info(app, c);
+    tlsmon::add_run(app, c);
+    tlsmon::add_simulate(app, c);
+    tlsmon::add_status(app, c);
+    tlsmon::add_query(app, c);
+    tlsmon::add_events(app, c);
 
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
-    return 0;
+    return c.code;
 }

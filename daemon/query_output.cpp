@@ -6,23 +6,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "daemon/config.hpp"
 #include "core/utc_time.hpp"
+#include "daemon/config.hpp"
 
 namespace tlsmon {
-
-void add_read_options(CLI::App* cmd, ReadOptions& options, bool with_time_range) {
-    auto* db = cmd->add_option("--db", options.db, "Epoch database (SQLite file)");
-    auto* config = cmd->add_option("--config", options.config,
-                                   "Configuration file naming the database (paths.database)");
-    db->excludes(config);
-    cmd->add_option("--format", options.format, "Output format")
-        ->check(CLI::IsMember({"table", "csv", "json"}));
-    if (with_time_range) {
-        cmd->add_option("--from", options.from, "Start, ISO-8601 UTC (e.g. 2026-03-01T00:00Z)");
-        cmd->add_option("--to", options.to, "End (inclusive), ISO-8601 UTC");
-    }
-}
 
 EpochDatabase open_for_reading(const ReadOptions& options) {
     std::filesystem::path path = options.db;
@@ -32,12 +19,6 @@ EpochDatabase open_for_reading(const ReadOptions& options) {
         path = load_config(options.config).paths.database;
     }
     return EpochDatabase::open(path, EpochDatabase::Mode::read_only);
-}
-
-OutputFormat output_format(const ReadOptions& options) {
-    if (options.format == "csv") return OutputFormat::csv;
-    if (options.format == "json") return OutputFormat::json;
-    return OutputFormat::table;
 }
 
 TimeRange time_range(const ReadOptions& options) {

@@ -1,9 +1,9 @@
 #pragma once
 // What `tlsmon status|query|events` share: where the database is (--db or --config), and
 // printing a result as an aligned table, CSV (RFC 4180) or JSON.
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -26,20 +26,16 @@ struct Table {
     std::vector<std::vector<Cell>> rows;
 };
 
-// The options every reading command takes.
+// The options every reading command takes (daemon/main.cpp declares them).
 struct ReadOptions {
     std::string db;
     std::string config;
-    std::string format = "table";
+    OutputFormat format = OutputFormat::table;
     std::string from, to;  // ISO-8601 UTC, empty = open
 };
 
-// Adds --db, --config, --format to `cmd` (and --from/--to when `time_range`).
-void add_read_options(CLI::App* cmd, ReadOptions& options, bool time_range);
-
 // The database named by --db, or the one of --config's file; opened read-only.
 EpochDatabase open_for_reading(const ReadOptions& options);
-OutputFormat output_format(const ReadOptions& options);
 TimeRange time_range(const ReadOptions& options);  // throws Error for unreadable times
 
 Cell optional_cell(const std::optional<double>& v);
@@ -51,14 +47,16 @@ void print(std::ostream& out, const Table& table, OutputFormat format);
 void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Cell>>& fields,
                   OutputFormat format);
 
-// Runs `body`; an Error becomes "tlsmon <command>: message" on stderr and exit status 1.
+// Runs `body` and returns the exit status: 0, or 1 after an Error was printed on stderr
+// as "tlsmon <command>: message".
 template <class F>
-void run_reporting_errors(const std::string& command, F&& body) {
+int run_reporting_errors(const std::string& command, F&& body) {
     try {
         body();
+        return 0;
     } catch (const Error& e) {
         std::cerr << "tlsmon " << command << ": " << e.what() << '\n';
-        throw CLI::RuntimeError(1);
+        return 1;
     }
 }
 

@@ -1,6 +1,8 @@
 // TomlFields: each getter fills a value or names file:line:column and the key.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "core/toml_fields.hpp"
 
 namespace tlsmon {
@@ -115,6 +117,39 @@ TEST(TomlFields, ChoiceListsAllowedValues) {
     const std::string e = error_of([&] { f.get_choice("mode", mode, {"move", "keep"}); });
     EXPECT_NE(e.find("'copy' is not one of: move, keep"), std::string::npos) << e;
     EXPECT_EQ(mode, "move");
+}
+
+enum class Mode { move, keep };
+constexpr std::array<Named<Mode>, 2> kModes{{{Mode::move, "move"}, {Mode::keep, "keep"}}};
+
+TEST(TomlFields, NamedChoiceBecomesItsEnumerator) {
+    const auto doc = parse_toml_string(
+        "mode = \"keep\"\nbad = \"copy\"\nmodes = [\"keep\", \"move\"]\ntwice = [\"keep\", "
+        "\"keep\"]\n",
+        "t.toml");
+    TomlFields f(doc, "t.toml");
+    Mode mode = Mode::move;
+    f.get_choice("mode", mode, kModes);
+    EXPECT_EQ(mode, Mode::keep);
+    Mode absent = Mode::keep;
+    f.get_choice("absent", absent, kModes);
+    EXPECT_EQ(absent, Mode::keep);
+    std::vector<Mode> modes;
+    f.get_choices("modes", modes, kModes);
+    EXPECT_EQ(modes, (std::vector{Mode::keep, Mode::move}));
+    std::string e = error_of([&] { f.get_choice("bad", mode, kModes); });
+    EXPECT_NE(e.find("t.toml:2:"), std::string::npos) << e;
+    EXPECT_NE(e.find("'copy' is not one of: move, keep"), std::string::npos) << e;
+    e = error_of([&] { f.get_choices("twice", modes, kModes); });
+    EXPECT_NE(e.find("'keep' is listed twice"), std::string::npos) << e;
+    EXPECT_EQ(name_of(Mode::keep, kModes), "keep");
+}
+
+TEST(TomlFields, UnopenableFileGivesTheSystemsReason) {
+    std::string e = error_of([] { parse_toml_file("/nonexistent/site.toml"); });
+    EXPECT_EQ(e, "cannot open /nonexistent/site.toml: No such file or directory");
+    e = error_of([] { parse_toml_file("/"); });
+    EXPECT_EQ(e, "cannot read /: Is a directory");
 }
 
 TEST(TomlFields, SyntaxErrorNamesLine) {

@@ -43,5 +43,91 @@ TEST(CheckConfigCommand, LogFileRotatesAndHonoursTheLevel) {
               std::string::npos);
 }
 
+// `tlsmon check-config` as user `nobody` when the tests run as root, who may read and
+// write anything, so that a missing permission is real.
+CommandResult check_config_as_nobody(const fs::path& config) {
+    const std::string as =
+        ::getuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+    return shell(as + TLSMON_BINARY + " check-config " + config.string());
+}
+
+TEST(CheckConfigCommand, UnopenableFileGivesTheSystemsReason) {
+    Site site("unopenable");
+    const fs::path missing = site.root / "sitr.toml";
+    auto r = shell(std::string(TLSMON_BINARY) + " check-config " + missing.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.output, "tlsmon check-config: cannot open " + missing.string() +
+                            ": No such file or directory\n");
+    ::chmod(site.config().c_str(), 0600);  // owned by root or the test's user
+    if (::getuid() != 0) ::chmod(site.config().c_str(), 0);
+    r = check_config_as_nobody(site.config());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.output, "tlsmon check-config: cannot open " + site.config().string() +
+                            ": Permission denied\n");
+}
+
+// What `run` rejects at start, `check-config` rejects too, with the same message.
+void expect_both_reject(const Site& site, const std::string& message) {
+    const auto check =
+        shell(std::string(TLSMON_BINARY) + " check-config " + site.config().string());
+    EXPECT_EQ(check.status, 1) << check.output;
+    EXPECT_NE(check.output.find(message), std::string::npos) << check.output;
+    DaemonProcess run(site.config(), site.log(), true);
+    EXPECT_EQ(run.wait(30), 1) << read_file(site.log());
+    EXPECT_NE(read_file(site.log()).find(message), std::string::npos) << read_file(site.log());
+}
+
+TEST(CheckConfigCommand, IngestPathThatIsAFileIsRejected) {
+    Site site("ingestfile");
+    fs::remove(site.ingest());
+    std::ofstream(site.ingest()) << "not a folder\n";
+    expect_both_reject(site, "paths.ingest: " + site.ingest().string() + " is not a folder");
+}
+
+TEST(CheckConfigCommand, LogFileThatCannotBeOpenedIsRejected) {
+    Site site("logfolder", "[logging]\nfile = \"ingest\"\n");
+    expect_both_reject(site, "logging.file: " + site.ingest().string() + " is a folder");
+}
+
+TEST(CheckConfigCommand, DatabaseFolderNotWritableIsRejected) {
+    Site site("dbfolder");
+    fs::create_directories(site.database().parent_path());
+    if (::getuid() == 0) {
+        ASSERT_EQ(shell("chown -R 65534:65534 " + site.root.string()).status, 0);
+        ASSERT_EQ(::chown(site.database().parent_path().c_str(), 0, 0), 0);
+    }
+    ::chmod(site.database().parent_path().c_str(), 0555);
+    const auto r = check_config_as_nobody(site.config());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("paths.database: " + site.database().parent_path().string() +
+                            ": cannot write files in the folder: Permission denied"),
+              std::string::npos)
+        << r.output;
+    ::chmod(site.database().parent_path().c_str(), 0755);
+}
+
+TEST(CheckConfigCommand, MissingIngestFolderIsNamedAndCreatedOnlyByRun) {
+    Site site("noingest");
+    fs::remove(site.ingest());
+    const auto check =
+        shell(std::string(TLSMON_BINARY) + " check-config " + site.config().string());
+    EXPECT_EQ(check.status, 0) << check.output;
+    EXPECT_NE(check.output.find("warning: paths.ingest: " + site.ingest().string() +
+                                " does not exist; tlsmon run will create it"),
+              std::string::npos)
+        << check.output;
+    EXPECT_FALSE(fs::exists(site.ingest()));
+    EXPECT_FALSE(fs::exists(site.root / "archive"));
+
+    DaemonProcess run(site.config(), site.log(), true);
+    ASSERT_EQ(run.wait(30), 0) << read_file(site.log());
+    EXPECT_TRUE(fs::is_directory(site.ingest()));
+    EXPECT_NE(
+        read_file(site.log())
+            .find("warning paths.ingest: " + site.ingest().string() + " did not exist; created it"),
+        std::string::npos)
+        << read_file(site.log());
+}
+
 }  // namespace
 }  // namespace tlsmon::test

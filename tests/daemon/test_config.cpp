@@ -26,10 +26,11 @@ TEST(Config, EmptyFileGivesDefaults) {
     EXPECT_EQ(c.paths.database, "/srv/tlsmon/tlsmon.sqlite");
     EXPECT_DOUBLE_EQ(c.ingest.stable_seconds, 10.0);
     EXPECT_DOUBLE_EQ(c.ingest.rescan_interval, 60.0);
-    EXPECT_EQ(c.ingest.archive, "move");
-    EXPECT_EQ(c.ingest.acquisition_time, (std::vector<std::string>{"scan", "file_name", "mtime"}));
-    EXPECT_EQ(c.logging.level, "info");
-    EXPECT_EQ(c.logging.journald, "auto");
+    EXPECT_EQ(c.ingest.archive, ArchiveMode::move);
+    EXPECT_EQ(c.ingest.acquisition_time,
+              (std::vector{TimeSource::scan, TimeSource::file_name, TimeSource::mtime}));
+    EXPECT_EQ(c.logging.level, LogLevel::info);
+    EXPECT_EQ(c.logging.journald, JournaldMode::automatic);
     EXPECT_TRUE(c.zones.empty());
 }
 
@@ -60,9 +61,9 @@ max = [10, 2, 30]
     EXPECT_EQ(c.ingest.extensions, (std::vector<std::string>{"ptx", "e57"}));
     EXPECT_DOUBLE_EQ(c.ingest.stable_seconds, 2.0);
     EXPECT_DOUBLE_EQ(c.ingest.rescan_interval, 5.0);
-    EXPECT_EQ(c.ingest.archive, "keep");
-    EXPECT_EQ(c.ingest.acquisition_time, (std::vector<std::string>{"file_name", "mtime"}));
-    EXPECT_EQ(c.logging.level, "debug");
+    EXPECT_EQ(c.ingest.archive, ArchiveMode::keep);
+    EXPECT_EQ(c.ingest.acquisition_time, (std::vector{TimeSource::file_name, TimeSource::mtime}));
+    EXPECT_EQ(c.logging.level, LogLevel::debug);
     EXPECT_EQ(c.logging.file, "/srv/tlsmon/log/tlsmon.log");
     ASSERT_EQ(c.zones.size(), 1u);
     EXPECT_EQ(c.zones[0].name, "pier P3");
@@ -152,16 +153,36 @@ TEST(Config, DescribeListsEveryEffectiveValue) {
     EXPECT_TRUE(has("logging.journald = \"auto\""));
 }
 
-TEST(Config, ShippedDefaultFileIsValidAndMatchesDefaults) {
-    const Config c = load_config(std::string(TLSMON_SOURCE_DIR) + "/etc/tlsmon.toml");
-    const Config d = parse("");
-    EXPECT_EQ(c.ingest.extensions, d.ingest.extensions);
-    EXPECT_DOUBLE_EQ(c.ingest.stable_seconds, d.ingest.stable_seconds);
-    EXPECT_DOUBLE_EQ(c.ingest.rescan_interval, d.ingest.rescan_interval);
-    EXPECT_EQ(c.ingest.archive, d.ingest.archive);
-    EXPECT_EQ(c.logging.level, d.logging.level);
-    EXPECT_EQ(c.paths.ingest,
-              (std::filesystem::path(TLSMON_SOURCE_DIR) / "var/ingest").lexically_normal());
+TEST(Config, ChoicesBecomeTheirEnumerators) {
+    const Config c = parse(
+        "[ingest]\nacquisition_time = [\"mtime\", \"scan\"]\n"
+        "[logging]\nlevel = \"warn\"\njournald = \"off\"\n");
+    EXPECT_EQ(c.ingest.acquisition_time, (std::vector{TimeSource::mtime, TimeSource::scan}));
+    EXPECT_EQ(c.logging.level, LogLevel::warn);
+    EXPECT_EQ(c.logging.journald, JournaldMode::off);
+    const auto lines = describe(c);
+    EXPECT_NE(
+        std::find(lines.begin(), lines.end(), "ingest.acquisition_time = [\"mtime\", \"scan\"]"),
+        lines.end());
+    EXPECT_NE(std::find(lines.begin(), lines.end(), "logging.journald = \"off\""), lines.end());
+    const std::string e = error_of("[ingest]\nacquisition_time = [\"scan\", \"scan\"]\n");
+    EXPECT_NE(e.find("'scan' is listed twice"), std::string::npos) << e;
+}
+
+TEST(Config, PipelineGetsTheArchiveModeAndFolders) {
+    const PipelineConfig p = pipeline_config(parse("[ingest]\narchive = \"keep\"\n"));
+    EXPECT_EQ(p.archive_mode, ArchiveMode::keep);
+    EXPECT_EQ(p.quarantine, "/srv/tlsmon/quarantine");
+}
+
+TEST(Config, MissingFileSaysWhy) {
+    try {
+        load_config("/nonexistent/tlsmon-site.toml");
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "cannot open /nonexistent/tlsmon-site.toml: No such file or directory");
+    }
 }
 
 }  // namespace

@@ -52,16 +52,18 @@ TEST(IngestParts, AcquisitionTimePrecedence) {
     scan.acquired_utc = 1780293600.5;
     write_e57(file, {scan});
     std::string used;
-    EXPECT_EQ(acquisition_time(file, {"scan", "file_name", "mtime"}, used), 1780293600);
+    EXPECT_EQ(
+        acquisition_time(file, {TimeSource::scan, TimeSource::file_name, TimeSource::mtime}, used),
+        1780293600);
     EXPECT_EQ(used, "scan");
-    EXPECT_EQ(acquisition_time(file, {"file_name", "scan"}, used), 1577836800);
+    EXPECT_EQ(acquisition_time(file, {TimeSource::file_name, TimeSource::scan}, used), 1577836800);
     EXPECT_EQ(used, "file_name");
-    EXPECT_EQ(acquisition_time(file, {"mtime"}, used), *file_mtime(file));
+    EXPECT_EQ(acquisition_time(file, {TimeSource::mtime}, used), *file_mtime(file));
     EXPECT_EQ(used, "mtime");
     // A PTX has no header time: "scan" is skipped.
     const fs::path ptx = d / "pier_20260601T061500Z.ptx";
     fs::copy_file(fs::path(TLSMON_DATA_DIR) / "ptx/no-color.ptx", ptx);
-    EXPECT_EQ(acquisition_time(ptx, {"scan", "file_name"}, used), 1780294500);
+    EXPECT_EQ(acquisition_time(ptx, {TimeSource::scan, TimeSource::file_name}, used), 1780294500);
     EXPECT_EQ(used, "file_name");
 }
 

@@ -1,0 +1,328 @@
+#include "daemon/config_keys.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::array<Named<ArchiveMode>, 2> kArchiveModes{{
+    {ArchiveMode::move, "move"},
+    {ArchiveMode::keep, "keep"},
+}};
+constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
+    {TimeSource::scan, "scan"},
+    {TimeSource::file_name, "file_name"},
+    {TimeSource::mtime, "mtime"},
+}};
+constexpr std::array<Named<LogLevel>, 7> kLogLevels{{
+    {LogLevel::trace, "trace"},
+    {LogLevel::debug, "debug"},
+    {LogLevel::info, "info"},
+    {LogLevel::warn, "warn"},
+    {LogLevel::error, "error"},
+    {LogLevel::critical, "critical"},
+    {LogLevel::off, "off"},
+}};
+constexpr std::array<Named<JournaldMode>, 3> kJournaldModes{{
+    {JournaldMode::automatic, "auto"},
+    {JournaldMode::on, "on"},
+    {JournaldMode::off, "off"},
+}};
+
+// A member of one section of Config: Config::ingest, then IngestConfig::stable_seconds.
+template <class S, class T>
+struct Member {
+    S Config::*section;
+    T S::*field;
+    T& of(Config& c) const { return c.*section.*field; }
+    const T& of(const Config& c) const { return c.*section.*field; }
+};
+
+// "ingest.stable_seconds" -> a ConfigKey with its section and name filled in.
+ConfigKey key(std::string_view dotted, std::string type, std::string range, std::string help) {
+    const auto dot = dotted.find('.');
+    return ConfigKey{std::string(dotted.substr(0, dot)),
+                     std::string(dotted.substr(dot + 1)),
+                     std::move(type),
+                     std::move(range),
+                     std::move(help),
+                     {},
+                     {}};
+}
+
+// "a" and "b" -> "a, b"; an empty part is left out.
+std::string joined(std::initializer_list<std::string> parts) {
+    std::string out;
+    for (const auto& p : parts) {
+        if (!p.empty()) out += (out.empty() ? "" : ", ") + p;
+    }
+    return out;
+}
+
+// 86400 -> "1 d", 3600 -> "1 h", 0.1 -> "0.1 s": a duration as the docs write it.
+std::string duration_text(double seconds) {
+    for (const auto& [unit, size] : {std::pair{"d", 86400.0}, {"h", 3600.0}, {"min", 60.0}}) {
+        if (seconds >= size && std::fmod(seconds, size) == 0.0) {
+            return toml_number(seconds / size) + " " + unit;
+        }
+    }
+    return toml_number(seconds) + " s";
+}
+
+template <class Names>
+std::string names_in_backticks(const Names& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "`" : ", `") + std::string(n.name) + "`";
+    return out;
+}
+
+template <class S, class T>
+Member<S, T> at(S Config::*section, T S::*field) {
+    return {section, field};
+}
+
+template <class S>
+ConfigKey text(Member<S, std::string> m, std::string_view dotted, std::string rule,
+               std::string help) {
+    ConfigKey k = key(dotted, "string", std::move(rule), std::move(help));
+    k.read = [m, name = k.name](TomlFields& t, Config& c) { t.get(name, m.of(c)); };
+    k.value = [m](const Config& c) { return toml_string(m.of(c)); };
+    return k;
+}
+
+// A path; relative ones are resolved in config.cpp once the section is read.
+template <class S>
+ConfigKey path(Member<S, std::filesystem::path> m, std::string_view dotted, std::string rule,
+               std::string help) {
+    ConfigKey k = key(dotted, "path", std::move(rule), std::move(help));
+    k.read = [m, name = k.name](TomlFields& t, Config& c) { t.get(name, m.of(c)); };
+    k.value = [m](const Config& c) { return toml_string(m.of(c).string()); };
+    return k;
+}
+
+// A path that may be "" (none).
+template <class S>
+ConfigKey optional_path(Member<S, std::filesystem::path> m, std::string_view dotted,
+                        std::string help) {
+    ConfigKey k = key(dotted, "path", "", std::move(help));
+    k.read = [m, name = k.name](TomlFields& t, Config& c) {
+        std::string text = m.of(c).string();
+        t.get(name, text);
+        m.of(c) = text;
+    };
+    k.value = [m](const Config& c) { return toml_string(m.of(c).string()); };
+    return k;
+}
+
+template <class S>
+ConfigKey names(Member<S, std::vector<std::string>> m, std::string_view dotted, std::string rule,
+                std::string help) {
+    ConfigKey k = key(dotted, "array of strings", std::move(rule), std::move(help));
+    k.read = [m, name = k.name](TomlFields& t, Config& c) { t.get(name, m.of(c)); };
+    k.value = [m](const Config& c) {
+        std::string out = "[";
+        for (const auto& v : m.of(c)) out += (out.size() > 1 ? ", " : "") + toml_string(v);
+        return out + "]";
+    };
+    return k;
+}
+
+template <class S>
+ConfigKey seconds(Member<S, double> m, std::string_view dotted, double min, double max,
+                  std::string rule, std::string help) {
+    ConfigKey k = key(dotted, "duration",
+                      joined({duration_text(min) + " .. " + duration_text(max), std::move(rule)}),
+                      std::move(help));
+    k.read = [m, name = k.name, min, max](TomlFields& t, Config& c) {
+        t.get_seconds(name, m.of(c), min, max);
+    };
+    k.value = [m](const Config& c) { return toml_number(m.of(c)); };
+    return k;
+}
+
+// A real number in [min, max] with its unit.
+template <class S>
+ConfigKey number(Member<S, double> m, std::string_view dotted, double min, double max,
+                 std::string unit, std::string help) {
+    std::string range = toml_number(min) + " .. " + toml_number(max);
+    if (!unit.empty()) range += " " + unit;
+    ConfigKey k = key(dotted, "number", std::move(range), std::move(help));
+    k.read = [m, name = k.name, min, max](TomlFields& t, Config& c) {
+        t.get(name, m.of(c), min, max);
+    };
+    k.value = [m](const Config& c) { return toml_number(m.of(c)); };
+    return k;
+}
+
+template <class S, class T>
+ConfigKey integer(Member<S, T> m, std::string_view dotted, std::int64_t min, std::int64_t max,
+                  std::string unit, std::string help) {
+    std::string range = std::to_string(min) + " .. " + std::to_string(max);
+    if (!unit.empty()) range += " " + unit;
+    ConfigKey k = key(dotted, "integer", std::move(range), std::move(help));
+    k.read = [m, name = k.name, min, max](TomlFields& t, Config& c) {
+        t.get(name, m.of(c), static_cast<T>(min), static_cast<T>(max));
+    };
+    k.value = [m](const Config& c) { return std::to_string(m.of(c)); };
+    return k;
+}
+
+template <class S, class E, std::size_t N>
+ConfigKey choice(Member<S, E> m, std::string_view dotted, const std::array<Named<E>, N>& choices,
+                 std::string help) {
+    ConfigKey k = key(dotted, "string", names_in_backticks(choices), std::move(help));
+    k.read = [m, name = k.name, &choices](TomlFields& t, Config& c) {
+        t.get_choice(name, m.of(c), choices);
+    };
+    k.value = [m, &choices](const Config& c) {
+        return toml_string(std::string(name_of(m.of(c), choices)));
+    };
+    return k;
+}
+
+template <class S, class E, std::size_t N>
+ConfigKey choices(Member<S, std::vector<E>> m, std::string_view dotted,
+                  const std::array<Named<E>, N>& choices, std::string help) {
+    ConfigKey k = key(dotted, "array of strings",
+                      "each of " + names_in_backticks(choices) + ", no repeats", std::move(help));
+    k.read = [m, name = k.name, &choices](TomlFields& t, Config& c) {
+        t.get_choices(name, m.of(c), choices);
+    };
+    k.value = [m, &choices](const Config& c) {
+        std::string out = "[";
+        for (const E v : m.of(c)) {
+            out += (out.size() > 1 ? ", " : "") + toml_string(std::string(name_of(v, choices)));
+        }
+        return out + "]";
+    };
+    return k;
+}
+
+std::vector<ConfigKey> declare_keys() {
+    using C = Config;
+    constexpr double day = 86400.0;
+    return {
+        text(at(&C::station, &StationConfig::name), "station.name", "non-empty, no `/`",
+             "The scanner station; recorded with every epoch. The simulator names its files "
+             "`<name>_YYYYMMDDTHHMMSSZ.ptx`."),
+
+        path(at(&C::paths, &PathsConfig::ingest), "paths.ingest", "",
+             "Folder the scanner exports into; watched (not recursively)."),
+        path(at(&C::paths, &PathsConfig::archive), "paths.archive", "differs from `ingest`",
+             "Processed scans are moved here when `ingest.archive = \"move\"`. A name already "
+             "taken gets the first 12 hex digits of the sha256 added."),
+        path(at(&C::paths, &PathsConfig::quarantine), "paths.quarantine",
+             "differs from `ingest` and `archive`",
+             "Files that could not be read, each with `<name>.reason.txt`."),
+        path(at(&C::paths, &PathsConfig::database), "paths.database", "not inside `ingest`",
+             "The SQLite epoch database (created and migrated at start)."),
+
+        names(at(&C::ingest, &IngestConfig::extensions), "ingest.extensions",
+              "letters/digits, no dot, no repeats; case-insensitive",
+              "File name extensions taken as scans (`laz` is listed so that a compressed LAS "
+              "export is quarantined with a clear reason instead of being ignored). Hidden "
+              "names (`.x`), `*.part`, `*.tmp`, `*.partial` and `*~` are always ignored."),
+        seconds(at(&C::ingest, &IngestConfig::stable_seconds), "ingest.stable_seconds", 0, day, "",
+                "A file is complete when it is not open for writing (its last inotify event was "
+                "close-after-write or moved-in; a file found only by a folder scan counts as "
+                "closed) and its size and mtime have not changed for this long."),
+        seconds(at(&C::ingest, &IngestConfig::rescan_interval), "ingest.rescan_interval", 0.1, day,
+                "", "Full scan of the folder besides inotify (network shares, lost events)."),
+        seconds(at(&C::ingest, &IngestConfig::max_growing), "ingest.max_growing", 1, 30 * day,
+                "> `stable_seconds`",
+                "A file not complete after this long is logged once and recorded as a "
+                "`file_growing` system event; it is still not processed while it grows."),
+        choice(at(&C::ingest, &IngestConfig::archive), "ingest.archive", kArchiveModes,
+               "`move`: processed files go to `paths.archive`; a second copy of a known scan is "
+               "deleted. `keep`: files stay where they are; copies are left and logged."),
+        text(at(&C::ingest, &IngestConfig::reference_epoch), "ingest.reference_epoch",
+             "file name (no folder) or 64 lower-case hex digits",
+             "The reference epoch (epoch 0 of the analyses). Empty: the first epoch accepted. "
+             "Otherwise the epoch whose file name or sha256 matches, once it is accepted. Set "
+             "once; never changed afterwards."),
+        choices(at(&C::ingest, &IngestConfig::acquisition_time), "ingest.acquisition_time",
+                kTimeSources,
+                "Where an epoch's acquisition time comes from, first available wins: `scan` = "
+                "the file's own header (E57 `acquisitionStart`, read from its XML section "
+                "only), `file_name` = a `YYYYMMDDTHHMMSSZ` stamp in the name (UTC), `mtime` = "
+                "the file's modification time. If none is available, mtime is used. Pending "
+                "epochs are processed in acquisition-time order."),
+        seconds(at(&C::ingest, &IngestConfig::retry_initial), "ingest.retry_initial", 0.1, 3600, "",
+                "After a disk-full or database error, the epoch stays pending and processing "
+                "pauses this long, doubling after each further failure ..."),
+        seconds(at(&C::ingest, &IngestConfig::retry_max), "ingest.retry_max", 0.1, day,
+                ">= `retry_initial`", "... up to this."),
+
+        choice(at(&C::logging, &LoggingConfig::level), "logging.level", kLogLevels,
+               "Lowest level logged."),
+        optional_path(at(&C::logging, &LoggingConfig::file), "logging.file",
+                      "Optional log file, rotated by size. Empty: none."),
+        integer(at(&C::logging, &LoggingConfig::max_size), "logging.max_size", 4096,
+                std::int64_t{1} << 40, "bytes", "Bytes per log file before it rotates."),
+        integer(at(&C::logging, &LoggingConfig::max_files), "logging.max_files", 1, 1000, "",
+                "Rotated files kept."),
+        choice(at(&C::logging, &LoggingConfig::journald), "logging.journald", kJournaldModes,
+               "`auto`: log to the systemd journal (with priorities) when started by systemd "
+               "(`$JOURNAL_STREAM` or `$INVOCATION_ID` set), else to stderr. `on`: always the "
+               "journal. `off`: always stderr."),
+
+        seconds(at(&C::daemon, &DaemonConfig::status_interval), "daemon.status_interval", 1, day,
+                "", "How often the systemd `STATUS=` line is refreshed."),
+
+        number(at(&C::coverage, &CoverageConfig::margin), "coverage.margin", 0, 1000, "m",
+               "The reference epoch's bounding box is grown by this on every side before the "
+               "share of an epoch's points inside it is counted."),
+        number(at(&C::coverage, &CoverageConfig::min_inside_share), "coverage.min_inside_share",
+               0, 1, "",
+               "An epoch with a smaller share of its points inside the grown box is rejected "
+               "before any analysis (the scanner turned, the scan is cut short, a file of "
+               "another station). 0: never rejected; the share is stored either way."),
+    };
+}
+
+}  // namespace
+
+const std::vector<ConfigKey>& config_keys() {
+    static const std::vector<ConfigKey> keys = declare_keys();
+    return keys;
+}
+
+std::vector<std::string> config_sections() {
+    std::vector<std::string> out;
+    for (const auto& k : config_keys()) {
+        if (out.empty() || out.back() != k.section) out.push_back(k.section);
+    }
+    return out;
+}
+
+std::string reference_table(const std::string& section) {
+    const Config defaults;
+    std::string out = "| key | type | default | range | meaning |\n|---|---|---|---|---|\n";
+    for (const auto& k : config_keys()) {
+        if (k.section != section) continue;
+        out += "| `" + k.name + "` | " + k.type + " | `" + k.value(defaults) + "` | " + k.range +
+               " | " + k.help + " |\n";
+    }
+    return out;
+}
+
+std::string toml_string(const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"' || ch == '\\') out += '\\';
+        out += ch;
+    }
+    return out + '"';
+}
+
+std::string toml_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,27 @@
+#pragma once
+// What `tlsmon run` needs of the file system before it starts: the four folders usable (or
+// creatable), the database and the log file openable. Checked without changing anything,
+// so that `tlsmon check-config` rejects exactly what `run` would, and creates nothing.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "daemon/config.hpp"
+
+namespace tlsmon {
+
+// A configured folder that does not exist yet; `run` creates it.
+struct MissingFolder {
+    std::string key;  // "paths.ingest"
+    std::filesystem::path path;
+};
+
+// Throws Error naming the key, the path and the system's reason for the first problem;
+// returns the folders `run` will have to create.
+std::vector<MissingFolder> check_startup(const Config& config);
+
+// Creates `missing` (throws Error when that fails), logging a warning for each: a missing
+// ingest folder is often a mistyped path, so it must not appear silently.
+void create_missing_folders(const std::vector<MissingFolder>& missing);
+
+}  // namespace tlsmon
