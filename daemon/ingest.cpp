@@ -144,9 +144,9 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
 
 IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* matched) {
     try {
-        std::string sha;
+        HashedBytes content;
         try {
-            sha = sha256_file(file);
+            content = read_file_hashed(file);
         } catch (const FileAccessError& e) {
             if (e.error_number() == ENOENT) return IngestOutcome::known;  // gone meanwhile
             if (e.error_number() == ELOOP || e.error_number() == EINVAL) {
@@ -157,6 +157,7 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* mat
             }
             return record_unreadable(ctx, file, e.what());
         }
+        const std::string& sha = content.sha256;
         if (auto epoch = ctx.db.epochs().find_by_sha256(sha)) {
             if (matched) *matched = epoch->id;
             return handle_known(ctx, file, *epoch);
@@ -173,6 +174,7 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* mat
         }
         spdlog::info("{}: new epoch {} (sha256 {}, acquired {} from {})", file.string(), ins.id,
                      sha.substr(0, 12), acquired, used);
+        if (ctx.new_epoch_bytes) *ctx.new_epoch_bytes = std::move(content);
         return IngestOutcome::new_epoch;
     } catch (const StorageError& e) {
         ctx.events.record(

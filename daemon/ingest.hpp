@@ -6,6 +6,7 @@
 #include <string>
 
 #include "daemon/config.hpp"
+#include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -27,6 +28,9 @@ struct IngestContext {
     const Config& config;
     std::optional<StationId> station;
     SystemEventLog& events;
+    // Receives the bytes of a file that became a new epoch, read and hashed once, so the
+    // pipeline need not read them again (nullptr: not kept).
+    HashedBytes* new_epoch_bytes = nullptr;
 };
 
 // An empty file, or a copy of a scan that could not be read, is never a duplicate to

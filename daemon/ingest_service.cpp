@@ -83,6 +83,7 @@ class Daemon {
     EpochDatabase db_;
     FolderWatcher watcher_;
     PipelineConfig pipeline_config_;
+    std::optional<std::pair<EpochId, HashedBytes>> latest_bytes_;  // see ingest()
     ReferenceCache reference_cache_{db_};
     SystemdNotify systemd_;
     SystemEventLog events_;
@@ -178,8 +179,13 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
 
 void Daemon::ingest(const fs::path& file) {
     auto ctx = context();
+    HashedBytes bytes;
+    ctx.new_epoch_bytes = &bytes;
     EpochId epoch = 0;
     const IngestOutcome outcome = ingest_file(ctx, file, &epoch);
+    // The newest epoch's bytes stay at hand (one file's worth of memory): at the usual
+    // cadence it is the next epoch processed, which then reads nothing again.
+    if (outcome == IngestOutcome::new_epoch) latest_bytes_ = {epoch, std::move(bytes)};
     if (outcome == IngestOutcome::retry_later) retry_files_.push_back(file);
     if (outcome == IngestOutcome::wait_for_epoch) waiting_copies_.push_back({file, epoch});
 }
@@ -213,7 +219,11 @@ void Daemon::process_backlog() {
         for (const Epoch& epoch : db_.epochs().pending()) {
             if (shutdown_.stop_requested()) return;
             systemd_.watchdog();  // one epoch may take the whole WatchdogSec
-            const EpochOutcome outcome = process_epoch(ctx, epoch);
+            HashedBytes* preloaded = nullptr;
+            if (latest_bytes_ && latest_bytes_->first == epoch.id)
+                preloaded = &latest_bytes_->second;
+            const EpochOutcome outcome = process_epoch(ctx, epoch, preloaded);
+            if (preloaded) latest_bytes_.reset();
             if (outcome == EpochOutcome::retry_later) {
                 backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                          : std::min(backoff_ * 2, config_.ingest.retry_max);

@@ -27,13 +27,6 @@ bool names_reference(const PipelineConfig& config, const Epoch& e) {
     return want == e.sha256 || want == fs::path(e.file_path).filename().string();
 }
 
-// Size and mtime of a file, to see whether it changed while it was read.
-std::pair<std::int64_t, std::int64_t> size_and_mtime(const fs::path& file) {
-    struct stat st {};
-    if (::lstat(file.c_str(), &st) != 0) return {-1, -1};
-    return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
-}
-
 // The reference epoch's scans, read again from where its file is now (the archive, or the
 // ingest folder with archive = "keep") and checked against its sha256.
 ReferenceEpoch::Scans read_reference_scans(const Epoch& reference) {
@@ -64,8 +57,8 @@ EpochOutcome fail(PipelineContext& ctx, const Epoch& epoch, const std::string& r
     // Only a regular file is moved: a symbolic link put in its place is never followed,
     // nor moved.
     if (quarantine && fs::is_regular_file(fs::symlink_status(file, ec))) {
-        const fs::path to = free_name(ctx.config.quarantine, file.filename().string(),
-                                      epoch.sha256.substr(0, 12));
+        const fs::path to =
+            free_name(ctx.config.quarantine, file.filename().string(), epoch.sha256.substr(0, 12));
         write_reason_file(to, file.string(), reason);
         moved_to = to.string();
     }
@@ -157,7 +150,7 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
 
 }  // namespace
 
-EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
+EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes* preloaded) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
         if (!ctx.db.epochs().claim(epoch.id)) return EpochOutcome::skipped;
@@ -168,7 +161,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         }
         // The bytes parsed are the bytes hashed: a file replaced under the same name while
         // its epoch waited is another epoch, whose results must not go to this one.
-        const auto before = size_and_mtime(file);
+        const auto before = file_stamp(file);
         const auto read_again = [&] {
             ctx.db.epochs().release(epoch.id);
             spdlog::warn("{}: changed while it was read; epoch {} is read again", file.string(),
@@ -179,7 +172,12 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         const auto t_read = std::chrono::steady_clock::now();
         HashedBytes content;
         try {
-            content = read_file_hashed(file);
+            // Ingest just read and hashed this file: its bytes serve if the file is unchanged.
+            if (preloaded && preloaded->sha256 == epoch.sha256 && preloaded->stamp == before) {
+                content = std::move(*preloaded);
+            } else {
+                content = read_file_hashed(file);
+            }
         } catch (const FileAccessError& e) {
             if (e.error_number() == ENOENT) {
                 return fail(ctx, epoch, "the file vanished before it was processed");
@@ -187,7 +185,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
             return fail(ctx, epoch, e.what());
         }
         if (content.sha256 != epoch.sha256) {
-            if (size_and_mtime(file) != before) return read_again();  // still being written
+            if (file_stamp(file) != before) return read_again();  // still being written
             return fail(
                 ctx, epoch,
                 file.string() + ": the file was replaced by other content before it was read",
@@ -204,7 +202,7 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch) {
         } catch (const StorageError&) {
             throw;
         } catch (const std::exception& e) {
-            if (size_and_mtime(file) != before) {  // the error may come from the change
+            if (file_stamp(file) != before) {  // the error may come from the change
                 return read_again();
             }
             return fail(ctx, epoch, e.what());

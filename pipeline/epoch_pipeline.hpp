@@ -10,6 +10,7 @@
 
 #include "pipeline/coverage_stage.hpp"
 #include "pipeline/reference_cache.hpp"
+#include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -35,7 +36,10 @@ struct PipelineContext {
 
 enum class EpochOutcome { done, rejected, failed, retry_later, skipped };
 
-EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch);
+// `preloaded`: the file's bytes as ingest read and hashed them, if at hand; used (moved
+// from) when they are this epoch's content and the file is unchanged since.
+EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch,
+                           HashedBytes* preloaded = nullptr);
 
 // The reference epoch (epoch 0 of the analyses), set once: the epoch named by
 // `reference_epoch` (file name or sha256), else the first accepted one (earliest

@@ -82,9 +82,10 @@ class InputFile {
             throw FileAccessError(path_.string() + ": read error: " + std::strerror(e), e);
         }
     }
-    std::size_t size() const {
+    FileStamp stamp() const {
         struct stat st {};
-        return ::fstat(fd_, &st) == 0 ? static_cast<std::size_t>(st.st_size) : 0;
+        if (::fstat(fd_, &st) != 0) return {};
+        return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
     }
 
   private:
@@ -93,6 +94,12 @@ class InputFile {
 };
 
 }  // namespace
+
+FileStamp file_stamp(const std::filesystem::path& path) {
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) return {};
+    return {st.st_size, std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec};
+}
 
 std::string sha256_file(const std::filesystem::path& path) {
     InputFile file(path);
@@ -107,10 +114,11 @@ HashedBytes read_file_hashed(const std::filesystem::path& path) {
     InputFile file(path);
     Digest digest;
     HashedBytes out;
+    out.stamp = file.stamp();
     // Read into the final buffer (sized from fstat, grown if the file grows meanwhile) and
     // hash each chunk right after it arrives.
     std::size_t used = 0;
-    out.bytes.resize(file.size() + 1);  // +1: the read that finds the end needs room
+    out.bytes.resize(static_cast<std::size_t>(std::max<std::int64_t>(out.stamp.size, 0)) + 1);
     for (;;) {
         if (used == out.bytes.size()) out.bytes.resize(out.bytes.size() * 2);
         const std::size_t n =

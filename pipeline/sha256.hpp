@@ -1,5 +1,6 @@
 #pragma once
 // SHA-256 (FIPS 180-4) of a whole file: the identity of a scan in the epoch database.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -24,10 +25,22 @@ std::string sha256_file(const std::filesystem::path& path);
 // The same for bytes in memory.
 std::string sha256_text(const std::string& bytes);
 
-// A whole file in memory with the SHA-256 of exactly those bytes.
+// Size and modification time (ns) of a file: unchanged stamps say it was not rewritten.
+struct FileStamp {
+    std::int64_t size = -1;
+    std::int64_t mtime_ns = -1;
+    bool operator==(const FileStamp&) const = default;
+};
+// The stamp of the directory entry itself (a symbolic link is not followed); {-1, -1} when
+// it cannot be read.
+FileStamp file_stamp(const std::filesystem::path& path);
+
+// A whole file in memory with the SHA-256 of exactly those bytes, and the file's stamp when
+// it was opened.
 struct HashedBytes {
     std::string bytes;
     std::string sha256;
+    FileStamp stamp;
 };
 // Reads the file once, straight into its final buffer, and hashes each chunk while it is
 // still in cache: one pass over the data, so the bytes the daemon parses are the bytes whose

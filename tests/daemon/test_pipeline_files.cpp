@@ -5,9 +5,9 @@
 
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
+#include "daemon_harness.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
-#include "daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {
@@ -39,6 +39,35 @@ struct PipelineSite {
         return db.epochs().find_by_sha256(sha256_file(original));
     }
 };
+
+// Ingest reads and hashes a new scan once; the pipeline parses those bytes instead of
+// reading the file again, unless the file changed since (then they are not this file's).
+TEST(PipelineFiles, BytesReadAtIngestAreParsedWithoutReadingAgain) {
+    PipelineSite s;
+    const fs::path scan = s.site.ingest() / "small_20260601T060000Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", scan);
+    HashedBytes bytes;
+    s.ctx.new_epoch_bytes = &bytes;
+    ASSERT_EQ(ingest_file(s.ctx, scan), IngestOutcome::new_epoch);
+    EXPECT_EQ(bytes.sha256, sha256_file(scan));
+    EXPECT_EQ(bytes.bytes.size(), fs::file_size(scan));
+    const Epoch epoch = s.db.epochs().pending().at(0);
+    EXPECT_EQ(process_epoch(s.pipeline_ctx, epoch, &bytes), EpochOutcome::done);
+    EXPECT_TRUE(bytes.bytes.empty()) << "the ingest's bytes were not used";
+    EXPECT_EQ(s.db.epochs().find(epoch.id)->point_count, 15);
+
+    // A second scan whose file is touched after ingest: its bytes are left, the file is read.
+    const fs::path other = s.site.ingest() / "small_20260601T061500Z.ptx";
+    fs::copy_file(kData / "ptx/complex-transform.ptx", other);
+    HashedBytes other_bytes;
+    s.ctx.new_epoch_bytes = &other_bytes;
+    ASSERT_EQ(ingest_file(s.ctx, other), IngestOutcome::new_epoch);
+    fs::last_write_time(other, fs::last_write_time(other) + std::chrono::seconds(1));
+    const Epoch second = s.db.epochs().pending().at(0);
+    EXPECT_EQ(process_epoch(s.pipeline_ctx, second, &other_bytes), EpochOutcome::done);
+    EXPECT_FALSE(other_bytes.bytes.empty());
+    EXPECT_EQ(s.db.epochs().find(second.id)->point_count, 4);
+}
 
 TEST(PipelineFiles, FileReplacedUnderTheSameNameWhilePendingIsTwoEpochs) {
     PipelineSite s;
