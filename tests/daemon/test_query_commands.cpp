@@ -69,6 +69,7 @@ class QueryCommands : public ::testing::Test {
             if (i < 2) {
                 r.point_count = 500000 + i;
                 r.timings.total_ms = 2500.5;
+                r.stages = {{"coverage", 12.25, "", "99.5 % inside"}, {"m3c2", 2000, "", ""}};
                 r.zone_results = {{"pier P3 top", "m3c2_mean_m", values[i],
                                    i == 0 ? std::optional<double>() : std::optional<double>(0.0018),
                                    812 + i, i == 1},
@@ -145,6 +146,7 @@ TEST_F(QueryCommands, EpochsInAllFormats) {
     EXPECT_EQ(j[0]["status"], "done");
     EXPECT_EQ(j[0]["points"], 500000);
     EXPECT_DOUBLE_EQ(j[0]["total_ms"].get<double>(), 2500.5);
+    EXPECT_EQ(j[0]["stages"], "coverage 12.2 ms (99.5 % inside); m3c2 2000.0 ms");
     EXPECT_EQ(j[2]["status"], "rejected");
     EXPECT_EQ(j[2]["reason"], "registration RMS 12.0 mm > 5.0 mm");
     EXPECT_EQ(j[3]["status"], "pending");
@@ -155,8 +157,8 @@ TEST_F(QueryCommands, EpochsInAllFormats) {
     ASSERT_EQ(csv.status, 0);
     const auto l = lines(csv.out);
     ASSERT_EQ(l.size(), 3u);
-    EXPECT_EQ(l[0], "epoch,acquired,status,points,total_ms,file,size,sha256,reason");
-    EXPECT_EQ(l[1], "3,2026-03-01T12:30:00Z,rejected,,,/ingest/s2.ptx,1002," + sha(2) +
+    EXPECT_EQ(l[0], "epoch,acquired,status,points,total_ms,stages,file,size,sha256,reason");
+    EXPECT_EQ(l[1], "3,2026-03-01T12:30:00Z,rejected,,,,/ingest/s2.ptx,1002," + sha(2) +
                         ",registration RMS 12.0 mm > 5.0 mm");
 
     const auto table = run("query epochs --to 2026-03-01T12:00:00Z " + db());
