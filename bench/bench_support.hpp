@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -67,6 +68,30 @@ inline void print_rate(const char* label, const Spread& s, double mb, double poi
         "points/s\n",
         label, s.median, s.min, s.max, s.runs, mb / s.median, mb / s.max, mb / s.min,
         points / s.median / 1e6);
+}
+
+// Reads `path` with `read` (path -> scans) `runs` times and prints its size, point count and
+// the CPU (this thread) and wall rates: on a shared machine the CPU time is the one-core
+// figure; the wall time includes waiting for the core.
+template <class Read>
+void measure_reader(const std::filesystem::path& path, int runs, Read&& read) {
+    const double mb = static_cast<double>(std::filesystem::file_size(path)) / 1e6;
+    std::vector<double> wall, cpu;
+    std::size_t points = 0;
+    for (int k = 0; k < runs; ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const double c0 = thread_cpu_seconds();
+        const auto scans = read(path);
+        cpu.push_back(thread_cpu_seconds() - c0);
+        wall.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        points = 0;
+        for (const auto& scan : scans) points += scan.size();
+    }
+    const double n = static_cast<double>(points);
+    std::printf("%s: %.1f MB, %zu points\n", path.filename().c_str(), mb, points);
+    print_rate("cpu", spread_of(cpu), mb, n);
+    print_rate("wall", spread_of(wall), mb, n);
 }
 
 }  // namespace tlsmon::bench

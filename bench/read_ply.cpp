@@ -89,25 +89,6 @@ void write_files(const fs::path& binary, const fs::path& ascii) {
     bin << b, txt << t;
 }
 
-void measure(const fs::path& path, int runs) {
-    const double mb = static_cast<double>(fs::file_size(path)) / 1e6;
-    std::vector<double> wall, cpu;
-    std::size_t points = 0;
-    for (int k = 0; k < runs; ++k) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const double c0 = tlsmon::bench::thread_cpu_seconds();
-        const auto scans = tlsmon::read_ply(path);
-        cpu.push_back(tlsmon::bench::thread_cpu_seconds() - c0);
-        wall.push_back(
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        points = scans.at(0).size();
-    }
-    const double n = static_cast<double>(points);
-    std::printf("%s: %.1f MB, %zu points\n", path.filename().c_str(), mb, points);
-    tlsmon::bench::print_rate("cpu", tlsmon::bench::spread_of(cpu), mb, n);
-    tlsmon::bench::print_rate("wall", tlsmon::bench::spread_of(wall), mb, n);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -124,6 +105,6 @@ int main(int argc, char** argv) {
     const fs::path ascii = folder / "generated_5M_ascii.ply";
     std::printf("writing %s and %s ...\n", binary.c_str(), ascii.c_str());
     write_files(binary, ascii);
-    measure(binary, 7);
-    measure(ascii, 5);
+    tlsmon::bench::measure_reader(binary, 7, [](const fs::path& p) { return tlsmon::read_ply(p); });
+    tlsmon::bench::measure_reader(ascii, 5, [](const fs::path& p) { return tlsmon::read_ply(p); });
 }

@@ -63,28 +63,6 @@ void write_scan(const fs::path& path) {
     out << chunk;
 }
 
-// Wall time and this thread's CPU time (on a shared machine the CPU time is the one-core
-// figure; the wall time includes waiting for the core).
-void measure(const fs::path& path, int runs) {
-    const double mb = static_cast<double>(fs::file_size(path)) / 1e6;
-    std::vector<double> wall, cpu;
-    std::size_t points = 0;
-    for (int k = 0; k < runs; ++k) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const double c0 = tlsmon::bench::thread_cpu_seconds();
-        const auto scans = tlsmon::read_ptx(path);
-        cpu.push_back(tlsmon::bench::thread_cpu_seconds() - c0);
-        wall.push_back(
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        points = 0;
-        for (const auto& scan : scans) points += scan.size();
-    }
-    const double n = static_cast<double>(points);
-    std::printf("%s: %.1f MB, %zu points\n", path.filename().c_str(), mb, points);
-    tlsmon::bench::print_rate("cpu", tlsmon::bench::spread_of(cpu), mb, n);
-    tlsmon::bench::print_rate("wall", tlsmon::bench::spread_of(wall), mb, n);
-}
-
 }  // namespace
 
 int main() {
@@ -92,8 +70,8 @@ int main() {
     const fs::path generated = dir / "generated_5M.ptx";
     std::printf("writing %s ...\n", generated.c_str());
     write_scan(generated);
-    measure(generated, 5);
-    measure(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 9);
+    tlsmon::bench::measure_reader(generated, 5, [](const fs::path& p) { return tlsmon::read_ptx(p); });
+    tlsmon::bench::measure_reader(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 9, [](const fs::path& p) { return tlsmon::read_ptx(p); });
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
     std::printf("peak RSS %.0f MB\n", static_cast<double>(u.ru_maxrss) / 1024.0);

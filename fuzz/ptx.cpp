@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "formats/format_error.hpp"
+#include "fuzz/scan_invariants.hpp"
 #include "formats/ptx_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -13,13 +14,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         const auto scans = tlsmon::parse_ptx(text, "fuzz-input.ptx");
         for (const auto& scan : scans) {
-            // Every point has its grid cell, inside the grid.
-            if (scan.grid->row.size() != scan.size()) __builtin_trap();
-            for (std::size_t k = 0; k < scan.size(); ++k) {
-                if (scan.grid->row[k] >= scan.grid->rows) __builtin_trap();
-                if (scan.grid->column[k] >= scan.grid->columns) __builtin_trap();
-            }
+            if (!scan.grid) __builtin_trap();  // a PTX scan is always a grid
         }
+        tlsmon::fuzz::check_scan_invariants(scans);
     } catch (const tlsmon::FormatError&) {
     }
     return 0;
