@@ -171,7 +171,9 @@ std::string number(double v) {
 }
 
 std::string triple(const std::array<double, 3>& v) {
-    return "[" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + "]";
+    std::string s = "[";
+    s += number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + "]";
+    return s;
 }
 
 }  // namespace
