@@ -68,7 +68,7 @@ EpochResults epoch_results(int i, bool with_arrays) {
     reg.accepted = true;
     r.registration = reg;
     for (int t = 0; t < 6; ++t) {
-        r.targets.push_back({"T" + std::to_string(t),
+        r.targets.push_back({std::string("T").append(std::to_string(t)),
                              t < 4 ? "sphere" : "plane",
                              {10.0 * t, 5.0, 2.0},
                              {0.0005, -0.0003, 0.0001},

@@ -123,7 +123,9 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
 }
 
 std::string triple(const std::array<double, 3>& v) {
-    return "[" + toml_number(v[0]) + ", " + toml_number(v[1]) + ", " + toml_number(v[2]) + "]";
+    std::string s = "[";
+    s += toml_number(v[0]) + ", " + toml_number(v[1]) + ", " + toml_number(v[2]) + "]";
+    return s;
 }
 
 }  // namespace

@@ -34,8 +34,9 @@ Clock::duration seconds(double s) {
 
 std::string zone_json(const ZoneConfig& z) {
     auto v = [](const std::array<double, 3>& a) {
-        return "[" + std::to_string(a[0]) + "," + std::to_string(a[1]) + "," +
-               std::to_string(a[2]) + "]";
+        std::string s = "[";
+        s += std::to_string(a[0]) + "," + std::to_string(a[1]) + "," + std::to_string(a[2]) + "]";
+        return s;
     };
     return R"({"type":"box","min":)" + v(z.min) + R"(,"max":)" + v(z.max) + "}";
 }

@@ -155,7 +155,7 @@ std::vector<Scan> parse_points(std::string_view text, const std::filesystem::pat
     if (points == 0) throw_format_error(file, "no points in the file");
     for (std::size_t k = 0; k < scans.size(); ++k) {
         scans[k].source = file.string();
-        if (scans.size() > 1) scans[k].source += "#" + std::to_string(k + 1);
+        if (scans.size() > 1) scans[k].source.append("#").append(std::to_string(k + 1));
     }
     return scans;
 }

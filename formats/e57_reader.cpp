@@ -244,7 +244,7 @@ std::vector<Scan> parse_e57(const char* data, std::size_t size, const std::files
     scans.reserve(infos.size());
     for (std::size_t k = 0; k < infos.size(); ++k) {
         std::string source = path.string();
-        if (infos.size() > 1) source += "#" + std::to_string(k + 1);  // 1-based, as PTX
+        if (infos.size() > 1) source.append("#").append(std::to_string(k + 1));  // 1-based, as PTX
         scans.push_back(read_scan(pages, infos[k], std::move(source)));
     }
     return scans;

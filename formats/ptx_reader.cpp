@@ -214,7 +214,7 @@ std::vector<Scan> parse_ptx(std::string_view text, const std::filesystem::path& 
     if (scans.empty()) throw_format_error(file, "no PTX scan: the file is empty");
     for (std::size_t k = 0; k < scans.size(); ++k) {
         scans[k].source = file.string();
-        if (scans.size() > 1) scans[k].source += "#" + std::to_string(k + 1);
+        if (scans.size() > 1) scans[k].source.append("#").append(std::to_string(k + 1));
     }
     return scans;
 }

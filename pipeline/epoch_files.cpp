@@ -22,7 +22,9 @@ fs::path free_name(const fs::path& folder, const std::string& name, const std::s
     const std::string stem = n.stem().string();
     const std::string ext = n.extension().string();
     for (int i = 1;; ++i) {
-        candidate = folder / (stem + "." + tag + (i > 1 ? "-" + std::to_string(i) : "") + ext);
+        std::string free = stem + "." + tag;
+        if (i > 1) free.append("-").append(std::to_string(i));
+        candidate = folder / (free + ext);
         if (!fs::exists(candidate)) return candidate;
     }
 }
@@ -90,7 +92,7 @@ void move_file(const fs::path& from, const fs::path& to) {
     }
     // Another file system: copy to a temporary name, sync, rename, then remove the source.
     // The source is opened without following a symbolic link (never read through one).
-    const fs::path tmp = to.parent_path() / ("." + to.filename().string() + ".part");
+    const fs::path tmp = to.parent_path() / ("." + to.filename().native() + ".part");
     std::error_code ec = copy_and_sync(from, tmp);
     if (!ec) fs::rename(tmp, to, ec);
     if (ec) {

@@ -37,7 +37,7 @@ class InfoCommand : public ::testing::Test {
   protected:
     CommandRun info(const std::vector<std::string>& args) {
         std::string cmd = quoted(TLSMON_BINARY) + " info";
-        for (const auto& a : args) cmd += " " + quoted(a);
+        for (const auto& a : args) cmd.append(" ").append(quoted(a));
         const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
         cmd += " >" + quoted(out.string()) + " 2>" + quoted(err.string());
         const int status = std::system(cmd.c_str());

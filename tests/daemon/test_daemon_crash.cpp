@@ -86,7 +86,7 @@ TEST(DaemonCrash, KilledTenTimesEqualsUninterruptedRun) {
         for (int k = 0; k < 2 && copied < files.size(); ++k, ++copied) {
             // Complete files appear by rename, like a scanner's export.
             const fs::path tmp =
-                site.ingest() / ("." + files[copied].filename().string() + ".part");
+                site.ingest() / ("." + files[copied].filename().native() + ".part");
             fs::copy_file(files[copied], tmp);
             fs::rename(tmp, site.ingest() / files[copied].filename());
         }
