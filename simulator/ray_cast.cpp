@@ -137,7 +137,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             if (!on_face) continue;
             const Eigen::Vector2d uv = face_uv(face, q);
             consider(best, {Surface::pier, t, n,
-                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1});
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face});
         }
     }
 
@@ -155,7 +155,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             const int face = 5 + pier_face(dh);
             const Eigen::Vector2d uv = face_uv(pier_face(dh), p);
             consider(best, {Surface::deck, dh.t, n,
-                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1});
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face});
         }
     }
 

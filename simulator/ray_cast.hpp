@@ -33,6 +33,7 @@ struct Hit {
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();        // outward, unit
     double albedo = 0.0;                                     // reflectance at the hit
     int target = -1;                                         // index for target hits
+    int face = -1;  // pier faces 0–4, deck faces 5–9 (see below); -1 otherwise
 };
 
 // Faces of the pier box: 0 west (x0), 1 east (x1), 2 south (y0), 3 north (y1), 4 top.

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <numbers>
 
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
+#include "simulator/footprint.hpp"
 #include "simulator/random.hpp"
+#include "simulator/range_noise.hpp"
 #include "simulator/ray_cast.hpp"
 
 namespace tlsmon::sim {
@@ -27,6 +30,82 @@ struct CellPoint {
     Eigen::Vector3d scanner_xyz;
     float intensity;
 };
+
+// What one cell's beam returns before noise.
+struct Return {
+    bool hit = false;
+    double range = 0.0;      // signal-weighted over the footprint, m
+    double intensity = 0.0;  // noise-free
+    double signal = 0.0;     // ρ·|cos α|, footprint-weighted
+    bool mixed = false;
+};
+
+// The surface element a sub-ray met (surface kind, face, target).
+int surface_id(const Hit& h) {
+    return static_cast<int>(h.surface) * 1000 + (h.face + 1) * 10 + (h.target + 1) * 100;
+}
+
+Return thin_ray(const Hit& hit, const Eigen::Vector3d& dir, const Texture& tex) {
+    Return r;
+    if (hit.surface == Surface::none) return r;
+    r.hit = true;
+    r.range = hit.range;
+    r.signal = hit.albedo * std::abs(hit.normal.dot(dir));
+    r.intensity = r.signal * std::exp(-hit.range / tex.range_attenuation);
+    return r;
+}
+
+// The footprint integral (simulator/footprint.hpp). `centre` is the central ray's hit along
+// `dir` (project frame); the sub-rays fan out about the scanner-frame beam direction
+// `beam_dir` along `across` and `up` by the angular footprint radius at the central range.
+// Intensity: Σ wₖ ρₖ |cos αₖ| e^(−rₖ/r_att) over all sub-rays (misses return nothing).
+// Range: the mean of rₖ weighted by the power each sub-ray returns, wₖ ρₖ |cos αₖ| / rₖ²
+// (a phase meter sees the sum of the phasors; for spreads well below the modulation
+// wavelength their phase is the power-weighted mean).
+template <typename Cast>
+Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen::Vector3d& across,
+                 const Eigen::Vector3d& up, const Eigen::Matrix3d& to_project, const Beam& beam,
+                 const Scanner& sc, const Texture& tex, Cast&& cast) {
+    const auto& pattern = footprint_pattern();
+    const double angle =
+        footprint_angle(beam, centre.surface != Surface::none ? centre.range : sc.max_range);
+    Return r;
+    double power = 0.0, power_range = 0.0;
+    double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
+    int first_id = -1;
+    bool several = false;
+    for (std::size_t k = 0; k < kSubRays; ++k) {
+        Hit h;
+        Eigen::Vector3d dir;
+        if (k == 0) {
+            h = centre;
+            dir = to_project * beam_dir;
+        } else {
+            Eigen::Vector3d d =
+                beam_dir + angle * (pattern[k].across * across + pattern[k].up * up);
+            dir = to_project * d.normalized();
+            h = cast(dir);
+        }
+        if (h.surface == Surface::none) continue;
+        const double s = h.albedo * std::abs(h.normal.dot(dir));
+        const double w = pattern[k].weight;
+        r.signal += w * s;
+        r.intensity += w * s * std::exp(-h.range / tex.range_attenuation);
+        const double p = w * s / (h.range * h.range);
+        power += p;
+        power_range += p * h.range;
+        r_min = std::min(r_min, h.range);
+        r_max = std::max(r_max, h.range);
+        const int id = surface_id(h);
+        if (first_id < 0) first_id = id;
+        if (id != first_id) several = true;
+    }
+    if (power <= 0.0) return r;
+    r.hit = true;
+    r.range = power_range / power;
+    r.mixed = several && r_max - r_min > kMixedPixelSpread;
+    return r;
+}
 
 }  // namespace
 
@@ -75,6 +154,7 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
     const double sigma_angle = noise.enabled ? noise.angular_arcsec * kArcsec : 0.0;
 
     std::vector<std::vector<CellPoint>> columns(shape.columns);
+    std::vector<std::uint64_t> mixed(shape.columns, 0);
     auto render_column = [&](std::uint32_t c) {
         Rng rng(hash_combine(
             hash_combine(hash_combine(noise.seed, kNoiseStream), static_cast<std::uint64_t>(epoch)),
@@ -98,15 +178,22 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
             }
             const Eigen::Vector3d dir = actual.linear() * beam_dir;
             const Hit hit = cast_ray(scene, actual.translation(), dir, sc.max_range);
-            if (hit.surface == Surface::none) continue;
-            const double cos_incidence = std::abs(hit.normal.dot(dir));
-            const double signal =
-                hit.albedo * std::exp(-hit.range / tex.range_attenuation) * cos_incidence;
-            if (signal < sc.min_return) continue;
-            double range = hit.range;
-            double intensity = signal;
+            Return ret;
+            if (!site.beam.footprint) {
+                ret = thin_ray(hit, dir, tex);
+            } else {
+                const Eigen::Vector3d across(-sa, ca, 0.0), up(-se * ca, -se * sa, ce);
+                ret = footprint(hit, beam_dir, across, up, actual.linear(), site.beam, sc, tex,
+                                [&](const Eigen::Vector3d& d) {
+                                    return cast_ray(scene, actual.translation(), d, sc.max_range);
+                                });
+            }
+            if (!ret.hit || ret.intensity < sc.min_return) continue;
+            if (ret.mixed) ++mixed[c];
+            double range = ret.range;
+            double intensity = ret.intensity;
             if (noise.enabled) {
-                range += (noise.range_a + noise.range_b_ppm * 1e-6 * hit.range) * e_r;
+                range += range_sigma(noise, ret.range, ret.signal) * e_r;
                 intensity += noise.intensity_sigma * e_i;
             }
             col.push_back(
@@ -114,8 +201,9 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
         }
     };
 
-    parallel_for(shape.columns, [&](std::size_t c) { render_column(static_cast<std::uint32_t>(c)); },
-                 threads);
+    parallel_for(
+        shape.columns, [&](std::size_t c) { render_column(static_cast<std::uint32_t>(c)); },
+        threads);
 
     Scan& scan = out.scan;
     scan.name = sc.station;
@@ -139,6 +227,7 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
         std::vector<CellPoint>().swap(columns[c]);
     }
     scan.grid = std::move(grid);
+    for (const std::uint64_t m : mixed) out.mixed_pixels += m;
     return out;
 }
 

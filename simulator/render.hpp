@@ -10,10 +10,13 @@
 //
 // Measurement model per cell (nominal readout angles φ, e from the grid):
 //   beam direction   = d(φ + ε_φ, e + ε_e), ε ~ N(0, σ_angle)     encoder / beam jitter
-//   measured range   = r_true + N(0, (a + b·r_true)²)              range noise
+//   footprint        = sub-rays about the beam (footprint.hpp); r_true is their
+//                      power-weighted range, the intensity their weighted return
+//   measured range   = r_true + N(0, σ_r²), σ_r from range_noise.hpp
 //   point (scanner)  = measured range · d(φ, e)                    computed from the readout
-//   intensity        = albedo · exp(−r / r_att) · |cos incidence| + N(0, σ_i), clamped 0..1
-// and a cell whose noise-free intensity is below `min_return` has no point.
+//   intensity        = Σ wₖ albedoₖ · exp(−rₖ / r_att) · |cos αₖ| + N(0, σ_i), clamped 0..1
+// and a cell whose noise-free intensity is below `min_return` has no point. With
+// `beam.footprint` off the footprint is the central ray alone.
 #include <cstdint>
 
 #include "core/scan.hpp"
@@ -40,6 +43,7 @@ struct RenderedScan {
     PoseError pose_error;
     int epoch = 0;
     double hours = 0.0;
+    std::uint64_t mixed_pixels = 0;  // points whose footprint straddled surfaces (footprint.hpp)
 };
 
 // Renders epoch `epoch`, `hours` after the first epoch, on `threads` threads (the result

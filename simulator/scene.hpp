@@ -53,12 +53,30 @@ struct Scanner {
     double min_return = 0.005;  // weaker returns (dark, far, grazing) give no point
 };
 
-// Measurement model. Range σ = a + b·range; angular noise on the beam direction;
-// additive intensity noise. All Gaussian, seeded per epoch and column.
+// The laser beam: a Gaussian beam whose 1/e² diameter grows linearly from the exit
+// aperture, D(r) = exit_diameter + divergence · r (far-field approximation). Defaults of a
+// phase-based scanner of the Z+F IMAGER 5016 class: ≈ 3.5 mm at exit, ≈ 0.3 mrad (full
+// angle), i.e. 6.5 mm at 10 m and 18.5 mm at 50 m (see simulator/footprint.hpp).
+struct Beam {
+    bool footprint = true;          // false: one infinitely thin ray per cell (exact geometry)
+    double exit_diameter = 0.0035;  // m, 1/e² diameter at the exit aperture
+    double divergence_mrad = 0.3;   // full angle, 1/e²
+};
+
+// Measurement model. Range σ per return (see simulator/range_noise.hpp): `constant`
+// σ = a + b·range, or `signal` σ = a_s + b_s·range/√(ρ·|cos α|) from the returned signal;
+// angular noise on the beam direction; additive intensity noise. All Gaussian, seeded per
+// epoch and column.
 struct Noise {
+    enum class Model { constant, signal };
     bool enabled = true;
-    double range_a = 0.001;     // m
-    double range_b_ppm = 10.0;  // ppm of range
+    Model model = Model::signal;
+    double range_a = 0.001;     // m, constant model
+    double range_b_ppm = 10.0;  // ppm of range, constant model
+    // Signal model, calibrated to ≈ 0.25 mm at 10 m on white (ρ 0.8) and ≈ 0.8 mm at 50 m
+    // on black (ρ 0.14), head-on (docs/simulator.md).
+    double signal_a = 0.0002;   // m, floor
+    double signal_b_ppm = 4.5;  // ppm of range at ρ·|cos α| = 1
     double angular_arcsec = 3.0;
     double intensity_sigma = 0.01;
     std::uint64_t seed = 1;
@@ -114,6 +132,7 @@ struct Site {
     Deck deck;
     std::vector<Target> targets;
     Scanner scanner;
+    Beam beam;
     Noise noise;
     Drift drift;
     Deformation deformation;

@@ -59,10 +59,22 @@ void read_scanner(TomlFields& f, sim::Scanner& s) {
     f.reject_unknown_keys();
 }
 
+void read_beam(TomlFields& f, sim::Beam& b) {
+    f.get("footprint", b.footprint);
+    f.get("exit_diameter", b.exit_diameter, 0.0, 1.0);
+    f.get("divergence_mrad", b.divergence_mrad, 0.0, 100.0);
+    f.reject_unknown_keys();
+}
+
 void read_noise(TomlFields& f, sim::Noise& n) {
     f.get("enabled", n.enabled);
+    std::string model = n.model == sim::Noise::Model::constant ? "constant" : "signal";
+    f.get_choice("model", model, {"constant", "signal"});
+    n.model = model == "constant" ? sim::Noise::Model::constant : sim::Noise::Model::signal;
     f.get("range_a", n.range_a, 0.0, 1.0);
     f.get("range_b_ppm", n.range_b_ppm, 0.0, 10000.0);
+    f.get("signal_a", n.signal_a, 0.0, 1.0);
+    f.get("signal_b_ppm", n.signal_b_ppm, 0.0, 10000.0);
     f.get("angular_arcsec", n.angular_arcsec, 0.0, 3600.0);
     f.get("intensity_sigma", n.intensity_sigma, 0.0, 1.0);
     get_seed(f, "seed", n.seed);
@@ -184,6 +196,7 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
     sim::Site site = sim::preset(name);
     root.get_seconds("cadence", site.cadence_seconds, 1.0, 30.0 * 86400.0);
     if (auto t = root.table("scanner")) read_scanner(*t, site.scanner);
+    if (auto t = root.table("beam")) read_beam(*t, site.beam);
     if (auto t = root.table("noise")) read_noise(*t, site.noise);
     if (auto t = root.table("drift")) read_drift(*t, site.drift);
     if (auto t = root.table("pier")) read_pier(*t, site.pier);
@@ -203,13 +216,13 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
 }  // namespace
 
 sim::Site load_scene_file(const std::filesystem::path& path,
-                                const std::optional<std::string>& preset) {
+                          const std::optional<std::string>& preset) {
     const toml::table doc = parse_toml_file(path);
     return read_site(doc, path.string(), preset);
 }
 
 sim::Site parse_scene_file(std::string_view text, const std::string& source_name,
-                                 const std::optional<std::string>& preset) {
+                           const std::optional<std::string>& preset) {
     const toml::table doc = parse_toml_string(text, source_name);
     return read_site(doc, source_name, preset);
 }

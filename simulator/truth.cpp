@@ -5,6 +5,7 @@
 
 #include "simulator/deformation.hpp"
 #include "simulator/drift.hpp"
+#include "simulator/footprint.hpp"
 #include "simulator/series.hpp"
 
 namespace tlsmon::sim {
@@ -72,13 +73,26 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
         sc["header_to_true"] = matrix(nominal * E * nominal.inverse());
     }
     const Noise& n = site.noise;
+    const bool constant = n.model == Noise::Model::constant;
     j["noise"] = {{"enabled", n.enabled},
-                  {"range_sigma", "a + b * range"},
+                  {"model", constant ? "constant" : "signal"},
+                  {"range_sigma", constant ? "a + b * range"
+                                           : "signal_a + signal_b * range / sqrt(reflectance * "
+                                             "|cos incidence|)"},
                   {"range_a_m", n.range_a},
                   {"range_b_ppm", n.range_b_ppm},
+                  {"signal_a_m", n.signal_a},
+                  {"signal_b_ppm", n.signal_b_ppm},
                   {"angular_arcsec", n.angular_arcsec},
                   {"intensity_sigma", n.intensity_sigma},
                   {"seed", n.seed}};
+
+    const Beam& b = site.beam;
+    j["beam"] = {{"footprint", b.footprint},
+                 {"exit_diameter_m", b.exit_diameter},
+                 {"divergence_mrad", b.divergence_mrad},
+                 {"sub_rays", b.footprint ? kSubRays : 1},
+                 {"mixed_pixel_spread_m", kMixedPixelSpread}};
 
     json targets = json::array();
     for (std::size_t i = 0; i < site.targets.size(); ++i) {
@@ -164,6 +178,7 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
         scan["rows"] = rendered->scan.grid->rows;
         scan["columns"] = rendered->scan.grid->columns;
         scan["points"] = rendered->scan.size();
+        scan["mixed_pixels"] = rendered->mixed_pixels;
     }
     return j;
 }
