@@ -86,7 +86,9 @@ TEST(SimulatorReadBack, SkyAbovePierIsEmptyAndPierBelowTopIsHit) {
 // z = 0 within the noise: σ_z² = (σ_r sin e)² + (ρ σ_angle)², σ_r = a + b·r.
 TEST(SimulatorReadBack, GroundPointsLieOnTheGroundWithinTheNoise) {
     Site site = preset_small();
-    site.drift.enabled = false;  // the header pose is then the true pose
+    site.drift.enabled = false;                 // the header pose is then the true pose
+    site.noise.model = Noise::Model::constant;  // σ_r = a + b·r as below
+    site.beam.footprint = false;                // no footprint range bias on the grazing ground
     const Scan back = render_and_read_back(site, 0, 0.0, "ground.ptx");
     const Eigen::Vector3d o = site.scanner.position;
     const double sa = site.noise.angular_arcsec * kDeg / 3600.0;
@@ -121,6 +123,7 @@ TEST(SimulatorReadBack, HeaderRotationTakesPointsToTheProjectFrame) {
     site.noise.enabled = false;
     site.drift.enabled = false;
     site.deformation.enabled = false;
+    site.beam.footprint = false;      // exact ranges: one thin ray per cell
     site.scanner.heading_deg = 30.0;  // the same window, seen from a turned instrument
     site.scanner.azimuth_min_deg -= 30.0;
     site.scanner.azimuth_max_deg -= 30.0;

@@ -84,6 +84,7 @@ TEST(SimulatorTruth, KnockedTargetMovesTenMillimetres) {
 TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
     Site s = preset_small();
     s.noise.enabled = false;
+    s.beam.footprint = false;  // exact ranges (a footprint on grazing ground mixes them)
     s.drift.yaw_amplitude_arcsec = 40.0;
     s.drift.tilt_amplitude_arcsec = 60.0;  // 30″ at 2 h: ~5 mm at 34 m
     const EpochFiles f = simulate_epoch(s, 8, kStart, 2);
@@ -111,6 +112,7 @@ TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
 TEST(SimulatorTruth, HeaderToTrueTurnsByTheReportedYaw) {
     Site s = preset_small();
     s.noise.enabled = false;
+    s.beam.footprint = false;  // exact ranges: one thin ray per cell
     s.deformation.enabled = false;
     s.drift = {};
     s.drift.yaw_amplitude_arcsec = 50.0;
