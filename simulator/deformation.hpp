@@ -18,6 +18,19 @@ namespace tlsmon::sim {
 // s(t) above, t in hours since the first epoch.
 double thermal_time_factor(const Deformation& d, double hours);
 
+// The field at one epoch with its time factor and direction evaluated once (the renderer
+// calls it a few times per sub-ray); gives the same numbers as pier_displacement.
+class PierDisplacementField {
+  public:
+    PierDisplacementField(const Site& site, int epoch, double hours);
+    Eigen::Vector3d operator()(const Eigen::Vector3d& p) const;
+
+  private:
+    const Site* site_;
+    bool stepped_;
+    double s_ = 0.0, cos_a_ = 1.0, sin_a_ = 0.0;
+};
+
 // Displacement of the pier's material point `p` (undeformed position, project frame) at
 // `epoch`, `hours` after the first epoch. Zero when deformation is disabled; the caller
 // decides that `p` belongs to the pier.

@@ -73,7 +73,8 @@ void consider(Hit& best, const Hit& h) {
 
 }  // namespace
 
-SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h) : site(&s), epoch(e), hours(h) {
+SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h)
+    : site(&s), epoch(e), hours(h), displacement(s, e, h) {
     for (std::size_t i = 0; i < s.targets.size(); ++i) {
         const Eigen::Vector3d c = target_centre(s, i, e);
         target_centres.push_back(c);
@@ -122,7 +123,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             double t = ((low ? lo : hi)[axis] - o[axis]) / d[axis];
             Eigen::Vector3d q = o + t * d;
             for (int pass = 0; pass < 20; ++pass) {
-                const Eigen::Vector3d u = pier_displacement(site, q, scene.epoch, scene.hours);
+                const Eigen::Vector3d u = scene.displacement(q);
                 const double next = n.dot(q + u - o) / dn;
                 q = o + next * d - u;
                 const bool converged = std::abs(next - t) < 1e-9;

@@ -21,6 +21,7 @@
 #include <limits>
 #include <vector>
 
+#include "simulator/deformation.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {
@@ -44,6 +45,7 @@ struct SceneAtEpoch {
     std::vector<Eigen::Vector3d> target_centres;  // true centres at this epoch
     std::vector<Eigen::Vector3d> target_normals;  // checkerboards: facing the scanner
     double pier_reach = 0.001;                    // m, bound on |u| at this epoch
+    PierDisplacementField displacement;           // u(q) at this epoch
 
     SceneAtEpoch(const Site& s, int epoch, double hours);
 };
