@@ -20,8 +20,18 @@ struct SubRay {
 };
 
 constexpr std::size_t kSubRays = 7;
-// Sub-ray 0 is the central ray.
+// Sub-ray 0 is the central ray; 1–6 the hexagon at 30°, 90°, …, 330° from `across`.
 const std::array<SubRay, kSubRays>& footprint_pattern();
+
+// The adaptive render casts the centre and a triangle of the ring first (30°, 150°, 270°);
+// if they all meet one surface the footprint is those four, weighted 1/2 and 1/6 each (the
+// same second moment E[ρ²] = w²/2, and the same profile across and along the beam's
+// horizontal axis), otherwise the other three are cast and the hexagon is used.
+constexpr std::array<std::size_t, 3> kTriangle{1, 3, 5};
+constexpr std::array<std::size_t, 3> kTriangleComplement{2, 4, 6};
+constexpr double triangle_weight(std::size_t k) {
+    return k == 0 ? 0.5 : (k % 2 == 1 ? 1.0 / 6.0 : 0.0);
+}
 
 // 1/e² radius of the footprint at range r, m: (exit_diameter + divergence · r) / 2.
 double footprint_radius(const Beam& beam, double range);

@@ -1,6 +1,7 @@
 #include "simulator/render.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -58,6 +59,9 @@ Return thin_ray(const Hit& hit, const Eigen::Vector3d& dir, const Texture& tex) 
 // The footprint integral (simulator/footprint.hpp). `centre` is the central ray's hit along
 // `dir` (project frame); the sub-rays fan out about the scanner-frame beam direction
 // `beam_dir` along `across` and `up` by the angular footprint radius at the central range.
+// Adaptive: the centre and the triangle of ring rays are cast first; where all four meet the
+// same surface (or all miss) they are the footprint (weights 1/2, 1/6, 1/6, 1/6: the same
+// second moment), otherwise the other three ring rays are cast and the hexagon is used.
 // Intensity: Σ wₖ ρₖ |cos αₖ| e^(−rₖ/r_att) over all sub-rays (misses return nothing).
 // Range: the mean of rₖ weighted by the power each sub-ray returns, wₖ ρₖ |cos αₖ| / rₖ²
 // (a phase meter sees the sum of the phasors; for spreads well below the modulation
@@ -69,26 +73,35 @@ Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen
     const auto& pattern = footprint_pattern();
     const double angle =
         footprint_angle(beam, centre.surface != Surface::none ? centre.range : sc.max_range);
+    std::array<Hit, kSubRays> hits;
+    std::array<Eigen::Vector3d, kSubRays> dirs;
+    hits[0] = centre;
+    dirs[0] = to_project * beam_dir;
+    const auto cast_sub_ray = [&](std::size_t k) {
+        const Eigen::Vector3d d =
+            beam_dir + angle * (pattern[k].across * across + pattern[k].up * up);
+        dirs[k] = to_project * d.normalized();
+        hits[k] = cast(dirs[k]);
+    };
+    for (const std::size_t k : kTriangle) cast_sub_ray(k);
+    bool uniform = true;
+    for (const std::size_t k : kTriangle) {
+        if (surface_id(hits[k]) != surface_id(centre)) uniform = false;
+    }
+    if (!uniform) {
+        for (const std::size_t k : kTriangleComplement) cast_sub_ray(k);
+    }
+
     Return r;
     double power = 0.0, power_range = 0.0;
     double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
     int first_id = -1;
     bool several = false;
     for (std::size_t k = 0; k < kSubRays; ++k) {
-        Hit h;
-        Eigen::Vector3d dir;
-        if (k == 0) {
-            h = centre;
-            dir = to_project * beam_dir;
-        } else {
-            Eigen::Vector3d d =
-                beam_dir + angle * (pattern[k].across * across + pattern[k].up * up);
-            dir = to_project * d.normalized();
-            h = cast(dir);
-        }
-        if (h.surface == Surface::none) continue;
-        const double s = h.albedo * std::abs(h.normal.dot(dir));
-        const double w = pattern[k].weight;
+        const double w = uniform ? triangle_weight(k) : pattern[k].weight;
+        const Hit& h = hits[k];
+        if (w == 0.0 || h.surface == Surface::none) continue;
+        const double s = h.albedo * std::abs(h.normal.dot(dirs[k]));
         r.signal += w * s;
         r.intensity += w * s * std::exp(-h.range / tex.range_attenuation);
         const double p = w * s / (h.range * h.range);
