@@ -91,7 +91,7 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
     j["beam"] = {{"footprint", b.footprint},
                  {"exit_diameter_m", b.exit_diameter},
                  {"divergence_mrad", b.divergence_mrad},
-                 {"sub_rays", b.footprint ? kSubRays : 1},
+                 {"sub_rays_max", b.footprint ? kSubRays : 1},
                  {"mixed_pixel_spread_m", kMixedPixelSpread}};
 
     json targets = json::array();
