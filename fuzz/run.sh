@@ -7,9 +7,10 @@
 #   fuzz/run.sh [SECONDS [TARGET...]]   TARGET: e.g. ply pcd (default: every fuzz/*.cpp)
 #                                environment: JOBS (build jobs, default 2),
 #                                TLSMON_DATA_DIR (default ../shared/data)
-#   fuzz/run.sh --replay BUILD   no fuzzing: runs each target once over the same seed corpus,
-#                                as built in the configured folder BUILD (CI: the sanitizer
-#                                build, where the targets have fuzz/replay/main.cpp as main)
+#   fuzz/run.sh --replay BUILD [TARGET...]   no fuzzing: runs each target once over the
+#                                same seed corpus, as built in the configured folder BUILD
+#                                (CI: the sanitizer build, where the targets have
+#                                fuzz/replay/main.cpp as main)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,15 +18,17 @@ replay=false
 if [ "${1:-}" = --replay ]; then
   replay=true
   build=$(cd "${2:?fuzz/run.sh --replay BUILD}" && pwd)
+  shift 2
 else
   seconds=${1:-60}
   build=$root/build-fuzz
+  [ $# -eq 0 ] || shift
 fi
 data=${TLSMON_DATA_DIR:-$root/../shared/data}
 jobs=${JOBS:-2}
 max_len=65536  # seeds are cut to this size, so what is fuzzed is what is in the corpus
 
-names=("${@:2}")
+names=("$@")
 if [ ${#names[@]} -eq 0 ]; then
   for src in "$root"/fuzz/*.cpp; do names+=("$(basename "$src" .cpp)"); done
 fi
