@@ -29,22 +29,45 @@ function(tlsmon_folder_library target)
   tlsmon_warnings(${target})
 endfunction()
 
-# A GoogleTest executable made of every .cpp in tests/<folder>, registered with CTest.
+# The GoogleTest executables of tests/<folder>, registered with CTest and labelled, so that
+# `ctest -L unit` runs the fast, in-process tests alone:
+#   tests_<folder>          test_*.cpp except test_process_*.cpp       label `unit`
+#   tests_<folder>_process  test_process_*.cpp: tests that start the   label `process`
+#                           tlsmon binary or a daemon, or mount a tmpfs (root)
+# The label goes with the file name, so a file holds tests of one kind only. Only the
+# process executables wait for the tlsmon binary, so the unit ones build without it.
 function(tlsmon_test_folder folder)
   file(GLOB _sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${folder}/*.cpp)
-  if(NOT _sources)
+  foreach(_src IN LISTS _sources)
+    get_filename_component(_name ${_src} NAME)
+    if(NOT _name MATCHES "^test_")
+      message(FATAL_ERROR "tests/${folder}/${_name}: test files are named test_*.cpp "
+                          "(test_process_*.cpp when they start a process or mount a tmpfs)")
+    endif()
+  endforeach()
+  set(_unit ${_sources})
+  set(_process ${_sources})
+  list(FILTER _unit EXCLUDE REGEX "/test_process_[^/]*$")
+  list(FILTER _process INCLUDE REGEX "/test_process_[^/]*$")
+  _tlsmon_test_executable(tests_${folder} unit "${_unit}" ${ARGN})
+  _tlsmon_test_executable(tests_${folder}_process process "${_process}" ${ARGN})
+  if(TARGET tests_${folder}_process)
+    add_dependencies(tests_${folder}_process tlsmon)
+  endif()
+endfunction()
+
+function(_tlsmon_test_executable target label sources)
+  if(NOT sources)
     return()
   endif()
-  set(_target tests_${folder})
-  add_executable(${_target} ${_sources})
+  add_executable(${target} ${sources})
   # The project root, for the shared helpers: #include "tests/support/temp_dir.hpp".
-  target_include_directories(${_target} PRIVATE ${PROJECT_SOURCE_DIR})
-  tlsmon_warnings(${_target})
-  target_link_libraries(${_target} PRIVATE GTest::gtest GTest::gtest_main ${ARGN})
-  target_compile_definitions(${_target} PRIVATE
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR})
+  tlsmon_warnings(${target})
+  target_link_libraries(${target} PRIVATE GTest::gtest GTest::gtest_main ${ARGN})
+  target_compile_definitions(${target} PRIVATE
     TLSMON_DATA_DIR="${TLSMON_DATA_DIR}"
     TLSMON_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     TLSMON_BINARY="$<TARGET_FILE:tlsmon>")
-  add_dependencies(${_target} tlsmon)
-  gtest_discover_tests(${_target} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900 LABELS ${label})
 endfunction()

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Fresh Debian 12 machine -> dependencies installed, tlsmon built, the whole suite run.
-# With CI=true (as .ci/run is run) warnings are errors (-DTLSMON_WERROR=ON); a user's build
-# keeps them as warnings, so a newer compiler's new warning never stops it.
+# With CI=true (as .ci/run is run) warnings are errors (-DTLSMON_WERROR=ON), and after the
+# suite a second build under AddressSanitizer + UndefinedBehaviorSanitizer runs the core,
+# formats and storage tests and replays the fuzz corpora (deploy/run-sanitizers.sh). A
+# user's build keeps warnings as warnings, so a newer compiler's new warning never stops it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
 cmake_args=()
 if [ "${CI:-}" = true ]; then cmake_args+=(-DTLSMON_WERROR=ON); fi
 bash deploy/build.sh "${cmake_args[@]}"
-cd build
-ctest --output-on-failure -j "$(nproc)" --timeout 900
+(cd build && ctest --output-on-failure -j "$(nproc)" --timeout 900)
+if [ "${CI:-}" = true ]; then bash deploy/run-sanitizers.sh; fi

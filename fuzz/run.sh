@@ -7,22 +7,34 @@
 #   fuzz/run.sh [SECONDS [TARGET...]]   TARGET: e.g. ply pcd (default: every fuzz/*.cpp)
 #                                environment: JOBS (build jobs, default 2),
 #                                TLSMON_DATA_DIR (default ../shared/data)
+#   fuzz/run.sh --replay BUILD [TARGET...]   no fuzzing: runs each target once over the
+#                                same seed corpus, as built in the configured folder BUILD
+#                                (CI: the sanitizer build, where the targets have
+#                                fuzz/replay/main.cpp as main)
 set -euo pipefail
 
-seconds=${1:-60}
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=$root/build-fuzz
+replay=false
+if [ "${1:-}" = --replay ]; then
+  replay=true
+  build=$(cd "${2:?fuzz/run.sh --replay BUILD}" && pwd)
+  shift 2
+else
+  seconds=${1:-60}
+  build=$root/build-fuzz
+  [ $# -eq 0 ] || shift
+fi
 data=${TLSMON_DATA_DIR:-$root/../shared/data}
 jobs=${JOBS:-2}
 max_len=65536  # seeds are cut to this size, so what is fuzzed is what is in the corpus
 
-names=("${@:2}")
+names=("$@")
 if [ ${#names[@]} -eq 0 ]; then
   for src in "$root"/fuzz/*.cpp; do names+=("$(basename "$src" .cpp)"); done
 fi
 [ ${#names[@]} -gt 0 ] || { echo "fuzz/run.sh: no fuzz/*.cpp" >&2; exit 1; }
 
-CXX=${CXX:-clang++} cmake -S "$root" -B "$build" -DTLSMON_FUZZ=ON \
+$replay || CXX=${CXX:-clang++} cmake -S "$root" -B "$build" -DTLSMON_FUZZ=ON \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTLSMON_DATA_DIR="$data" >/dev/null
 cmake --build "$build" -j"$jobs" --target "${names[@]/#/fuzz_}"
 
@@ -70,9 +82,25 @@ for name in "${names[@]}"; do
   done
   write_seeds "$name" "$corpus"
   seeds=$(find "$corpus" -type f | wc -l)
-  echo "== fuzz_$name: $seconds s, $seeds seed files"
   log=$work/$name.log
   status=0
+  if $replay; then
+    echo "== fuzz_$name: replaying $seeds seed files"
+    "$build/fuzz/fuzz_$name" -runs=0 -artifact_prefix="$build/crashes/$name-" "$corpus" \
+      >"$log" 2>&1 || status=$?
+    if [ "$status" -ne 0 ]; then
+      tail -n 60 "$log"
+      # The replay main names each input before running it: keep the last one.
+      last=$(sed -n 's/^Running: //p' "$log" | tail -1)
+      [ -z "$last" ] || cp "$last" "$build/crashes/$name-$(basename "$last")"
+      failed+=("fuzz_$name")
+      summary+=("fuzz_$name: CRASH (exit $status) replaying the seeds")
+    else
+      summary+=("fuzz_$name: $seeds seeds replayed, no report")
+    fi
+    continue
+  fi
+  echo "== fuzz_$name: $seconds s, $seeds seed files"
   "$build/fuzz/fuzz_$name" "$corpus" -max_total_time="$seconds" -max_len="$max_len" \
     -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$build/crashes/$name-" >"$log" 2>&1 || status=$?

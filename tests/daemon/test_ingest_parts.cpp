@@ -11,7 +11,6 @@
 #include "formats/e57_writer.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "pipeline/sha256.hpp"
-#include "tests/support/small_tmpfs.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
@@ -194,23 +193,6 @@ TEST(IngestParts, WatcherWaitsForAFileOpenForWriting) {
     const auto complete = watcher.take_complete(t0 + std::chrono::seconds(10), growing);
     ASSERT_EQ(complete.size(), 1u);
     EXPECT_EQ(complete[0], d / "scan.ptx");
-}
-
-TEST(IngestParts, MoveFileToAnotherFileSystemCopiesSyncsAndRemoves) {
-    const test::TempDir d;
-    const test::SmallTmpfs other(d / "other", "1m");
-    if (!other.mounted()) FAIL() << "cannot mount a tmpfs (not root?): " << other.error();
-    test::write_file(d / "scan.ptx", "bytes of a scan");
-    move_file(d / "scan.ptx", d / "other/scan.ptx");
-    EXPECT_FALSE(fs::exists(d / "scan.ptx"));
-    EXPECT_EQ(test::read_file(d / "other/scan.ptx"), "bytes of a scan");
-    EXPECT_FALSE(fs::exists(d / "other/.scan.ptx.part"));
-    // No room for the copy: the source stays, nothing half-copied is left.
-    test::write_file(d / "big.ptx", std::string(2 << 20, 'x'));
-    EXPECT_THROW(move_file(d / "big.ptx", d / "other/big.ptx"), Error);
-    EXPECT_EQ(fs::file_size(d / "big.ptx"), 2u << 20);
-    EXPECT_FALSE(fs::exists(d / "other/big.ptx"));
-    EXPECT_FALSE(fs::exists(d / "other/.big.ptx.part"));
 }
 
 }  // namespace
