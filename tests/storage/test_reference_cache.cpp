@@ -13,7 +13,8 @@ namespace {
 using Mode = EpochDatabase::Mode;
 
 // Binary bytes with a NUL inside: the payload is a BLOB, not text.
-const std::string kBounds("bbox\0\x01\x02\xff min=-1.5 max=2.25", 30);
+constexpr char kBoundsBytes[] = "bbox\0\x01\x02\xff min=-1.5 max=2.25";
+const std::string kBounds(kBoundsBytes, sizeof kBoundsBytes - 1);  // 26 bytes, NUL included
 
 ReferenceCacheKey bounds_key(int reference = 1, std::string params = "p1", int version = 1) {
     return {"reference_bounds", test::fake_sha256(reference), std::move(params), version};
@@ -40,7 +41,7 @@ TEST(ReferenceCache, HitAfterReopen) {
         EXPECT_EQ(entries[0].reference_sha256, test::fake_sha256(1));
         EXPECT_EQ(entries[0].params_hash, "p1");
         EXPECT_EQ(entries[0].format_version, 1);
-        EXPECT_EQ(entries[0].payload_bytes, 30);
+        EXPECT_EQ(entries[0].payload_bytes, 26);
         EXPECT_GE(entries[0].created, before);
         EXPECT_LE(entries[0].created, now_utc());
     }
