@@ -47,7 +47,7 @@ double product(ReferenceCache& cache, ReferenceEpoch& reference, double scale) {
         ->value;
 }
 
-TEST(ReferenceCache, BuiltOnceReusedFromMemoryAndAfterARestartFromTheDatabase) {
+TEST(PipelineReferenceCache, BuiltOnceReusedFromMemoryAndAfterARestartFromTheDatabase) {
     PipelineSite site;
     const Epoch e = site.add_epoch("a.xyz", 1000, 2.0);  // 441 points at z = 2
     {
@@ -67,7 +67,7 @@ TEST(ReferenceCache, BuiltOnceReusedFromMemoryAndAfterARestartFromTheDatabase) {
     EXPECT_EQ(cache.counters().built, 0);
 }
 
-TEST(ReferenceCache, RebuiltWhenAParameterChanges) {
+TEST(PipelineReferenceCache, RebuiltWhenAParameterChanges) {
     PipelineSite site;
     const Epoch e = site.add_epoch("a.xyz", 1000, 2.0);
     ReferenceCache first(*site.db);
@@ -83,7 +83,7 @@ TEST(ReferenceCache, RebuiltWhenAParameterChanges) {
     EXPECT_EQ(cache.counters().built, 2);
 }
 
-TEST(ReferenceCache, RebuiltWhenTheStoredEntryIsCorrupt) {
+TEST(PipelineReferenceCache, RebuiltWhenTheStoredEntryIsCorrupt) {
     PipelineSite site;
     const Epoch e = site.add_epoch("a.xyz", 1000, 2.0);
     {
@@ -104,7 +104,7 @@ TEST(ReferenceCache, RebuiltWhenTheStoredEntryIsCorrupt) {
     EXPECT_EQ(cache.counters().from_database, 0);
 }
 
-TEST(ReferenceCache, NeverMixedBetweenTwoReferences) {
+TEST(PipelineReferenceCache, NeverMixedBetweenTwoReferences) {
     PipelineSite site;
     const Epoch a = site.add_epoch("a.xyz", 1000, 2.0);
     const Epoch b = site.add_epoch("b.xyz", 2000, 3.0);
