@@ -124,7 +124,7 @@ TEST(ReferenceCache, PayloadAlteredOnDiskIsCorruptNeverAHit) {
     db.reference_cache().store(bounds_key(), kBounds);
     std::string altered = kBounds;
     altered[10] ^= 0x10;  // one bit, the size unchanged
-    for (const std::string& bytes : {altered, kBounds.substr(0, 29)}) {
+    for (const std::string& bytes : {altered, kBounds.substr(0, kBounds.size() - 1)}) {
         {  // behind the store's back, as a disk or a hand with the sqlite3 CLI would
             SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE);
             SQLite::Statement s(raw, "UPDATE reference_cache SET payload = ? WHERE stage = ?");
