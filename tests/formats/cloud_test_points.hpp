@@ -13,8 +13,19 @@
 #include "core/scan.hpp"
 #include "formats/format_error.hpp"
 #include "formats/scan_file.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon::test {
+
+// A fixture with a scratch folder for the files a reader test writes.
+class CloudFileTest : public ::testing::Test {
+  protected:
+    std::filesystem::path write(const std::string& name, const std::string& bytes) const {
+        return write_file(dir_ / name, bytes);
+    }
+
+    TempDir dir_;
+};
 
 // Appends v's bytes in the machine's order (little-endian here), or reversed.
 template <class T>

@@ -27,14 +27,7 @@ using test::expect_known_points;
 using test::kPoints;
 using test::Point;
 
-class PcdReader : public ::testing::Test {
-  protected:
-    fs::path write(const std::string& name, const std::string& bytes) const {
-        return test::write_file(dir_ / name, bytes);
-    }
-
-    test::TempDir dir_;
-};
+class PcdReader : public test::CloudFileTest {};
 
 std::uint32_t packed(const Point& p) {  // PCL's 0x00RRGGBB
     return std::uint32_t{p.r} << 16 | std::uint32_t{p.g} << 8 | p.b;

@@ -26,14 +26,7 @@ using test::error_of;
 using test::expect_known_points;
 using test::kPoints;
 
-class PlyReader : public ::testing::Test {
-  protected:
-    fs::path write(const std::string& name, const std::string& bytes) const {
-        return test::write_file(dir_ / name, bytes);
-    }
-
-    test::TempDir dir_;
-};
+class PlyReader : public test::CloudFileTest {};
 
 std::string ply_header(const std::string& format, std::size_t n) {
     return "ply\nformat " + format + " 1.0\ncomment written by tlsmon tests\nelement vertex " +
