@@ -7,11 +7,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "daemon_harness.hpp"
 #include "storage/epoch_database.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -20,26 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
-    int status = -1;
-    std::string out;  // stdout and stderr
-};
-
 // The binary as `nobody` when the test runs as root (root may write any folder, so the
 // defect would not show), else as the test's own user, who cannot write a 0555 folder either.
-Run run_as_reader(const std::string& args) {
+test::CommandResult run_as_reader(const std::string& args) {
     const std::string as =
         ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
-    const std::string cmd = as + TLSMON_BINARY + " " + args + " 2>&1";
-    Run r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+    return test::shell(as + TLSMON_BINARY + " " + args);  // stdout and stderr
 }
 
 std::string sha(int n) {
@@ -70,13 +55,13 @@ class ReadOnlyFolder : public ::testing::Test {
     // `tlsmon status` as the reader: succeeds and counts `pending` epochs.
     void expect_status(int pending) {
         const auto r = run_as_reader("status --format json --db " + path_.string());
-        ASSERT_EQ(r.status, 0) << r.out;
-        const auto j = nlohmann::json::parse(r.out);
-        EXPECT_EQ(j["epochs_pending"], pending) << r.out;
+        ASSERT_EQ(r.status, 0) << r.output;
+        const auto j = nlohmann::json::parse(r.output);
+        EXPECT_EQ(j["epochs_pending"], pending) << r.output;
         EXPECT_EQ(j["database"], path_.string());
         const auto q = run_as_reader("query epochs --format csv --db " + path_.string());
-        ASSERT_EQ(q.status, 0) << q.out;
-        EXPECT_NE(q.out.find(sha(pending)), std::string::npos) << q.out;
+        ASSERT_EQ(q.status, 0) << q.output;
+        EXPECT_NE(q.output.find(sha(pending)), std::string::npos) << q.output;
     }
 
     test::TempDir dir_;
