@@ -1,5 +1,6 @@
-// `tlsmon simulate`: a series of synthetic scans (PTX) with their truth (JSON), all at once
-// or in real time into an ingest folder, as a scanner on site would deliver them.
+// `tlsmon simulate`: a series of synthetic scans (PTX) with their truth (JSON) and the site
+// weather station's meteo file (CSV), all at once or in real time into an ingest folder, as
+// a scanner and a weather station on site would deliver them.
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -71,9 +72,13 @@ void simulate(const SimulateOptions& o) {
         }
         const auto t0 = std::chrono::steady_clock::now();
         const sim::EpochFiles f = sim::simulate_epoch(site, epoch, start, o.threads);
+        // The weather station logs whether or not the scanner delivers, and its file is in
+        // place before the scan, like the truth.
+        if (!f.meteo.empty()) write_then_rename(out / (f.stem + ".meteo.csv"), f.meteo);
         if (f.missing) {
             std::cout << "epoch " << epoch << " " << sim::format_utc(f.acquired_utc)
-                      << ": missing scan (nothing written)" << std::endl;
+                      << ": missing scan (" << (f.meteo.empty() ? "nothing written" : "meteo only")
+                      << ")" << std::endl;
             continue;
         }
         // The truth first, so it is in place when a watcher sees the scan.

@@ -88,7 +88,7 @@ void add_simulate(CLI::App& app, CommandLine& c) {
     auto* cmd = app.add_subcommand(
         "simulate",
         "Write synthetic PTX scans of a bridge pier with known deformation, drift "
-        "and targets, each with its truth (JSON)");
+        "and targets, each with its truth (JSON) and the site's meteo file (CSV)");
     cmd->add_option("--config", o.config, "Scene file (TOML), see etc/simulator-small.toml")
         ->check(CLI::ExistingFile);
     cmd->add_option("--preset", o.preset, "Scene preset")

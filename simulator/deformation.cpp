@@ -2,25 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace tlsmon::sim {
 
-double thermal_time_factor(const Deformation& d, double hours) {
-    return 0.5 * (1.0 - std::cos(std::numbers::pi * hours / d.peak_hours));
+ThermalBending thermal_bending(const Site& site, const ThermalState& s) {
+    ThermalBending b;
+    const auto& f = s.face_c;
+    const auto& c = s.section_c;
+    b.delta_driving = {f[0] - f[1], f[2] - f[3]};
+    b.delta_lagged = {c[0] - c[1], c[2] - c[3]};
+    const Deformation& d = site.deformation;
+    b.mean_change = 0.25 * (c[0] + c[1] + c[2] + c[3]) - d.reference_temperature_c;
+    const Pier& p = site.pier;
+    const double alpha = d.expansion_coefficient;
+    b.curvature = {alpha * b.delta_lagged.x() / (p.x1 - p.x0),
+                   alpha * b.delta_lagged.y() / (p.y1 - p.y0)};
+    if (d.enabled) {
+        const double h = p.height;
+        b.top = {0.5 * b.curvature.x() * h * h, 0.5 * b.curvature.y() * h * h,
+                 alpha * b.mean_change * h};
+    }
+    return b;
 }
 
-PierDisplacementField::PierDisplacementField(const Site& site, int epoch, double hours)
-    : site_(&site) {
+PierDisplacementField::PierDisplacementField(const Site& site, int epoch,
+                                             const ThermalBending& bending)
+    : site_(&site), top_(bending.top) {
     const Events& e = site.events;
     stepped_ = e.step_epoch >= 0 && epoch >= e.step_epoch;
-    const Deformation& d = site.deformation;
-    if (d.enabled) {
-        s_ = thermal_time_factor(d, hours);
-        const double a = d.direction_deg * std::numbers::pi / 180.0;
-        cos_a_ = std::cos(a);
-        sin_a_ = std::sin(a);
-    }
+    if (!site.deformation.enabled) top_.setZero();
 }
 
 Eigen::Vector3d PierDisplacementField::operator()(const Eigen::Vector3d& p) const {
@@ -30,8 +40,7 @@ Eigen::Vector3d PierDisplacementField::operator()(const Eigen::Vector3d& p) cons
     const double zeta = std::clamp(p.z() / h, 0.0, 1.0);
     if (d.enabled) {
         const double profile = d.exponent == 2.0 ? zeta * zeta : std::pow(zeta, d.exponent);
-        const double uh = d.top_displacement * profile * s_;
-        u += Eigen::Vector3d(uh * cos_a_, uh * sin_a_, d.vertical_extension * zeta * s_);
+        u += Eigen::Vector3d(top_.x() * profile, top_.y() * profile, top_.z() * zeta);
     }
     const Events& e = site_->events;
     if (stepped_ && p.z() >= e.step_z_min && p.z() <= e.step_z_max) u += e.step_displacement;
@@ -39,8 +48,8 @@ Eigen::Vector3d PierDisplacementField::operator()(const Eigen::Vector3d& p) cons
 }
 
 Eigen::Vector3d pier_displacement(const Site& site, const Eigen::Vector3d& p, int epoch,
-                                  double hours) {
-    return PierDisplacementField(site, epoch, hours)(p);
+                                  const ThermalBending& bending) {
+    return PierDisplacementField(site, epoch, bending)(p);
 }
 
 Eigen::Vector3d target_centre(const Site& site, std::size_t index, int epoch) {

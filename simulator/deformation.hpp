@@ -2,40 +2,51 @@
 // The deformation field of the pier: one source of truth for the renderer (which moves the
 // surface) and the truth file (which reports it).
 //
-// Thermal bending (solar heating of one face gives a temperature gradient across the
-// section, i.e. a nearly constant curvature, so a cantilever's deflection grows as z²):
-//   s(t)    = (1 − cos(π t / T_peak)) / 2                    smooth, 0 at t = 0, 1 at T_peak
-//   u_h(z,t) = D_top · (z / H)^p · s(t) · (cos α, sin α, 0)   horizontal, p = 2 by default
-//   u_z(z,t) = E_top · (z / H) · s(t)                         uniform vertical extension
+// Thermal bending (simulator/weather.hpp gives the section's side temperatures, lagged behind
+// the sunlit and shaded faces): a linear temperature difference ΔT across a section of depth
+// b bends it to a constant curvature κ = α_T·ΔT/b, and a cantilever of height H with
+// constant curvature deflects u(z) = κ z²/2, u_top = κ H²/2. Per axis, the top moving away
+// from the warmer face:
+//   ΔT_x = T_west − T_east,   κ_x = α_T ΔT_x / (x1 − x0)
+//   ΔT_y = T_south − T_north, κ_y = α_T ΔT_y / (y1 − y0)
+//   u_h(z) = (κ_x, κ_y) H²/2 · (z/H)^p          p = exponent (2: the exact cantilever)
+//   u_z(z) = α_T (T̄ − T_ref) z                  T̄ the mean of the four sides
 // plus, from the step event's epoch on, a constant step vector for z_min ≤ z ≤ z_max.
 // The ground and the targets never move (a knocked target is an event of its own).
 #include <Eigen/Core>
 
 #include "simulator/scene.hpp"
+#include "simulator/weather.hpp"
 
 namespace tlsmon::sim {
 
-// s(t) above, t in hours since the first epoch.
-double thermal_time_factor(const Deformation& d, double hours);
+struct ThermalBending {
+    Eigen::Vector2d delta_driving = Eigen::Vector2d::Zero();  // K, (ΔT_x, ΔT_y) of the faces
+    Eigen::Vector2d delta_lagged = Eigen::Vector2d::Zero();   // K, of the section (lag τ)
+    double mean_change = 0.0;                                 // K, T̄ − T_ref
+    Eigen::Vector2d curvature = Eigen::Vector2d::Zero();      // 1/m, (κ_x, κ_y)
+    Eigen::Vector3d top = Eigen::Vector3d::Zero();            // m, u at the top; 0 when disabled
+};
+ThermalBending thermal_bending(const Site& site, const ThermalState& state);
 
-// The field at one epoch with its time factor and direction evaluated once (the renderer
-// calls it a few times per sub-ray); gives the same numbers as pier_displacement.
+// The field at one epoch (the renderer calls it a few times per sub-ray); gives the same
+// numbers as pier_displacement.
 class PierDisplacementField {
   public:
-    PierDisplacementField(const Site& site, int epoch, double hours);
+    PierDisplacementField(const Site& site, int epoch, const ThermalBending& bending);
     Eigen::Vector3d operator()(const Eigen::Vector3d& p) const;
 
   private:
     const Site* site_;
     bool stepped_;
-    double s_ = 0.0, cos_a_ = 1.0, sin_a_ = 0.0;
+    Eigen::Vector3d top_;
 };
 
 // Displacement of the pier's material point `p` (undeformed position, project frame) at
-// `epoch`, `hours` after the first epoch. Zero when deformation is disabled; the caller
-// decides that `p` belongs to the pier.
+// `epoch` with the epoch's bending. Zero when deformation is disabled; the caller decides
+// that `p` belongs to the pier.
 Eigen::Vector3d pier_displacement(const Site& site, const Eigen::Vector3d& p, int epoch,
-                                  double hours);
+                                  const ThermalBending& bending);
 
 // True centre of target `index` at `epoch` (moved by the knocked-target event).
 Eigen::Vector3d target_centre(const Site& site, std::size_t index, int epoch);

@@ -74,7 +74,11 @@ void consider(Hit& best, const Hit& h) {
 }  // namespace
 
 SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h)
-    : site(&s), epoch(e), hours(h), displacement(s, e, h) {
+    : SceneAtEpoch(s, epoch_conditions(s, e, h)) {}
+
+SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
+    : site(&s), epoch(c.epoch), hours(c.hours), displacement(s, c.epoch, c.bending) {
+    const int e = c.epoch;
     for (std::size_t i = 0; i < s.targets.size(); ++i) {
         const Eigen::Vector3d c = target_centre(s, i, e);
         target_centres.push_back(c);
@@ -83,9 +87,8 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h)
         n.z() = 0.0;
         target_normals.push_back(n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitY());
     }
-    // A bound on |u| at this epoch (s(t) <= 1, (z/H)^p <= 1), plus 1 mm.
-    const Deformation& d = s.deformation;
-    if (d.enabled) pier_reach += std::abs(d.top_displacement) + std::abs(d.vertical_extension);
+    // A bound on |u| at this epoch ((z/H)^p <= 1), plus 1 mm.
+    if (s.deformation.enabled) pier_reach += c.bending.top.norm();
     if (s.events.step_epoch >= 0 && e >= s.events.step_epoch) {
         pier_reach += s.events.step_displacement.norm();
     }

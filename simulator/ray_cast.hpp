@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "simulator/deformation.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {
@@ -47,6 +48,8 @@ struct SceneAtEpoch {
     double pier_reach = 0.001;                    // m, bound on |u| at this epoch
     PierDisplacementField displacement;           // u(q) at this epoch
 
+    SceneAtEpoch(const Site& s, const EpochConditions& conditions);
+    // At kDefaultStartUtc + hours (epoch_conditions.hpp).
     SceneAtEpoch(const Site& s, int epoch, double hours);
 };
 

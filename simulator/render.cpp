@@ -140,6 +140,13 @@ double cell_elevation(const Scanner& s, std::uint32_t row) {
 }
 
 RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads) {
+    return render_epoch(site, epoch_conditions(site, epoch, hours), threads);
+}
+
+RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
+                          unsigned threads) {
+    const int epoch = conditions.epoch;
+    const double hours = conditions.hours;
     const Scanner& sc = site.scanner;
     const GridShape shape = grid_shape(sc);
     if (std::uint64_t{shape.rows} * shape.columns > max_scan_cells) {
@@ -154,7 +161,9 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
     const Eigen::Affine3d nominal = nominal_pose(sc);
     // The beams leave the disturbed scanner: actual scanner -> project = N · E.
     const Eigen::Affine3d actual = nominal * out.pose_error.transform();
-    const SceneAtEpoch scene(site, epoch, hours);
+    const SceneAtEpoch scene(site, conditions);
+    // The atmosphere scales every range (n_true / n_setting); the noise comes after.
+    const double range_scale = conditions.atmosphere.range_scale;
     const Noise& noise = site.noise;
     const Texture& tex = site.texture;
 
@@ -203,7 +212,7 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
             }
             if (!ret.hit || ret.intensity < sc.min_return) continue;
             if (ret.mixed) ++mixed[c];
-            double range = ret.range;
+            double range = ret.range * range_scale;
             double intensity = ret.intensity;
             if (noise.enabled) {
                 range += range_sigma(noise, ret.range, ret.signal) * e_r;

@@ -12,7 +12,8 @@
 //   beam direction   = d(φ + ε_φ, e + ε_e), ε ~ N(0, σ_angle)     encoder / beam jitter
 //   footprint        = sub-rays about the beam (footprint.hpp); r_true is their
 //                      power-weighted range, the intensity their weighted return
-//   measured range   = r_true + N(0, σ_r²), σ_r from range_noise.hpp
+//   measured range   = r_true · n_true/n_setting + N(0, σ_r²)   atmosphere.hpp; σ_r from
+//                      range_noise.hpp (of r_true)
 //   point (scanner)  = measured range · d(φ, e)                    computed from the readout
 //   intensity        = Σ wₖ albedoₖ · exp(−rₖ / r_att) · |cos αₖ| + N(0, σ_i), clamped 0..1
 // and a cell whose noise-free intensity is below `min_return` has no point. With
@@ -21,6 +22,7 @@
 
 #include "core/scan.hpp"
 #include "simulator/drift.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {
@@ -46,8 +48,11 @@ struct RenderedScan {
     std::uint64_t mixed_pixels = 0;  // points whose footprint straddled surfaces (footprint.hpp)
 };
 
-// Renders epoch `epoch`, `hours` after the first epoch, on `threads` threads (the result
-// does not depend on the thread count). Throws tlsmon::Error for a grid over max_scan_cells.
+// Renders the epoch of `conditions` on `threads` threads (the result does not depend on the
+// thread count). Throws tlsmon::Error for a grid over max_scan_cells.
+RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
+                          unsigned threads = 2);
+// Epoch `epoch`, `hours` after a first epoch at kDefaultStartUtc (epoch_conditions.hpp).
 RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads = 2);
 
 }  // namespace tlsmon::sim

@@ -94,14 +94,15 @@ struct Drift {
     double translation_sigma = 0.0005;  // m, per axis per epoch
 };
 
-// Thermal bending of the pier (see simulator/deformation.hpp for the equations).
+// Thermal bending of the pier, driven by the weather (see simulator/deformation.hpp for the
+// equations): the temperature difference across the section in x and in y, lagged, gives
+// a constant curvature κ = α_T·ΔT/b; the mean section temperature a vertical extension.
 struct Deformation {
     bool enabled = true;
-    double top_displacement = 0.040;    // horizontal, m, at the top at the peak
-    double direction_deg = -60.0;       // horizontal direction from project +x
-    double peak_hours = 6.0;            // time of the first peak after the start
-    double exponent = 2.0;              // height profile (z/H)^p; 2 = constant curvature
-    double vertical_extension = 0.002;  // m at the top at the peak
+    double expansion_coefficient = 1.0e-5;  // α_T, 1/K (concrete, EN 1992-1-1 §3.1.3)
+    double time_constant_hours = 3.0;       // thermal lag of the section behind its faces
+    double exponent = 2.0;                  // height profile (z/H)^p; 2 = constant curvature
+    double reference_temperature_c = 15.0;  // uniform temperature of the undeformed box
 };
 
 // Events: a step of one part of the pier, a knocked target, missing scans, a scan cut short.
@@ -116,6 +117,54 @@ struct Events {
     int cut_short_epoch = -1;
     double cut_short_fraction = 0.5;  // fraction of the file's bytes written (at a line end)
 };
+
+// ---- Weather, atmosphere and the site's weather station (simulator/weather.hpp,
+// simulator/atmosphere.hpp, simulator/meteo_station.hpp) ----
+
+// The site's air and sun: a daily temperature cycle in local solar time (minimum at
+// sunrise, maximum at `max_hour_solar`), day-to-day variation of the mid-range temperature,
+// the cloudiness and the pressure as seeded AR(1) sequences, and solar heating of the
+// pier's faces. Defaults: early summer at the Hochmoselbrücke (49.97° N, 7.07° E).
+struct Weather {
+    std::uint64_t seed = 11;
+    double latitude_deg = 49.97;
+    double longitude_deg = 7.07;        // east positive; local solar time = UTC + λ/15° h + EoT
+    double mean_temperature_c = 16.0;   // mid-range temperature of an average day
+    double day_sigma_c = 3.0;           // day-to-day σ of the mid-range temperature
+    double day_correlation = 0.7;       // AR(1) coefficient from one day to the next
+    double daily_range_c = 11.0;        // clear-sky daily range (max − min)
+    double max_hour_solar = 15.0;       // local solar time of the daily maximum
+    double cloudiness_mean = 0.45;      // 0 clear .. 1 overcast
+    double cloudiness_sigma = 0.3;
+    double pressure_hpa = 1013.25;      // mean station pressure
+    double pressure_sigma_hpa = 6.0;    // day-to-day σ (synoptic)
+    double pressure_tide_hpa = 0.5;     // semidiurnal atmospheric tide amplitude
+    double absorptance = 0.65;          // solar absorptance of the concrete faces
+    double surface_coefficient = 17.0;  // W/(m²·K), outer surface heat transfer h_o
+    double surface_time_constant_hours = 1.0;  // lag of a face behind its sol-air temperature
+};
+
+// The scanner's atmospheric setting (fixed, as entered on site) and its laser's wavelength;
+// the true group index follows the scene's air, so ranges carry n_true / n_setting.
+struct Atmosphere {
+    bool enabled = true;
+    double wavelength_nm = 1500.0;  // Z+F IMAGER 5016 class
+    double scanner_temperature_c = 20.0;
+    double scanner_pressure_hpa = 1013.25;
+    double scanner_humidity_pct = 60.0;
+};
+
+// The site's weather station: one reading a minute, written beside each scan as
+// `<stem>.meteo.csv` (docs/formats.md), from `span_minutes` before the acquisition to it.
+struct MeteoStation {
+    bool enabled = true;
+    int span_minutes = 5;
+    double temperature_sigma_c = 0.1;
+    double pressure_sigma_hpa = 0.1;
+    double humidity_sigma_pct = 0.1;
+};
+
+// ---- end of weather ----
 
 struct Texture {
     std::uint64_t seed = 7;
@@ -138,6 +187,9 @@ struct Site {
     Deformation deformation;
     Events events;
     Texture texture;
+    Weather weather;
+    Atmosphere atmosphere;
+    MeteoStation meteo;
     double cadence_seconds = 900.0;
 };
 

@@ -128,13 +128,54 @@ sim::Target read_target(TomlFields& f) {
 
 void read_deformation(TomlFields& f, sim::Deformation& d) {
     f.get("enabled", d.enabled);
-    f.get("top_displacement", d.top_displacement, -10.0, 10.0);
-    f.get("direction_deg", d.direction_deg, -360.0, 360.0);
-    f.get("peak_hours", d.peak_hours, 0.01, 1e5);
+    f.get("expansion_coefficient", d.expansion_coefficient, -1e-3, 1e-3);
+    f.get("time_constant_hours", d.time_constant_hours, 0.01, 100.0);
     f.get("exponent", d.exponent, 0.0, 10.0);
-    f.get("vertical_extension", d.vertical_extension, -10.0, 10.0);
+    f.get("reference_temperature_c", d.reference_temperature_c, -80.0, 80.0);
     f.reject_unknown_keys();
 }
+
+// ---- Weather, atmosphere and the weather station ----
+
+void read_weather(TomlFields& f, sim::Weather& w) {
+    get_seed(f, "seed", w.seed);
+    f.get("latitude_deg", w.latitude_deg, -89.0, 89.0);
+    f.get("longitude_deg", w.longitude_deg, -180.0, 180.0);
+    f.get("mean_temperature_c", w.mean_temperature_c, -60.0, 60.0);
+    f.get("day_sigma_c", w.day_sigma_c, 0.0, 30.0);
+    f.get("day_correlation", w.day_correlation, 0.0, 0.95);
+    f.get("daily_range_c", w.daily_range_c, 0.0, 40.0);
+    f.get("max_hour_solar", w.max_hour_solar, 10.0, 20.0);
+    f.get("cloudiness_mean", w.cloudiness_mean, 0.0, 1.0);
+    f.get("cloudiness_sigma", w.cloudiness_sigma, 0.0, 1.0);
+    f.get("pressure_hpa", w.pressure_hpa, 500.0, 1100.0);
+    f.get("pressure_sigma_hpa", w.pressure_sigma_hpa, 0.0, 50.0);
+    f.get("pressure_tide_hpa", w.pressure_tide_hpa, 0.0, 5.0);
+    f.get("absorptance", w.absorptance, 0.0, 1.0);
+    f.get("surface_coefficient", w.surface_coefficient, 1.0, 200.0);
+    f.get("surface_time_constant_hours", w.surface_time_constant_hours, 0.01, 100.0);
+    f.reject_unknown_keys();
+}
+
+void read_atmosphere(TomlFields& f, sim::Atmosphere& a) {
+    f.get("enabled", a.enabled);
+    f.get("wavelength_nm", a.wavelength_nm, 300.0, 2000.0);
+    f.get("scanner_temperature_c", a.scanner_temperature_c, -60.0, 60.0);
+    f.get("scanner_pressure_hpa", a.scanner_pressure_hpa, 500.0, 1100.0);
+    f.get("scanner_humidity_pct", a.scanner_humidity_pct, 0.0, 100.0);
+    f.reject_unknown_keys();
+}
+
+void read_meteo(TomlFields& f, sim::MeteoStation& m) {
+    f.get("enabled", m.enabled);
+    f.get("span_minutes", m.span_minutes, 0, 1440);
+    f.get("temperature_sigma_c", m.temperature_sigma_c, 0.0, 10.0);
+    f.get("pressure_sigma_hpa", m.pressure_sigma_hpa, 0.0, 10.0);
+    f.get("humidity_sigma_pct", m.humidity_sigma_pct, 0.0, 10.0);
+    f.reject_unknown_keys();
+}
+
+// ---- end of weather ----
 
 void read_events(TomlFields& f, sim::Site& site) {
     sim::Events& e = site.events;
@@ -209,6 +250,9 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
     if (auto t = root.table("deformation")) read_deformation(*t, site.deformation);
     if (auto t = root.table("events")) read_events(*t, site);
     if (auto t = root.table("texture")) read_texture(*t, site.texture);
+    if (auto t = root.table("weather")) read_weather(*t, site.weather);
+    if (auto t = root.table("atmosphere")) read_atmosphere(*t, site.atmosphere);
+    if (auto t = root.table("meteo")) read_meteo(*t, site.meteo);
     root.reject_unknown_keys();
     return site;
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "simulator/meteo_station.hpp"
 #include "simulator/render.hpp"
 #include "simulator/truth.hpp"
 
@@ -57,12 +58,26 @@ EpochFiles simulate_epoch(const Site& site, int epoch, std::int64_t start_utc, u
     const auto& missing = site.events.missing_epochs;
     f.missing = std::find(missing.begin(), missing.end(), epoch) != missing.end();
     const double hours = seconds / 3600.0;
+    // The weather station logs whether or not the scanner delivers.
+    if (site.meteo.enabled) f.meteo = meteo_csv(site, f.acquired_utc);
+    const auto meteo_truth = [&](nlohmann::json& truth) {
+        truth["meteo_station"] = {
+            {"enabled", site.meteo.enabled},
+            {"file", site.meteo.enabled ? nlohmann::json(f.stem + ".meteo.csv") : nlohmann::json()},
+            {"span_minutes", site.meteo.span_minutes},
+            {"temperature_sigma_c", site.meteo.temperature_sigma_c},
+            {"pressure_sigma_hpa", site.meteo.pressure_sigma_hpa},
+            {"humidity_sigma_pct", site.meteo.humidity_sigma_pct},
+            {"resolution", 0.1}};
+    };
     if (f.missing) {
         f.truth = truth_json(site, epoch, hours, f.acquired_utc, nullptr);
         f.truth["scan"]["missing"] = true;
+        meteo_truth(f.truth);
         return f;
     }
-    RenderedScan rendered = render_epoch(site, epoch, hours, threads);
+    RenderedScan rendered =
+        render_epoch(site, epoch_conditions(site, epoch, hours, f.acquired_utc), threads);
     rendered.scan.source = f.stem + ".ptx";
     rendered.scan.acquired_utc = static_cast<double>(f.acquired_utc);
     f.ptx = ptx_text(rendered.scan, ptx);
@@ -79,6 +94,7 @@ EpochFiles simulate_epoch(const Site& site, int epoch, std::int64_t start_utc, u
     f.truth["scan"]["file"] = f.stem + ".ptx";
     f.truth["scan"]["cut_short"] = f.cut_short;
     f.truth["scan"]["bytes"] = f.ptx.size();
+    meteo_truth(f.truth);
     return f;
 }
 

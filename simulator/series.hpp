@@ -3,6 +3,7 @@
 //
 // File names carry the acquisition time, since PTX headers have none:
 //   <station>_YYYYMMDDTHHMMSSZ.ptx  and  <station>_YYYYMMDDTHHMMSSZ.truth.json   (UTC)
+// and the weather station's <station>_YYYYMMDDTHHMMSSZ.meteo.csv (meteo_station.hpp).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -26,6 +27,8 @@ struct EpochFiles {
     bool missing = false;    // the scanner exported nothing at this epoch (no files)
     bool cut_short = false;  // the PTX text stops before the declared cells
     std::string ptx;         // empty when missing
+    std::string meteo;       // the station's file; written even for a missing scan; empty
+                             // when the station is off (site.meteo.enabled)
     nlohmann::json truth;
 };
 

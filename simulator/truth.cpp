@@ -5,6 +5,7 @@
 
 #include "simulator/deformation.hpp"
 #include "simulator/drift.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/footprint.hpp"
 #include "simulator/series.hpp"
 
@@ -118,20 +119,71 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
     const Pier& p = site.pier;
     j["pier"] = {{"x0", p.x0}, {"x1", p.x1}, {"y0", p.y0}, {"y1", p.y1}, {"height", p.height}};
 
+    // ---- Weather, atmosphere and the thermal bending they drive ----
+    const EpochConditions cond = epoch_conditions(site, epoch, hours, acquired_utc);
     const Deformation& d = site.deformation;
+    const ThermalBending& bend = cond.bending;
     j["deformation"] = {
         {"model", "thermal_bending"},
         {"enabled", d.enabled},
         {"equations",
-         "s(t) = (1 - cos(pi t / peak_hours)) / 2; u_h = top_displacement (z/H)^exponent s(t) "
-         "(cos a, sin a, 0); u_z = vertical_extension (z/H) s(t); a = direction_deg"},
-        {"top_displacement_m", d.top_displacement},
-        {"direction_deg", d.direction_deg},
-        {"peak_hours", d.peak_hours},
+         "kappa = alpha * dT_lagged / b (b = x1 - x0 for x, y1 - y0 for y; dT_x = T_west - "
+         "T_east, dT_y = T_south - T_north); u_h(z) = kappa H^2 / 2 (z/H)^exponent; u_z(z) = "
+         "alpha (T_mean - T_ref) z"},
+        {"expansion_coefficient_per_k", d.expansion_coefficient},
+        {"time_constant_hours", d.time_constant_hours},
         {"exponent", d.exponent},
-        {"vertical_extension_m", d.vertical_extension},
+        {"reference_temperature_c", d.reference_temperature_c},
         {"height_m", p.height},
-        {"time_factor", d.enabled ? thermal_time_factor(d, hours) : 0.0}};
+        {"section_depth_m", {p.x1 - p.x0, p.y1 - p.y0}},
+        {"delta_t_driving_c", {bend.delta_driving.x(), bend.delta_driving.y()}},
+        {"delta_t_lagged_c", {bend.delta_lagged.x(), bend.delta_lagged.y()}},
+        {"mean_temperature_change_c", bend.mean_change},
+        {"curvature_per_m", {bend.curvature.x(), bend.curvature.y()}},
+        {"top_displacement_m", vec(bend.top)}};
+
+    const ThermalState& th = cond.thermal;
+    const Weather& w = site.weather;
+    json faces = json::object();
+    for (int f = 0; f < 4; ++f) {
+        faces[kFaceNames[f]] = {{"irradiance_w_m2", th.irradiance[f]},
+                                {"sol_air_temperature_c", th.sol_air_c[f]},
+                                {"temperature_c", th.face_c[f]},
+                                {"section_temperature_c", th.section_c[f]}};
+    }
+    const bool sun_up = th.sunlit_face >= 0;
+    const int shaded = sun_up ? (th.sunlit_face ^ 1) : -1;  // the opposite face
+    j["weather"] = {
+        {"seed", w.seed},
+        {"latitude_deg", w.latitude_deg},
+        {"longitude_deg", w.longitude_deg},
+        {"solar_hour", th.air.sun.solar_hour},
+        {"sun_elevation_deg", th.air.sun.elevation_deg},
+        {"sun_azimuth_deg", th.air.sun.azimuth_deg},
+        {"cloudiness", th.air.cloudiness},
+        {"air_temperature_c", th.air.temperature_c},
+        {"pressure_hpa", th.air.pressure_hpa},
+        {"relative_humidity_pct", th.air.relative_humidity_pct},
+        {"dew_point_c", th.air.dew_point_c},
+        {"faces", faces},
+        {"sunlit_face", sun_up ? json(kFaceNames[th.sunlit_face]) : json(nullptr)},
+        {"sunlit_face_temperature_c", sun_up ? json(th.face_c[th.sunlit_face]) : json(nullptr)},
+        {"shaded_face", sun_up ? json(kFaceNames[shaded]) : json(nullptr)},
+        {"shaded_face_temperature_c", sun_up ? json(th.face_c[shaded]) : json(nullptr)}};
+
+    const Atmosphere& at = site.atmosphere;
+    j["atmosphere"] = {{"enabled", at.enabled},
+                       {"formula", "IAG 1999 group refractivity (Rueger)"},
+                       {"wavelength_nm", at.wavelength_nm},
+                       {"scanner_setting",
+                        {{"temperature_c", at.scanner_temperature_c},
+                         {"pressure_hpa", at.scanner_pressure_hpa},
+                         {"relative_humidity_pct", at.scanner_humidity_pct}}},
+                       {"group_refractivity_setting", cond.atmosphere.refractivity_setting},
+                       {"group_refractivity_true", cond.atmosphere.refractivity_true},
+                       {"range_scale", cond.atmosphere.range_scale},
+                       {"range_ppm", cond.atmosphere.ppm}};
+    // ---- end of weather ----
 
     json events = json::array();
     const Events& ev = site.events;
@@ -160,7 +212,7 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
     for (const SamplePoint& s : sample_points(site)) {
         samples.push_back({{"name", s.name},
                            {"point", vec(s.point)},
-                           {"displacement", vec(pier_displacement(site, s.point, epoch, hours))}});
+                           {"displacement", vec(pier_displacement(site, s.point, epoch, bend))}});
     }
     j["samples"] = samples;
 

@@ -21,6 +21,7 @@ Site noise_free_small() {
     s.noise.enabled = false;
     s.drift.enabled = false;
     s.deformation.enabled = false;
+    s.atmosphere.enabled = false;  // true ranges (the atmosphere scales them by a few ppm)
     // One thin ray per cell: these tests check the ray caster's geometry, which a footprint
     // would blur (mixed ranges at edges, second-order range bias on grazing surfaces).
     s.beam.footprint = false;
@@ -60,43 +61,59 @@ TEST(SimulatorExact, GroundAndPierFaceRangesAreAnalytic) {
     EXPECT_GT(face, 30'000u);
 }
 
+// The epoch of the first day (15 min cadence) where the pier's top moved farthest: the
+// field is largest there, so the geometry below is tested where it matters most.
+EpochConditions largest_bending(const Site& s) {
+    EpochConditions best;
+    for (int epoch = 0; epoch < 96; ++epoch) {
+        EpochConditions c = epoch_conditions(s, epoch, epoch * 0.25);
+        if (c.bending.top.head<2>().norm() > best.bending.top.head<2>().norm()) best = c;
+    }
+    return best;
+}
+
 // The ray meets the displaced surface: a noise-free point on the south face at height z
-// lies on the plane y = y0 + u_y(z), with u from the thermal bending equation.
+// lies on the plane y = y0 + u_y(z), with u_y = κ_y H²/2 (z/H)² from the thermal bending.
 TEST(SimulatorExact, DeformedFaceIsWhereTheFieldMovedIt) {
     Site s = noise_free_small();
     s.deformation.enabled = true;
-    const double hours = 6.0;  // the peak: 40 mm at the top
-    const Scan scan = render_epoch(s, 24, hours).scan;
-    const double a = s.deformation.direction_deg * kDeg;
+    const EpochConditions c = largest_bending(s);
+    // κ_y = α ΔT_y / b_y with the section's lagged temperature difference across y.
+    const double kappa_y = s.deformation.expansion_coefficient * c.bending.delta_lagged.y() /
+                           (s.pier.y1 - s.pier.y0);
+    const double top_y = 0.5 * kappa_y * s.pier.height * s.pier.height;
+    ASSERT_GT(std::abs(top_y), 0.005);  // a day of sun moves the top by several mm
+    const Scan scan = render_epoch(s, c).scan;
     std::size_t n = 0;
     double max_seen = 0.0;
     for (std::size_t i = 0; i < scan.size(); ++i) {
         const Eigen::Vector3d& p = scan.xyz[i];
         if (p.z() < 0.5 || p.x() < s.pier.x0 + 0.5 || p.x() > s.pier.x1 - 0.5) continue;
         if (std::abs(p.y() - s.pier.y0) > 0.1) continue;  // the south face, near its plane
-        // u_y = D (z/H)² s(t) sin α with s(6 h) = 1; z of the material point differs from
-        // p.z by u_z (≤ 2 mm), which changes u_y by < 1e-5 m.
+        // z of the material point differs from p.z by u_z (≤ 6 mm), which changes u_y by
+        // 2 u_top z/H² · u_z < 1e-5 m.
         const double zeta = p.z() / s.pier.height;
-        const double uy = 0.040 * zeta * zeta * std::sin(a);
-        EXPECT_NEAR(p.y(), s.pier.y0 + uy, 1e-5) << "z = " << p.z();
+        EXPECT_NEAR(p.y(), s.pier.y0 + top_y * zeta * zeta, 1e-5) << "z = " << p.z();
         max_seen = std::max(max_seen, std::abs(p.y() - s.pier.y0));
         ++n;
     }
     EXPECT_GT(n, 30'000u);
-    EXPECT_GT(max_seen, 0.030);  // near the top the face moved by ~35 mm towards the scanner
+    EXPECT_GT(max_seen, 0.8 * std::abs(top_y));  // the face near the top moved by ~u_top
 }
 
-// The displaced pier ends where its displaced edges are. At the peak the west wall moved
-// 11 mm east and 19 mm south at z = 30 m; seen at 87° incidence that shifts the hit by
-// ~0.3 m along the ray, so rays near the wall's ends and the top edge must be cast against
-// the displaced faces themselves, not against the undeformed box.
+// The displaced pier ends where its displaced edges are. At the largest bending of the day
+// the walls moved by about a centimetre; seen at 87° incidence a normal shift of 10 mm
+// moves the hit by ~0.2 m along the ray, so rays near the wall's ends and the top edge must
+// be cast against the displaced faces themselves, not against the undeformed box.
 TEST(SimulatorExact, DisplacedPierEdgesAreWhereTheFieldMovedThem) {
     Site s = noise_free_small();
     s.deformation.enabled = true;
-    const SceneAtEpoch scene(s, 24, 6.0);
+    const EpochConditions c = largest_bending(s);
+    ASSERT_GT(c.bending.top.head<2>().norm(), 0.005);
+    const SceneAtEpoch scene(s, c);
     const Eigen::Vector3d o = s.scanner.position;
     const auto displaced = [&](const Eigen::Vector3d& q) {
-        return Eigen::Vector3d(q + pier_displacement(s, q, 24, 6.0));
+        return Eigen::Vector3d(q + pier_displacement(s, q, c.epoch, c.bending));
     };
     // Material points on the grazing west wall 0.1 m from its south end, on the head-on
     // south wall 10 mm below its top edge, and on the west wall 0.1 m from its north end:

@@ -23,6 +23,7 @@ Site still_small() {
     Site s = preset_small();
     s.drift.enabled = false;
     s.deformation.enabled = false;
+    s.atmosphere.enabled = false;  // ranges on the surfaces (the air scales them by ppm)
     return s;
 }
 

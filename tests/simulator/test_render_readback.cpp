@@ -123,6 +123,7 @@ TEST(SimulatorReadBack, HeaderRotationTakesPointsToTheProjectFrame) {
     site.noise.enabled = false;
     site.drift.enabled = false;
     site.deformation.enabled = false;
+    site.atmosphere.enabled = false;  // no atmospheric range scale
     site.beam.footprint = false;      // exact ranges: one thin ray per cell
     site.scanner.heading_deg = 30.0;  // the same window, seen from a turned instrument
     site.scanner.azimuth_min_deg -= 30.0;

@@ -28,35 +28,35 @@ Eigen::Affine3d affine(const nlohmann::json& rows) {
 
 TEST(SimulatorTruth, SampledDisplacementsFollowThermalBending) {
     const Site s = preset_small();
-    // Epoch 24 at a 15 min cadence is 6 h after the start: the peak, s(t) = 1.
+    // Epoch 24 at a 15 min cadence is 12:00 UTC, the south face in the midday sun.
     const EpochFiles f = simulate_epoch(s, 24, kStart, 2);
     const auto& j = f.truth;
     EXPECT_NEAR(j["hours_since_first_epoch"].get<double>(), 6.0, 1e-12);
-    EXPECT_NEAR(j["deformation"]["time_factor"].get<double>(), 1.0, 1e-12);
-    const double a = -60.0 * kDeg;
+    const auto& d = j["deformation"];
+    // κ = α ΔT_lagged / b with α = 1e-5/K, b = 15 m across x and 7 m across y.
+    const double kx = 1e-5 * d["delta_t_lagged_c"][0].get<double>() / 15.0;
+    const double ky = 1e-5 * d["delta_t_lagged_c"][1].get<double>() / 7.0;
+    EXPECT_NEAR(d["curvature_per_m"][0].get<double>(), kx, 1e-15);
+    EXPECT_NEAR(d["curvature_per_m"][1].get<double>(), ky, 1e-15);
+    const double mean = d["mean_temperature_change_c"].get<double>();
     int checked = 0;
     for (const auto& sample : j["samples"]) {
         const Eigen::Vector3d p = vec(sample["point"]);
         const Eigen::Vector3d u = vec(sample["displacement"]);
-        // u_h = 40 mm (z/40 m)² (cos α, sin α), u_z = 2 mm (z/40 m).
-        const double z = p.z() / 40.0;
-        EXPECT_NEAR(u.x(), 0.040 * z * z * std::cos(a), 1e-12) << sample["name"];
-        EXPECT_NEAR(u.y(), 0.040 * z * z * std::sin(a), 1e-12) << sample["name"];
-        EXPECT_NEAR(u.z(), 0.002 * z, 1e-12) << sample["name"];
+        // Constant curvature: u_h = κ z²/2 = κ H²/2 (z/H)²; u_z = α ΔT_mean z.
+        EXPECT_NEAR(u.x(), 0.5 * kx * p.z() * p.z(), 1e-12) << sample["name"];
+        EXPECT_NEAR(u.y(), 0.5 * ky * p.z() * p.z(), 1e-12) << sample["name"];
+        EXPECT_NEAR(u.z(), 1e-5 * mean * p.z(), 1e-12) << sample["name"];
         ++checked;
     }
     EXPECT_GE(checked, 10);
-    // Half-way up the south face after 6 h: 10 mm horizontally.
-    bool found = false;
-    for (const auto& sample : j["samples"]) {
-        if (sample["name"] != "south_face_z20") continue;
-        EXPECT_NEAR(vec(sample["displacement"]).head<2>().norm(), 0.010, 1e-12);
-        found = true;
-    }
-    EXPECT_TRUE(found);
-    // After 3 h (epoch 12) s = (1 − cos(π/2))/2 = 0.5.
-    const EpochFiles g = simulate_epoch(s, 12, kStart, 2);
-    EXPECT_NEAR(g.truth["deformation"]["time_factor"].get<double>(), 0.5, 1e-12);
+    // At noon the sunlit south face is warmer than the shaded north face, and the top has
+    // started to move away from it (north, +y).
+    EXPECT_EQ(j["weather"]["sunlit_face"], "south");
+    EXPECT_EQ(j["weather"]["shaded_face"], "north");
+    EXPECT_GT(j["weather"]["sunlit_face_temperature_c"].get<double>(),
+              j["weather"]["shaded_face_temperature_c"].get<double>() + 3.0);
+    EXPECT_GT(d["top_displacement_m"][1].get<double>(), 0.002);
 }
 
 TEST(SimulatorTruth, KnockedTargetMovesTenMillimetres) {
@@ -85,6 +85,7 @@ TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
     Site s = preset_small();
     s.noise.enabled = false;
     s.beam.footprint = false;  // exact ranges (a footprint on grazing ground mixes them)
+    s.atmosphere.enabled = false;  // and no atmospheric scale
     s.drift.yaw_amplitude_arcsec = 40.0;
     s.drift.tilt_amplitude_arcsec = 60.0;  // 30″ at 2 h: ~5 mm at 34 m
     const EpochFiles f = simulate_epoch(s, 8, kStart, 2);
@@ -113,6 +114,7 @@ TEST(SimulatorTruth, HeaderToTrueTurnsByTheReportedYaw) {
     Site s = preset_small();
     s.noise.enabled = false;
     s.beam.footprint = false;  // exact ranges: one thin ray per cell
+    s.atmosphere.enabled = false;
     s.deformation.enabled = false;
     s.drift = {};
     s.drift.yaw_amplitude_arcsec = 50.0;
