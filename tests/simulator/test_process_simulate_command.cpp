@@ -42,6 +42,16 @@ TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
     EXPECT_TRUE(fs::exists(out / "small_20260601T220000Z.truth.json"));
     EXPECT_FALSE(fs::exists(out / "small_20260601T223000Z.ptx"));  // missing
     EXPECT_TRUE(fs::exists(out / "small_20260601T230000Z.ptx"));   // cut short
+    // The weather station logs at every epoch, also when the scanner delivers nothing.
+    for (const char* stem : {"small_20260601T220000Z", "small_20260601T223000Z",
+                             "small_20260601T230000Z"}) {
+        const std::string meteo = read_file(out / (std::string(stem) + ".meteo.csv"));
+        EXPECT_NE(meteo.find("\ntime_utc,air_temperature_c,pressure_hpa,relative_humidity_pct\n"),
+                  std::string::npos)
+            << stem;
+    }
+    EXPECT_NE(read_file(out / "small_20260601T223000Z.meteo.csv").find("2026-06-01T22:30:00Z,"),
+              std::string::npos);
     const auto scans = tlsmon::read_ptx(out / "small_20260601T220000Z.ptx");
     ASSERT_EQ(scans.size(), 1u);
     EXPECT_EQ(scans[0].grid->rows, 541u);
@@ -99,7 +109,8 @@ TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
         << read_file(dir / "log_a");
     ASSERT_EQ(run("--preset small --out " + (dir / "b").string() + " --epochs 2", dir / "log_b"),
               0);
-    for (const char* name : {"small_20260601T061500Z.ptx", "small_20260601T061500Z.truth.json"}) {
+    for (const char* name : {"small_20260601T061500Z.ptx", "small_20260601T061500Z.truth.json",
+                             "small_20260601T061500Z.meteo.csv"}) {
         const std::string a = read_file(dir / "a" / name), b = read_file(dir / "b" / name);
         EXPECT_GT(a.size(), 1000u);
         EXPECT_TRUE(a == b) << name;
@@ -154,3 +165,18 @@ centre = [0.4, 22.0, 1.2]
 }
 
 }  // namespace
+
+// `[meteo] enabled = false`: no weather station, no meteo file; the scan and truth as before.
+TEST(SimulateCommand, MeteoFileCanBeSwitchedOff) {
+    const TempDir scratch;
+    const fs::path& dir = scratch.path();
+    const fs::path scene = dir / "scene.toml";
+    write_file(scene, "preset = \"small\"\n[meteo]\nenabled = false\n");
+    ASSERT_EQ(run("--config " + scene.string() + " --out " + (dir / "out").string() +
+                      " --epochs 1",
+                  dir / "log"),
+              0)
+        << read_file(dir / "log");
+    EXPECT_TRUE(fs::exists(dir / "out/small_20260601T060000Z.ptx"));
+    EXPECT_FALSE(fs::exists(dir / "out/small_20260601T060000Z.meteo.csv"));
+}
