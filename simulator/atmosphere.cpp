@@ -25,8 +25,8 @@ AtmosphereEffect atmosphere_effect(const Atmosphere& a, const AirSample& air) {
     AtmosphereEffect out;
     out.refractivity_setting = group_refractivity(a.wavelength_nm, a.scanner_temperature_c,
                                                   a.scanner_pressure_hpa, a.scanner_humidity_pct);
-    out.refractivity_true = group_refractivity(a.wavelength_nm, air.temperature_c,
-                                               air.pressure_hpa, air.relative_humidity_pct);
+    out.refractivity_true = group_refractivity(a.wavelength_nm, air.temperature_c, air.pressure_hpa,
+                                               air.relative_humidity_pct);
     if (a.enabled) {
         out.range_scale =
             (1.0 + out.refractivity_true * 1e-6) / (1.0 + out.refractivity_setting * 1e-6);

@@ -16,8 +16,9 @@ EpochConditions epoch_conditions(const Site& site, int epoch, double hours, std:
 }
 
 EpochConditions epoch_conditions(const Site& site, int epoch, double hours) {
-    return epoch_conditions(site, epoch, hours,
-                            kDefaultStartUtc + static_cast<std::int64_t>(std::llround(hours * 3600.0)));
+    return epoch_conditions(
+        site, epoch, hours,
+        kDefaultStartUtc + static_cast<std::int64_t>(std::llround(hours * 3600.0)));
 }
 
 }  // namespace tlsmon::sim

@@ -17,8 +17,8 @@ constexpr std::int64_t kDefaultStartUtc = 1780293600;
 
 struct EpochConditions {
     int epoch = 0;
-    double hours = 0.0;      // since the first epoch (drives the scanner drift)
-    std::int64_t utc = 0;    // acquisition time (drives the weather)
+    double hours = 0.0;    // since the first epoch (drives the scanner drift)
+    std::int64_t utc = 0;  // acquisition time (drives the weather)
     ThermalState thermal;
     ThermalBending bending;
     AtmosphereEffect atmosphere;

@@ -128,19 +128,19 @@ struct Events {
 struct Weather {
     std::uint64_t seed = 11;
     double latitude_deg = 49.97;
-    double longitude_deg = 7.07;        // east positive; local solar time = UTC + λ/15° h + EoT
-    double mean_temperature_c = 16.0;   // mid-range temperature of an average day
-    double day_sigma_c = 3.0;           // day-to-day σ of the mid-range temperature
-    double day_correlation = 0.7;       // AR(1) coefficient from one day to the next
-    double daily_range_c = 11.0;        // clear-sky daily range (max − min)
-    double max_hour_solar = 15.0;       // local solar time of the daily maximum
-    double cloudiness_mean = 0.45;      // 0 clear .. 1 overcast
+    double longitude_deg = 7.07;       // east positive; local solar time = UTC + λ/15° h + EoT
+    double mean_temperature_c = 16.0;  // mid-range temperature of an average day
+    double day_sigma_c = 3.0;          // day-to-day σ of the mid-range temperature
+    double day_correlation = 0.7;      // AR(1) coefficient from one day to the next
+    double daily_range_c = 11.0;       // clear-sky daily range (max − min)
+    double max_hour_solar = 15.0;      // local solar time of the daily maximum
+    double cloudiness_mean = 0.45;     // 0 clear .. 1 overcast
     double cloudiness_sigma = 0.3;
-    double pressure_hpa = 1013.25;      // mean station pressure
-    double pressure_sigma_hpa = 6.0;    // day-to-day σ (synoptic)
-    double pressure_tide_hpa = 0.5;     // semidiurnal atmospheric tide amplitude
-    double absorptance = 0.65;          // solar absorptance of the concrete faces
-    double surface_coefficient = 17.0;  // W/(m²·K), outer surface heat transfer h_o
+    double pressure_hpa = 1013.25;             // mean station pressure
+    double pressure_sigma_hpa = 6.0;           // day-to-day σ (synoptic)
+    double pressure_tide_hpa = 0.5;            // semidiurnal atmospheric tide amplitude
+    double absorptance = 0.65;                 // solar absorptance of the concrete faces
+    double surface_coefficient = 17.0;         // W/(m²·K), outer surface heat transfer h_o
     double surface_time_constant_hours = 1.0;  // lag of a face behind its sol-air temperature
 };
 

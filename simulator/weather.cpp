@@ -39,8 +39,8 @@ double ar1(std::uint64_t seed, std::uint64_t stream, std::int64_t day, double ph
 
 // Daily values at local mean solar noon of day `day`.
 struct DayValues {
-    double mid_c = 0.0;         // M: mid-range temperature
-    double cloudiness = 0.0;    // c
+    double mid_c = 0.0;             // M: mid-range temperature
+    double cloudiness = 0.0;        // c
     double pressure_anomaly = 0.0;  // x_p, unit σ
 };
 
@@ -53,8 +53,8 @@ DayValues day_values(const Weather& w, std::int64_t day) {
     DayValues v;
     v.mid_c = w.mean_temperature_c + w.day_sigma_c * xt;
     v.cloudiness = std::clamp(
-        w.cloudiness_mean + w.cloudiness_sigma * (-rho * xp + std::sqrt(1.0 - rho * rho) * xc),
-        0.0, 1.0);
+        w.cloudiness_mean + w.cloudiness_sigma * (-rho * xp + std::sqrt(1.0 - rho * rho) * xc), 0.0,
+        1.0);
     v.pressure_anomaly = xp;
     return v;
 }
@@ -104,24 +104,22 @@ AirSample air_from(const Weather& w, const DayValues& day, const SunPosition& su
     a.sun = sun;
     a.cloudiness = day.cloudiness;
     const double amplitude = 0.5 * w.daily_range_c * (1.0 - 0.6 * day.cloudiness);
-    const double t_min =
-        std::clamp(sunrise_solar_hour(w.latitude_deg, sun.declination_deg), 0.0,
-                   w.max_hour_solar - 2.0);
+    const double t_min = std::clamp(sunrise_solar_hour(w.latitude_deg, sun.declination_deg), 0.0,
+                                    w.max_hour_solar - 2.0);
     a.temperature_c = day.mid_c + amplitude * daily_shape(sun.solar_hour, t_min, w.max_hour_solar);
     a.pressure_hpa = w.pressure_hpa + w.pressure_sigma_hpa * day.pressure_anomaly +
                      w.pressure_tide_hpa * std::cos(2.0 * kPi * (sun.solar_hour - 10.0) / 12.0);
     a.dew_point_c = day.mid_c - amplitude - (1.0 + 3.0 * (1.0 - day.cloudiness));
-    a.relative_humidity_pct =
-        std::clamp(100.0 * saturation_vapour_pressure_hpa(a.dew_point_c) /
-                       saturation_vapour_pressure_hpa(a.temperature_c),
-                   5.0, 100.0);
+    a.relative_humidity_pct = std::clamp(100.0 * saturation_vapour_pressure_hpa(a.dew_point_c) /
+                                             saturation_vapour_pressure_hpa(a.temperature_c),
+                                         5.0, 100.0);
     return a;
 }
 
 double day_of_year(double unix_seconds) {
     using namespace std::chrono;
-    const auto days = sys_days{} + std::chrono::days{static_cast<long>(
-                                       std::floor(unix_seconds / 86400.0))};
+    const auto days =
+        sys_days{} + std::chrono::days{static_cast<long>(std::floor(unix_seconds / 86400.0))};
     const year_month_day ymd{days};
     const sys_days first{ymd.year() / January / 1};
     return static_cast<double>((days - first).count() + 1);
@@ -148,11 +146,11 @@ double lag_step(double y, double x0, double x1, double h, double tau) {
 
 SunPosition sun_position(double latitude_deg, double longitude_deg, double unix_seconds) {
     SunPosition s;
-    const double utc_hours = std::fmod(unix_seconds / 3600.0, 24.0) + (unix_seconds < 0 ? 24.0 : 0.0);
-    const double g = 2.0 * kPi / 365.0 * (day_of_year(unix_seconds) - 1.0 + (utc_hours - 12.0) / 24.0);
-    const double eqtime_min =
-        229.18 * (0.000075 + 0.001868 * std::cos(g) - 0.032077 * std::sin(g) -
-                  0.014615 * std::cos(2 * g) - 0.040849 * std::sin(2 * g));
+    const double utc_hours = std::fmod(std::fmod(unix_seconds / 3600.0, 24.0) + 24.0, 24.0);
+    const double g =
+        2.0 * kPi / 365.0 * (day_of_year(unix_seconds) - 1.0 + (utc_hours - 12.0) / 24.0);
+    const double eqtime_min = 229.18 * (0.000075 + 0.001868 * std::cos(g) - 0.032077 * std::sin(g) -
+                                        0.014615 * std::cos(2 * g) - 0.040849 * std::sin(2 * g));
     const double decl = 0.006918 - 0.399912 * std::cos(g) + 0.070257 * std::sin(g) -
                         0.006758 * std::cos(2 * g) + 0.000907 * std::sin(2 * g) -
                         0.002697 * std::cos(3 * g) + 0.00148 * std::sin(3 * g);
@@ -177,8 +175,8 @@ double sunrise_solar_hour(double latitude_deg, double declination_deg) {
     const double phi = latitude_deg * kDeg, decl = declination_deg * kDeg;
     const double c = (std::sin(-0.833 * kDeg) - std::sin(phi) * std::sin(decl)) /
                      (std::cos(phi) * std::cos(decl));
-    if (c <= -1.0) return 0.0;   // the sun never sets
-    if (c >= 1.0) return 12.0;   // it never rises
+    if (c <= -1.0) return 0.0;  // the sun never sets
+    if (c >= 1.0) return 12.0;  // it never rises
     return 12.0 - std::acos(c) / kDeg / 15.0;
 }
 
@@ -195,15 +193,15 @@ std::array<double, 4> face_irradiance(const SunPosition& sun, double cloudiness)
     // Relative air mass (Kasten & Young 1989) and clear-sky direct normal irradiance
     // (Meinel & Meinel 1976: 1353 W/m² · 0.7^(AM^0.678)); diffuse on a vertical face: half
     // the sky of a diffuse horizontal irradiance of 10 % of the beam's.
-    const double am = 1.0 / (std::sin(e) + 0.50572 * std::pow(sun.elevation_deg + 6.07995, -1.6364));
+    const double am =
+        1.0 / (std::sin(e) + 0.50572 * std::pow(sun.elevation_deg + 6.07995, -1.6364));
     const double dni = 1353.0 * std::pow(0.7, std::pow(am, 0.678));
     const double diffuse = 0.5 * 0.1 * dni * std::sin(e);
     // Clouds: Kasten & Czeplak (1980), G = G_clear · (1 − 0.75 c^3.4), c the cloud cover.
     const double cloud = 1.0 - 0.75 * std::pow(cloudiness, 3.4);
     const double east = std::cos(e) * std::sin(a), north = std::cos(e) * std::cos(a);
     const std::array<double, 4> cos_incidence = {-east, east, -north, north};
-    for (int f = 0; f < 4; ++f)
-        out[f] = cloud * (dni * std::max(0.0, cos_incidence[f]) + diffuse);
+    for (int f = 0; f < 4; ++f) out[f] = cloud * (dni * std::max(0.0, cos_incidence[f]) + diffuse);
     return out;
 }
 

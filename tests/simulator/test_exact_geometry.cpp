@@ -79,8 +79,8 @@ TEST(SimulatorExact, DeformedFaceIsWhereTheFieldMovedIt) {
     s.deformation.enabled = true;
     const EpochConditions c = largest_bending(s);
     // κ_y = α ΔT_y / b_y with the section's lagged temperature difference across y.
-    const double kappa_y = s.deformation.expansion_coefficient * c.bending.delta_lagged.y() /
-                           (s.pier.y1 - s.pier.y0);
+    const double kappa_y =
+        s.deformation.expansion_coefficient * c.bending.delta_lagged.y() / (s.pier.y1 - s.pier.y0);
     const double top_y = 0.5 * kappa_y * s.pier.height * s.pier.height;
     ASSERT_GT(std::abs(top_y), 0.005);  // a day of sun moves the top by several mm
     const Scan scan = render_epoch(s, c).scan;

@@ -43,8 +43,8 @@ TEST(SimulateCommand, WritesTimedScansAndTruthAndSkipsMissingEpochs) {
     EXPECT_FALSE(fs::exists(out / "small_20260601T223000Z.ptx"));  // missing
     EXPECT_TRUE(fs::exists(out / "small_20260601T230000Z.ptx"));   // cut short
     // The weather station logs at every epoch, also when the scanner delivers nothing.
-    for (const char* stem : {"small_20260601T220000Z", "small_20260601T223000Z",
-                             "small_20260601T230000Z"}) {
+    for (const char* stem :
+         {"small_20260601T220000Z", "small_20260601T223000Z", "small_20260601T230000Z"}) {
         const std::string meteo = read_file(out / (std::string(stem) + ".meteo.csv"));
         EXPECT_NE(meteo.find("\ntime_utc,air_temperature_c,pressure_hpa,relative_humidity_pct\n"),
                   std::string::npos)
@@ -112,7 +112,7 @@ TEST(SimulateCommand, ExampleSceneFileIsTheSmallPreset) {
     for (const char* name : {"small_20260601T061500Z.ptx", "small_20260601T061500Z.truth.json",
                              "small_20260601T061500Z.meteo.csv"}) {
         const std::string a = read_file(dir / "a" / name), b = read_file(dir / "b" / name);
-        EXPECT_GT(a.size(), 1000u);
+        EXPECT_GT(a.size(), 300u);  // the meteo file's six readings: ≈ 360 bytes
         EXPECT_TRUE(a == b) << name;
     }
 }
@@ -172,8 +172,7 @@ TEST(SimulateCommand, MeteoFileCanBeSwitchedOff) {
     const fs::path& dir = scratch.path();
     const fs::path scene = dir / "scene.toml";
     write_file(scene, "preset = \"small\"\n[meteo]\nenabled = false\n");
-    ASSERT_EQ(run("--config " + scene.string() + " --out " + (dir / "out").string() +
-                      " --epochs 1",
+    ASSERT_EQ(run("--config " + scene.string() + " --out " + (dir / "out").string() + " --epochs 1",
                   dir / "log"),
               0)
         << read_file(dir / "log");

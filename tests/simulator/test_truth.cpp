@@ -84,7 +84,7 @@ TEST(SimulatorTruth, KnockedTargetMovesTenMillimetres) {
 TEST(SimulatorTruth, HeaderToTrueUndoesThePoseError) {
     Site s = preset_small();
     s.noise.enabled = false;
-    s.beam.footprint = false;  // exact ranges (a footprint on grazing ground mixes them)
+    s.beam.footprint = false;      // exact ranges (a footprint on grazing ground mixes them)
     s.atmosphere.enabled = false;  // and no atmospheric scale
     s.drift.yaw_amplitude_arcsec = 40.0;
     s.drift.tilt_amplitude_arcsec = 60.0;  // 30″ at 2 h: ~5 mm at 34 m

@@ -163,7 +163,8 @@ TEST(SimulatorWeather, BendingFollowsTheLaggedTemperatureDifference) {
                 num(t[top]["deformation"]["top_displacement_m"][1]))
                 top = i;
         }
-        const double delay = (static_cast<double>(top) - static_cast<double>(drive)) * kCadenceHours;
+        const double delay =
+            (static_cast<double>(top) - static_cast<double>(drive)) * kCadenceHours;
         std::cout << "day from epoch " << b << ": driving ΔT_y peaks at epoch " << drive
                   << ", the top's y displacement at " << top << ": " << delay << " h later\n";
         EXPECT_GE(delay, 0.6 * tau - kCadenceHours) << "day starting at epoch " << b;
