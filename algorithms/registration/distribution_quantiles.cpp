@@ -102,4 +102,34 @@ double chi_square_quantile(double p, double dof) {
     return 0.5 * (lo + hi);
 }
 
+double noncentral_chi_square_cdf(double x, double dof, double lambda) {
+    check_dof(dof);
+    if (x <= 0.0) return 0.0;
+    if (lambda <= 0.0) return chi_square_cdf(x, dof);
+    const double h = 0.5 * lambda;
+    // Poisson weights from j = 0; past the mode (j > λ/2) they fall faster than geometrically,
+    // so the sum stops once a weight is negligible.
+    double sum = 0.0;
+    for (int j = 0; j < 100000; ++j) {
+        const double w = std::exp(-h + j * std::log(h) - std::lgamma(j + 1.0));
+        sum += w * chi_square_cdf(x, dof + 2.0 * j);
+        if (j > h && w < 1e-17) break;
+    }
+    return sum;
+}
+
+double detectable_noncentrality(double alpha, double power, double dof) {
+    check_probability(alpha, "detectable noncentrality");
+    check_probability(power, "detectable noncentrality");
+    const double critical = chi_square_quantile(1.0 - alpha, dof);
+    // The rejection probability 1 − F(crit; dof, λ) grows with λ: bisection.
+    double lo = 0.0, hi = 10.0;
+    while (1.0 - noncentral_chi_square_cdf(critical, dof, hi) < power) hi *= 2.0;
+    for (int i = 0; i < 200 && hi - lo > 1e-10 * hi; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (1.0 - noncentral_chi_square_cdf(critical, dof, mid) < power ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
 }  // namespace tlsmon::registration

@@ -37,5 +37,17 @@ TEST(DistributionQuantiles, ChiSquareDistributionFunctionAndTail) {
     EXPECT_THROW(chi_square_quantile(0.5, 0), Error);
 }
 
+TEST(DistributionQuantiles, BaardasNoncentralityForOneDegreeOfFreedom) {
+    // Baarda 1968: α0 = 0.1 %, β0 = 20 % gives δ0 = 4.13, λ0 = 17.07; for one degree of
+    // freedom λ0 = (Φ⁻¹(1 − α/2) + Φ⁻¹(1 − β))² up to the far tail's share.
+    EXPECT_NEAR(detectable_noncentrality(0.001, 0.8, 1), 17.07, 0.01);
+    EXPECT_NEAR(std::sqrt(detectable_noncentrality(0.05, 0.8, 1)), 1.96 + 0.8416, 0.001);
+    // With no noncentrality the distribution is the central one.
+    EXPECT_NEAR(noncentral_chi_square_cdf(7.814728, 3, 0.0), 0.95, 1e-7);
+    // For 2 degrees of freedom √X is Rice-distributed (ν = √λ, σ = 1): the integral of
+    // r·exp(−(r² + ν²)/2)·I0(r·ν) over [0, √10] for λ = 4 is 0.83143108647.
+    EXPECT_NEAR(noncentral_chi_square_cdf(10.0, 2, 4.0), 0.83143108647, 1e-9);
+}
+
 }  // namespace
 }  // namespace tlsmon::registration
