@@ -18,14 +18,28 @@ struct TargetSite {
     double azimuth_deg, distance, height;
 };
 
-// The `pier`-like layout: targets on 1 m masts on uneven ground, scanner 1.7 m up.
+// Targets around the scanner on 1 m masts on uneven ground, scanner 1.7 m up; any first n
+// (n ≥ 3) have no three nearly on a line.
 inline std::vector<Eigen::Vector3d> target_centres(int count) {
-    static const TargetSite sites[] = {{-60, 24, -0.8}, {-10, 30, -0.3}, {35, 22, -1.2},
-                                       {80, 36, -0.1},  {140, 28, -0.9}, {-120, 33, -0.5}};
+    static const TargetSite sites[] = {{-70, 24, -0.8}, {10, 31, -0.2},   {95, 22, -1.3},
+                                       {170, 35, 0.3},  {-140, 27, -0.9}, {50, 33, -0.4}};
     std::vector<Eigen::Vector3d> out;
     for (int i = 0; i < count; ++i) {
         const double a = sites[i].azimuth_deg * M_PI / 180.0;
         out.emplace_back(sites[i].distance * std::cos(a), sites[i].distance * std::sin(a), sites[i].height);
+    }
+    return out;
+}
+
+// The simulator's `pier` preset (simulator/presets.cpp): two spheres and two checkerboards
+// in a 27° sector left and right of the pier, 22–36 m away, 0.5 and 0.3 m below the scanner
+// on its 1.5 m tripod — nearly coplanar, in two radial pairs.
+inline std::vector<Eigen::Vector3d> pier_preset_centres() {
+    const TargetSite sites[] = {{65, 22, -0.5}, {68, 36, -0.3}, {92, 24, -0.5}, {89, 32, -0.3}};
+    std::vector<Eigen::Vector3d> out;
+    for (const auto& s : sites) {
+        const double a = s.azimuth_deg * M_PI / 180.0;
+        out.emplace_back(s.distance * std::cos(a), s.distance * std::sin(a), s.height);
     }
     return out;
 }
