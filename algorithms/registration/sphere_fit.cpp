@@ -247,8 +247,8 @@ SphereFit fit_sphere(std::span<const Eigen::Vector3d> points,
     fit.centre_covariance_homoscedastic = s02 * Ninv;
     // The points are not equally precise: a TLS's noise is along the ray, so a point's
     // distance to the sphere varies with σ_r·cos(incidence), largest on the front of the cap,
-    // which is what fixes the centre along the line of sight. s0²·N⁻¹ averages that away and
-    // is optimistic along the line of sight; the heteroscedasticity-consistent covariance
+    // which is what fixes the centre along the line of sight. s0²·N⁻¹ averages that away (too
+    // wide across the line of sight by up to 25 %); the heteroscedasticity-consistent covariance
     // N⁻¹·(Σ v²·u·uᵀ)·N⁻¹·n/(n − 3) (White 1980; HC1 of MacKinnon & White 1985) needs no
     // noise model and is what is reported.
     fit.centre_covariance = m / (m - 3.0) * Ninv * ls.weighted_scatter * Ninv;
