@@ -58,7 +58,9 @@ void check_probability(double p, const char* what) {
 
 }  // namespace
 
-double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+double normal_cdf(double x) {
+    return 0.5 * std::erfc(-x / std::sqrt(2.0));
+}
 
 double normal_quantile(double p) {
     check_probability(p, "normal quantile");
@@ -67,7 +69,8 @@ double normal_quantile(double p) {
     for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
         const double mid = 0.5 * (lo + hi);
         // Compare in the smaller tail, where erfc keeps its relative precision.
-        const bool below = p < 0.5 ? normal_cdf(mid) < p : 0.5 * std::erfc(mid / std::sqrt(2.0)) > 1.0 - p;
+        const bool below =
+            p < 0.5 ? normal_cdf(mid) < p : 0.5 * std::erfc(mid / std::sqrt(2.0)) > 1.0 - p;
         (below ? lo : hi) = mid;
     }
     return 0.5 * (lo + hi);
@@ -95,8 +98,8 @@ double chi_square_quantile(double p, double dof) {
     for (int i = 0; i < 200 && hi - lo > 1e-13 * hi; ++i) {
         const double mid = 0.5 * (lo + hi);
         // The upper tail for p near 1, where 1 − cdf would lose its digits.
-        const bool below = p < 0.5 ? chi_square_cdf(mid, dof) < p
-                                   : chi_square_upper_tail(mid, dof) > 1.0 - p;
+        const bool below =
+            p < 0.5 ? chi_square_cdf(mid, dof) < p : chi_square_upper_tail(mid, dof) > 1.0 - p;
         (below ? lo : hi) = mid;
     }
     return 0.5 * (lo + hi);

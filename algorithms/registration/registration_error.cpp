@@ -31,8 +31,8 @@ ZoneRegistrationError zone_registration_error(const RigidTransform& T,
                                               std::span<const Eigen::Vector3d> epoch_points,
                                               std::span<const Eigen::Vector3d> normals) {
     if (!normals.empty() && normals.size() != epoch_points.size())
-        throw Error("zone registration error: " + std::to_string(normals.size()) +
-                    " normals for " + std::to_string(epoch_points.size()) + " points");
+        throw Error("zone registration error: " + std::to_string(normals.size()) + " normals for " +
+                    std::to_string(epoch_points.size()) + " points");
     ZoneRegistrationError out;
     double sum2 = 0.0;
     for (std::size_t i = 0; i < epoch_points.size(); ++i) {
@@ -42,10 +42,12 @@ ZoneRegistrationError zone_registration_error(const RigidTransform& T,
         sum2 += s3 * s3;
         if (!normals.empty()) {
             const Eigen::Vector3d n = normals[i].normalized();
-            out.max_sigma_normal = std::max(out.max_sigma_normal, std::sqrt(std::max(0.0, n.dot(S * n))));
+            out.max_sigma_normal =
+                std::max(out.max_sigma_normal, std::sqrt(std::max(0.0, n.dot(S * n))));
         }
     }
-    if (!epoch_points.empty()) out.rms_sigma_3d = std::sqrt(sum2 / static_cast<double>(epoch_points.size()));
+    if (!epoch_points.empty())
+        out.rms_sigma_3d = std::sqrt(sum2 / static_cast<double>(epoch_points.size()));
     return out;
 }
 

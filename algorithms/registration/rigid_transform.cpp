@@ -34,7 +34,8 @@ double scalar_weight(const CentreObservation& c) {
 // increments through θ = M·(dω, dφ, dκ), M = [R_z·R_y·e_x | R_z·e_y | e_z], from
 // R_z(κ)·R_y(φ)·R_x(ω) differentiated factor by factor (Förstner & Wrobel 2016, §8.1.3).
 Eigen::Matrix3d euler_rate_matrix(double phi, double kappa) {
-    const Eigen::Matrix3d Rz = Eigen::AngleAxisd(kappa, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d Rz =
+        Eigen::AngleAxisd(kappa, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const Eigen::Matrix3d Ry = Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitY()).toRotationMatrix();
     Eigen::Matrix3d M;
     M.col(0) = Rz * Ry * Eigen::Vector3d::UnitX();
@@ -103,7 +104,9 @@ RigidTransform closed_form_transform(std::span<const CentreObservation> centres,
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(Sxy, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::Vector3d D = svd.singularValues();
     if (!(D(1) > 1e-12 * D(0)))
-        throw Error("rigid transformation: the target centres lie on a line; rotation about it is undetermined");
+        throw Error(
+            "rigid transformation: the target centres lie on a line; rotation about it is "
+            "undetermined");
     Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
     if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) S(2, 2) = -1.0;
 
@@ -138,9 +141,9 @@ RigidTransform estimate_rigid_transform(std::span<const CentreObservation> centr
         for (std::size_t i = 0; i < n; ++i) {
             const auto& c = centres[i];
             const Eigen::Vector3d y = T.rotation * c.epoch;
-            const Eigen::Matrix3d Q = c.reference_covariance +
-                                      T.scale * T.scale * T.rotation * c.epoch_covariance *
-                                          T.rotation.transpose();
+            const Eigen::Matrix3d Q = c.reference_covariance + T.scale * T.scale * T.rotation *
+                                                                   c.epoch_covariance *
+                                                                   T.rotation.transpose();
             const Eigen::LLT<Eigen::Matrix3d> llt(Q);
             if (llt.info() != Eigen::Success)
                 throw Error("rigid transformation: covariance of target centre " +
@@ -207,9 +210,15 @@ RigidTransform estimate_rigid_transform(std::span<const CentreObservation> centr
     T.redundancy = static_cast<int>(3 * n) - u;
     T.variance_factor = T.redundancy > 0 ? T.omega_sq / T.redundancy : 0.0;
     switch (params.scaling) {
-        case CovarianceScaling::a_priori: T.covariance_factor = 1.0; break;
-        case CovarianceScaling::a_posteriori: T.covariance_factor = T.variance_factor; break;
-        case CovarianceScaling::larger_of: T.covariance_factor = std::max(1.0, T.variance_factor); break;
+        case CovarianceScaling::a_priori:
+            T.covariance_factor = 1.0;
+            break;
+        case CovarianceScaling::a_posteriori:
+            T.covariance_factor = T.variance_factor;
+            break;
+        case CovarianceScaling::larger_of:
+            T.covariance_factor = std::max(1.0, T.variance_factor);
+            break;
     }
     T.scale_estimated = params.estimate_scale;
     T.small_rotation_covariance.setZero();

@@ -56,17 +56,19 @@ struct RigidTransform {
     double omega = 0.0, phi = 0.0, kappa = 0.0;  // rad
 
     bool scale_estimated = false;
-    ParameterCovariance covariance = ParameterCovariance::Zero();        // Euler angles
+    ParameterCovariance covariance = ParameterCovariance::Zero();  // Euler angles
     ParameterCovariance small_rotation_covariance = ParameterCovariance::Zero();
     std::vector<CentreResidual> residuals;  // in the order of the observations given
 
-    double omega_sq = 0.0;         // Ω = Σ vᵢᵀ·Pᵢ·vᵢ
-    int redundancy = 0;            // r = 3n − u
-    double variance_factor = 0.0;  // s0² = Ω / r
+    double omega_sq = 0.0;           // Ω = Σ vᵢᵀ·Pᵢ·vᵢ
+    int redundancy = 0;              // r = 3n − u
+    double variance_factor = 0.0;    // s0² = Ω / r
     double covariance_factor = 1.0;  // σ0² used for `covariance` (see CovarianceScaling)
     int iterations = 0;
 
-    Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
+    Eigen::Vector3d apply(const Eigen::Vector3d& p) const {
+        return scale * (rotation * p) + translation;
+    }
     // 4×4 homogeneous matrix (column-vector form) mapping epoch points into the reference frame.
     Eigen::Matrix4d matrix() const;
     Eigen::Vector<double, 7> sigmas() const { return covariance.diagonal().cwiseSqrt(); }

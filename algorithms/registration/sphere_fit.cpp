@@ -40,7 +40,7 @@ double median_in_place(std::vector<double>& v) {
 
 struct KnownRadiusFit {
     Eigen::Vector3d centre;
-    Eigen::Matrix3d normal_matrix;  // N = Σ u·uᵀ
+    Eigen::Matrix3d normal_matrix;     // N = Σ u·uᵀ
     Eigen::Matrix3d weighted_scatter;  // M = Σ v²·u·uᵀ
     double sum_v2 = 0.0;
     int iterations = 0;
@@ -142,15 +142,24 @@ SphereFit fail(SphereFit fit, SphereFitStatus status, SphereFitReason reason, st
 
 const char* describe(SphereFitReason reason) {
     switch (reason) {
-        case SphereFitReason::none: return "found";
-        case SphereFitReason::too_few_points: return "too few points near the predicted centre";
-        case SphereFitReason::no_consensus: return "no sphere of the known radius near the prediction";
-        case SphereFitReason::too_few_inliers: return "too few points on the sphere";
-        case SphereFitReason::centre_far_from_prediction: return "centre too far from the prediction";
-        case SphereFitReason::not_converged: return "least squares did not converge";
-        case SphereFitReason::coverage_one_sided: return "visible part of the sphere too small or one-sided";
-        case SphereFitReason::radius_check_failed: return "free-radius fit disagrees with the known radius";
-        case SphereFitReason::residual_rms_too_large: return "residual RMS too large";
+        case SphereFitReason::none:
+            return "found";
+        case SphereFitReason::too_few_points:
+            return "too few points near the predicted centre";
+        case SphereFitReason::no_consensus:
+            return "no sphere of the known radius near the prediction";
+        case SphereFitReason::too_few_inliers:
+            return "too few points on the sphere";
+        case SphereFitReason::centre_far_from_prediction:
+            return "centre too far from the prediction";
+        case SphereFitReason::not_converged:
+            return "least squares did not converge";
+        case SphereFitReason::coverage_one_sided:
+            return "visible part of the sphere too small or one-sided";
+        case SphereFitReason::radius_check_failed:
+            return "free-radius fit disagrees with the known radius";
+        case SphereFitReason::residual_rms_too_large:
+            return "residual RMS too large";
     }
     return "unknown";
 }
@@ -253,9 +262,9 @@ SphereFit fit_sphere(std::span<const Eigen::Vector3d> points,
     // noise model and is what is reported.
     fit.centre_covariance = m / (m - 3.0) * Ninv * ls.weighted_scatter * Ninv;
     // Geometry of the cap: the smallest eigenvalue of N/n (the unit vectors' second moment).
-    fit.coverage = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ls.normal_matrix / m,
-                                                                  Eigen::EigenvaluesOnly)
-                       .eigenvalues()(0);
+    fit.coverage =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ls.normal_matrix / m, Eigen::EigenvaluesOnly)
+            .eigenvalues()(0);
 
     const FreeRadiusFit fr = fit_free_radius(points, inliers, ls.centre, r, p.max_iterations);
     fit.free_centre = fr.centre;

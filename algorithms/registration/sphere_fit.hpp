@@ -15,18 +15,18 @@
 namespace tlsmon::registration {
 
 struct SphereFitParams {
-    double radius = 0.0725;             // m, the target's known radius
-    double max_centre_offset = 0.05;    // m, how far the centre may lie from the prediction
-    double inlier_threshold = 0.004;    // m, |distance to the sphere| counted as consensus
-    int ransac_iterations = 256;        // 3-point samples; 50 % inliers fail with p ≈ 1e-15
-    std::uint64_t seed = 1;             // same points + same seed -> same result
-    double outlier_k = 4.0;             // final inliers: |v| ≤ k·σ̂ (σ̂ = 1.4826·MAD)
-    double min_noise = 0.0001;          // m, floor of σ̂ in that bound
-    std::size_t min_points = 30;        // inliers needed for a centre
+    double radius = 0.0725;               // m, the target's known radius
+    double max_centre_offset = 0.05;      // m, how far the centre may lie from the prediction
+    double inlier_threshold = 0.004;      // m, |distance to the sphere| counted as consensus
+    int ransac_iterations = 256;          // 3-point samples; 50 % inliers fail with p ≈ 1e-15
+    std::uint64_t seed = 1;               // same points + same seed -> same result
+    double outlier_k = 4.0;               // final inliers: |v| ≤ k·σ̂ (σ̂ = 1.4826·MAD)
+    double min_noise = 0.0001;            // m, floor of σ̂ in that bound
+    std::size_t min_points = 30;          // inliers needed for a centre
     double max_radius_deviation = 0.003;  // m, |free radius − known radius|
-    double max_rms = 0.003;             // m, RMS distance of the inliers to the sphere
-    double min_coverage = 0.02;         // λ_min of mean(u·uᵀ), u = unit vectors centre->point
-    int max_iterations = 30;            // Gauss–Newton iterations per fit
+    double max_rms = 0.003;               // m, RMS distance of the inliers to the sphere
+    double min_coverage = 0.02;           // λ_min of mean(u·uᵀ), u = unit vectors centre->point
+    int max_iterations = 30;              // Gauss–Newton iterations per fit
 };
 
 enum class SphereFitStatus { found, not_found, bad_fit };
@@ -56,17 +56,17 @@ struct SphereFit {
     Eigen::Vector3d centre = Eigen::Vector3d::Constant(nan);
     Eigen::Matrix3d centre_covariance = Eigen::Matrix3d::Constant(nan);
     Eigen::Matrix3d centre_covariance_homoscedastic = Eigen::Matrix3d::Constant(nan);
-    double sigma0 = nan;  // m, a posteriori σ of one point's distance to the sphere
-    double rms = nan;     // m, RMS of the inliers' distances to the sphere
+    double sigma0 = nan;      // m, a posteriori σ of one point's distance to the sphere
+    double rms = nan;         // m, RMS of the inliers' distances to the sphere
     std::size_t points = 0;   // points given
     std::size_t inliers = 0;  // points used by the final fit
     int iterations = 0;
 
     // Free-radius fit on the same inliers: the check.
     Eigen::Vector3d free_centre = Eigen::Vector3d::Constant(nan);
-    double free_radius = nan;         // m
-    double free_radius_sigma = nan;   // m
-    double radius_deviation = nan;    // m, free − known
+    double free_radius = nan;        // m
+    double free_radius_sigma = nan;  // m
+    double radius_deviation = nan;   // m, free − known
 
     // Geometry of the visible cap: λ_min of mean(u·uᵀ); 1/3 for a full hemisphere, ≈ 0.06
     // for a cap of 30° half-angle, 0 for points on one line of sight.

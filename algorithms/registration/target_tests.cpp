@@ -79,22 +79,32 @@ std::string text(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 const char* describe(TargetUse use) {
     switch (use) {
-        case TargetUse::used: return "used";
-        case TargetUse::not_usable: return "not usable in this epoch";
-        case TargetUse::excluded_outlier: return "excluded: failed the outlier test";
-        case TargetUse::suspect: return "suspect: failed the outlier test, too few targets to exclude it";
+        case TargetUse::used:
+            return "used";
+        case TargetUse::not_usable:
+            return "not usable in this epoch";
+        case TargetUse::excluded_outlier:
+            return "excluded: failed the outlier test";
+        case TargetUse::suspect:
+            return "suspect: failed the outlier test, too few targets to exclude it";
     }
     return "unknown";
 }
 
 const char* describe(RegistrationStatus status) {
     switch (status) {
-        case RegistrationStatus::accepted: return "accepted";
-        case RegistrationStatus::global_test_failed: return "global test failed";
-        case RegistrationStatus::too_few_targets: return "refused: too few targets";
-        case RegistrationStatus::degenerate_geometry: return "refused: targets nearly on a line";
-        case RegistrationStatus::outlier_not_excludable: return "refused: outlier cannot be excluded";
-        case RegistrationStatus::outlier_not_identifiable: return "refused: outlier cannot be attributed to one target";
+        case RegistrationStatus::accepted:
+            return "accepted";
+        case RegistrationStatus::global_test_failed:
+            return "global test failed";
+        case RegistrationStatus::too_few_targets:
+            return "refused: too few targets";
+        case RegistrationStatus::degenerate_geometry:
+            return "refused: targets nearly on a line";
+        case RegistrationStatus::outlier_not_excludable:
+            return "refused: outlier cannot be excluded";
+        case RegistrationStatus::outlier_not_identifiable:
+            return "refused: outlier cannot be attributed to one target";
     }
     return "unknown";
 }
@@ -159,13 +169,14 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
             }
         if (used.size() < min_targets)
             return finish(RegistrationStatus::too_few_targets,
-                          text("%.0f usable targets, at least %.0f needed", static_cast<double>(used.size()),
-                               static_cast<double>(min_targets)));
+                          text("%.0f usable targets, at least %.0f needed",
+                               static_cast<double>(used.size()), static_cast<double>(min_targets)));
         out.spread = spread_about_line(positions);
         if (out.spread < params.min_spread)
-            return finish(RegistrationStatus::degenerate_geometry,
-                          text("the %.0f used targets lie within %.3f m of a line, at least %.3f m needed",
-                               static_cast<double>(used.size()), out.spread, params.min_spread));
+            return finish(
+                RegistrationStatus::degenerate_geometry,
+                text("the %.0f used targets lie within %.3f m of a line, at least %.3f m needed",
+                     static_cast<double>(used.size()), out.spread, params.min_spread));
         try {
             out.transform = estimate_rigid_transform(centres, params.adjustment);
         } catch (const Error& e) {
@@ -188,10 +199,9 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
                                                                      T.rotation.transpose();
             const Eigen::Matrix3d P = Qll.inverse();
             drops[k] = quadratic_form_test(T.residuals[k], Qll, params.target_alpha);
-            const OutlierTest t =
-                params.statistic == OutlierStatistic::target_quadratic_form
-                    ? drops[k]
-                    : largest_w_test(T.residuals[k], P, params.target_alpha);
+            const OutlierTest t = params.statistic == OutlierStatistic::target_quadratic_form
+                                      ? drops[k]
+                                      : largest_w_test(T.residuals[k], P, params.target_alpha);
             TargetVerdict& v = out.targets[used[k]];
             v.statistic = t.statistic;
             v.critical = t.critical;
@@ -224,10 +234,11 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
         }
         if (used.size() - 1 < min_targets) {
             w.use = TargetUse::suspect;
-            return finish(RegistrationStatus::outlier_not_excludable,
-                          text("target %.0f fails its outlier test (%.1f > %.1f); excluding it would "
-                               "leave fewer than the minimum of targets",
-                               static_cast<double>(worst), w.statistic, w.critical));
+            return finish(
+                RegistrationStatus::outlier_not_excludable,
+                text("target %.0f fails its outlier test (%.1f > %.1f); excluding it would "
+                     "leave fewer than the minimum of targets",
+                     static_cast<double>(worst), w.statistic, w.critical));
         }
         w.use = TargetUse::excluded_outlier;
         w.excluded_in_round = round;

@@ -26,12 +26,12 @@ enum class OutlierStatistic {
 };
 
 struct TargetTestParams {
-    double global_alpha = 0.05;    // χ² test of the variance factor (one-sided: s0² too large)
-    double target_alpha = 0.001;   // each outlier test (Baarda's α0 = 0.1 %)
-    double power = 0.8;            // 1 − β for the minimal detectable bias (Baarda's β0 = 20 %)
+    double global_alpha = 0.05;   // χ² test of the variance factor (one-sided: s0² too large)
+    double target_alpha = 0.001;  // each outlier test (Baarda's α0 = 0.1 %)
+    double power = 0.8;           // 1 − β for the minimal detectable bias (Baarda's β0 = 20 %)
     OutlierStatistic statistic = OutlierStatistic::target_quadratic_form;
-    std::size_t min_targets = 3;   // used targets that must remain
-    double min_spread = 0.5;       // m, RMS distance of the used centres from their best-fit line
+    std::size_t min_targets = 3;  // used targets that must remain
+    double min_spread = 0.5;      // m, RMS distance of the used centres from their best-fit line
     RigidTransformParams adjustment;
 };
 
@@ -53,10 +53,10 @@ const char* describe(TargetUse use);
 
 struct TargetVerdict {
     TargetUse use = TargetUse::not_usable;
-    int excluded_in_round = 0;   // 1 for the first exclusion
-    double statistic = 0.0;      // T_i, or max |w_j|, at its last test (0 if never tested)
-    double critical = 0.0;       // its critical value
-    int dof = 0;                 // of T_i: rank of Q_vv,ii
+    int excluded_in_round = 0;  // 1 for the first exclusion
+    double statistic = 0.0;     // T_i, or max |w_j|, at its last test (0 if never tested)
+    double critical = 0.0;      // its critical value
+    int dof = 0;                // of T_i: rank of Q_vv,ii
     // Internal reliability (Baarda 1968): the size of a bias of this target's centre, in the
     // least favourable direction (given, reference frame), that its outlier test finds with
     // probability `power`. A smaller knock may go unnoticed; infinite when that direction is
@@ -69,18 +69,18 @@ struct TargetVerdict {
 };
 
 enum class RegistrationStatus {
-    accepted,               // all tests passed
-    global_test_failed,     // no target to blame, but the residuals exceed the covariances
-    too_few_targets,        // refused: fewer than min_targets usable
-    degenerate_geometry,    // refused: the used targets are (nearly) on a line
-    outlier_not_excludable, // refused: a target failed its test and excluding it leaves too few
-    outlier_not_identifiable, // refused: a misfit that another target explains as well
+    accepted,                  // all tests passed
+    global_test_failed,        // no target to blame, but the residuals exceed the covariances
+    too_few_targets,           // refused: fewer than min_targets usable
+    degenerate_geometry,       // refused: the used targets are (nearly) on a line
+    outlier_not_excludable,    // refused: a target failed its test and excluding it leaves too few
+    outlier_not_identifiable,  // refused: a misfit that another target explains as well
 };
 
 const char* describe(RegistrationStatus status);
 
 struct GlobalTest {
-    double omega_sq = 0.0;         // Ω = vᵀPv
+    double omega_sq = 0.0;  // Ω = vᵀPv
     int redundancy = 0;
     double variance_factor = 0.0;  // s0² = Ω / r
     double critical = 0.0;         // χ²(r, 1 − α)
@@ -89,12 +89,12 @@ struct GlobalTest {
 
 struct TestedRegistration {
     RegistrationStatus status = RegistrationStatus::too_few_targets;
-    std::string reason;                    // for anything but `accepted`
+    std::string reason;                       // for anything but `accepted`
     std::optional<RigidTransform> transform;  // the last adjustment; trust it only if accepted
-    std::vector<TargetVerdict> targets;    // in the order given
+    std::vector<TargetVerdict> targets;       // in the order given
     GlobalTest global;
-    int rounds = 0;                        // adjustments made
-    double spread = 0.0;                   // m, geometry of the used targets (see min_spread)
+    int rounds = 0;       // adjustments made
+    double spread = 0.0;  // m, geometry of the used targets (see min_spread)
 
     bool accepted() const { return status == RegistrationStatus::accepted; }
 };

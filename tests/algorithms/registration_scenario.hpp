@@ -26,7 +26,8 @@ inline std::vector<Eigen::Vector3d> target_centres(int count) {
     std::vector<Eigen::Vector3d> out;
     for (int i = 0; i < count; ++i) {
         const double a = sites[i].azimuth_deg * M_PI / 180.0;
-        out.emplace_back(sites[i].distance * std::cos(a), sites[i].distance * std::sin(a), sites[i].height);
+        out.emplace_back(sites[i].distance * std::cos(a), sites[i].distance * std::sin(a),
+                         sites[i].height);
     }
     return out;
 }

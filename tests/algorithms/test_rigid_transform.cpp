@@ -23,8 +23,8 @@ TEST(RigidTransform, EulerAnglesRoundTrip) {
     EXPECT_NEAR(e(1), -0.2, 1e-14);
     EXPECT_NEAR(e(2), 2.5, 1e-14);
     // R_z(κ)·R_y(φ)·R_x(ω) by hand for a quarter turn in κ: x -> y.
-    EXPECT_TRUE(rotation_from_euler(0, 0, M_PI / 2).isApprox(
-        (Eigen::Matrix3d() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished(), 1e-15));
+    EXPECT_TRUE(rotation_from_euler(0, 0, M_PI / 2)
+                    .isApprox((Eigen::Matrix3d() << 0, -1, 0, 1, 0, 0, 0, 0, 1).finished(), 1e-15));
 }
 
 TEST(RigidTransform, RecoversAKnownDriftExactlyFromNoiseFreeCentres) {
@@ -106,7 +106,8 @@ void expect_honest(double base_kappa, CovarianceScaling scaling, const char* wha
     constexpr int trials = 200;
     const auto truth_centres = target_centres(5);
     const Eigen::Vector3d pier(120.0, 90.0, 15.0);  // 150 m from the scanner, 16 m up
-    const char* names[9] = {"omega", "phi", "kappa", "tx", "ty", "tz", "pier x", "pier y", "pier z"};
+    const char* names[9] = {"omega", "phi",    "kappa",  "tx",    "ty",
+                            "tz",    "pier x", "pier y", "pier z"};
     int within[9] = {};
     double sum2[9] = {};
     double sigma_pier = 0.0;
@@ -139,7 +140,8 @@ void expect_honest(double base_kappa, CovarianceScaling scaling, const char* wha
     for (int k = 0; k < 9; ++k) {
         const double share = static_cast<double>(within[k]) / trials;
         const double rms = std::sqrt(sum2[k] / trials);
-        std::printf("%s %-7s within 2 sigma %.3f, RMS(error/sigma) %.3f\n", what, names[k], share, rms);
+        std::printf("%s %-7s within 2 sigma %.3f, RMS(error/sigma) %.3f\n", what, names[k], share,
+                    rms);
         EXPECT_GE(share, 0.90) << what << " " << names[k];
         EXPECT_GT(rms, 0.8) << what << " " << names[k];
         EXPECT_LT(rms, 1.25) << what << " " << names[k];

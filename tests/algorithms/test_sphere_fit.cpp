@@ -5,13 +5,12 @@
 // the actual error over many seeded scans.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "algorithms/registration/sphere_fit.hpp"
 
@@ -24,12 +23,12 @@ constexpr double kStep = 0.013 * M_PI / 180.0;  // the `pier` preset's angular s
 struct SyntheticTarget {
     Eigen::Vector3d centre{24.0, 15.0, 0.6};  // 28.3 m from the scanner at the origin
     double radius = kRadius;
-    double range_sigma = 0.0005;         // m, along the ray
-    bool mast = false;                   // 15 mm radius pole from the sphere down
-    double ground_below = 0.0;           // > 0: a horizontal surface this far below the centre
-    double mixed_pixel_share = 0.0;      // share of silhouette rays that return a mixed range
-    double window = 0.20;                // m, points kept within this distance of the prediction
-    bool occlude_left_half = false;      // a post in front hides the left half of the target
+    double range_sigma = 0.0005;     // m, along the ray
+    bool mast = false;               // 15 mm radius pole from the sphere down
+    double ground_below = 0.0;       // > 0: a horizontal surface this far below the centre
+    double mixed_pixel_share = 0.0;  // share of silhouette rays that return a mixed range
+    double window = 0.20;            // m, points kept within this distance of the prediction
+    bool occlude_left_half = false;  // a post in front hides the left half of the target
 };
 
 // Ray/sphere, ray/vertical cylinder and ray/plane hits from the origin along unit d.
@@ -62,12 +61,16 @@ std::vector<Eigen::Vector3d> scan_target(const SyntheticTarget& s, std::uint64_t
     const double jaz = unit(rng) * kStep, jel = unit(rng) * kStep;
     std::vector<Eigen::Vector3d> pts;
     for (double el = el0 - half + jel; el <= el0 + half; el += kStep)
-        for (double az = az0 - half / std::cos(el0) + jaz; az <= az0 + half / std::cos(el0); az += kStep) {
-            const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+        for (double az = az0 - half / std::cos(el0) + jaz; az <= az0 + half / std::cos(el0);
+             az += kStep) {
+            const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                    std::sin(el));
             double t = hit_sphere(d, c, s.radius);
             bool on_sphere = t > 0;
-            const double miss = (c - d * d.dot(c)).norm() - s.radius;  // ray's distance past the silhouette
-            if (s.mixed_pixel_share > 0 && std::fabs(miss) < 0.003 && unit(rng) < s.mixed_pixel_share) {
+            const double miss =
+                (c - d * d.dot(c)).norm() - s.radius;  // ray's distance past the silhouette
+            if (s.mixed_pixel_share > 0 && std::fabs(miss) < 0.003 &&
+                unit(rng) < s.mixed_pixel_share) {
                 // Footprint half on the sphere, half on whatever is behind: a range in between.
                 t = d.dot(c) + 0.02 + 0.5 * unit(rng);
                 on_sphere = false;
@@ -83,7 +86,8 @@ std::vector<Eigen::Vector3d> scan_target(const SyntheticTarget& s, std::uint64_t
             }
             if (t <= 0) continue;
             const Eigen::Vector3d p = d * (t + noise(rng));
-            if (s.occlude_left_half && (p - c).dot(Eigen::Vector3d::UnitZ().cross(c).normalized()) < 0)
+            if (s.occlude_left_half &&
+                (p - c).dot(Eigen::Vector3d::UnitZ().cross(c).normalized()) < 0)
                 continue;
             if ((p - c).norm() > s.window) continue;
             pts.push_back(p);
@@ -107,7 +111,8 @@ TEST(SphereFit, ScannerFacingCapGivesTheTrueCentre) {
     ASSERT_TRUE(fit.found()) << describe(fit.reason) << ": " << fit.detail;
     const Eigen::Vector3d e = fit.centre - s.centre;
     EXPECT_LT(e.norm(), 0.0005);
-    for (int k = 0; k < 3; ++k) EXPECT_LT(std::fabs(e(k)), 4.0 * std::sqrt(fit.centre_covariance(k, k)));
+    for (int k = 0; k < 3; ++k)
+        EXPECT_LT(std::fabs(e(k)), 4.0 * std::sqrt(fit.centre_covariance(k, k)));
     EXPECT_GE(fit.inliers + 3, pts.size());  // a clean scan: at most a few beyond 4σ̂
     EXPECT_NEAR(fit.free_radius, kRadius, 0.001);
     EXPECT_LT(std::fabs(fit.radius_deviation), 4.0 * fit.free_radius_sigma);
@@ -144,10 +149,12 @@ void expect_honest_sigma(SyntheticTarget s, int trials, const char* what) {
         if (!fit.found()) continue;
         ++found;
         for (int k = 0; k < 3; ++k) {
-            const double ratio = (fit.centre(k) - s.centre(k)) / std::sqrt(fit.centre_covariance(k, k));
+            const double ratio =
+                (fit.centre(k) - s.centre(k)) / std::sqrt(fit.centre_covariance(k, k));
             within[k] += std::fabs(ratio) <= 2.0;
             sum_ratio2[k] += ratio * ratio;
-            const double classic = (fit.centre(k) - s.centre(k)) / std::sqrt(fit.centre_covariance_homoscedastic(k, k));
+            const double classic = (fit.centre(k) - s.centre(k)) /
+                                   std::sqrt(fit.centre_covariance_homoscedastic(k, k));
             sum_classic2[k] += classic * classic;
         }
     }
@@ -158,11 +165,15 @@ void expect_honest_sigma(SyntheticTarget s, int trials, const char* what) {
         EXPECT_GE(share, 0.90) << what << " coordinate " << k;
         EXPECT_GT(rms, 0.8) << what << " coordinate " << k;
         EXPECT_LT(rms, 1.25) << what << " coordinate " << k;
-        std::printf("%s coordinate %d: within 2 sigma %.3f, RMS(error/sigma) %.3f (s0^2 N^-1: %.3f)\n", what, k, share, rms, std::sqrt(sum_classic2[k] / trials));
+        std::printf(
+            "%s coordinate %d: within 2 sigma %.3f, RMS(error/sigma) %.3f (s0^2 N^-1: %.3f)\n",
+            what, k, share, rms, std::sqrt(sum_classic2[k] / trials));
     }
 }
 
-TEST(SphereFit, SigmaIsHonestOnCleanScans) { expect_honest_sigma(SyntheticTarget{}, 200, "clean"); }
+TEST(SphereFit, SigmaIsHonestOnCleanScans) {
+    expect_honest_sigma(SyntheticTarget{}, 200, "clean");
+}
 
 TEST(SphereFit, SigmaIsHonestWithMastGroundAndMixedPixels) {
     SyntheticTarget s;
@@ -204,7 +215,8 @@ TEST(SphereFit, HalfOccludedCapIsFoundWithALargerSigma) {
     const SphereFit half = fit_sphere(pts, s.centre, params_for());
     ASSERT_TRUE(half.found()) << describe(half.reason) << ": " << half.detail;
     const Eigen::Vector3d e = half.centre - s.centre;
-    for (int k = 0; k < 3; ++k) EXPECT_LT(std::fabs(e(k)), 4.0 * std::sqrt(half.centre_covariance(k, k)));
+    for (int k = 0; k < 3; ++k)
+        EXPECT_LT(std::fabs(e(k)), 4.0 * std::sqrt(half.centre_covariance(k, k)));
     EXPECT_GT(half.centre_covariance.trace(), 1.5 * full.centre_covariance.trace());
     EXPECT_LT(half.coverage, full.coverage);
 }
@@ -263,7 +275,8 @@ TEST(SphereFit, TooFewPointsOrNoSphereIsNotFound) {
     const Eigen::Vector3d n = s.centre.normalized();
     const Eigen::Vector3d e1 = Eigen::Vector3d::UnitZ().cross(n).normalized(), e2 = n.cross(e1);
     for (int i = -25; i <= 25; ++i)
-        for (int j = -25; j <= 25; ++j) wall.push_back(s.centre + 0.15 * n + 0.006 * (i * e1 + j * e2));
+        for (int j = -25; j <= 25; ++j)
+            wall.push_back(s.centre + 0.15 * n + 0.006 * (i * e1 + j * e2));
     const SphereFit b = fit_sphere(wall, s.centre, params_for());
     EXPECT_EQ(b.status, SphereFitStatus::not_found);
     EXPECT_EQ(b.reason, SphereFitReason::no_consensus) << b.detail;

@@ -54,7 +54,8 @@ TEST(SphereFitSimulated, PierPresetSpheresMatchTheTruth) {
             SphereFitParams p;
             p.radius = t.radius;
             const SphereFit f = fit_sphere(near, t.centre, p);
-            ASSERT_TRUE(f.found()) << t.name << " epoch " << e << ": " << describe(f.reason) << " " << f.detail;
+            ASSERT_TRUE(f.found())
+                << t.name << " epoch " << e << ": " << describe(f.reason) << " " << f.detail;
             ++fitted;
             const Eigen::Vector3d err = f.centre - truth;
             EXPECT_LT(err.norm(), 0.00015) << t.name << " epoch " << e;
@@ -85,9 +86,10 @@ TEST(SphereFitSimulated, PierPresetSpheresMatchTheTruth) {
             }
     }
     const double rms = std::sqrt(sum_q2 / tested);
-    std::printf("epoch-to-epoch error/sigma: within 2 sigma %d/%d, RMS %.2f (x %.2f, y %.2f, z %.2f)\n",
-                within, tested, rms, std::sqrt(3 * sum_k[0] / tested), std::sqrt(3 * sum_k[1] / tested),
-                std::sqrt(3 * sum_k[2] / tested));
+    std::printf(
+        "epoch-to-epoch error/sigma: within 2 sigma %d/%d, RMS %.2f (x %.2f, y %.2f, z %.2f)\n",
+        within, tested, rms, std::sqrt(3 * sum_k[0] / tested), std::sqrt(3 * sum_k[1] / tested),
+        std::sqrt(3 * sum_k[2] / tested));
     EXPECT_EQ(fitted, epochs * spheres);
     EXPECT_GE(within, static_cast<int>(0.85 * tested));
     EXPECT_GT(rms, 0.75);

@@ -42,7 +42,8 @@ TEST(TargetTests, StableTargetsAreAcceptedAtTheRatesTheAlphasPromise) {
     const auto truth_centres = target_centres(5);
     for (int t = 0; t < trials; ++t) {
         const TrueTransform truth = drift(rng);
-        const TestedRegistration r = register_with_tests(pairs(observe(truth_centres, truth, rng)), p);
+        const TestedRegistration r =
+            register_with_tests(pairs(observe(truth_centres, truth, rng)), p);
         ASSERT_TRUE(r.transform.has_value());
         for (const auto& v : r.targets) any_excluded += v.use == TargetUse::excluded_outlier;
         global_failed += r.status == RegistrationStatus::global_test_failed;
@@ -51,9 +52,10 @@ TEST(TargetTests, StableTargetsAreAcceptedAtTheRatesTheAlphasPromise) {
     const double global_rate = static_cast<double>(global_failed) / trials;
     const double exclusion_rate = static_cast<double>(any_excluded) / trials;
     const double refusal_rate = static_cast<double>(refused) / trials;
-    std::printf("stable targets: global test fails in %.3f (alpha %.3f), a target excluded in %.3f, "
-                "refused in %.3f (5 tests at alpha %.3f)\n", global_rate, p.global_alpha,
-                exclusion_rate, refusal_rate, p.target_alpha);
+    std::printf(
+        "stable targets: global test fails in %.3f (alpha %.3f), a target excluded in %.3f, "
+        "refused in %.3f (5 tests at alpha %.3f)\n",
+        global_rate, p.global_alpha, exclusion_rate, refusal_rate, p.target_alpha);
     // Binomial: 1000 epochs at 5 % give 50 ± 7 failures; at 5 × 0.1 %, 5 ± 2.2 exclusions.
     EXPECT_GT(global_rate, 0.025);
     EXPECT_LT(global_rate, 0.08);
@@ -95,10 +97,12 @@ void expect_knocked_target_excluded(const KnockCase& k, int moved, const Eigen::
             // error there: (v − d)ᵀ·Σ⁻¹·(v − d) within χ²(3, 99.9 %).
             const CentreObservation& c = k.centres[moved];
             const Eigen::Matrix3d& R = r.transform->rotation;
-            const Eigen::Matrix3d S = c.reference_covariance + R * c.epoch_covariance * R.transpose() +
+            const Eigen::Matrix3d S = c.reference_covariance +
+                                      R * c.epoch_covariance * R.transpose() +
                                       registration_covariance_at(*r.transform, c.epoch);
             const Eigen::Vector3d e = v.residual - d;
-            EXPECT_LT(e.dot(S.inverse() * e), 16.27) << what << ": off by " << 1000 * e.norm() << " mm";
+            EXPECT_LT(e.dot(S.inverse() * e), 16.27)
+                << what << ": off by " << 1000 * e.norm() << " mm";
         } else {
             EXPECT_EQ(v.use, TargetUse::used) << what << ", target " << i;
         }
@@ -114,9 +118,9 @@ TEST(TargetTests, KnockedTargetIsExcludedAmongFiveOrSixTargets) {
         for (int moved = 0; moved < n; ++moved)
             for (const auto& d : kKnocks) {
                 const KnockCase k = knock(target_centres(n), moved, d, 1000 + cases);
-                expect_knocked_target_excluded(k, moved, d,
-                                               std::to_string(n) + " targets, target " +
-                                                   std::to_string(moved) + " knocked");
+                expect_knocked_target_excluded(
+                    k, moved, d,
+                    std::to_string(n) + " targets, target " + std::to_string(moved) + " knocked");
                 ++cases;
             }
     EXPECT_EQ(cases, 4 * 11);
@@ -133,8 +137,8 @@ TEST(TargetTests, WithFourTargetsAHorizontalKnockIsExcludedAVerticalOneRefused) 
             for (const auto& d : kKnocks) {
                 const KnockCase k = knock(layout, moved, d, 2000 + cases++);
                 const std::string what = "target " + std::to_string(moved) + " knocked by " +
-                                         std::to_string(d.x()) + " " + std::to_string(d.y()) +
-                                         " " + std::to_string(d.z());
+                                         std::to_string(d.x()) + " " + std::to_string(d.y()) + " " +
+                                         std::to_string(d.z());
                 if (d.z() == 0.0) {
                     expect_knocked_target_excluded(k, moved, d, what);
                 } else {
@@ -168,14 +172,16 @@ TEST(TargetTests, MinimalDetectableBiasIsFoundAtThePromisedPower) {
     const auto layout = target_centres(5);
     std::mt19937_64 rng(99);
     const TrueTransform truth0 = drift(rng);
-    const TestedRegistration clean = register_with_tests(pairs(observe(layout, truth0, rng, 0.0)), {});
+    const TestedRegistration clean =
+        register_with_tests(pairs(observe(layout, truth0, rng, 0.0)), {});
     const TargetVerdict& v = clean.targets[2];
     ASSERT_TRUE(std::isfinite(v.minimal_detectable_bias));
     EXPECT_GT(v.minimal_detectable_bias, 0.0005);
     EXPECT_LT(v.minimal_detectable_bias, 0.010);  // a 10 mm knock is detectable here
     int detected = 0;
     for (int t = 0; t < trials; ++t) {
-        const KnockCase k = knock(layout, 2, v.minimal_detectable_bias * v.weakest_direction, 7000 + t);
+        const KnockCase k =
+            knock(layout, 2, v.minimal_detectable_bias * v.weakest_direction, 7000 + t);
         // Detected: the first round's statistic of target 2 beyond its critical value.
         detected += k.result.targets[2].use != TargetUse::used ||
                     k.result.targets[2].statistic > k.result.targets[2].critical;
@@ -219,8 +225,9 @@ TEST(TargetTests, WithThreeTargetsAKnockPerpendicularToTheirPlaneIsInvisible) {
     const TrueTransform truth = drift(rng);
     const auto truth_centres = target_centres(3);
     auto centres = observe(truth_centres, truth, rng, 0.0);
-    const Eigen::Vector3d normal =
-        (truth_centres[1] - truth_centres[0]).cross(truth_centres[2] - truth_centres[0]).normalized();
+    const Eigen::Vector3d normal = (truth_centres[1] - truth_centres[0])
+                                       .cross(truth_centres[2] - truth_centres[0])
+                                       .normalized();
     centres[0].epoch += truth.rotation.transpose() * (0.010 * normal);
     const TestedRegistration r = register_with_tests(pairs(centres), {});
     EXPECT_EQ(r.status, RegistrationStatus::accepted);
@@ -257,7 +264,8 @@ TEST(TargetTests, KnockedTargetAmongFourLeavingTwoUsableIsRefused) {
 
 TEST(TargetTests, CollinearTargetsAreRefused) {
     // Four targets along a wall, 15–45 m, within 2 cm of a line.
-    std::vector<Eigen::Vector3d> line{{15, 5, -0.5}, {25, 5.01, -0.5}, {35, 4.99, -0.49}, {45, 5.0, -0.51}};
+    std::vector<Eigen::Vector3d> line{
+        {15, 5, -0.5}, {25, 5.01, -0.5}, {35, 4.99, -0.49}, {45, 5.0, -0.51}};
     std::mt19937_64 rng(47);
     const TestedRegistration r = register_with_tests(pairs(observe(line, drift(rng), rng)), {});
     EXPECT_EQ(r.status, RegistrationStatus::degenerate_geometry) << r.reason;
