@@ -1,7 +1,8 @@
 // The sphere fit on the simulator's `pier` preset against its truth: the full measurement
-// model (signal-dependent range noise, angular noise, beam footprint, mixed pixels) at the
-// preset's 0.013° step, rendered only in the angular window of its sphere targets. The
-// truth centre in the header frame is H⁻¹·centre, H = header_to_true (docs/simulator.md).
+// model (signal-dependent range noise, angular noise, beam footprint, mixed pixels, the
+// air's range scale) at the preset's 0.013° step, rendered only in the angular window of its
+// sphere targets. The truth centre in the header frame is H⁻¹·centre, H = header_to_true
+// (docs/simulator.md), scaled about the scanner by the epoch's range scale.
 //
 // What it shows: the footprint averages the range over a convex cap, so every point lies a
 // little behind the surface and the centre comes out ≈ 0.04 mm too far along the line of
@@ -20,6 +21,7 @@
 
 #include "algorithms/registration/sphere_fit.hpp"
 #include "simulator/drift.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 
 namespace tlsmon::registration {
@@ -45,9 +47,14 @@ TEST(SphereFitSimulated, PierPresetSpheresMatchTheTruth) {
         one.scanner.elevation_min_deg = el - 0.6;
         one.scanner.elevation_max_deg = el + 0.6;
         for (int e = 0; e < epochs; ++e) {
-            const sim::RenderedScan r = sim::render_epoch(one, e, 0.5 * e, 2);
+            const sim::EpochConditions conditions = sim::epoch_conditions(one, e, 0.5 * e);
+            const sim::RenderedScan r = sim::render_epoch(one, conditions, 2);
             const Eigen::Affine3d H = N * r.pose_error.transform() * N.inverse();
-            const Eigen::Vector3d truth = H.inverse() * t.centre;
+            // The air scales every range about the scanner (atmosphere.hpp): the centre
+            // seen through the header is scaled about the scanner's position too.
+            const Eigen::Vector3d truth =
+                N.translation() + conditions.atmosphere.range_scale *
+                                      (H.inverse() * t.centre - N.translation());
             std::vector<Eigen::Vector3d> near;
             for (const auto& p : r.scan.xyz)
                 if ((p - t.centre).norm() < 0.2) near.push_back(p);
