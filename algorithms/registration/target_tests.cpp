@@ -172,11 +172,13 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
                           text("%.0f usable targets, at least %.0f needed",
                                static_cast<double>(used.size()), static_cast<double>(min_targets)));
         out.spread = spread_about_line(positions);
-        if (out.spread < params.min_spread)
+        if (out.spread < params.min_spread) {
+            out.transform.reset();  // an earlier round's adjustment is not this geometry's
             return finish(
                 RegistrationStatus::degenerate_geometry,
                 text("the %.0f used targets lie within %.3f m of a line, at least %.3f m needed",
                      static_cast<double>(used.size()), out.spread, params.min_spread));
+        }
         try {
             out.transform = estimate_rigid_transform(centres, params.adjustment);
         } catch (const Error& e) {
