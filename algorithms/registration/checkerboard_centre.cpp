@@ -102,13 +102,16 @@ double model(const Params& x, double a, double b, Row* grad) {
 
 struct Points2 {
     std::vector<double> a, b, i;
+    std::vector<double> w;  // weights 1/σᵢ², empty for all 1
+    double weight(std::size_t k) const { return w.empty() ? 1.0 : w[k]; }
 };
 
+// Σ wᵢ eᵢ², the weighted sum of squared intensity residuals.
 double cost(const Params& x, const Points2& p) {
     double s = 0.0;
     for (std::size_t k = 0; k < p.a.size(); ++k) {
         const double e = p.i[k] - model(x, p.a[k], p.b[k], nullptr);
-        s += e * e;
+        s += p.weight(k) * e * e;
     }
     return s;
 }
@@ -151,8 +154,8 @@ Fit levenberg_marquardt(Params x, const Points2& p, int max_iterations) {
         for (std::size_t k = 0; k < p.a.size(); ++k) {
             Row j;
             const double e = p.i[k] - model(x, p.a[k], p.b[k], &j);
-            n += j.transpose() * j;
-            g += j.transpose() * e;
+            n += p.weight(k) * j.transpose() * j;
+            g += p.weight(k) * j.transpose() * e;
         }
         f.iterations = it + 1;
         bool accepted = false;
@@ -183,10 +186,39 @@ Fit levenberg_marquardt(Params x, const Points2& p, int max_iterations) {
     for (std::size_t k = 0; k < p.a.size(); ++k) {
         Row j;
         model(x, p.a[k], p.b[k], &j);
-        f.normal += j.transpose() * j;
+        f.normal += p.weight(k) * j.transpose() * j;
     }
     f.sum_sq = current;
     return f;
+}
+
+// Step 4 of the header: the residuals' variance σᵢ² = σ_I² + σ_p² |∇Iᵢ|², fitted to the
+// squared residuals by least squares, as weights 1/σᵢ². False when the residuals vanish
+// (noise-free data: nothing to weight).
+bool weights_from_residuals(const Params& x, Points2& p) {
+    Eigen::Matrix2d n = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    std::vector<double> g2(p.a.size());
+    double mean_e2 = 0.0;
+    for (std::size_t k = 0; k < p.a.size(); ++k) {
+        Row j;
+        const double e = p.i[k] - model(x, p.a[k], p.b[k], &j);
+        g2[k] = j(0) * j(0) + j(1) * j(1);  // ∂I/∂c = −∇I
+        const Eigen::Vector2d row(1.0, g2[k]);
+        n += row * row.transpose();
+        r += row * (e * e);
+        mean_e2 += e * e;
+    }
+    mean_e2 /= static_cast<double>(p.a.size());
+    if (!(mean_e2 > 1e-20)) return false;
+    Eigen::Vector2d ab = n.ldlt().solve(r);
+    if (!ab.allFinite()) return false;
+    // Both variances non-negative; the floor keeps a weight finite where |∇I| = 0.
+    ab(1) = std::max(ab(1), 0.0);
+    ab(0) = std::max(ab(0), 1e-3 * mean_e2);
+    p.w.resize(p.a.size());
+    for (std::size_t k = 0; k < p.a.size(); ++k) p.w[k] = 1.0 / (ab(0) + ab(1) * g2[k]);
+    return true;
 }
 
 }  // namespace
@@ -262,6 +294,11 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
     // Recentre the window on the first estimate and fit again from there.
     pts = window(fit.x(0), fit.x(1));
     fit = levenberg_marquardt(fit.x, pts, search.max_iterations);
+    // Weighted by the residuals' variance model, twice (the weights from the refined fit).
+    for (int pass = 0; pass < 2 && fit.converged; ++pass) {
+        if (!weights_from_residuals(fit.x, pts)) break;
+        fit = levenberg_marquardt(fit.x, pts, search.max_iterations);
+    }
     if (!fit.converged) {
         throw Error("checkerboard centre: the intensity fit did not converge in " +
                     std::to_string(search.max_iterations) + " iterations");
@@ -269,6 +306,7 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
 
     CheckerboardCentre out;
     const double m = static_cast<double>(pts.a.size());
+    // σ̂₀² = Σ wᵢ eᵢ² / (n − 6): 1 when the variance model is right, else its scale.
     const double var = fit.sum_sq / std::max(1.0, m - 6.0);
     const Eigen::Matrix2d cov2 = var * fit.normal.inverse().topLeftCorner<2, 2>();
     Eigen::Matrix<double, 3, 2> axes;
@@ -287,7 +325,12 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
     out.blur_sigma = std::exp(fit.x(3));
     out.dark = fit.x(4) - std::abs(h);
     out.bright = fit.x(4) + std::abs(h);
-    out.residual_rms = std::sqrt(fit.sum_sq / m);
+    double ss = 0.0;
+    for (std::size_t k = 0; k < pts.a.size(); ++k) {
+        const double e = pts.i[k] - model(fit.x, pts.a[k], pts.b[k], nullptr);
+        ss += e * e;
+    }
+    out.residual_rms = std::sqrt(ss / m);
     out.plane_points = plane.inliers.size();
     out.fit_points = pts.a.size();
     out.iterations = fit.iterations;

@@ -18,10 +18,17 @@
 //    colours, so θ within ±45° covers every orientation). Fitted by Levenberg–Marquardt to
 //    the points within 0.4 · size of the centre (clear of the board's outer edges), the
 //    window recentred once on the first fit.
-// 4. Covariance: σ̂² (JᵀJ)⁻¹ of the fit (σ̂² = Σe² / (n − 6), the residuals' variance), for
-//    the centre within the plane, plus the plane's offset variance σ_d² / n along its
-//    normal. Honest when the intensity errors are independent and the model fits (the beam
-//    profile close to a Gaussian); a correlated error (a smudge on the board) is not in it.
+// 4. Weights: the residuals' variance is modelled as σᵢ² = σ_I² + σ_p² · |∇Iᵢ|², the
+//    intensity noise plus a position noise of the points along the pattern's gradient (the
+//    beam's angular noise moves where the intensity was sampled against where the point is
+//    placed: 0.5 mm at 36 m for 3″, which on an edge outweighs the intensity noise), fitted
+//    to the squared residuals by least squares; the fit is repeated with weights 1/σᵢ²
+//    (twice). Unweighted, the edge points, which carry the centre, would be trusted as
+//    much as the flat squares and the σ would come out 2–3 times too small.
+// 5. Covariance: σ̂₀² (JᵀWJ)⁻¹ (σ̂₀² = Σ wᵢ eᵢ² / (n − 6)) for the centre within the plane,
+//    plus the plane's offset variance σ_d² / n along its normal. Honest when the errors are
+//    independent and the model fits (the beam profile close to a Gaussian); a correlated
+//    error (a smudge on the board) is not in it.
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <vector>
