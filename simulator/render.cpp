@@ -10,10 +10,10 @@
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "simulator/footprint.hpp"
+#include "simulator/footprint_albedo.hpp"
 #include "simulator/random.hpp"
 #include "simulator/range_noise.hpp"
 #include "simulator/ray_cast.hpp"
-#include "simulator/texture.hpp"
 
 namespace tlsmon::sim {
 
@@ -45,17 +45,6 @@ struct Return {
 // The surface element a sub-ray met (surface kind, face, target).
 int surface_id(const Hit& h) {
     return static_cast<int>(h.surface) * 1000 + (h.face + 1) * 10 + (h.target + 1) * 100;
-}
-
-// The reflectance a Gaussian beam of standard deviation `blur` (= w/2) sees centred on the
-// hit, on a surface with sharp-edged texture (texture.hpp); other surfaces' reflectance is
-// smooth at the footprint's scale and taken at the hit.
-double footprint_albedo(const Hit& h, const Texture& tex, double blur) {
-    if (h.surface == Surface::pier || h.surface == Surface::deck) {
-        return concrete_albedo(tex, h.face, h.uv.x(), h.uv.y(), blur);
-    }
-    if (h.surface == Surface::checkerboard) return checkerboard_albedo(h.uv.x(), h.uv.y(), blur);
-    return h.albedo;
 }
 
 Return thin_ray(const Hit& hit, const Eigen::Vector3d& dir, const Texture& tex) {
