@@ -1,11 +1,12 @@
 // Acceptance (issue 9): orthoimage cross-correlation of two `pier` epochs recovers the true
 // horizontal and vertical shift of the south face within 0.5 mm, with noise and drift off.
 //
-// The epochs: epoch 0 and the epoch of the first day whose south-face displacement differs
-// most from epoch 0's, both read from the truth at run time (the bending's law is the
-// truth's business, not this test's). The patches: 0.5 m squares of the south face centred
-// on the truth's sample points there; the shift varies with height (u ∝ z² along x, ∝ z up),
-// and over 0.5 m it is linear to 2 µm, so a patch's translation is the truth at its centre.
+// The epochs: epoch 0 and the epoch of the first day whose south-face displacement within
+// the face (x and z, what the orthoimage sees) differs most from epoch 0's, both read from
+// the truth at run time (the bending's law is the truth's business, not this test's). The patches:
+// 0.5 m squares of the south face centred on the truth's sample points there; the shift varies with
+// height (u ∝ z² along x, ∝ z up), and over 0.5 m it is linear to 2 µm, so a patch's translation is
+// the truth at its centre.
 //
 // To keep the test fast each epoch is rendered only around one patch at a time
 // (narrow_window.hpp: the `pier` preset's angular step and geometry, a ±0.6° window).
@@ -17,6 +18,7 @@
 
 #include "algorithms/image_correlation.hpp"
 #include "algorithms/orthoimage.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "simulator/truth.hpp"
 #include "tests/simulator/narrow_window.hpp"
@@ -32,13 +34,19 @@ double hours_of(const Site& s, int epoch) {
     return epoch * s.cadence_seconds / 3600.0;
 }
 
+// The epoch's air, sun and bending, at the series' default start (as `tlsmon simulate`).
+EpochConditions conditions(const Site& s, int epoch) {
+    return epoch_conditions(s, epoch, hours_of(s, epoch));
+}
+
 // The truth's south-face samples at an epoch: name -> (point, displacement).
 struct Sample {
     std::string name;
     Eigen::Vector3d point, displacement;
 };
 std::vector<Sample> south_face(const Site& s, int epoch) {
-    const nlohmann::json truth = truth_json(s, epoch, hours_of(s, epoch), 0, nullptr);
+    const EpochConditions c = conditions(s, epoch);
+    const nlohmann::json truth = truth_json(s, epoch, c.hours, c.utc, nullptr);
     std::vector<Sample> out;
     for (const auto& j : truth.at("samples")) {
         const std::string name = j.at("name").get<std::string>();
@@ -72,12 +80,25 @@ Orthoimage face_image(const Site& s, const Scan& scan, const Eigen::Vector2d& ce
     return rasterise_orthoimage(scan.xyz, scan.intensity, plane, grid);
 }
 
+// The epoch's scan with the atmosphere's range scale taken out (as the pipeline will, from
+// the meteo file; here from the truth): r ← r / (n_true / n_setting) about the scanner,
+// whose pose is exact with drift off. Otherwise a few ppm of range between two epochs'
+// air would move the face by ≈ 0.1 mm along the line of sight, in-plane in part.
+Scan measured_scan(const Site& w, int epoch) {
+    const EpochConditions c = conditions(w, epoch);
+    Scan scan = render_epoch(w, c, 2).scan;
+    const double scale = c.atmosphere.range_scale;
+    const Eigen::Vector3d o = w.scanner.position;
+    for (Eigen::Vector3d& p : scan.xyz) p = o + (p - o) / scale;
+    return scan;
+}
+
 TEST(SimulatorAcceptance, OrthoimageCorrelationRecoversTheSouthFaceShift) {
     Site s = preset_pier();
     s.noise.enabled = false;
     s.drift.enabled = false;
 
-    // The epoch of the first day that moved the south face most against epoch 0.
+    // The epoch of the first day that moved the south face most within its plane.
     const std::vector<Sample> first = south_face(s, 0);
     const int day = static_cast<int>(std::lround(86400.0 / s.cadence_seconds));
     int epoch = 0;
@@ -85,17 +106,21 @@ TEST(SimulatorAcceptance, OrthoimageCorrelationRecoversTheSouthFaceShift) {
     for (int e = 1; e <= day; ++e) {
         const std::vector<Sample> now = south_face(s, e);
         for (std::size_t i = 0; i < now.size(); ++i) {
-            const double d = (now[i].displacement - first[i].displacement).norm();
+            const Eigen::Vector3d dd = now[i].displacement - first[i].displacement;
+            const double d = std::hypot(dd.x(), dd.z());
             if (d > largest) {
                 largest = d;
                 epoch = e;
             }
         }
     }
-    ASSERT_GT(largest, 0.005) << "the truth shows no substantial displacement in a day";
+    ASSERT_GT(largest, 0.002) << "the truth shows no substantial displacement in a day";
     const std::vector<Sample> later = south_face(s, epoch);
-    std::printf("epochs 0 and %d (%.2f h): largest south-face displacement %.1f mm\n", epoch,
-                hours_of(s, epoch), 1e3 * largest);
+    std::printf(
+        "epochs 0 and %d (%.2f h): largest in-plane south-face displacement %.1f mm, "
+        "atmosphere %.2f and %.2f ppm\n",
+        epoch, hours_of(s, epoch), 1e3 * largest, conditions(s, 0).atmosphere.ppm,
+        conditions(s, epoch).atmosphere.ppm);
 
     constexpr double half = 0.25;      // template: 0.5 m square
     constexpr int search_radius = 12;  // ±48 mm
@@ -105,8 +130,8 @@ TEST(SimulatorAcceptance, OrthoimageCorrelationRecoversTheSouthFaceShift) {
         const Eigen::Vector3d& p = first[i].point;
         Site w = s;
         test::narrow_window(w.scanner, p, 0.6);
-        const Scan scan0 = render_epoch(w, 0, hours_of(w, 0), 2).scan;
-        const Scan scan1 = render_epoch(w, epoch, hours_of(w, epoch), 2).scan;
+        const Scan scan0 = measured_scan(w, 0);
+        const Scan scan1 = measured_scan(w, epoch);
         const Eigen::Vector2d centre(p.x(), p.z());
         const Orthoimage templ = face_image(s, scan0, centre, half);
         const Orthoimage search = face_image(s, scan1, centre, half + margin);
