@@ -61,16 +61,16 @@ std::vector<Sample> south_face(const Site& s, int epoch) {
 // this face at 0.013°), so the kernel's response at the sampling frequency is e^(−2π²) and
 // the lattice leaves no pattern of its own in the image. What aliasing remains is in the
 // samples: the beam's σ (w/2, 3.5–5 mm here) is a third of the spacing, so the 2 cm
-// formwork joints, the strongest features, are still under-sampled: ≈ 0.1–0.3 mm of error
-// on patches that hold a joint, against ≤ 0.03 mm with the joints taken out or with the
-// angular step halved (0.0065°).
+// formwork joints, the strongest features, are still under-sampled: up to ≈ 0.3 mm of
+// error on patches that hold a joint for shifts of 5–11 mm, against ≤ 0.03 mm with the
+// joints taken out or with the angular step halved (0.0065°).
 constexpr double kPixel = 0.004, kSigma = 0.012;
 Orthoimage face_image(const Site& s, const Scan& scan, const Eigen::Vector2d& centre, double half) {
     OrthoPlane plane;
     plane.origin = {0.0, s.pier.y0, 0.0};
     plane.u = Eigen::Vector3d::UnitX();
     plane.v = Eigen::Vector3d::UnitZ();
-    plane.max_distance = 0.1;  // the face moves ≤ 35 mm towards the scanner
+    plane.max_distance = 0.1;  // well beyond the face's bending towards the scanner
     OrthoGrid grid;
     grid.pixel_size = kPixel;
     grid.kernel_sigma = kSigma;
