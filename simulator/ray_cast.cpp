@@ -10,7 +10,6 @@ namespace tlsmon::sim {
 namespace {
 
 constexpr double kSphereAlbedo = 0.85;  // white matte target sphere
-constexpr double kWhite = 0.85, kBlack = 0.05;
 
 struct BoxHit {
     double t = std::numeric_limits<double>::infinity();
@@ -141,7 +140,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             if (!on_face) continue;
             const Eigen::Vector2d uv = face_uv(face, q);
             consider(best, {Surface::pier, t, n,
-                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face});
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face, uv});
         }
     }
 
@@ -159,7 +158,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             const int face = 5 + pier_face(dh);
             const Eigen::Vector2d uv = face_uv(pier_face(dh), p);
             consider(best, {Surface::deck, dh.t, n,
-                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face});
+                            concrete_albedo(site.texture, face, uv.x(), uv.y()), -1, face, uv});
         }
     }
 
@@ -189,9 +188,10 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             const double a = p.dot(horizontal), b = p.z();
             const double half = 0.5 * tg.size;
             if (std::abs(a) > half || std::abs(b) > half) continue;
-            // 2x2 checkerboard: white where both coordinates have the same sign.
-            const double albedo = (a >= 0.0) == (b >= 0.0) ? kWhite : kBlack;
-            consider(best, {Surface::checkerboard, t, n, albedo, static_cast<int>(i)});
+            // 2x2 checkerboard (texture.hpp): white where both coordinates have the same sign.
+            Hit h{Surface::checkerboard, t, n, checkerboard_albedo(a, b), static_cast<int>(i)};
+            h.uv = {a, b};
+            consider(best, h);
         }
     }
     if (best.surface == Surface::none) best.range = std::numeric_limits<double>::infinity();

@@ -36,6 +36,9 @@ struct Hit {
     double albedo = 0.0;                                     // reflectance at the hit
     int target = -1;                                         // index for target hits
     int face = -1;  // pier faces 0–4, deck faces 5–9 (see below); -1 otherwise
+    // Surface coordinates of the hit, m: on pier and deck faces the material point's (u, v)
+    // of concrete_albedo; on a checkerboard (across, up) from its centre; else zero.
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();
 };
 
 // Faces of the pier box: 0 west (x0), 1 east (x1), 2 south (y0), 3 north (y1), 4 top.

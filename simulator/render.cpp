@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "simulator/footprint.hpp"
+#include "simulator/footprint_albedo.hpp"
 #include "simulator/random.hpp"
 #include "simulator/range_noise.hpp"
 #include "simulator/ray_cast.hpp"
@@ -92,6 +93,16 @@ Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen
         for (const std::size_t k : kTriangleComplement) cast_sub_ray(k);
     }
 
+    // A footprint on one surface sees the texture integrated over the beam's Gaussian
+    // profile, which for the sharp-edged features (joints, tie holes, checker edges) is the
+    // texture blurred with σ = w/2 at the centre: all four sub-rays take that reflectance.
+    // Their own samples would give the right second moment but pass an edge's high
+    // frequencies (the centre alone carries half the weight), so a 2 cm joint sampled every
+    // 1–1.5 cm would still alias into dashes fixed to the scan's lattice (a moiré that
+    // slides along the joint when the joint moves across itself).
+    const double filtered = uniform && centre.surface != Surface::none
+                                ? footprint_albedo(centre, tex, 0.5 * angle * centre.range)
+                                : -1.0;
     Return r;
     double power = 0.0, power_range = 0.0;
     double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
@@ -101,7 +112,7 @@ Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen
         const double w = uniform ? triangle_weight(k) : pattern[k].weight;
         const Hit& h = hits[k];
         if (w == 0.0 || h.surface == Surface::none) continue;
-        const double s = h.albedo * std::abs(h.normal.dot(dirs[k]));
+        const double s = (filtered >= 0.0 ? filtered : h.albedo) * std::abs(h.normal.dot(dirs[k]));
         r.signal += w * s;
         r.intensity += w * s * std::exp(-h.range / tex.range_attenuation);
         const double p = w * s / (h.range * h.range);

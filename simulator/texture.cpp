@@ -37,6 +37,23 @@ double to_grid(double x, double period) {
     return std::min(r, period - r);
 }
 
+// The share of a Gaussian (σ = blur) centred at distance d from the middle of a strip of
+// width w that falls on the strip: ½ [erf((d + w/2)/√2σ) − erf((d − w/2)/√2σ)];
+// the strip's indicator for blur 0.
+double on_strip(double d, double w, double blur) {
+    if (blur <= 0.0) return d < 0.5 * w ? 1.0 : 0.0;
+    const double k = 1.0 / (std::sqrt(2.0) * blur);
+    return 0.5 * (std::erf((d + 0.5 * w) * k) - std::erf((d - 0.5 * w) * k));
+}
+
+// The same for a disc of radius R at distance ρ from its centre, approximated by the
+// blurred edge ½ erfc((ρ − R)/√2σ) (the exact share is a Marcum Q function; the
+// approximation is within a few per cent for σ up to R/2).
+double on_disc(double rho, double radius, double blur) {
+    if (blur <= 0.0) return rho < radius ? 1.0 : 0.0;
+    return 0.5 * std::erfc((rho - radius) / (std::sqrt(2.0) * blur));
+}
+
 }  // namespace
 
 double value_noise(std::uint64_t seed, double u, double v) {
@@ -49,7 +66,7 @@ double value_noise(std::uint64_t seed, double u, double v) {
     return (v00 * (1 - a) + v10 * a) * (1 - b) + (v01 * (1 - a) + v11 * a) * b;
 }
 
-double concrete_albedo(const Texture& t, int face, double u, double v) {
+double concrete_albedo(const Texture& t, int face, double u, double v, double blur) {
     const std::uint64_t seed = hash_combine(t.seed, static_cast<std::uint64_t>(face) + 1);
     // Patches and weathering (metres) and fine aggregate (centimetres).
     double a = t.albedo * (1.0 + 0.35 * octaves(seed, u, v, 3.0, 4) +
@@ -58,18 +75,27 @@ double concrete_albedo(const Texture& t, int face, double u, double v) {
     const double streak = value_noise(hash_combine(seed, 7), u / 0.35, 0.0);
     const double fade = value_noise(hash_combine(seed, 8), u / 1.5, v / 6.0);
     if (streak > 0.62) a *= 1.0 - 0.9 * (streak - 0.62) * fade;
-    // Formwork joints: thin dark lines on the panel grid, offset per face.
+    // Formwork joints: thin dark lines on the panel grid, offset per face. The share of the
+    // (blurred) point on a joint: the union of a vertical and a horizontal strip, whose
+    // blur is exact because the Gaussian is separable: 1 − (1 − J_u)(1 − J_v).
     const double pu = u + 0.37 * face;
-    if (to_grid(pu, t.panel_width) < 0.5 * t.joint_width ||
-        to_grid(v, t.panel_height) < 0.5 * t.joint_width) {
-        a *= 0.55;
-    }
+    const double ju = on_strip(to_grid(pu, t.panel_width), t.joint_width, blur);
+    const double jv = on_strip(to_grid(v, t.panel_height), t.joint_width, blur);
+    a *= 1.0 - 0.45 * (1.0 - (1.0 - ju) * (1.0 - jv));
     // Tie holes: dark discs at the quarter points of each panel, half-way up.
     const double cu = t.panel_width / 4.0, cv = t.panel_height / 2.0;
     const double du = to_grid(pu - cu, t.panel_width / 2.0);
     const double dv = to_grid(v - cv, t.panel_height);
-    if (du * du + dv * dv < t.tie_hole_radius * t.tie_hole_radius) a *= 0.25;
+    a *= 1.0 - 0.75 * on_disc(std::hypot(du, dv), t.tie_hole_radius, blur);
     return std::clamp(a, 0.02, 1.0);
+}
+
+double checkerboard_albedo(double a, double b, double blur) {
+    constexpr double mean = 0.5 * (kCheckerWhite + kCheckerBlack);
+    constexpr double half = 0.5 * (kCheckerWhite - kCheckerBlack);
+    if (blur <= 0.0) return (a >= 0.0) == (b >= 0.0) ? kCheckerWhite : kCheckerBlack;
+    const double k = 1.0 / (std::sqrt(2.0) * blur);
+    return mean + half * std::erf(a * k) * std::erf(b * k);
 }
 
 double ground_albedo(const Texture& t, double x, double y) {

@@ -1,0 +1,340 @@
+#include "algorithms/registration/checkerboard_centre.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::size_t kMinPoints = 50;
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+
+struct Plane {
+    Eigen::Vector3d centroid, normal;
+    double sigma = 0.0;  // rms distance of the inliers, m
+    std::vector<std::size_t> inliers;
+};
+
+Plane fit_plane_pca(const std::vector<Eigen::Vector3d>& xyz, const std::vector<std::size_t>& idx) {
+    Plane pl;
+    pl.centroid.setZero();
+    for (const std::size_t i : idx) pl.centroid += xyz[i];
+    pl.centroid /= static_cast<double>(idx.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const std::size_t i : idx) {
+        const Eigen::Vector3d d = xyz[i] - pl.centroid;
+        cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    pl.normal = eig.eigenvectors().col(0);  // smallest eigenvalue first
+    pl.inliers = idx;
+    return pl;
+}
+
+// Step 1 of the header: PCA plane, refitted on the inliers until they stop changing.
+Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, std::vector<std::size_t> candidates) {
+    Plane pl = fit_plane_pca(xyz, candidates);
+    for (int pass = 0; pass < 20; ++pass) {
+        std::vector<double> abs_d;
+        abs_d.reserve(pl.inliers.size());
+        for (const std::size_t i : pl.inliers) {
+            abs_d.push_back(std::abs(pl.normal.dot(xyz[i] - pl.centroid)));
+        }
+        const double tol = std::max(3.0 * 1.4826 * median(abs_d), 5e-4);
+        std::vector<std::size_t> next;
+        for (const std::size_t i : candidates) {
+            if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) <= tol) next.push_back(i);
+        }
+        if (next.size() < kMinPoints) break;
+        const bool same = next == pl.inliers;
+        pl = fit_plane_pca(xyz, next);
+        if (same) break;
+    }
+    double ss = 0.0;
+    for (const std::size_t i : pl.inliers) {
+        const double d = pl.normal.dot(xyz[i] - pl.centroid);
+        ss += d * d;
+    }
+    pl.sigma = std::sqrt(ss / std::max<double>(1.0, static_cast<double>(pl.inliers.size()) - 3.0));
+    return pl;
+}
+
+// Parameters of the intensity model: centre (a, b), θ, ln σ, m, h.
+using Params = Eigen::Matrix<double, 6, 1>;
+using Row = Eigen::Matrix<double, 1, 6>;
+
+// The model I = m + h·Ea·Eb at (a, b) and its gradient in the parameters.
+double model(const Params& x, double a, double b, Row* grad) {
+    const double ct = std::cos(x(2)), st = std::sin(x(2));
+    const double da = a - x(0), db = b - x(1);
+    const double ap = ct * da + st * db, bp = -st * da + ct * db;
+    const double sigma = std::exp(x(3));
+    const double k = 1.0 / (std::numbers::sqrt2 * sigma);
+    const double ea = std::erf(ap * k), eb = std::erf(bp * k);
+    if (grad) {
+        // d erf(x / (√2 σ)) / dx = √(2/π) / σ · exp(−x² / (2σ²))
+        const double g = std::sqrt(2.0 / std::numbers::pi) / sigma;
+        const double ga = g * std::exp(-ap * ap * k * k), gb = g * std::exp(-bp * bp * k * k);
+        const double h = x(5);
+        // ∂a′/∂(c_a, c_b, θ) = (−cos θ, −sin θ, b′); ∂b′/∂(c_a, c_b, θ) = (sin θ, −cos θ, −a′)
+        (*grad)(0) = h * (ga * -ct * eb + ea * gb * st);
+        (*grad)(1) = h * (ga * -st * eb + ea * gb * -ct);
+        (*grad)(2) = h * (ga * bp * eb - ea * gb * ap);
+        // ∂E/∂ln σ = −x′ · ∂E/∂x′
+        (*grad)(3) = h * (-ap * ga * eb - bp * gb * ea);
+        (*grad)(4) = 1.0;
+        (*grad)(5) = ea * eb;
+    }
+    return x(4) + x(5) * ea * eb;
+}
+
+struct Points2 {
+    std::vector<double> a, b, i;
+    std::vector<double> w;  // weights 1/σᵢ², empty for all 1
+    double weight(std::size_t k) const { return w.empty() ? 1.0 : w[k]; }
+};
+
+// Σ wᵢ eᵢ², the weighted sum of squared intensity residuals.
+double cost(const Params& x, const Points2& p) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < p.a.size(); ++k) {
+        const double e = p.i[k] - model(x, p.a[k], p.b[k], nullptr);
+        s += p.weight(k) * e * e;
+    }
+    return s;
+}
+
+// m and h by linear least squares for the other parameters fixed; returns the cost.
+double fit_levels(Params& x, const Points2& p) {
+    Eigen::Matrix2d n = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    Params y = x;
+    y(4) = 0.0;
+    y(5) = 1.0;
+    for (std::size_t k = 0; k < p.a.size(); ++k) {
+        const double e = model(y, p.a[k], p.b[k], nullptr);
+        const Eigen::Vector2d j(1.0, e);
+        n += j * j.transpose();
+        r += j * p.i[k];
+    }
+    const Eigen::Vector2d mh = n.ldlt().solve(r);
+    x(4) = mh(0);
+    x(5) = mh(1);
+    return cost(x, p);
+}
+
+struct Fit {
+    Params x;
+    Eigen::Matrix<double, 6, 6> normal;
+    double sum_sq = 0.0;
+    int iterations = 0;
+    bool converged = false;
+};
+
+// Levenberg–Marquardt (Marquardt 1963, the damping scaled by the diagonal of JᵀJ).
+Fit levenberg_marquardt(Params x, const Points2& p, int max_iterations) {
+    Fit f;
+    double lambda = 1e-3;
+    double current = cost(x, p);
+    for (int it = 0; it < max_iterations; ++it) {
+        Eigen::Matrix<double, 6, 6> n = Eigen::Matrix<double, 6, 6>::Zero();
+        Params g = Params::Zero();
+        for (std::size_t k = 0; k < p.a.size(); ++k) {
+            Row j;
+            const double e = p.i[k] - model(x, p.a[k], p.b[k], &j);
+            n += p.weight(k) * j.transpose() * j;
+            g += p.weight(k) * j.transpose() * e;
+        }
+        f.iterations = it + 1;
+        bool accepted = false;
+        Params step = Params::Zero();
+        for (int tries = 0; tries < 20 && !accepted; ++tries) {
+            Eigen::Matrix<double, 6, 6> damped = n;
+            damped.diagonal() *= 1.0 + lambda;
+            step = damped.ldlt().solve(g);
+            const double c = step.allFinite() ? cost(x + step, p) : current + 1.0;
+            if (c <= current) {
+                x += step;
+                current = c;
+                lambda = std::max(lambda / 10.0, 1e-12);
+                accepted = true;
+            } else {
+                lambda *= 10.0;
+            }
+        }
+        // Converged when no damped step lowers the cost any more, or the centre and the
+        // rotation have stopped moving (1 nm, 1 nrad).
+        if (!accepted || (step.head<2>().norm() < 1e-9 && std::abs(step(2)) < 1e-9)) {
+            f.converged = true;
+            break;
+        }
+    }
+    f.x = x;
+    f.normal.setZero();
+    for (std::size_t k = 0; k < p.a.size(); ++k) {
+        Row j;
+        model(x, p.a[k], p.b[k], &j);
+        f.normal += p.weight(k) * j.transpose() * j;
+    }
+    f.sum_sq = current;
+    return f;
+}
+
+// Step 4 of the header: the residuals' variance σᵢ² = σ_I² + σ_p² |∇Iᵢ|², fitted to the
+// squared residuals by least squares, as weights 1/σᵢ². False when the residuals vanish
+// (noise-free data: nothing to weight).
+bool weights_from_residuals(const Params& x, Points2& p) {
+    Eigen::Matrix2d n = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    std::vector<double> g2(p.a.size());
+    double mean_e2 = 0.0;
+    for (std::size_t k = 0; k < p.a.size(); ++k) {
+        Row j;
+        const double e = p.i[k] - model(x, p.a[k], p.b[k], &j);
+        g2[k] = j(0) * j(0) + j(1) * j(1);  // ∂I/∂c = −∇I
+        const Eigen::Vector2d row(1.0, g2[k]);
+        n += row * row.transpose();
+        r += row * (e * e);
+        mean_e2 += e * e;
+    }
+    mean_e2 /= static_cast<double>(p.a.size());
+    if (!(mean_e2 > 1e-20)) return false;
+    Eigen::Vector2d ab = n.ldlt().solve(r);
+    if (!ab.allFinite()) return false;
+    // Both variances non-negative; the floor keeps a weight finite where |∇I| = 0.
+    ab(1) = std::max(ab(1), 0.0);
+    ab(0) = std::max(ab(0), 1e-3 * mean_e2);
+    p.w.resize(p.a.size());
+    for (std::size_t k = 0; k < p.a.size(); ++k) p.w[k] = 1.0 / (ab(0) + ab(1) * g2[k]);
+    return true;
+}
+
+}  // namespace
+
+CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
+                                       const std::vector<float>& intensity,
+                                       const CheckerboardSearch& search) {
+    if (xyz.size() != intensity.size()) {
+        throw Error("checkerboard centre: " + std::to_string(xyz.size()) + " points but " +
+                    std::to_string(intensity.size()) + " intensities");
+    }
+    if (!(search.size > 0.0)) throw Error("checkerboard centre: size must be > 0");
+    const Eigen::Vector3d& c0 = search.approximate_centre;
+    std::vector<std::size_t> near;
+    for (std::size_t i = 0; i < xyz.size(); ++i) {
+        if ((xyz[i] - c0).norm() <= 0.75 * search.size) near.push_back(i);
+    }
+    if (near.size() < kMinPoints) {
+        throw Error("checkerboard centre: " + std::to_string(near.size()) +
+                    " points within 0.75 · size of the approximate centre, need " +
+                    std::to_string(kMinPoints));
+    }
+    const Plane plane = robust_plane(xyz, near);
+    const Eigen::Vector3d n =
+        plane.normal.dot(search.viewpoint - plane.centroid) >= 0.0 ? plane.normal : -plane.normal;
+    Eigen::Vector3d e1 = Eigen::Vector3d::UnitZ().cross(n);
+    if (e1.norm() < 0.1) e1 = Eigen::Vector3d::UnitX().cross(n);  // a board lying flat
+    e1.normalize();
+    const Eigen::Vector3d e2 = n.cross(e1);
+    const Eigen::Vector3d origin = c0 - n * n.dot(c0 - plane.centroid);
+
+    Points2 all;
+    for (const std::size_t i : plane.inliers) {
+        const Eigen::Vector3d d = xyz[i] - origin;
+        all.a.push_back(e1.dot(d));
+        all.b.push_back(e2.dot(d));
+        all.i.push_back(intensity[i]);
+    }
+    const double radius = 0.4 * search.size;
+    const auto window = [&](double ca, double cb) {
+        Points2 w;
+        for (std::size_t k = 0; k < all.a.size(); ++k) {
+            if (std::hypot(all.a[k] - ca, all.b[k] - cb) > radius) continue;
+            w.a.push_back(all.a[k]);
+            w.b.push_back(all.b[k]);
+            w.i.push_back(all.i[k]);
+        }
+        if (w.a.size() < kMinPoints) {
+            throw Error("checkerboard centre: " + std::to_string(w.a.size()) +
+                        " points on the board within 0.4 · size of the centre, need " +
+                        std::to_string(kMinPoints));
+        }
+        return w;
+    };
+
+    // Start: centre at the approximate one, a wide blur (a wide basin), the rotation among
+    // a few that explains the intensities best with m, h fitted linearly.
+    Points2 pts = window(0.0, 0.0);
+    Params x;
+    x << 0.0, 0.0, 0.0, std::log(0.05 * search.size), 0.0, 0.0;
+    double best = std::numeric_limits<double>::infinity();
+    Params start = x;
+    for (const double deg : {-30.0, -15.0, 0.0, 15.0, 30.0, 45.0}) {
+        Params y = x;
+        y(2) = deg * std::numbers::pi / 180.0;
+        const double c = fit_levels(y, pts);
+        if (c < best) {
+            best = c;
+            start = y;
+        }
+    }
+    Fit fit = levenberg_marquardt(start, pts, search.max_iterations);
+    // Recentre the window on the first estimate and fit again from there.
+    pts = window(fit.x(0), fit.x(1));
+    fit = levenberg_marquardt(fit.x, pts, search.max_iterations);
+    // Weighted by the residuals' variance model, twice (the weights from the refined fit).
+    for (int pass = 0; pass < 2 && fit.converged; ++pass) {
+        if (!weights_from_residuals(fit.x, pts)) break;
+        fit = levenberg_marquardt(fit.x, pts, search.max_iterations);
+    }
+    if (!fit.converged) {
+        throw Error("checkerboard centre: the intensity fit did not converge in " +
+                    std::to_string(search.max_iterations) + " iterations");
+    }
+
+    CheckerboardCentre out;
+    const double m = static_cast<double>(pts.a.size());
+    // σ̂₀² = Σ wᵢ eᵢ² / (n − 6): 1 when the variance model is right, else its scale.
+    const double var = fit.sum_sq / std::max(1.0, m - 6.0);
+    const Eigen::Matrix2d cov2 = var * fit.normal.inverse().topLeftCorner<2, 2>();
+    Eigen::Matrix<double, 3, 2> axes;
+    axes << e1, e2;
+    out.centre = origin + axes * fit.x.head<2>();
+    const double offset_var = plane.sigma * plane.sigma / static_cast<double>(plane.inliers.size());
+    out.covariance = axes * cov2 * axes.transpose() + offset_var * n * n.transpose();
+    out.normal = n;
+    // θ within ±45°: a quarter turn swaps the colours, i.e. the sign of h.
+    double theta = fit.x(2), h = fit.x(5);
+    const double quarter = 0.5 * std::numbers::pi;
+    const double turns = std::round(theta / quarter);
+    theta -= turns * quarter;
+    if (static_cast<long>(turns) % 2 != 0) h = -h;
+    out.rotation = theta;
+    out.blur_sigma = std::exp(fit.x(3));
+    out.dark = fit.x(4) - std::abs(h);
+    out.bright = fit.x(4) + std::abs(h);
+    double ss = 0.0;
+    for (std::size_t k = 0; k < pts.a.size(); ++k) {
+        const double e = pts.i[k] - model(fit.x, pts.a[k], pts.b[k], nullptr);
+        ss += e * e;
+    }
+    out.residual_rms = std::sqrt(ss / m);
+    out.plane_points = plane.inliers.size();
+    out.fit_points = pts.a.size();
+    out.iterations = fit.iterations;
+    return out;
+}
+
+}  // namespace tlsmon
