@@ -34,6 +34,9 @@ int run_status(const ReadOptions& options);
 // `tlsmon query epochs`
 int run_query_epochs(const ReadOptions& options);
 
+// `tlsmon query meteo`: each epoch's meteo sidecar and the values used
+int run_query_meteo(const ReadOptions& options);
+
 // `tlsmon query series --zone Z --quantity Q`
 struct SeriesOptions {
     ReadOptions read;

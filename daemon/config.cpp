@@ -159,7 +159,8 @@ PipelineConfig pipeline_config(const Config& config) {
                           .quarantine = config.paths.quarantine,
                           .archive_mode = config.ingest.archive,
                           .reference_epoch = config.ingest.reference_epoch,
-                          .coverage = config.coverage};
+                          .coverage = config.coverage,
+                          .meteo = config.meteo};
 }
 
 }  // namespace tlsmon

@@ -75,6 +75,7 @@ struct Config {
     StationConfig station;
     PathsConfig paths;
     IngestConfig ingest;
+    MeteoConfig meteo;
     LoggingConfig logging;
     DaemonConfig daemon;
     CoverageConfig coverage;  // the pipeline's stages, in their order

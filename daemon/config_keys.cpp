@@ -257,6 +257,24 @@ std::vector<ConfigKey> declare_keys() {
         seconds(at(&C::ingest, &IngestConfig::retry_max), "ingest.retry_max", 0.1, day,
                 ">= `retry_initial`", "... up to this."),
 
+        seconds(at(&C::meteo, &MeteoConfig::wait_seconds), "meteo.wait_seconds", 0, day, "",
+                "How long a new scan waits for its meteo sidecar `<scan stem>.meteo.csv` "
+                "(docs/formats.md), counted from when the scan was recorded (so also across a "
+                "restart). Epochs are processed in acquisition order: later scans wait behind "
+                "it; files keep being taken meanwhile. Without a sidecar by then the epoch is "
+                "processed without meteo, with a warning and a `meteo_missing` system event. "
+                "0: no waiting, and no event (a site without a weather station); a sidecar "
+                "already there is still used."),
+        seconds(at(&C::meteo, &MeteoConfig::max_time_offset_seconds),
+                "meteo.max_time_offset_seconds", 0, day, "",
+                "The sidecar's row nearest the acquisition time is used if it lies within this; "
+                "otherwise the sidecar is rejected (quarantined, `meteo_rejected` event) and the "
+                "epoch is processed without meteo."),
+        seconds(at(&C::meteo, &MeteoConfig::orphan_seconds), "meteo.orphan_seconds", 1,
+                30 * day, "",
+                "A complete sidecar whose scan has not arrived after this long is moved to "
+                "`paths.quarantine` with its reason and a `meteo_orphan` system event."),
+
         choice(at(&C::logging, &LoggingConfig::level), "logging.level", kLogLevels,
                "Lowest level logged."),
         optional_path(at(&C::logging, &LoggingConfig::file), "logging.file",

@@ -29,7 +29,7 @@ struct ConfigKey {
 std::string toml_string(const std::string& s);
 std::string toml_number(double v);
 
-// In file order: [station], [paths], [ingest], [logging], [daemon].
+// In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage].
 const std::vector<ConfigKey>& config_keys();
 
 // The sections of config_keys(), in that order.

@@ -12,11 +12,13 @@
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
+#include "daemon/ingest_meteo.hpp"
 #include "daemon/logging.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/startup_checks.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
+#include "formats/meteo_csv.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -98,6 +100,9 @@ class Daemon {
         EpochId epoch = 0;
     };
     std::vector<WaitingCopy> waiting_copies_;
+    MeteoSidecars meteo_;
+    // The next epoch in acquisition order waits for its meteo sidecar until then.
+    std::optional<Clock::time_point> meteo_wait_;
     Clock::time_point next_status_{};
     std::int64_t done_ = 0, rejected_ = 0, failed_ = 0;
 };
@@ -180,6 +185,10 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
 
 void Daemon::ingest(const fs::path& file) {
     auto ctx = context();
+    if (is_meteo_sidecar_name(file.filename().string())) {
+        meteo_.take(ctx, file, Clock::now());
+        return;
+    }
     HashedBytes bytes;
     ctx.new_epoch_bytes = &bytes;
     EpochId epoch = 0;
@@ -212,6 +221,7 @@ void Daemon::ingest_waiting_copies() {
 }
 
 void Daemon::process_backlog() {
+    meteo_wait_.reset();
     if (Clock::now() < retry_at_) return;
     auto ctx = pipeline();
     try {
@@ -220,11 +230,22 @@ void Daemon::process_backlog() {
         for (const Epoch& epoch : db_.epochs().pending()) {
             if (shutdown_.stop_requested()) return;
             systemd_.watchdog();  // one epoch may take the whole WatchdogSec
+            // In acquisition order: an epoch waiting for its meteo sidecar holds back the
+            // later ones (the reference epoch and the alarms' time order depend on it).
+            const auto meteo = meteo_.pair(epoch, config_.meteo, watcher_, Clock::now());
+            if (!meteo.ready) {
+                meteo_wait_ = meteo.wake;
+                return;
+            }
             HashedBytes* preloaded = nullptr;
             if (latest_bytes_ && latest_bytes_->first == epoch.id)
                 preloaded = &latest_bytes_->second;
-            const EpochOutcome outcome = process_epoch(ctx, epoch, preloaded);
+            const EpochOutcome outcome = process_epoch(ctx, epoch, preloaded, meteo.sidecar);
             if (preloaded) latest_bytes_.reset();
+            if (meteo.sidecar) {
+                auto ingest_ctx = context();
+                meteo_.after_processing(ingest_ctx, *meteo.sidecar, Clock::now());
+            }
             if (outcome == EpochOutcome::retry_later) {
                 backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                          : std::min(backoff_ * 2, config_.ingest.retry_max);
@@ -262,6 +283,10 @@ Clock::duration Daemon::next_wait(Clock::time_point now) const {
     Clock::duration wait = next_rescan_ > now ? next_rescan_ - now : Clock::duration::zero();
     wait = std::min(wait, watcher_.until_next_check(now));
     if (retry_at_ > now) wait = std::min(wait, retry_at_ - now);
+    if (meteo_wait_) wait = std::min(wait, *meteo_wait_ > now ? *meteo_wait_ - now : Clock::duration::zero());
+    if (auto orphan = meteo_.next_orphan_check()) {
+        wait = std::min(wait, *orphan > now ? *orphan - now : Clock::duration::zero());
+    }
     if (auto w = systemd_.until_watchdog()) wait = std::min(wait, *w);
     return std::max(wait, Clock::duration(std::chrono::milliseconds(10)));
 }
@@ -278,13 +303,17 @@ void Daemon::run() {
             next_rescan_ = now + seconds(config_.ingest.rescan_interval);
         }
         ingest_complete_files(now);
+        {
+            auto ctx = context();
+            meteo_.quarantine_orphans(ctx, now);
+        }
         process_backlog();
         ingest_waiting_copies();
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();
         report_status();
         if (once_ && !watcher_.has_candidates_in_time() && retry_files_.empty() &&
-            waiting_copies_.empty() && Clock::now() >= retry_at_) {
+            waiting_copies_.empty() && !meteo_wait_ && Clock::now() >= retry_at_) {
             break;
         }
         const auto wait = next_wait(Clock::now());

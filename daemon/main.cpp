@@ -47,6 +47,7 @@ struct CommandLine {
     SimulateOptions simulate;
     ReadOptionsOnTheCommandLine status;
     ReadOptionsOnTheCommandLine epochs;
+    ReadOptionsOnTheCommandLine meteo;
     ReadOptionsOnTheCommandLine series_read;
     SeriesOptions series;
     ReadOptionsOnTheCommandLine events_read;
@@ -131,6 +132,12 @@ void add_query(CLI::App& app, CommandLine& c) {
     auto* epochs = query->add_subcommand("epochs", "Epochs acquired in a time range");
     epochs_options.add_to(epochs, true);
     epochs->callback([&] { c.code = run_query_epochs(epochs_options.finish()); });
+
+    auto& meteo_options = c.meteo;
+    auto* meteo = query->add_subcommand(
+        "meteo", "Epochs in a time range with their meteo sidecar and the values used");
+    meteo_options.add_to(meteo, true);
+    meteo->callback([&] { c.code = run_query_meteo(meteo_options.finish()); });
 
     auto& series_read = c.series_read;
     auto& series_options = c.series;

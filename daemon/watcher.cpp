@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "formats/meteo_csv.hpp"
 
 namespace tlsmon {
 
@@ -25,6 +26,7 @@ namespace fs = std::filesystem;
 
 bool is_scan_name(const std::string& name, const std::vector<std::string>& extensions) {
     if (name.empty() || name.front() == '.' || name.back() == '~') return false;
+    if (is_meteo_sidecar_name(name)) return false;
     const auto dot = name.rfind('.');
     if (dot == std::string::npos || dot == 0) return false;
     std::string ext = name.substr(dot + 1);
@@ -150,7 +152,7 @@ FolderWatcher::~FolderWatcher() {
 }
 
 void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing, bool closed) {
-    if (!is_scan_name(name, config_.extensions)) return;
+    if (!is_scan_name(name, config_.extensions) && !is_meteo_sidecar_name(name)) return;
     const fs::path path = folder_ / name;
     const FileState st = stat_file(path);
     if (st.symlink) {
@@ -291,6 +293,11 @@ std::vector<fs::path> FolderWatcher::take_complete(SteadyTime now,
 bool FolderWatcher::has_candidates_in_time() const {
     return std::any_of(candidates_.begin(), candidates_.end(),
                        [](const auto& c) { return !c.second.reported_growing; });
+}
+
+bool FolderWatcher::is_waiting_for(const fs::path& path) const {
+    const auto c = candidates_.find(path.filename().string());
+    return c != candidates_.end() && path.parent_path() == folder_ && !c->second.reported_growing;
 }
 
 void FolderWatcher::forget(const fs::path& path) {

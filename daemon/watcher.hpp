@@ -9,6 +9,7 @@
 //   - its size and mtime have not changed for stable_seconds, and
 //   - no process has it open for writing (held_open_for_writing): a file found by a scan
 //     after a restart while its writer pauses is waited for, not taken half-written.
+// Meteo sidecars (`<scan stem>.meteo.csv`) are watched the same way, never as scans.
 // Hidden and temporary names (".x.part", "x.tmp", "x~") and other extensions are ignored.
 // Only regular files are taken. A symbolic link with a scan's name is never followed nor
 // read nor tracked: it is reported once (take_symlinks) and left where it is.
@@ -25,7 +26,8 @@ namespace tlsmon {
 
 using SteadyTime = std::chrono::steady_clock::time_point;
 
-// Whether `name` looks like a scan the daemon should take (extension, not hidden/temporary).
+// Whether `name` looks like a scan the daemon should take (extension, not hidden/temporary,
+// not a meteo sidecar whatever the extensions list).
 bool is_scan_name(const std::string& name, const std::vector<std::string>& extensions);
 
 // Whether some process has `path` open for writing. A read lease (fcntl F_SETLEASE) cannot
@@ -68,6 +70,8 @@ class FolderWatcher {
     void forget(const std::filesystem::path& path);
 
     bool has_candidates() const { return !candidates_.empty(); }
+    // Whether `path` is tracked and not yet complete (nor reported as growing).
+    bool is_waiting_for(const std::filesystem::path& path) const;
     // Candidates not yet reported as growing past max_growing (`--once` waits for these).
     bool has_candidates_in_time() const;
     // When the next stability check is worth doing (now if nothing is tracked: none needed).

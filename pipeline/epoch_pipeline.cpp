@@ -1,5 +1,6 @@
 #include "pipeline/epoch_pipeline.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
@@ -7,6 +8,7 @@
 #include <chrono>
 
 #include "core/utc_time.hpp"
+#include "formats/meteo_csv.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "pipeline/sha256.hpp"
@@ -150,7 +152,63 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
 
 }  // namespace
 
-EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes* preloaded) {
+namespace {
+
+// The sidecar as the epoch uses it (read before the stages), and where it goes after the
+// commit: beside the scan in the archive when used, to quarantine with its reason when
+// rejected. No sidecar: said in the commit when the scan waited for one.
+std::optional<MeteoSidecar> read_meteo(PipelineContext& ctx, const Epoch& epoch,
+                                       const std::optional<fs::path>& sidecar) {
+    if (!sidecar) return std::nullopt;
+    return read_epoch_meteo(*sidecar, epoch, ctx.config.meteo);
+}
+
+void place_meteo(PipelineContext& ctx, const Epoch& epoch, const fs::path& sidecar,
+                 const std::optional<fs::path>& scan_archived, MeteoSidecar& meteo,
+                 EpochResults& results) {
+    const std::string tag = meteo.sha256.substr(0, 12);
+    if (meteo.outcome == MeteoOutcome::used) {
+        if (scan_archived) {
+            const std::string name = scan_archived->stem().string() + ".meteo.csv";
+            meteo.path = free_name(scan_archived->parent_path(), name, tag).string();
+        }
+        spdlog::info("epoch {}: meteo from {} line {} ({}): {} °C, {} hPa, {} %", epoch.id,
+                     sidecar.string(), meteo.values->line, format_utc(meteo.values->time),
+                     meteo.values->air_temperature_c, meteo.values->pressure_hpa,
+                     meteo.values->relative_humidity_pct);
+    } else {
+        const fs::path to = free_name(ctx.config.quarantine, meteo.file_name, tag);
+        write_reason_file(to, sidecar.string(), meteo.reason);
+        meteo.path = to.string();
+        const std::string what = "epoch " + std::to_string(epoch.id) + ": meteo sidecar rejected: " +
+                                 meteo.reason + "; moved to " + to.string() +
+                                 ", the epoch is processed without meteo";
+        spdlog::warn("{}", what);
+        results.system_events.push_back(
+            SystemEvent{now_utc(), "warning", "meteo_rejected", what, epoch.id});
+    }
+}
+
+void say_no_meteo(PipelineContext& ctx, const Epoch& epoch, EpochResults& results) {
+    const fs::path expected = meteo_sidecar_of(epoch.file_path);
+    if (ctx.config.meteo.wait_seconds <= 0) {
+        spdlog::info("epoch {}: no meteo sidecar {}; processed without meteo", epoch.id,
+                     expected.string());
+        return;
+    }
+    const std::string what = "epoch " + std::to_string(epoch.id) + ": no meteo sidecar " +
+                             expected.string() + " within meteo.wait_seconds = " +
+                             fmt::format("{:g}", ctx.config.meteo.wait_seconds) +
+                             " s; processed without meteo";
+    spdlog::warn("{}", what);
+    results.system_events.push_back(
+        SystemEvent{now_utc(), "warning", "meteo_missing", what, epoch.id});
+}
+
+}  // namespace
+
+EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes* preloaded,
+                           const std::optional<fs::path>& sidecar) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
         if (!ctx.db.epochs().claim(epoch.id)) return EpochOutcome::skipped;
@@ -209,8 +267,12 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
         }
         content = {};  // the scan is parsed; its bytes are not needed any more
 
+        std::optional<MeteoSidecar> meteo = read_meteo(ctx, epoch, sidecar);
+        EpochInput input{epoch, scans};
+        if (meteo && meteo->outcome == MeteoOutcome::used) input.meteo = meteo;
+
         const auto t_analyse = std::chrono::steady_clock::now();
-        const StageVerdict verdict = run_stages(ctx, EpochInput{epoch, scans}, results);
+        const StageVerdict verdict = run_stages(ctx, input, results);
         results.timings.analyse_ms = ms_since(t_analyse);
         if (!verdict.ran()) {
             results.outcome = EpochStatus::rejected;
@@ -222,6 +284,12 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
             archive_to =
                 free_name(ctx.config.archive, file.filename().string(), epoch.sha256.substr(0, 12));
             results.archive_path = archive_to->string();
+        }
+        if (meteo) {
+            place_meteo(ctx, epoch, *sidecar, archive_to, *meteo, results);
+            results.meteo = meteo;
+        } else {
+            say_no_meteo(ctx, epoch, results);
         }
         results.timings.total_ms = ms_since(t0);
         if (!verdict.ran()) {
@@ -240,6 +308,15 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
         if (archive_to) {
             try {
                 move_file(file, *archive_to);
+            } catch (const Error& e) {
+                ctx.events.record(ctx.db, "warning", "archive_failed", e.what(), epoch.id);
+            }
+        }
+        // The sidecar after its scan: after a stop in between, the ingest finds it again,
+        // knows it by its sha256 and finishes the move (daemon/ingest_meteo.cpp).
+        if (meteo && meteo->path) {
+            try {
+                move_file(*sidecar, *meteo->path);
             } catch (const Error& e) {
                 ctx.events.record(ctx.db, "warning", "archive_failed", e.what(), epoch.id);
             }

@@ -6,9 +6,11 @@
 // a stage cannot analyse is `rejected` with the stage's reason; a disk or database failure
 // puts the epoch back to `pending` for a later retry.
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "pipeline/coverage_stage.hpp"
+#include "pipeline/epoch_meteo.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
@@ -25,6 +27,7 @@ struct PipelineConfig {
     ArchiveMode archive_mode = ArchiveMode::move;
     std::string reference_epoch;  // "" = first accepted epoch; else file name or sha256
     CoverageConfig coverage;
+    MeteoConfig meteo;
 };
 
 struct PipelineContext {
@@ -38,8 +41,12 @@ enum class EpochOutcome { done, rejected, failed, retry_later, skipped };
 
 // `preloaded`: the file's bytes as ingest read and hashed them, if at hand; used (moved
 // from) when they are this epoch's content and the file is unchanged since.
+// `sidecar`: the scan's complete meteo sidecar, if the ingest found one (it decides how long
+// to wait for it). Used: archived with the scan; rejected: quarantined with its reason; both
+// recorded in the epoch's commit. Not touched when the epoch fails or is retried.
 EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch,
-                           HashedBytes* preloaded = nullptr);
+                           HashedBytes* preloaded = nullptr,
+                           const std::optional<std::filesystem::path>& sidecar = std::nullopt);
 
 // The reference epoch (epoch 0 of the analyses), set once: the epoch named by
 // `reference_epoch` (file name or sha256), else the first accepted one (earliest

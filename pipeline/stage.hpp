@@ -5,6 +5,7 @@
 // then stored `rejected` with that reason — the file was fine (`failed` means the file was
 // not), but nothing of it may feed an analysis or an alarm.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,10 @@ namespace tlsmon {
 struct EpochInput {
     const Epoch& epoch;
     std::shared_ptr<const std::vector<Scan>> scans;
+    // The weather station's row nearest the acquisition time, from the scan's meteo sidecar
+    // (outcome `used`, `values` set; docs/pipeline.md, "Meteo"). Absent when the scan came
+    // without a sidecar or its sidecar was rejected: a stage that needs it says so.
+    std::optional<MeteoSidecar> meteo = std::nullopt;
 };
 
 struct StageVerdict {

@@ -34,7 +34,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       series_(*connection_),
       reference_cache_(*connection_),
       alarms_(*connection_),
-      events_(*connection_) {}
+      events_(*connection_),
+      meteo_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

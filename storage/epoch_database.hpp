@@ -6,7 +6,7 @@
 //
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
-// alarms(), events()) and live as long as it does.
+// alarms(), events(), meteo()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -24,6 +24,7 @@
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
 #include "storage/ids.hpp"
+#include "storage/meteo_store.hpp"
 #include "storage/reference_cache_store.hpp"
 #include "storage/results_writer.hpp"
 #include "storage/series_reader.hpp"
@@ -65,6 +66,8 @@ class EpochDatabase {
     AlarmStore& alarms() { return alarms_; }
     const AlarmStore& alarms() const { return alarms_; }
     EventLog& events() { return events_; }
+    MeteoStore& meteo() { return meteo_; }
+    const MeteoStore& meteo() const { return meteo_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -78,6 +81,7 @@ class EpochDatabase {
     ReferenceCacheStore reference_cache_;
     AlarmStore alarms_;
     EventLog events_;
+    MeteoStore meteo_;
 };
 
 }  // namespace tlsmon

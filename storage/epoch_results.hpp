@@ -10,6 +10,7 @@
 #include "storage/alarm_store.hpp"
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
+#include "storage/meteo_sidecar.hpp"
 
 namespace tlsmon {
 
@@ -75,6 +76,8 @@ struct EpochResults {
     std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed
     std::vector<AlarmEvent> alarm_events;
     std::vector<SystemEvent> system_events;
+    // The meteo sidecar the epoch was processed with (used or rejected), if it had one.
+    std::optional<MeteoSidecar> meteo;
 };
 
 }  // namespace tlsmon

@@ -30,6 +30,14 @@ void check_results(Connection& c, EpochId id, const EpochResults& r) {
             throw_storage(c, epoch + "a rejected epoch has no analysis results");
         }
     }
+    if (r.meteo) {
+        const bool processed_with = r.meteo->outcome == MeteoOutcome::used ||
+                                    r.meteo->outcome == MeteoOutcome::rejected;
+        if (!processed_with || r.meteo->epoch != id) {
+            throw_storage(c, epoch + "the commit records the sidecar the epoch was processed "
+                                     "with (used or rejected, of this epoch)");
+        }
+    }
 }
 
 void write_registration(Connection& c, EpochId id, const RegistrationRow& reg) {
@@ -182,6 +190,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results) {
         for (const auto& a : results.alarm_states) write_alarm_state(*c_, a);
         for (const auto& e : results.alarm_events) write_alarm_event(*c_, e);
         for (const auto& e : results.system_events) write_system_event(*c_, e);
+        if (results.meteo) write_meteo_sidecar(*c_, *results.meteo);
         tx.commit();
     });
 }

@@ -9,6 +9,7 @@
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
 #include "storage/ids.hpp"
+#include "storage/meteo_sidecar.hpp"
 
 namespace tlsmon {
 
@@ -23,5 +24,7 @@ AlarmRuleId rule_id_by_name(Connection& c, const std::string& rule);
 void write_alarm_state(Connection& c, const AlarmState& state);
 void write_alarm_event(Connection& c, const AlarmEvent& event);
 void write_system_event(Connection& c, const SystemEvent& event);
+// meteo_store.cpp
+void write_meteo_sidecar(Connection& c, const MeteoSidecar& sidecar);
 
 }  // namespace tlsmon

@@ -61,11 +61,13 @@ inline bool wait_until(const std::function<bool()>& done, double seconds) {
 }
 
 // A scratch site: ingest/, archive/, quarantine/, db/, and site.toml with short timings, in
-// a fresh folder (labelled `name`) removed at the end.
+// a fresh folder (labelled `name`) removed at the end. Its [meteo] section comes last; by
+// default scans do not wait for a meteo sidecar (wait_seconds = 0).
 class Site {
   public:
     explicit Site(const std::string& name, const std::string& extra_toml = "",
-                  const std::string& ingest_toml = "")
+                  const std::string& ingest_toml = "",
+                  const std::string& meteo_toml = "wait_seconds = 0\n")
         : dir_(name), root(dir_.path()) {
         fs::create_directories(root / "ingest");
         std::ofstream(root / "site.toml")
@@ -75,7 +77,8 @@ class Site {
             << "[ingest]\nstable_seconds = \"300ms\"\nrescan_interval = 1\n"
             << "retry_initial = \"500ms\"\nretry_max = 2\n"
             << ingest_toml << "\n"
-            << extra_toml;
+            << extra_toml << "\n[meteo]\n"
+            << meteo_toml;
     }
     fs::path ingest() const { return root / "ingest"; }
     fs::path config() const { return root / "site.toml"; }

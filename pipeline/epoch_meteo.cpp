@@ -1,0 +1,45 @@
+#include "pipeline/epoch_meteo.hpp"
+
+#include <cerrno>
+
+#include "formats/format_error.hpp"
+#include "formats/meteo_csv.hpp"
+#include "pipeline/sha256.hpp"
+
+namespace tlsmon {
+
+namespace fs = std::filesystem;
+
+std::optional<MeteoSidecar> read_epoch_meteo(const fs::path& sidecar, const Epoch& epoch,
+                                             const MeteoConfig& config) {
+    MeteoSidecar m;
+    m.epoch = epoch.id;
+    m.file_name = sidecar.filename().string();
+    HashedBytes content;
+    try {
+        content = read_file_hashed(sidecar);
+    } catch (const FileAccessError& e) {
+        if (e.error_number() == ENOENT) return std::nullopt;
+        // No content to hash: identified by its name, as an unreadable scan is.
+        m.outcome = MeteoOutcome::rejected;
+        m.sha256 = sha256_text("unreadable\n" + m.file_name);
+        m.reason = e.what();
+        return m;
+    }
+    m.sha256 = content.sha256;
+    try {
+        const auto rows = parse_meteo_csv(content.bytes, sidecar);
+        const MeteoRow& row =
+            nearest_meteo_row(rows, epoch.acquired, config.max_time_offset_seconds, sidecar);
+        m.outcome = MeteoOutcome::used;
+        m.values = MeteoValues{row.time_utc, static_cast<std::int64_t>(row.line),
+                               row.air_temperature_c, row.pressure_hpa,
+                               row.relative_humidity_pct};
+    } catch (const FormatError& e) {
+        m.outcome = MeteoOutcome::rejected;
+        m.reason = e.what();
+    }
+    return m;
+}
+
+}  // namespace tlsmon
