@@ -115,7 +115,8 @@ TEST(DaemonIngest, OnceTakesFilesInAcquisitionOrderOnceEach) {
 TEST(DaemonIngest, LiveSimulatorRealtimeSlowCopyDuplicateAndQueries) {
     Site site("live");
     DaemonProcess daemon(site.config(), site.log());
-    ASSERT_TRUE(wait_until([&] { return fs::exists(site.database()); }, 10));
+    // Migrated, not only created: a reader refuses a database still at schema version 0.
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
     const std::string sim =
         std::string(TLSMON_BINARY) + " simulate --preset small --out " + site.ingest().string();
     // Three scans appearing complete (temporary name, then rename) every 0.7 s, and
