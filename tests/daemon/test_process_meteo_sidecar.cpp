@@ -297,5 +297,39 @@ TEST(MeteoSidecar, LateIsArchivedUnusedAndAnOrphanQuarantinedNeitherIsAScan) {
     EXPECT_FALSE(orphans[0].epoch);
 }
 
+TEST(MeteoSidecar, TheSimulatorsSidecarsAreUsedRowForRow) {
+    Site site("meteo-sim", "", "", "wait_seconds = 20\n");
+    const auto sim = shell(std::string(TLSMON_BINARY) + " simulate --preset small --epochs 2 --out " +
+                           site.ingest().string());
+    ASSERT_EQ(sim.status, 0) << sim.output;
+    // The rows at the acquisition times, as the simulator wrote them.
+    std::vector<std::string> expected;
+    for (const std::string stem : {"small_20260601T060000Z", "small_20260601T061500Z"}) {
+        const std::string text = read_file(site.ingest() / (stem + ".meteo.csv"));
+        const std::string time = stem.substr(6, 4) + "-" + stem.substr(10, 2) + "-" +
+                                 stem.substr(12, 2) + "T" + stem.substr(15, 2) + ":" +
+                                 stem.substr(17, 2) + ":" + stem.substr(19, 2) + "Z,";
+        const auto at = text.find(time);
+        ASSERT_NE(at, std::string::npos) << text;
+        expected.push_back(text.substr(at, text.find('\n', at) - at));
+    }
+    DaemonProcess once(site.config(), site.log(), true);
+    ASSERT_EQ(once.wait(60), 0) << read_file(site.log());
+    const auto epochs = epochs_of(site);
+    ASSERT_EQ(epochs.size(), 2u);
+    for (std::size_t k = 0; k < epochs.size(); ++k) {
+        EXPECT_EQ(epochs[k].status, EpochStatus::done);
+        const auto meteo = site.open_db().meteo().of_epoch(epochs[k].id);
+        ASSERT_EQ(meteo.size(), 1u);
+        ASSERT_TRUE(meteo[0].values);
+        const auto& v = *meteo[0].values;
+        EXPECT_EQ(v.time, epochs[k].acquired);
+        char row[128];
+        std::snprintf(row, sizeof row, "%s,%.1f,%.1f,%.1f", format_utc(v.time).c_str(),
+                      v.air_temperature_c, v.pressure_hpa, v.relative_humidity_pct);
+        EXPECT_EQ(row, expected[k]);
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon::test
