@@ -14,10 +14,10 @@ namespace {
 // One row per sidecar recorded for an epoch, in the order recorded; an epoch without any has
 // one row with meteo "none".
 Table meteo_table(const EpochDatabase& db, const std::vector<Epoch>& epochs) {
-    Table t{{"epoch", "acquired", "status", "meteo", "time", "offset_s", "air_temperature_c",
-             "pressure_hpa", "relative_humidity_pct", "line", "sidecar", "sha256", "path",
-             "reason"},
-            {}};
+    Table t{
+        {"epoch", "acquired", "status", "meteo", "time", "offset_s", "air_temperature_c",
+         "pressure_hpa", "relative_humidity_pct", "line", "sidecar", "sha256", "path", "reason"},
+        {}};
     t.rows.reserve(epochs.size());
     for (const auto& e : epochs) {
         const auto sidecars = db.meteo().of_epoch(e.id);

@@ -270,8 +270,8 @@ std::vector<ConfigKey> declare_keys() {
                 "The sidecar's row nearest the acquisition time is used if it lies within this; "
                 "otherwise the sidecar is rejected (quarantined, `meteo_rejected` event) and the "
                 "epoch is processed without meteo."),
-        seconds(at(&C::meteo, &MeteoConfig::orphan_seconds), "meteo.orphan_seconds", 1,
-                30 * day, "",
+        seconds(at(&C::meteo, &MeteoConfig::orphan_seconds), "meteo.orphan_seconds", 1, 30 * day,
+                "",
                 "A complete sidecar whose scan has not arrived after this long is moved to "
                 "`paths.quarantine` with its reason and a `meteo_orphan` system event."),
 
@@ -294,8 +294,8 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::coverage, &CoverageConfig::margin), "coverage.margin", 0, 1000, "m",
                "The reference epoch's bounding box is grown by this on every side before the "
                "share of an epoch's points inside it is counted."),
-        number(at(&C::coverage, &CoverageConfig::min_inside_share), "coverage.min_inside_share",
-               0, 1, "",
+        number(at(&C::coverage, &CoverageConfig::min_inside_share), "coverage.min_inside_share", 0,
+               1, "",
                "An epoch with a smaller share of its points inside the grown box is rejected "
                "before any analysis (the scanner turned, the scan is cut short, a file of "
                "another station). 0: never rejected; the share is stored either way."),

@@ -19,8 +19,8 @@ namespace {
 constexpr std::string_view kSuffix = ".meteo.csv";
 
 SteadyTime after(SteadyTime now, double seconds) {
-    return now + std::chrono::duration_cast<SteadyTime::duration>(
-                     std::chrono::duration<double>(seconds));
+    return now +
+           std::chrono::duration_cast<SteadyTime::duration>(std::chrono::duration<double>(seconds));
 }
 
 bool finished(EpochStatus s) {
@@ -74,8 +74,8 @@ void handle_known(IngestContext& ctx, const fs::path& sidecar, const MeteoSideca
         }
         return;
     }
-    std::string what = sidecar.string() + ": same content as the meteo sidecar at " +
-                       *known.path + "; duplicate ";
+    std::string what =
+        sidecar.string() + ": same content as the meteo sidecar at " + *known.path + "; duplicate ";
     if (ctx.config.ingest.archive == ArchiveMode::move) {
         fs::remove(sidecar, ec);
         what += ec ? "could not be removed: " + ec.message() : "removed";
@@ -108,14 +108,16 @@ void record_unused(IngestContext& ctx, const fs::path& sidecar, const std::strin
     }
     if (ctx.config.ingest.archive == ArchiveMode::move) {
         // Beside the scan, wherever it went (archive or quarantine).
-        const fs::path folder =
-            epoch.archive_path ? fs::path(*epoch.archive_path).parent_path() : ctx.config.paths.archive;
-        const std::string name = epoch.archive_path
-                                     ? fs::path(*epoch.archive_path).stem().string() + std::string(kSuffix)
-                                     : m.file_name;
+        const fs::path folder = epoch.archive_path ? fs::path(*epoch.archive_path).parent_path()
+                                                   : ctx.config.paths.archive;
+        const std::string name =
+            epoch.archive_path
+                ? fs::path(*epoch.archive_path).stem().string() + std::string(kSuffix)
+                : m.file_name;
         m.path = free_name(folder, name, sha.substr(0, 12)).string();
         // Beside a quarantined scan, with its reason as every file there.
-        if (folder == ctx.config.paths.quarantine) write_reason_file(*m.path, sidecar.string(), m.reason);
+        if (folder == ctx.config.paths.quarantine)
+            write_reason_file(*m.path, sidecar.string(), m.reason);
     }
     // The record first, then the move: after a stop in between, take() finishes the move.
     ctx.db.meteo().record(m);
@@ -185,14 +187,13 @@ MeteoSidecars::Pairing MeteoSidecars::pair(const Epoch& epoch, const MeteoConfig
     // There and still being written: worth waiting for, even past the deadline (e.g. found
     // by the folder scan after a restart, not yet known to be complete).
     if (watcher.is_waiting_for(sidecar)) return {false, std::nullopt, after(now, 1.0)};
-    const double left =
-        static_cast<double>(epoch.discovered) + config.wait_seconds - static_cast<double>(now_utc());
+    const double left = static_cast<double>(epoch.discovered) + config.wait_seconds -
+                        static_cast<double>(now_utc());
     if (left <= 0) return {true, std::nullopt, std::nullopt};
     return {false, std::nullopt, after(now, left)};
 }
 
-void MeteoSidecars::after_processing(IngestContext& ctx, const fs::path& sidecar,
-                                     SteadyTime now) {
+void MeteoSidecars::after_processing(IngestContext& ctx, const fs::path& sidecar, SteadyTime now) {
     ready_.erase(sidecar);
     std::error_code ec;
     if (fs::exists(fs::symlink_status(sidecar, ec))) take(ctx, sidecar, now);

@@ -28,9 +28,9 @@ class MeteoSidecars {
     void take(IngestContext& ctx, const std::filesystem::path& sidecar, SteadyTime now);
 
     struct Pairing {
-        bool ready = false;                          // the epoch may be processed now ...
+        bool ready = false;                            // the epoch may be processed now ...
         std::optional<std::filesystem::path> sidecar;  // ... with this sidecar, or without
-        std::optional<SteadyTime> wake;              // not ready: when to ask again
+        std::optional<SteadyTime> wake;                // not ready: when to ask again
     };
     // Whether `epoch` may be processed now, and with which sidecar.
     Pairing pair(const Epoch& epoch, const MeteoConfig& config, const FolderWatcher& watcher,
@@ -38,8 +38,7 @@ class MeteoSidecars {
 
     // After process_epoch was given `sidecar`: forgotten if the pipeline moved it; taken
     // again if it is still there (the epoch failed, or it stays in place).
-    void after_processing(IngestContext& ctx, const std::filesystem::path& sidecar,
-                          SteadyTime now);
+    void after_processing(IngestContext& ctx, const std::filesystem::path& sidecar, SteadyTime now);
 
     // Sidecars kept ready longer than meteo.orphan_seconds without their scan: quarantined.
     void quarantine_orphans(IngestContext& ctx, SteadyTime now);

@@ -283,7 +283,8 @@ Clock::duration Daemon::next_wait(Clock::time_point now) const {
     Clock::duration wait = next_rescan_ > now ? next_rescan_ - now : Clock::duration::zero();
     wait = std::min(wait, watcher_.until_next_check(now));
     if (retry_at_ > now) wait = std::min(wait, retry_at_ - now);
-    if (meteo_wait_) wait = std::min(wait, *meteo_wait_ > now ? *meteo_wait_ - now : Clock::duration::zero());
+    if (meteo_wait_)
+        wait = std::min(wait, *meteo_wait_ > now ? *meteo_wait_ - now : Clock::duration::zero());
     if (auto orphan = meteo_.next_orphan_check()) {
         wait = std::min(wait, *orphan > now ? *orphan - now : Clock::duration::zero());
     }

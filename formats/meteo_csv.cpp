@@ -125,7 +125,7 @@ fs::path meteo_sidecar_of(const fs::path& scan) {
 
 std::vector<MeteoRow> parse_meteo_csv(std::string_view text, const fs::path& file) {
     if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);  // UTF-8 byte-order mark
-    std::optional<std::array<std::size_t, kColumns>> where;  // field index of each column
+    std::optional<std::array<std::size_t, kColumns>> where;       // field index of each column
     std::size_t header_fields = 0;
     std::uint64_t header_line = 0;
     std::vector<MeteoRow> rows;
@@ -148,9 +148,9 @@ std::vector<MeteoRow> parse_meteo_csv(std::string_view text, const fs::path& fil
                 for (std::size_t c = 0; c < kColumns; ++c) {
                     if (fields[i] != kSpecs[c].name) continue;
                     if (at[c] != fields.size()) {
-                        throw_at_line(file, number,
-                                      "header names column '" + std::string(kSpecs[c].name) +
-                                          "' twice");
+                        throw_at_line(
+                            file, number,
+                            "header names column '" + std::string(kSpecs[c].name) + "' twice");
                     }
                     at[c] = i;
                 }
@@ -170,9 +170,9 @@ std::vector<MeteoRow> parse_meteo_csv(std::string_view text, const fs::path& fil
         }
         if (fields.size() != header_fields) {
             throw_at_line(file, number,
-                          "the row has " + std::to_string(fields.size()) + " fields, the header on line " +
-                              std::to_string(header_line) + " names " +
-                              std::to_string(header_fields));
+                          "the row has " + std::to_string(fields.size()) +
+                              " fields, the header on line " + std::to_string(header_line) +
+                              " names " + std::to_string(header_fields));
         }
         const auto& at = *where;
         const std::string_view time = fields[at[time_utc]];

@@ -33,8 +33,7 @@ std::optional<MeteoSidecar> read_epoch_meteo(const fs::path& sidecar, const Epoc
             nearest_meteo_row(rows, epoch.acquired, config.max_time_offset_seconds, sidecar);
         m.outcome = MeteoOutcome::used;
         m.values = MeteoValues{row.time_utc, static_cast<std::int64_t>(row.line),
-                               row.air_temperature_c, row.pressure_hpa,
-                               row.relative_humidity_pct};
+                               row.air_temperature_c, row.pressure_hpa, row.relative_humidity_pct};
     } catch (const FormatError& e) {
         m.outcome = MeteoOutcome::rejected;
         m.reason = e.what();

@@ -180,9 +180,9 @@ void place_meteo(PipelineContext& ctx, const Epoch& epoch, const fs::path& sidec
         const fs::path to = free_name(ctx.config.quarantine, meteo.file_name, tag);
         write_reason_file(to, sidecar.string(), meteo.reason);
         meteo.path = to.string();
-        const std::string what = "epoch " + std::to_string(epoch.id) + ": meteo sidecar rejected: " +
-                                 meteo.reason + "; moved to " + to.string() +
-                                 ", the epoch is processed without meteo";
+        const std::string what = "epoch " + std::to_string(epoch.id) +
+                                 ": meteo sidecar rejected: " + meteo.reason + "; moved to " +
+                                 to.string() + ", the epoch is processed without meteo";
         spdlog::warn("{}", what);
         results.system_events.push_back(
             SystemEvent{now_utc(), "warning", "meteo_rejected", what, epoch.id});
@@ -196,10 +196,10 @@ void say_no_meteo(PipelineContext& ctx, const Epoch& epoch, EpochResults& result
                      expected.string());
         return;
     }
-    const std::string what = "epoch " + std::to_string(epoch.id) + ": no meteo sidecar " +
-                             expected.string() + " within meteo.wait_seconds = " +
-                             fmt::format("{:g}", ctx.config.meteo.wait_seconds) +
-                             " s; processed without meteo";
+    const std::string what =
+        "epoch " + std::to_string(epoch.id) + ": no meteo sidecar " + expected.string() +
+        " within meteo.wait_seconds = " + fmt::format("{:g}", ctx.config.meteo.wait_seconds) +
+        " s; processed without meteo";
     spdlog::warn("{}", what);
     results.system_events.push_back(
         SystemEvent{now_utc(), "warning", "meteo_missing", what, epoch.id});

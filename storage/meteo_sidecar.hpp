@@ -24,8 +24,8 @@ MeteoOutcome meteo_outcome_from_string(std::string_view name);
 
 // One row of the sidecar.
 struct MeteoValues {
-    UtcSeconds time = 0;     // the row's time_utc
-    std::int64_t line = 0;   // its line in the file, 1-based
+    UtcSeconds time = 0;    // the row's time_utc
+    std::int64_t line = 0;  // its line in the file, 1-based
     double air_temperature_c = 0;
     double pressure_hpa = 0;
     double relative_humidity_pct = 0;
@@ -34,12 +34,12 @@ struct MeteoValues {
 struct MeteoSidecar {
     std::optional<EpochId> epoch;  // absent only for an orphan
     MeteoOutcome outcome = MeteoOutcome::used;
-    std::string file_name;               // as found beside the scan
-    std::string sha256;                  // of its bytes
-    std::optional<std::string> path;     // where it was moved; absent: left where it was
-    std::string reason;                  // rejected, unused, orphan: why
-    std::optional<MeteoValues> values;   // used: the row nearest the acquisition time
-    UtcSeconds recorded = 0;             // when the row was written (set by storage)
+    std::string file_name;              // as found beside the scan
+    std::string sha256;                 // of its bytes
+    std::optional<std::string> path;    // where it was moved; absent: left where it was
+    std::string reason;                 // rejected, unused, orphan: why
+    std::optional<MeteoValues> values;  // used: the row nearest the acquisition time
+    UtcSeconds recorded = 0;            // when the row was written (set by storage)
 };
 
 }  // namespace tlsmon

@@ -46,8 +46,8 @@ std::string_view to_string(MeteoOutcome outcome) {
 }
 
 MeteoOutcome meteo_outcome_from_string(std::string_view name) {
-    for (auto o : {MeteoOutcome::used, MeteoOutcome::rejected, MeteoOutcome::unused,
-                   MeteoOutcome::orphan}) {
+    for (auto o :
+         {MeteoOutcome::used, MeteoOutcome::rejected, MeteoOutcome::unused, MeteoOutcome::orphan}) {
         if (to_string(o) == name) return o;
     }
     throw StorageError("unknown meteo sidecar outcome '" + std::string(name) + "'");

@@ -31,11 +31,12 @@ void check_results(Connection& c, EpochId id, const EpochResults& r) {
         }
     }
     if (r.meteo) {
-        const bool processed_with = r.meteo->outcome == MeteoOutcome::used ||
-                                    r.meteo->outcome == MeteoOutcome::rejected;
+        const bool processed_with =
+            r.meteo->outcome == MeteoOutcome::used || r.meteo->outcome == MeteoOutcome::rejected;
         if (!processed_with || r.meteo->epoch != id) {
-            throw_storage(c, epoch + "the commit records the sidecar the epoch was processed "
-                                     "with (used or rejected, of this epoch)");
+            throw_storage(c, epoch +
+                                 "the commit records the sidecar the epoch was processed "
+                                 "with (used or rejected, of this epoch)");
         }
     }
 }

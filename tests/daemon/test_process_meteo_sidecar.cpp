@@ -253,7 +253,8 @@ TEST(MeteoSidecar, KilledWhileWaitingPairsOnceAfterTheRestart) {
     expect_used_row_of_0615(meteo[0], sha);
     EXPECT_TRUE(fs::is_empty(site.ingest()));
     std::size_t archived = 0;
-    for (const auto& f : fs::directory_iterator(site.root / "archive")) archived += f.is_regular_file();
+    for (const auto& f : fs::directory_iterator(site.root / "archive"))
+        archived += f.is_regular_file();
     EXPECT_EQ(archived, 2u);
     EXPECT_TRUE(events_of(site, "meteo_missing").empty());
 }
@@ -299,8 +300,8 @@ TEST(MeteoSidecar, LateIsArchivedUnusedAndAnOrphanQuarantinedNeitherIsAScan) {
 
 TEST(MeteoSidecar, TheSimulatorsSidecarsAreUsedRowForRow) {
     Site site("meteo-sim", "", "", "wait_seconds = 20\n");
-    const auto sim = shell(std::string(TLSMON_BINARY) + " simulate --preset small --epochs 2 --out " +
-                           site.ingest().string());
+    const auto sim = shell(std::string(TLSMON_BINARY) +
+                           " simulate --preset small --epochs 2 --out " + site.ingest().string());
     ASSERT_EQ(sim.status, 0) << sim.output;
     // The rows at the acquisition times, as the simulator wrote them.
     std::vector<std::string> expected;
