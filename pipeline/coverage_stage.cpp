@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "pipeline/payload.hpp"
+#include "core/payload.hpp"
 
 namespace tlsmon {
 

@@ -3,8 +3,8 @@
 // parameters change; never taken from another reference.
 #include <gtest/gtest.h>
 
+#include "core/payload.hpp"
 #include "formats/scan_file.hpp"
-#include "pipeline/payload.hpp"
 #include "pipeline_site.hpp"
 
 namespace tlsmon::test {
