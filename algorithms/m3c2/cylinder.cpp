@@ -1,0 +1,85 @@
+#include "algorithms/m3c2/cylinder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "algorithms/m3c2/members.hpp"
+
+namespace tlsmon::m3c2 {
+
+double quantile_of_sorted(std::span<const double> sorted, double q) {
+    if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
+    const double h = static_cast<double>(sorted.size() - 1) * q;
+    const auto below = static_cast<std::size_t>(std::floor(h));
+    if (below + 1 >= sorted.size()) return sorted.back();
+    return sorted[below] + (h - static_cast<double>(below)) * (sorted[below + 1] - sorted[below]);
+}
+
+CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic) {
+    CylinderSide side;
+    side.count = static_cast<std::uint32_t>(projections.size());
+    if (projections.empty()) return side;
+    const double n = static_cast<double>(projections.size());
+    if (statistic == CylinderStatistic::mean) {
+        double sum = 0.0;
+        for (double v : projections) sum += v;
+        side.centre = sum / n;
+        if (projections.size() >= 2) {
+            double squares = 0.0;
+            for (double v : projections) squares += (v - side.centre) * (v - side.centre);
+            side.spread = std::sqrt(squares / (n - 1.0));
+        }
+    } else {
+        std::sort(projections.begin(), projections.end());
+        side.centre = quantile_of_sorted(projections, 0.5);
+        if (projections.size() >= 2)
+            side.spread =
+                quantile_of_sorted(projections, 0.75) - quantile_of_sorted(projections, 0.25);
+    }
+    return side;
+}
+
+namespace {
+
+// Cells of about the cylinder's radius, longer for long thin cylinders: a few cells per
+// cylinder, a few cylinders per cell.
+double cell_for(const CylinderParameters& p) { return std::max(p.radius, p.max_depth / 4.0); }
+
+}  // namespace
+
+Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen::Vector3d> axes,
+                         const CylinderParameters& parameters, unsigned threads) {
+    validate(parameters);
+    Cylinders cylinders;
+    cylinders.index = RegionIndex::cylinders(centres, axes, parameters.radius,
+                                             parameters.max_depth, cell_for(parameters), threads);
+    cylinders.centres = std::move(centres);
+    cylinders.axes = std::move(axes);
+    cylinders.parameters = parameters;
+    return cylinders;
+}
+
+std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
+                                         const std::vector<Eigen::Vector3d>& cloud,
+                                         unsigned threads) {
+    const auto& centres = cylinders.centres;
+    const auto& axes = cylinders.axes;
+    const CylinderParameters& p = cylinders.parameters;
+    std::vector<CylinderSide> sides(centres.size());
+    for_each_core_with_members(
+        cloud, cylinders.index, centres.size(),
+        [&](std::uint32_t k, const Eigen::Vector3d& point) {
+            return in_cylinder(point, centres[k], axes[k], p.radius, p.max_depth);
+        },
+        [&](std::size_t k, std::span<const std::uint32_t> members) {
+            std::vector<double> projections;
+            projections.reserve(members.size());
+            for (std::uint32_t i : members) projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
+            sides[k] = statistic_of(projections, p.statistic);
+        },
+        threads);
+    return sides;
+}
+
+}  // namespace tlsmon::m3c2

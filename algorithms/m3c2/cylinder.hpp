@@ -1,0 +1,60 @@
+#pragma once
+// The projection cylinder of M3C2 (Lague 2013, step 2: a cylinder of diameter d and maximum
+// depth along the normal, in which each cloud's points are projected on the normal). As
+// pinned by the tests and docs/m3c2.md: the points p with |(p - c) . n| <= max_depth and
+// |(p - c) - ((p - c) . n) n| <= radius; the statistic of the projections (p - c) . n is
+// their mean with the sample standard deviation (n - 1), or their median with the
+// interquartile range (quantiles by linear interpolation between order statistics, at
+// position (n - 1) q).
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "algorithms/m3c2/parameters.hpp"
+#include "algorithms/m3c2/region_index.hpp"
+
+namespace tlsmon::m3c2 {
+
+inline bool in_cylinder(const Eigen::Vector3d& p, const Eigen::Vector3d& c,
+                        const Eigen::Vector3d& n, double radius, double max_depth) {
+    const Eigen::Vector3d d = p - c;
+    const double along = d.dot(n);
+    if (!(std::abs(along) <= max_depth)) return false;
+    return (d - along * n).norm() <= radius;
+}
+
+// One cloud's side of the distance at one core point.
+struct CylinderSide {
+    double centre = std::numeric_limits<double>::quiet_NaN();  // mean or median projection
+    double spread = std::numeric_limits<double>::quiet_NaN();  // std (n - 1) or IQR
+    std::uint32_t count = 0;                                    // points in the cylinder
+};
+
+// The statistic of projections (reordered in place for the median). Centre NaN without
+// points, spread NaN with fewer than 2.
+CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic);
+
+// Linear interpolation between the order statistics of sorted values at position (n - 1) q.
+double quantile_of_sorted(std::span<const double> sorted, double q);
+
+// The cylinders of a set of core points: where they are, their axes (NaN: no normal, no
+// cylinder) and the index that finds the cylinders a point may lie in.
+struct Cylinders {
+    std::vector<Eigen::Vector3d> centres;
+    std::vector<Eigen::Vector3d> axes;
+    CylinderParameters parameters;
+    RegionIndex index;
+};
+
+Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen::Vector3d> axes,
+                         const CylinderParameters& parameters, unsigned threads = 0);
+
+// One cloud's side at every core point (the reference's once, each epoch's), parallel over
+// core points; the cloud is streamed through the cylinders' index, never copied or indexed.
+std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
+                                         const std::vector<Eigen::Vector3d>& cloud,
+                                         unsigned threads = 0);
+
+}  // namespace tlsmon::m3c2

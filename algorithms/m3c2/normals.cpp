@@ -1,0 +1,77 @@
+#include "algorithms/m3c2/normals.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/m3c2/members.hpp"
+#include "algorithms/m3c2/region_index.hpp"
+
+namespace tlsmon::m3c2 {
+
+CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d>& cloud,
+                     std::span<const std::uint32_t> neighbours, const NormalParameters& parameters) {
+    CoreNormal best;
+    double best_planarity = -std::numeric_limits<double>::infinity();
+    for (double r : parameters.radii) {
+        // Two passes over coordinates relative to c: the mean, then the spread about it.
+        std::size_t n = 0;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        for (std::uint32_t i : neighbours) {
+            const Eigen::Vector3d d = cloud[i] - c;
+            if (d.norm() <= r) {
+                sum += d;
+                ++n;
+            }
+        }
+        if (n < 3) continue;
+        const Eigen::Vector3d mean = sum / static_cast<double>(n);
+        Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+        for (std::uint32_t i : neighbours) {
+            const Eigen::Vector3d d = cloud[i] - c;
+            if (d.norm() <= r) {
+                const Eigen::Vector3d e = d - mean;
+                covariance.noalias() += e * e.transpose();
+            }
+        }
+        covariance /= static_cast<double>(n - 1);
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+        const Eigen::Vector3d l = solver.eigenvalues();  // ascending
+        if (!(l[2] > 0.0)) continue;                      // all points at one place
+        const double planarity = (l[1] - l[0]) / l[2];
+        if (planarity > best_planarity) {
+            best_planarity = planarity;
+            best.normal = solver.eigenvectors().col(0).normalized();
+            best.radius = r;
+        }
+    }
+    if (best.defined()) {
+        const Eigen::Vector3d v =
+            parameters.orientation.kind == Orientation::Kind::vector
+                ? parameters.orientation.value
+                : Eigen::Vector3d(parameters.orientation.value - c);
+        if (best.normal.dot(v) < 0.0) best.normal = -best.normal;
+    }
+    return best;
+}
+
+std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& cloud,
+                                         const std::vector<Eigen::Vector3d>& core_points,
+                                         const NormalParameters& parameters, unsigned threads) {
+    validate(parameters);
+    const double largest = *std::max_element(parameters.radii.begin(), parameters.radii.end());
+    const RegionIndex index = RegionIndex::spheres(core_points, largest, largest / 2, threads);
+    std::vector<CoreNormal> normals(core_points.size());
+    for_each_core_with_members(
+        cloud, index, core_points.size(),
+        [&](std::uint32_t k, const Eigen::Vector3d& p) {
+            return (p - core_points[k]).norm() <= largest;
+        },
+        [&](std::size_t k, std::span<const std::uint32_t> neighbours) {
+            normals[k] = normal_at(core_points[k], cloud, neighbours, parameters);
+        },
+        threads);
+    return normals;
+}
+
+}  // namespace tlsmon::m3c2

@@ -1,0 +1,47 @@
+#pragma once
+// What M3C2 derives once from the reference epoch: its core points, their normals (and the
+// radius each was taken at) and the reference's side of every cylinder. The reference's own
+// search structure is not part of it: nothing after preparation needs it. A new epoch costs
+// only its own side (cylinder_sides over its points) and the distances.
+//
+// encode()/decode() give the reference cache's payload (pipeline/reference_cache.hpp); the
+// cylinders' index is rebuilt from the stored core points and normals on decode.
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/m3c2/cylinder.hpp"
+#include "algorithms/m3c2/distance.hpp"
+#include "algorithms/m3c2/normals.hpp"
+#include "algorithms/m3c2/parameters.hpp"
+
+namespace tlsmon::m3c2 {
+
+struct Reference {
+    static constexpr int kFormatVersion = 1;
+
+    Cylinders cylinders;                     // core points (centres), normals (axes), index
+    std::vector<double> normal_radius;       // per core point; NaN where the normal is undefined
+    std::vector<CylinderSide> reference_side;
+
+    std::size_t size() const { return cylinders.centres.size(); }
+    const std::vector<Eigen::Vector3d>& core_points() const { return cylinders.centres; }
+    const std::vector<Eigen::Vector3d>& normals() const { return cylinders.axes; }
+
+    std::string encode() const;
+    static Reference decode(std::string_view payload);  // throws Error when malformed
+};
+
+// Normals at the core points, the cylinders and the reference's side of them.
+Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
+                            std::vector<Eigen::Vector3d> core_points,
+                            const NormalParameters& normals, const CylinderParameters& cylinders,
+                            unsigned threads = 0);
+
+// One compared epoch: its side of every cylinder, then the distance at every core point.
+std::vector<Distance> distances(const Reference& reference,
+                                const std::vector<CylinderSide>& compared_side,
+                                const DistanceParameters& parameters);
+
+}  // namespace tlsmon::m3c2
