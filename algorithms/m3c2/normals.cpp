@@ -13,27 +13,30 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
                      std::span<const std::uint32_t> neighbours, const NormalParameters& parameters) {
     CoreNormal best;
     double best_planarity = -std::numeric_limits<double>::infinity();
+    // Coordinates relative to c and distances, once for every radius.
+    std::vector<Eigen::Vector3d> offset(neighbours.size());
+    std::vector<double> distance(neighbours.size());
+    for (std::size_t j = 0; j < neighbours.size(); ++j) {
+        offset[j] = cloud[neighbours[j]] - c;
+        distance[j] = offset[j].norm();
+    }
     for (double r : parameters.radii) {
-        // Two passes over coordinates relative to c: the mean, then the spread about it.
+        // Two passes: the mean, then the spread about it.
         std::size_t n = 0;
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        for (std::uint32_t i : neighbours) {
-            const Eigen::Vector3d d = cloud[i] - c;
-            if (d.norm() <= r) {
-                sum += d;
+        for (std::size_t j = 0; j < offset.size(); ++j)
+            if (distance[j] <= r) {
+                sum += offset[j];
                 ++n;
             }
-        }
         if (n < 3) continue;
         const Eigen::Vector3d mean = sum / static_cast<double>(n);
         Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-        for (std::uint32_t i : neighbours) {
-            const Eigen::Vector3d d = cloud[i] - c;
-            if (d.norm() <= r) {
-                const Eigen::Vector3d e = d - mean;
+        for (std::size_t j = 0; j < offset.size(); ++j)
+            if (distance[j] <= r) {
+                const Eigen::Vector3d e = offset[j] - mean;
                 covariance.noalias() += e * e.transpose();
             }
-        }
         covariance /= static_cast<double>(n - 1);
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
         const Eigen::Vector3d l = solver.eigenvalues();  // ascending
@@ -70,7 +73,7 @@ std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& clo
         [&](std::size_t k, std::span<const std::uint32_t> neighbours) {
             normals[k] = normal_at(core_points[k], cloud, neighbours, parameters);
         },
-        threads);
+        threads, kMemberBudget, /*single_pass=*/false);  // spheres hold ~1000 points each
     return normals;
 }
 
