@@ -69,6 +69,26 @@ struct SimulateOptions {
 // 0, or 1 with the error on stderr.
 int run_simulate(const SimulateOptions& options);
 
+// `tlsmon m3c2 REFERENCE COMPARED ...`: M3C2 between any two readable scan files, one CSV row
+// per core point (docs/m3c2.md).
+struct M3c2Options {
+    std::string reference;
+    std::string compared;
+    std::string core_file;              // core points from this file ...
+    std::optional<double> core_spacing;  // ... or subsampled from REFERENCE; neither: every point
+    std::vector<double> normal_radii{0.05, 0.10, 0.20};
+    double cylinder_radius = 0.05;
+    double max_depth = 0.30;
+    std::string orient = "0,0,1";  // "scanner" or "X,Y,Z"
+    double registration_error = 0.0;
+    bool median = false;
+    std::size_t min_points = 5;
+    std::string out;
+    unsigned threads = 0;
+};
+// 0, or 1 with the error on stderr.
+int run_m3c2(const M3c2Options& options);
+
 // `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
 
 }  // namespace tlsmon

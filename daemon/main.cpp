@@ -52,6 +52,7 @@ struct CommandLine {
     SeriesOptions series;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
+    M3c2Options m3c2;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -164,6 +165,43 @@ void add_events(CLI::App& app, CommandLine& c) {
     });
 }
 
+void add_m3c2(CLI::App& app, CommandLine& c) {
+    auto& o = c.m3c2;
+    auto* cmd = app.add_subcommand(
+        "m3c2",
+        "M3C2 distances (Lague 2013) from REFERENCE to COMPARED at core points, with LoD95; "
+        "one CSV row per core point (docs/m3c2.md). Radii and half-lengths in metres");
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (normals, core points)")
+        ->required();
+    cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    auto* core = cmd->add_option("--core", o.core_file, "Core points: every point of this file");
+    cmd->add_option("--core-spacing", o.core_spacing,
+                    "Core points: REFERENCE subsampled at this spacing (default: every point "
+                    "of REFERENCE)")
+        ->excludes(core);
+    cmd->add_option("--normal-radii", o.normal_radii,
+                    "Normal radii R1,R2,...: the most planar scale is used")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--cylinder-radius", o.cylinder_radius, "Cylinder radius (projection scale)")
+        ->capture_default_str();
+    cmd->add_option("--max-depth", o.max_depth, "Cylinder half-length along the normal")
+        ->capture_default_str();
+    cmd->add_option("--orient", o.orient,
+                    "Normal orientation: scanner (towards REFERENCE's scanner) or X,Y,Z")
+        ->capture_default_str();
+    cmd->add_option("--reg-error", o.registration_error,
+                    "Registration error added to the LoD (Lague 2013, eq. 1)")
+        ->capture_default_str();
+    cmd->add_flag("--median", o.median, "Median and interquartile range instead of mean and std");
+    cmd->add_option("--min-points", o.min_points,
+                    "Fewer points in either cylinder: no distance (NaN)")
+        ->capture_default_str();
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)")->capture_default_str();
+    cmd->add_option("--out", o.out, "Result CSV file")->required();
+    cmd->callback([&] { c.code = run_m3c2(o); });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -179,6 +217,7 @@ int main(int argc, char** argv) {
     tlsmon::add_status(app, c);
     tlsmon::add_query(app, c);
     tlsmon::add_events(app, c);
+    tlsmon::add_m3c2(app, c);
 
     try {
         app.parse(argc, argv);
