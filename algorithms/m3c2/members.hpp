@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
@@ -33,7 +34,8 @@ class FoundPairs {
             ++block_;
             used_ = 0;
         }
-        if (block_ == blocks_.size()) blocks_.emplace_back().resize(kBlock);
+        // Left uninitialised: every entry is written before it is read.
+        if (block_ == blocks_.size()) blocks_.emplace_back(new Found[kBlock]);
         blocks_[block_][used_++] = {core, point};
     }
     std::size_t size() const { return blocks_.empty() ? 0 : block_ * kBlock + used_; }
@@ -41,7 +43,7 @@ class FoundPairs {
     void for_each(F&& f) const {
         for (std::size_t b = 0; b < blocks_.size() && b <= block_; ++b) {
             const std::size_t n = b == block_ ? used_ : kBlock;
-            for (std::size_t j = 0; j < n; ++j) f(blocks_[b][j].first, blocks_[b][j].second);
+            for (std::size_t j = 0; j < n; ++j) f(blocks_[b][j].core, blocks_[b][j].point);
         }
     }
     void clear() { block_ = used_ = 0; }
@@ -52,7 +54,10 @@ class FoundPairs {
 
   private:
     static constexpr std::size_t kBlock = std::size_t{1} << 14;
-    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> blocks_;
+    struct Found {
+        std::uint32_t core, point;
+    };
+    std::vector<std::unique_ptr<Found[]>> blocks_;
     std::size_t block_ = 0, used_ = 0;
 };
 
