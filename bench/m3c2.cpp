@@ -52,7 +52,9 @@ double peak_mb() {
         if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
     return -1;
 }
-void reset_peak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+void reset_peak() {
+    std::ofstream("/proc/self/clear_refs") << "5";
+}
 
 // A gently curved surface (slopes below 3 %) sampled every 1 cm in row order, as a scanner's
 // grid orders it, with 2 mm Gaussian noise along z; the epoch is raised by a 4 mm bulge.
@@ -108,7 +110,8 @@ int run_case(const Case& c, int runs) {
             axes.push_back(n.normal);
             reference.normal_radius.push_back(n.radius);
         }
-        reference.cylinders = make_cylinders(std::move(cores), std::move(axes), cylinders, kThreads);
+        reference.cylinders =
+            make_cylinders(std::move(cores), std::move(axes), cylinders, kThreads);
         t_cylinders = seconds_since(t0);
         t0 = std::chrono::steady_clock::now();
         reference.reference_side = cylinder_sides(reference.cylinders, cloud, kThreads);
@@ -141,15 +144,17 @@ int run_case(const Case& c, int runs) {
     const auto e = tlsmon::bench::spread_of(epoch_seconds);
     std::printf("case %c: %.1f M points, %zu core points (spacing %.3f m), %zu with a normal\n",
                 c.name, double(c.points) / 1e6, reference.size(), spacing, defined);
-    std::printf("  reference once: %.3f s wall, %.3f s cpu (core points %.3f, normals %.3f, "
-                "cylinder index %.3f, its side %.3f s), peak %.0f MB\n",
-                t_subsample + t_normals + t_cylinders + t_side, cpu_reference, t_subsample,
-                t_normals, t_cylinders, t_side, reference_peak);
+    std::printf(
+        "  reference once: %.3f s wall, %.3f s cpu (core points %.3f, normals %.3f, "
+        "cylinder index %.3f, its side %.3f s), peak %.0f MB\n",
+        t_subsample + t_normals + t_cylinders + t_side, cpu_reference, t_subsample, t_normals,
+        t_cylinders, t_side, reference_peak);
     const auto ec = tlsmon::bench::spread_of(epoch_cpu);
-    std::printf("  new epoch: median %.3f s wall (%.3f .. %.3f, %zu runs), %.3f s cpu, peak %.0f "
-                "MB (its own points: %.0f MB)\n",
-                e.median, e.min, e.max, e.runs, ec.median, epoch_peak,
-                double(c.points) * sizeof(Vector3d) / 1048576.0);
+    std::printf(
+        "  new epoch: median %.3f s wall (%.3f .. %.3f, %zu runs), %.3f s cpu, peak %.0f "
+        "MB (its own points: %.0f MB)\n",
+        e.median, e.min, e.max, e.runs, ec.median, epoch_peak,
+        double(c.points) * sizeof(Vector3d) / 1048576.0);
     // The bulge 4 mm exp(-r^2 / 4) averaged over the square: 4 mm (int e^(-x^2/4) dx)^2 / side^2.
     const double integral = 2 * std::sqrt(M_PI) * std::erf(side / 4);
     std::printf("  mean distance %.4f mm over %zu valid core points (the bulge's mean: %.4f mm)\n",

@@ -93,7 +93,8 @@ void write_csv(const std::string& path, const m3c2::Reference& reference,
         std::fputs(row.c_str(), f);
     }
     const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed) throw Error(path + ": write failed: " + std::strerror(errno));
+    if (std::fclose(f) != 0 || failed)
+        throw Error(path + ": write failed: " + std::strerror(errno));
 }
 
 }  // namespace

@@ -44,7 +44,9 @@ namespace {
 
 // Cells of about the cylinder's radius, longer for long thin cylinders: a few cells per
 // cylinder, a few cylinders per cell.
-double cell_for(const CylinderParameters& p) { return std::max(p.radius, p.max_depth / 4.0); }
+double cell_for(const CylinderParameters& p) {
+    return std::max(p.radius, p.max_depth / 4.0);
+}
 
 }  // namespace
 
@@ -52,8 +54,8 @@ Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen
                          const CylinderParameters& parameters, unsigned threads) {
     validate(parameters);
     Cylinders cylinders;
-    cylinders.index = RegionIndex::cylinders(centres, axes, parameters.radius,
-                                             parameters.max_depth, cell_for(parameters), threads);
+    cylinders.index = RegionIndex::cylinders(centres, axes, parameters.radius, parameters.max_depth,
+                                             cell_for(parameters), threads);
     cylinders.centres = std::move(centres);
     cylinders.axes = std::move(axes);
     cylinders.parameters = parameters;
@@ -75,7 +77,8 @@ std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
         [&](std::size_t k, std::span<const std::uint32_t> members) {
             std::vector<double> projections;
             projections.reserve(members.size());
-            for (std::uint32_t i : members) projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
+            for (std::uint32_t i : members)
+                projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
             sides[k] = statistic_of(projections, p.statistic);
         },
         threads);

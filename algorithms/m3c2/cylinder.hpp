@@ -29,7 +29,7 @@ inline bool in_cylinder(const Eigen::Vector3d& p, const Eigen::Vector3d& c,
 struct CylinderSide {
     double centre = std::numeric_limits<double>::quiet_NaN();  // mean or median projection
     double spread = std::numeric_limits<double>::quiet_NaN();  // std (n - 1) or IQR
-    std::uint32_t count = 0;                                    // points in the cylinder
+    std::uint32_t count = 0;                                   // points in the cylinder
 };
 
 // The statistic of projections (reordered in place for the median). Centre NaN without

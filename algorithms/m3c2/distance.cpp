@@ -7,8 +7,7 @@ namespace tlsmon::m3c2 {
 Distance distance_between(const CylinderSide& reference, const CylinderSide& compared,
                           const DistanceParameters& parameters) {
     Distance d;
-    if (reference.count < parameters.min_points || compared.count < parameters.min_points)
-        return d;
+    if (reference.count < parameters.min_points || compared.count < parameters.min_points) return d;
     const double n1 = reference.count, n2 = compared.count;
     const double s1 = reference.spread, s2 = compared.spread;
     d.distance = compared.centre - reference.centre;

@@ -5,6 +5,7 @@
 // When the members of all core points would not fit in `budget` entries, the core points are
 // taken in consecutive batches, each with its own pass over the cloud.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -64,10 +65,10 @@ class FoundPairs {
 // `single_pass`: first try to find every member in one pass (worth it when they are likely
 // to fit the budget, as cylinders' do).
 template <class Contains, class Visit>
-void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud,
-                                const RegionIndex& index, std::size_t cores, Contains&& contains,
-                                Visit&& visit, unsigned threads = 0,
-                                std::size_t budget = kMemberBudget, bool single_pass = true) {
+void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud, const RegionIndex& index,
+                                std::size_t cores, Contains&& contains, Visit&& visit,
+                                unsigned threads = 0, std::size_t budget = kMemberBudget,
+                                bool single_pass = true) {
     if (cloud.size() > std::size_t{0xFFFFFFFF})
         throw Error("m3c2: a cloud of more than 2^32 - 1 points");
     constexpr std::size_t kChunk = std::size_t{1} << 16;
@@ -109,7 +110,7 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud,
             last - first,
             [&](std::size_t j) {
                 visit(first + j, std::span<const std::uint32_t>(members.data() + begin[j],
-                                                                 members.data() + begin[j + 1]));
+                                                                members.data() + begin[j + 1]));
             },
             threads);
     };
@@ -129,7 +130,8 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud,
             threads);
     if (total.load() <= budget) {
         begin.assign(cores + 1, 0);
-        for (const auto& out : found) out.for_each([&](std::uint32_t k, std::uint32_t) { ++begin[k + 1]; });
+        for (const auto& out : found)
+            out.for_each([&](std::uint32_t k, std::uint32_t) { ++begin[k + 1]; });
         for (std::size_t k = 0; k < cores; ++k) begin[k + 1] += begin[k];
         members.resize(begin[cores]);
         gather(0);
@@ -138,11 +140,17 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud,
     }
     for (auto& out : found) out.release();
 
-    // Otherwise count first, then batches of consecutive core points within the budget.
+    // Otherwise count first, then batches of consecutive core points within the budget. A
+    // batch's pass skips the chunks whose box misses every region of the batch (in a scan's
+    // order, most of them).
     std::vector<std::atomic<std::uint32_t>> counts(cores);
+    std::vector<Eigen::AlignedBox3d> chunk_box(chunks);
     parallel_for(
         chunks,
         [&](std::size_t c) {
+            const std::size_t end = std::min(cloud.size(), (c + 1) * kChunk);
+            for (std::size_t i = c * kChunk; i < end; ++i)
+                if (cloud[i].allFinite()) chunk_box[c].extend(cloud[i]);
             stream(c, 0, all, [&](std::uint32_t k, std::uint32_t) {
                 counts[k].fetch_add(1, std::memory_order_relaxed);
             });
@@ -158,9 +166,12 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud,
             begin[k - first + 1] = begin[k - first] + counts[k];
         members.resize(batch);
         if (batch > 0) {
+            Eigen::AlignedBox3d batch_box;
+            for (std::size_t k = first; k < last; ++k) batch_box.extend(index.box(k));
             parallel_for(
                 chunks,
                 [&](std::size_t c) {
+                    if (!chunk_box[c].intersects(batch_box)) return;
                     auto& out = found[c];
                     stream(c, static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last),
                            [&](std::uint32_t k, std::uint32_t i) { out.add(k, i); });

@@ -10,7 +10,8 @@
 namespace tlsmon::m3c2 {
 
 CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d>& cloud,
-                     std::span<const std::uint32_t> neighbours, const NormalParameters& parameters) {
+                     std::span<const std::uint32_t> neighbours,
+                     const NormalParameters& parameters) {
     CoreNormal best;
     double best_planarity = -std::numeric_limits<double>::infinity();
     // Coordinates relative to c and distances, once for every radius.
@@ -40,7 +41,7 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
         covariance /= static_cast<double>(n - 1);
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
         const Eigen::Vector3d l = solver.eigenvalues();  // ascending
-        if (!(l[2] > 0.0)) continue;                      // all points at one place
+        if (!(l[2] > 0.0)) continue;                     // all points at one place
         const double planarity = (l[1] - l[0]) / l[2];
         if (planarity > best_planarity) {
             best_planarity = planarity;
@@ -49,10 +50,9 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
         }
     }
     if (best.defined()) {
-        const Eigen::Vector3d v =
-            parameters.orientation.kind == Orientation::Kind::vector
-                ? parameters.orientation.value
-                : Eigen::Vector3d(parameters.orientation.value - c);
+        const Eigen::Vector3d v = parameters.orientation.kind == Orientation::Kind::vector
+                                      ? parameters.orientation.value
+                                      : Eigen::Vector3d(parameters.orientation.value - c);
         if (best.normal.dot(v) < 0.0) best.normal = -best.normal;
     }
     return best;

@@ -31,7 +31,6 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
 // At every core point, parallel over core points.
 std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& cloud,
                                          const std::vector<Eigen::Vector3d>& core_points,
-                                         const NormalParameters& parameters,
-                                         unsigned threads = 0);
+                                         const NormalParameters& parameters, unsigned threads = 0);
 
 }  // namespace tlsmon::m3c2

@@ -15,7 +15,8 @@ Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
                             unsigned threads) {
     validate(normals);
     validate(cylinders);
-    const std::vector<CoreNormal> found = estimate_normals(reference, core_points, normals, threads);
+    const std::vector<CoreNormal> found =
+        estimate_normals(reference, core_points, normals, threads);
     std::vector<Eigen::Vector3d> axes(found.size());
     Reference r;
     r.normal_radius.resize(found.size());
@@ -33,9 +34,8 @@ std::vector<Distance> distances(const Reference& reference,
                                 const DistanceParameters& parameters) {
     validate(parameters);
     if (compared_side.size() != reference.size())
-        throw Error("m3c2: " + std::to_string(compared_side.size()) +
-                    " compared cylinders for " + std::to_string(reference.size()) +
-                    " core points");
+        throw Error("m3c2: " + std::to_string(compared_side.size()) + " compared cylinders for " +
+                    std::to_string(reference.size()) + " core points");
     std::vector<Distance> out(reference.size());
     for (std::size_t k = 0; k < out.size(); ++k)
         out[k] = distance_between(reference.reference_side[k], compared_side[k], parameters);

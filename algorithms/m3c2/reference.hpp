@@ -21,8 +21,8 @@ namespace tlsmon::m3c2 {
 struct Reference {
     static constexpr int kFormatVersion = 1;
 
-    Cylinders cylinders;                     // core points (centres), normals (axes), index
-    std::vector<double> normal_radius;       // per core point; NaN where the normal is undefined
+    Cylinders cylinders;                // core points (centres), normals (axes), index
+    std::vector<double> normal_radius;  // per core point; NaN where the normal is undefined
     std::vector<CylinderSide> reference_side;
 
     std::size_t size() const { return cylinders.centres.size(); }

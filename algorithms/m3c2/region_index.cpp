@@ -78,10 +78,10 @@ void RegionIndex::build(std::size_t n, Extent&& extent, Reaches&& reaches, unsig
         Eigen::Vector3d centre, half_extent;
         if (!extent(k, centre, half_extent)) return;
         const double margin = 1e-9 * (1.0 + centre.cwiseAbs().maxCoeff()) + 1e-6 * cell_;
-        const Eigen::Vector3d lo_f = ((centre - half_extent).array() - margin - origin_.array()) *
-                                     inverse_cell_;
-        const Eigen::Vector3d hi_f = ((centre + half_extent).array() + margin - origin_.array()) *
-                                     inverse_cell_;
+        const Eigen::Vector3d lo_f =
+            ((centre - half_extent).array() - margin - origin_.array()) * inverse_cell_;
+        const Eigen::Vector3d hi_f =
+            ((centre + half_extent).array() + margin - origin_.array()) * inverse_cell_;
         Cell lo, hi;
         for (int a = 0; a < 3; ++a) {
             const double l = std::floor(lo_f[a]), h = std::floor(hi_f[a]);
@@ -101,6 +101,12 @@ void RegionIndex::build(std::size_t n, Extent&& extent, Reaches&& reaches, unsig
                 }
     };
 
+    boxes_.assign(n, Eigen::AlignedBox3d());
+    for (std::size_t k = 0; k < n; ++k) {
+        Eigen::Vector3d centre, half_extent;
+        if (extent(k, centre, half_extent))
+            boxes_[k] = Eigen::AlignedBox3d(centre - half_extent, centre + half_extent);
+    }
     std::vector<std::uint64_t> first(n + 1, 0);
     parallel_for(
         n,

@@ -7,6 +7,7 @@
 // and is tested exactly against the few regions that may reach into that cell. A new epoch
 // then needs no search structure of its own and no copy of its points.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -34,6 +35,9 @@ class RegionIndex {
     // superset of those that do, to be tested exactly by the caller.
     std::span<const std::uint32_t> regions_in(std::uint64_t key) const;
 
+    // The box around the region of centre k (empty for a centre without a region).
+    const Eigen::AlignedBox3d& box(std::size_t k) const { return boxes_[k]; }
+
     std::size_t cells() const { return cell_begin_.empty() ? 0 : cell_begin_.size() - 1; }
     std::size_t entries() const { return regions_.size(); }
     double cell() const { return cell_; }
@@ -53,6 +57,7 @@ class RegionIndex {
     std::uint64_t mask_ = 0;
     std::vector<std::uint64_t> cell_begin_;  // per cell, into regions_; one past the last
     std::vector<std::uint32_t> regions_;
+    std::vector<Eigen::AlignedBox3d> boxes_;
 };
 
 }  // namespace tlsmon::m3c2

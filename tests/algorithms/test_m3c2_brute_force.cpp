@@ -42,8 +42,7 @@ BruteNormal brute_normal(const std::vector<Vector3d>& cloud, const Vector3d& c,
         for (const auto& p : near) cov += (p - c - mean) * (p - c - mean).transpose();
         cov /= static_cast<double>(near.size() - 1);
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-        const double planarity =
-            (es.eigenvalues()[1] - es.eigenvalues()[0]) / es.eigenvalues()[2];
+        const double planarity = (es.eigenvalues()[1] - es.eigenvalues()[0]) / es.eigenvalues()[2];
         if (planarity > best_planarity) {
             best_planarity = planarity;
             best.normal = es.eigenvectors().col(0);
@@ -112,7 +111,9 @@ struct Case {
     Orientation orientation;
 };
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << c.name;
+}
 
 class M3c2BruteForce : public ::testing::TestWithParam<Case> {};
 
@@ -121,8 +122,8 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
     const auto p1 = surface(3000, 0.0, 0.003, 11);
     const auto p2 = surface(2500, 0.02, 0.004, 12);
     const NormalParameters normals{{0.08, 0.15, 0.3}, c.orientation};
-    const CylinderParameters cylinder{0.08, 0.25,
-                                      c.median ? CylinderStatistic::median : CylinderStatistic::mean};
+    const CylinderParameters cylinder{
+        0.08, 0.25, c.median ? CylinderStatistic::median : CylinderStatistic::mean};
     const DistanceParameters distance{4, 0.001};
     auto cores = subsample(p1, 0.2);
     cores.push_back({100.0, -50.0, 30.0});  // far above the surface: no neighbours
@@ -158,10 +159,10 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
         }
         EXPECT_EQ(r2.normal_radius[k], bn.radius);
         EXPECT_LT((r2.normals()[k] - bn.normal).norm(), 1e-9);
-        const auto b1 = brute_side(p1, cores[k], bn.normal, cylinder.radius, cylinder.max_depth,
-                                   c.median);
-        const auto b2 = brute_side(p2, cores[k], bn.normal, cylinder.radius, cylinder.max_depth,
-                                   c.median);
+        const auto b1 =
+            brute_side(p1, cores[k], bn.normal, cylinder.radius, cylinder.max_depth, c.median);
+        const auto b2 =
+            brute_side(p2, cores[k], bn.normal, cylinder.radius, cylinder.max_depth, c.median);
         EXPECT_EQ(r2.reference_side[k].count, b1.n);
         EXPECT_EQ(s2[k].count, b2.n);
         if (b1.n < distance.min_points || b2.n < distance.min_points) {
@@ -174,9 +175,9 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
         EXPECT_NEAR(r2.reference_side[k].spread, b1.spread, 1e-9);
         EXPECT_NEAR(s2[k].spread, b2.spread, 1e-9);
         EXPECT_NEAR(d[k].distance, b2.centre - b1.centre, 1e-9);
-        const double lod = 1.96 * (std::sqrt(b1.spread * b1.spread / b1.n +
-                                             b2.spread * b2.spread / b2.n) +
-                                   distance.registration_error);
+        const double lod =
+            1.96 * (std::sqrt(b1.spread * b1.spread / b1.n + b2.spread * b2.spread / b2.n) +
+                    distance.registration_error);
         EXPECT_NEAR(d[k].lod, lod, 1e-9);
         if (std::abs(std::abs(d[k].distance) - lod) > 1e-9) {
             EXPECT_EQ(d[k].significant, std::abs(b2.centre - b1.centre) > lod);

@@ -158,9 +158,8 @@ TEST(M3c2KnownAnswers, NormalRadiusIsTheMostPlanarScale) {
     std::vector<Vector3d> p1 = plane(2.0, 0.1, 0.0, 0.0, 0);
     for (auto& p : p1)
         if (p.x() > 0.5) p.z() = 0.5;
-    const Reference r = prepare_reference(p1, {Vector3d(0, 0, 0)},
-                                          {{1.0, 0.315, 0.305}, Orientation::along({0, 0, 1})},
-                                          {0.1, 1.0});
+    const Reference r = prepare_reference(
+        p1, {Vector3d(0, 0, 0)}, {{1.0, 0.315, 0.305}, Orientation::along({0, 0, 1})}, {0.1, 1.0});
     // 0.315 and 0.305 hold the same grid points (i^2 + j^2 <= 9 at a 10 cm step), so their
     // planarities tie exactly: the first of them is taken.
     EXPECT_DOUBLE_EQ(r.normal_radius[0], 0.315);
@@ -196,8 +195,7 @@ TEST(M3c2KnownAnswers, SignFollowsTheOrientedNormal) {
     const Reference r = prepare_reference(wall, {Vector3d(0, 0, 0)},
                                           {{0.1}, Orientation::towards({5, 0, 0})}, cylinder);
     EXPECT_NEAR(r.normals()[0].x(), 1.0, 1e-12);
-    EXPECT_NEAR(distances(r, cylinder_sides(r.cylinders, moved), {5, 0})[0].distance, 0.01,
-                1e-12);
+    EXPECT_NEAR(distances(r, cylinder_sides(r.cylinders, moved), {5, 0})[0].distance, 0.01, 1e-12);
 }
 
 TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
@@ -219,11 +217,11 @@ TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
 TEST(M3c2KnownAnswers, SubsamplingKeepsThePointNearestEachCubeCentre) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const std::vector<Vector3d> cloud{
-        {0.1, 0.1, 0.1},  // cube (0,0,0), far from its centre
-        {1.5, 0.5, 0.5},  // cube (1,0,0), exactly at its centre
-        {0.4, 0.5, 0.5},  // cube (0,0,0), 0.1 from the centre
-        {0.6, 0.5, 0.5},  // cube (0,0,0), also 0.1: a tie, the lower index (2) wins
-        {nan, 0, 0},      // not a point
+        {0.1, 0.1, 0.1},     // cube (0,0,0), far from its centre
+        {1.5, 0.5, 0.5},     // cube (1,0,0), exactly at its centre
+        {0.4, 0.5, 0.5},     // cube (0,0,0), 0.1 from the centre
+        {0.6, 0.5, 0.5},     // cube (0,0,0), also 0.1: a tie, the lower index (2) wins
+        {nan, 0, 0},         // not a point
         {-0.5, -0.5, 0.5}};  // cube (-1,-1,0), at its centre
     const auto cores = subsample(cloud, 1.0);
     ASSERT_EQ(cores.size(), 3u);
@@ -236,9 +234,9 @@ TEST(M3c2KnownAnswers, SubsamplingKeepsThePointNearestEachCubeCentre) {
 TEST(M3c2KnownAnswers, ReferenceSurvivesItsPayloadExactly) {
     const auto p1 = plane(1.0, 0.02, 0.0, 0.002, 3);
     const auto p2 = plane(1.0, 0.02, 0.003, 0.002, 4);
-    const Reference r = prepare_reference(p1, subsample(p1, 0.2),
-                                          {{0.05, 0.1}, Orientation::towards({0, 0, 5})},
-                                          {0.05, 0.3, CylinderStatistic::median});
+    const Reference r =
+        prepare_reference(p1, subsample(p1, 0.2), {{0.05, 0.1}, Orientation::towards({0, 0, 5})},
+                          {0.05, 0.3, CylinderStatistic::median});
     const std::string payload = r.encode();
     const Reference back = Reference::decode(payload);
     ASSERT_EQ(back.size(), r.size());

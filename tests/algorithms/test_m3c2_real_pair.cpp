@@ -15,7 +15,8 @@ using namespace tlsmon::m3c2;
 
 std::vector<Eigen::Vector3d> points_of(const std::filesystem::path& path) {
     std::vector<Eigen::Vector3d> points;
-    for (const auto& scan : read_scans(path)) points.insert(points.end(), scan.xyz.begin(), scan.xyz.end());
+    for (const auto& scan : read_scans(path))
+        points.insert(points.end(), scan.xyz.begin(), scan.xyz.end());
     return points;
 }
 

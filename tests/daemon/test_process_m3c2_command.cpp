@@ -31,14 +31,30 @@ struct Row {
     std::vector<double> v;  // the 14 columns; "nan" read as NaN
     double operator[](std::size_t i) const { return v.at(i); }
 };
-enum Column { x, y, z, nx, ny, nz, normal_radius, distance, lod, spread1, n1, spread2, n2, significant };
+enum Column {
+    x,
+    y,
+    z,
+    nx,
+    ny,
+    nz,
+    normal_radius,
+    distance,
+    lod,
+    spread1,
+    n1,
+    spread2,
+    n2,
+    significant
+};
 
 class M3c2Command : public ::testing::Test {
   protected:
     int run(const std::vector<std::string>& args) {
         std::string cmd = quoted(TLSMON_BINARY) + " m3c2";
         for (const auto& a : args) cmd.append(" ").append(quoted(a));
-        cmd += " >" + quoted((dir_ / "stdout").string()) + " 2>" + quoted((dir_ / "stderr").string());
+        cmd +=
+            " >" + quoted((dir_ / "stdout").string()) + " 2>" + quoted((dir_ / "stderr").string());
         const int status = std::system(cmd.c_str());
         out_ = tlsmon::test::read_file(dir_ / "stdout");
         err_ = tlsmon::test::read_file(dir_ / "stderr");
@@ -48,7 +64,8 @@ class M3c2Command : public ::testing::Test {
         std::istringstream in(tlsmon::test::read_file(csv));
         std::string line;
         std::getline(in, line);
-        EXPECT_EQ(line, "x,y,z,nx,ny,nz,normal_radius,distance,lod,spread1,n1,spread2,n2,significant");
+        EXPECT_EQ(line,
+                  "x,y,z,nx,ny,nz,normal_radius,distance,lod,spread1,n1,spread2,n2,significant");
         std::vector<Row> out;
         while (std::getline(in, line)) {
             Row r;
@@ -62,8 +79,9 @@ class M3c2Command : public ::testing::Test {
         return out;
     }
     std::vector<std::string> pair_args(const fs::path& csv) {
-        return {t1, t2, "--normal-radii", "2.0", "--cylinder-radius", "3.0", "--max-depth", "1.0",
-                "--orient", "0,0,1", "--out", csv.string()};
+        return {
+            t1,    t2,         "--normal-radii", "2.0",   "--cylinder-radius", "3.0", "--max-depth",
+            "1.0", "--orient", "0,0,1",          "--out", csv.string()};
     }
 
     tlsmon::test::TempDir dir_;
