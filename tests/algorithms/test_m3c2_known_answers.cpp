@@ -229,6 +229,13 @@ TEST(M3c2KnownAnswers, SubsamplingKeepsThePointNearestEachCubeCentre) {
     EXPECT_EQ(cores[1], cloud[2]);
     EXPECT_EQ(cores[2], cloud[5]);
     EXPECT_THROW(subsample(cloud, 0.0), Error);
+    // Thrown inside the parallel loop, rethrown on the calling thread.
+    try {
+        subsample(cloud, 1e-20);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("too small"), std::string::npos) << e.what();
+    }
 }
 
 TEST(M3c2KnownAnswers, ReferenceSurvivesItsPayloadExactly) {
