@@ -129,6 +129,23 @@ TEST_F(M3c2Command, CoreSpacingMedianAndOrientation) {
     }
 }
 
+TEST_F(M3c2Command, OrientTowardsTheScanner) {
+    // XYZ files carry no pose: the scanner is at the origin, below the planes (z = 3.5), so
+    // normals point down and the lowering (towards the scanner) is positive.
+    const fs::path csv = dir_ / "result.csv";
+    auto args = pair_args(csv);
+    args[9] = "scanner";
+    ASSERT_EQ(run(args), 0) << err_;
+    const auto r = rows(csv);
+    ASSERT_EQ(r.size(), 441u);
+    double sum = 0;
+    for (const auto& row : r) {
+        EXPECT_LT(row[nz], -0.99);
+        sum += row[distance];
+    }
+    EXPECT_NEAR(sum / r.size(), 0.100, 0.0005);
+}
+
 TEST_F(M3c2Command, SparseCylindersAreNanInTheCsv) {
     const fs::path csv = dir_ / "result.csv";
     auto args = pair_args(csv);
