@@ -1,36 +1,66 @@
-// The three named scenes. All share the layout: scanner at the origin on a 1.5 m tripod,
-// the pier's 15 m south wall seen almost head-on, its west wall at a grazing angle, and
-// four targets (two spheres, two checkerboards) on stable ground 20–40 m away, left and
-// right of the pier so it never hides them.
-#include <cmath>
-#include <numbers>
-
+// The three named scenes. All share the layout: the pier's 15 m south wall seen almost
+// head-on from the station, its west wall at a grazing angle, the bridge running north
+// (along y) across a valley that runs east–west. Targets are set out as a surveyor would
+// for the distance: spread in azimuth, height and range, on masts, stands and the stable
+// blocks, left and right of the pier so it never hides them.
 #include "core/error.hpp"
 #include "simulator/scene.hpp"
+#include "simulator/target_layout.hpp"
 
 namespace tlsmon::sim {
 
 namespace {
 
-// A target at horizontal distance `distance` and scanner azimuth `azimuth_deg` (heading 0),
-// `height` above the ground.
-Target place(std::string name, Target::Kind kind, double distance, double azimuth_deg,
-             double height) {
-    Target t;
-    t.name = std::move(name);
-    t.kind = kind;
-    const double a = azimuth_deg * std::numbers::pi / 180.0;
-    t.centre = {distance * std::cos(a), distance * std::sin(a), height};
-    return t;
+using K = Target::Kind;
+using M = Target::Mount;
+
+TargetPlacement sphere(std::string name, double distance, double azimuth_deg, double height,
+                       M mount, double radius = 0.0725) {
+    TargetPlacement p;
+    p.name = std::move(name);
+    p.kind = K::sphere;
+    p.distance = distance;
+    p.azimuth_deg = azimuth_deg;
+    p.height = height;
+    p.mount = mount;
+    p.radius = radius;
+    return p;
 }
 
-std::vector<Target> four_targets(double near, double far, double left_deg, double right_deg) {
-    using K = Target::Kind;
-    // Spheres sit on 1.0 m masts, checkerboards on 1.2 m stands (masts not modelled).
-    return {place("T1", K::sphere, near, right_deg, 1.0),
-            place("T2", K::checkerboard, far, right_deg + 3.0, 1.2),
-            place("T3", K::sphere, near + 2.0, left_deg, 1.0),
-            place("T4", K::checkerboard, far - 4.0, left_deg - 3.0, 1.2)};
+TargetPlacement board(std::string name, double distance, double azimuth_deg, double height,
+                      M mount, double size = 0.40) {
+    TargetPlacement p = sphere(std::move(name), distance, azimuth_deg, height, mount);
+    p.kind = K::checkerboard;
+    p.size = size;
+    return p;
+}
+
+void place_all(Site& s, const std::vector<TargetPlacement>& placements) {
+    s.targets.clear();
+    for (const TargetPlacement& p : placements) s.targets.push_back(place_target(s, p));
+}
+
+Block block(std::string name, Block::Kind kind, Eigen::Vector3d lo, Eigen::Vector3d hi) {
+    Block b;
+    b.name = std::move(name);
+    b.kind = kind;
+    b.lo = lo;
+    b.hi = hi;
+    return b;
+}
+
+// `small` and `pier`: the station on the valley floor 45 m south of the pier; the floor is
+// level to 60 m, then the valley's north side rises 25 m over 70 m (20°), seen beyond the
+// pier at 60–150 m. The pier stands on a foundation (pile cap) showing 0.4 m above the
+// floor, 1.5 m wider than the pier all round; an abutment block at the foot of the north
+// side, east of the pier.
+void valley_near(Site& s) {
+    s.terrain.profile_y = {60.0, 130.0};
+    s.terrain.profile_z = {0.0, 25.0};
+    s.terrain.blocks = {
+        block("P-foundation", Block::Kind::foundation,
+              {s.pier.x0 - 1.5, s.pier.y0 - 1.5, -1.0}, {s.pier.x1 + 1.5, s.pier.y1 + 1.5, 0.4}),
+        block("A-north", Block::Kind::abutment, {22.0, 56.0, -1.0}, {30.0, 62.0, 2.5})};
 }
 
 }  // namespace
@@ -45,18 +75,59 @@ Site preset_small() {
     s.scanner.elevation_max_deg = 46.0;
     s.scanner.azimuth_step_deg = 0.1;
     s.scanner.elevation_step_deg = 0.1;
-    s.targets = four_targets(20.0, 26.0, 92.0, 65.0);
+    valley_near(s);
+    // Four targets a 0.1° grid still resolves: two spheres on masts 20–22 m out, a board on
+    // a stand, and a 0.6 m board on the pier's foundation at 44 m.
+    place_all(s, {sphere("T1", 20.0, 92.0, 1.0, M::mast),
+                  board("T2", 26.0, 68.0, 1.2, M::stand),
+                  sphere("T3", 22.0, 65.0, 1.6, M::mast),
+                  board("T4", 44.2, 89.0, 0.6, M::abutment, 0.60)});
     return s;
 }
 
 Site preset_pier() {
     Site s = preset_small();
     s.scanner.station = "pier";
-    // 2539 columns x 4154 rows = 10.5 M cells at 0.013° (2.3 mm at 10 m): ≈ 6.8 M points.
+    // 2539 columns x 4154 rows = 10.5 M cells at 0.013° (2.3 mm at 10 m).
     s.scanner.azimuth_step_deg = 0.013;
     s.scanner.elevation_step_deg = 0.013;
-    s.targets = four_targets(22.0, 36.0, 92.0, 65.0);
     s.deck.enabled = true;
+    // Six targets 12–100 m out over 64–93° of azimuth and 1.2–15.7 m of height: near ones on
+    // masts and stands, two on the stable blocks at the pier's foot and the valley side,
+    // and a far sphere on a mast up the north side to hold the rotation.
+    place_all(s, {sphere("T1", 18.0, 91.0, 1.6, M::mast),
+                  board("T2", 27.0, 64.0, 1.4, M::stand),
+                  sphere("T3", 44.2, 88.8, 0.5, M::abutment),
+                  board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
+                  sphere("T5", 100.0, 93.0, 1.5, M::mast, 0.10),
+                  board("T6", 12.0, 72.0, 1.2, M::stand)});
+    // A person crossing between the station and the pier about one scan in twelve, a
+    // maintenance van parked on the track in front of the pier about one scan in twenty-five,
+    // and a bush west of the pier.
+    Occluder person;
+    person.name = "person";
+    person.kind = Occluder::Kind::person;
+    person.probability = 0.08;
+    person.path_start = {-3.0, 28.0};
+    person.path_end = {20.0, 36.0};
+    person.width = 0.5;
+    person.height = 1.75;
+    Occluder van;
+    van.name = "van";
+    van.kind = Occluder::Kind::vehicle;
+    van.probability = 0.04;
+    van.path_start = {-4.0, 33.0};
+    van.path_end = {22.0, 33.0};
+    van.length = 5.0;
+    van.width = 2.0;
+    van.height = 2.3;
+    van.albedo = 0.6;
+    Vegetation bush;
+    bush.name = "bush";
+    bush.centre = {-3.0, 36.0};
+    bush.radii = {1.8, 1.2, 1.4};
+    s.occlusion.occluders = {person, van};
+    s.occlusion.vegetation = {bush};
     return s;
 }
 
@@ -64,10 +135,20 @@ Site preset_hochmosel() {
     Site s;
     s.scanner.station = "hochmosel";
     s.pier = {2.0, 17.0, 100.0, 107.0, 140.0};
-    // Pier at 100–175 m range; 1134 columns x 2101 rows = 2.4 M cells at 0.03°.
-    s.scanner.azimuth_min_deg = 68.0;
-    s.scanner.azimuth_max_deg = 102.0;
-    s.scanner.elevation_min_deg = -5.0;
+    // The station on the valley's south slope, 20 m above the floor: the slope falls 1:3 to
+    // the floor at y = 60 m, the floor runs to 230 m, and the north side rises 45 m over
+    // 90 m. From there the pier's foot at 100 m is seen 12° below the horizon, and the floor
+    // behind it at 175 m at 7° (ρ·cos α ≈ 0.025 on 0.2 ground: well above min_return).
+    s.terrain.profile_y = {-30.0, 0.0, 60.0, 230.0, 320.0};
+    s.terrain.profile_z = {30.0, 20.0, 0.0, 0.0, 45.0};
+    s.terrain.blocks = {
+        block("P-foundation", Block::Kind::foundation, {0.0, 98.0, -2.0}, {19.0, 109.0, 2.0}),
+        block("A-east", Block::Kind::abutment, {20.0, 60.0, -1.0}, {32.0, 66.0, 3.0})};
+    s.scanner.position = {0.0, 0.0, 21.5};
+    // Pier at 100–175 m range; 1334 columns x 2601 rows = 3.5 M cells at 0.03°.
+    s.scanner.azimuth_min_deg = 64.0;
+    s.scanner.azimuth_max_deg = 104.0;
+    s.scanner.elevation_min_deg = -20.0;
     s.scanner.elevation_max_deg = 58.0;
     s.scanner.azimuth_step_deg = 0.03;
     s.scanner.elevation_step_deg = 0.03;
@@ -75,9 +156,40 @@ Site preset_hochmosel() {
     s.deck.enabled = true;
     s.deck.half_length = 60.0;
     s.deck.thickness = 6.0;
-    s.targets = four_targets(25.0, 38.0, 96.0, 73.0);
+    // Far targets hold the rotation: two on the pier's foundation left and right of the pier
+    // (98.5 m), one on the abutment (66 m) and a 1 m board on a mast on the floor at 170 m;
+    // two near ones on the slope for the translation. Sizes grow with the distance so each
+    // keeps tens of points at 0.03°.
+    place_all(s, {sphere("H1", 25.0, 100.0, 1.8, M::mast, 0.10),
+                  board("H2", 35.0, 72.0, 1.5, M::stand, 0.60),
+                  sphere("H3", 98.5, 89.7, 0.6, M::abutment, 0.15),
+                  board("H4", 99.9, 80.5, 0.8, M::abutment, 1.0),
+                  sphere("H5", 66.3, 66.9, 0.5, M::abutment, 0.15),
+                  board("H6", 170.0, 96.0, 2.0, M::mast, 1.0)});
     s.events.step_z_min = 100.0;
     s.events.step_z_max = 140.0;
+    Occluder truck;
+    truck.name = "truck";
+    truck.kind = Occluder::Kind::vehicle;
+    truck.probability = 0.05;
+    truck.path_start = {-30.0, 80.0};
+    truck.path_end = {40.0, 80.0};
+    truck.length = 7.0;
+    truck.width = 2.5;
+    truck.height = 3.2;
+    truck.albedo = 0.5;
+    Occluder person;
+    person.name = "person";
+    person.kind = Occluder::Kind::person;
+    person.probability = 0.08;
+    person.path_start = {-10.0, 70.0};
+    person.path_end = {25.0, 96.0};
+    Vegetation bush;
+    bush.name = "bush";
+    bush.centre = {-6.0, 92.0};
+    bush.radii = {2.5, 1.5, 2.0};
+    s.occlusion.occluders = {truck, person};
+    s.occlusion.vegetation = {bush};
     return s;
 }
 

@@ -1,8 +1,11 @@
 #include "simulator/ray_cast.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "simulator/deformation.hpp"
+#include "simulator/geometry.hpp"
+#include "simulator/terrain.hpp"
 #include "simulator/texture.hpp"
 
 namespace tlsmon::sim {
@@ -10,41 +13,7 @@ namespace tlsmon::sim {
 namespace {
 
 constexpr double kSphereAlbedo = 0.85;  // white matte target sphere
-
-struct BoxHit {
-    double t = std::numeric_limits<double>::infinity();
-    int axis = -1;     // 0 x, 1 y, 2 z
-    bool low = false;  // entered through the low face of that axis
-};
-
-// Slab method (Kay & Kajiya 1986): entry distance into an axis-aligned box.
-BoxHit intersect_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& o,
-                     const Eigen::Vector3d& d) {
-    double t_in = -std::numeric_limits<double>::infinity();
-    double t_out = std::numeric_limits<double>::infinity();
-    BoxHit h;
-    for (int a = 0; a < 3; ++a) {
-        if (std::abs(d[a]) < 1e-15) {
-            if (o[a] < lo[a] || o[a] > hi[a]) return {};
-            continue;
-        }
-        double t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
-        bool low = true;
-        if (t0 > t1) {
-            std::swap(t0, t1);
-            low = false;
-        }
-        if (t0 > t_in) {
-            t_in = t0;
-            h.axis = a;
-            h.low = low;
-        }
-        t_out = std::min(t_out, t1);
-    }
-    if (t_in > t_out || t_in <= 0.0) return {};
-    h.t = t_in;
-    return h;
-}
+constexpr double kMastAlbedo = 0.55;  // painted steel or aluminium tube
 
 int pier_face(const BoxHit& h) {
     if (h.axis == 0) return h.low ? 0 : 1;
@@ -72,6 +41,13 @@ void consider(Hit& best, const Hit& h) {
 
 }  // namespace
 
+const char* surface_name(Surface s) {
+    static constexpr const char* names[kSurfaceKinds] = {
+        "none",       "ground",   "pier", "deck",  "sphere",   "checkerboard",
+        "foundation", "abutment", "mast", "stand", "occluder", "vegetation"};
+    return names[static_cast<int>(s)];
+}
+
 SceneAtEpoch::SceneAtEpoch(const Site& s, int e, double h)
     : SceneAtEpoch(s, epoch_conditions(s, e, h)) {}
 
@@ -86,6 +62,24 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
         n.z() = 0.0;
         target_normals.push_back(n.norm() > 0 ? n.normalized() : Eigen::Vector3d::UnitY());
     }
+    // Target supports (moved with a knocked target) and the box bounding target and supports.
+    for (std::size_t i = 0; i < s.targets.size(); ++i) {
+        const Target& t = s.targets[i];
+        TargetGeometry g;
+        g.supports = target_supports(t, target_centres[i], target_normals[i]);
+        g.support_surface = t.mount == Target::Mount::stand ? Surface::stand : Surface::mast;
+        const double half = t.kind == Target::Kind::sphere ? t.radius : 0.5 * t.size;
+        g.lo = target_centres[i] - Eigen::Vector3d::Constant(half);
+        g.hi = target_centres[i] + Eigen::Vector3d::Constant(half);
+        for (const Cylinder& cyl : g.supports) {
+            const Eigen::Vector3d r = Eigen::Vector3d::Constant(cyl.radius);
+            g.lo = g.lo.cwiseMin(cyl.a - r).cwiseMin(cyl.b - r);
+            g.hi = g.hi.cwiseMax(cyl.a + r).cwiseMax(cyl.b + r);
+        }
+        target_geometry.push_back(std::move(g));
+    }
+    occluders = occluder_states(s, e);
+    vegetation = vegetation_states(s, e);
     // A bound on |u| at this epoch ((z/H)^p <= 1), plus 1 mm.
     if (s.deformation.enabled) pier_reach += c.bending.top.norm();
     if (s.events.step_epoch >= 0 && e >= s.events.step_epoch) {
@@ -99,14 +93,34 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
     Hit best;
     best.range = max_range;
 
-    // Ground plane z = 0.
-    if (d.z() < 0.0) {
-        const double t = -o.z() / d.z();
-        if (t > 0.0 && t < best.range) {
+    // Terrain: the valley profile (terrain.hpp), then the stable blocks on it.
+    {
+        Eigen::Vector3d n;
+        const double t = intersect_terrain(site.terrain, o, d, best.range, n);
+        if (t < best.range) {
             const Eigen::Vector3d p = o + t * d;
-            consider(best, {Surface::ground, t, Eigen::Vector3d::UnitZ(),
-                            ground_albedo(site.texture, p.x(), p.y()), -1});
+            consider(best, {Surface::ground, t, n,
+                            terrain_albedo(site.texture, site.terrain, p.x(), p.y()), -1});
         }
+    }
+    for (std::size_t i = 0; i < site.terrain.blocks.size(); ++i) {
+        const Block& k = site.terrain.blocks[i];
+        const BoxHit bh = intersect_box(k.lo, k.hi, o, d);
+        if (bh.axis < 0 || bh.t >= best.range) continue;
+        Eigen::Vector3d n = Eigen::Vector3d::Zero();
+        n[bh.axis] = bh.low ? -1.0 : 1.0;
+        const int face = pier_face(bh);
+        const Eigen::Vector2d uv = face_uv(face, o + bh.t * d);
+        // Concrete texture at the block's own mean reflectance, independent pattern per block.
+        const double scale = site.texture.albedo > 0.0 ? k.albedo / site.texture.albedo : 0.0;
+        const double albedo = std::clamp(
+            scale * concrete_albedo(site.texture, 20 + 5 * static_cast<int>(i) + face, uv.x(),
+                                    uv.y()),
+            0.02, 1.0);
+        Hit h{k.kind == Block::Kind::abutment ? Surface::abutment : Surface::foundation,
+              bh.t, n, albedo, -1};
+        h.part = static_cast<int>(i);
+        consider(best, h);
     }
 
     // Pier: each face is its displaced surface {q + u(q) : q on the face}; the nearest
@@ -162,10 +176,20 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
         }
     }
 
-    // Targets.
+    // Targets and their supports, each behind its bounding box.
     for (std::size_t i = 0; i < site.targets.size(); ++i) {
         const Target& tg = site.targets[i];
         const Eigen::Vector3d& c = scene.target_centres[i];
+        const TargetGeometry& g = scene.target_geometry[i];
+        double t_in, t_out;
+        if (!box_interval(g.lo, g.hi, o, d, best.range, t_in, t_out)) continue;
+        for (const Cylinder& cyl : g.supports) {
+            Eigen::Vector3d n;
+            const double t = intersect_cylinder(cyl.a, cyl.b, cyl.radius, o, d, n);
+            if (t < best.range) {
+                consider(best, {g.support_surface, t, n, kMastAlbedo, static_cast<int>(i)});
+            }
+        }
         if (tg.kind == Target::Kind::sphere) {
             // |o + t d − c|² = r²  ->  t = −b − sqrt(b² − (|o − c|² − r²)), b = d·(o − c).
             const Eigen::Vector3d oc = o - c;
@@ -193,6 +217,23 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
             h.uv = {a, b};
             consider(best, h);
         }
+    }
+    // Occluders and vegetation.
+    const Occlusion& occ = site.occlusion;
+    for (std::size_t i = 0; i < occ.occluders.size(); ++i) {
+        const SolidHit sh = intersect_occluder(occ.occluders[i], scene.occluders[i], o, d, best.range);
+        if (sh.t >= best.range) continue;
+        Hit h{Surface::occluder, sh.t, sh.normal, occ.occluders[i].albedo, -1};
+        h.part = static_cast<int>(i);
+        consider(best, h);
+    }
+    for (std::size_t i = 0; i < occ.vegetation.size(); ++i) {
+        const SolidHit sh =
+            intersect_vegetation(occ.vegetation[i], scene.vegetation[i], o, d, best.range);
+        if (sh.t >= best.range) continue;
+        Hit h{Surface::vegetation, sh.t, sh.normal, occ.vegetation[i].albedo, -1};
+        h.part = static_cast<int>(i);
+        consider(best, h);
     }
     if (best.surface == Surface::none) best.range = std::numeric_limits<double>::infinity();
     return best;

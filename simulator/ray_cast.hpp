@@ -1,6 +1,8 @@
 #pragma once
-// Ray casting against the simulated scene at one epoch: ground plane, pier (deformed),
-// optional deck, sphere and checkerboard targets.
+// Ray casting against the simulated scene at one epoch: the terrain and its stable blocks,
+// pier (deformed), optional deck, sphere and checkerboard targets with their masts and
+// stands, occluders and vegetation. Every object but the terrain and the pier's faces is
+// tested against its bounding box first.
 //
 // How the deformed pier stays geometrically consistent: each face f (normal n) of the box
 // becomes the surface {q + u(q) : q on f}. Starting from the ray's hit q on the undeformed
@@ -23,11 +25,30 @@
 
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
+#include "simulator/occluders.hpp"
 #include "simulator/scene.hpp"
+#include "simulator/target_layout.hpp"
 
 namespace tlsmon::sim {
 
-enum class Surface { none, ground, pier, deck, sphere, checkerboard };
+enum class Surface {
+    none,
+    ground,
+    pier,
+    deck,
+    sphere,
+    checkerboard,
+    // Terrain, stable blocks, target supports and occluders.
+    foundation,
+    abutment,
+    mast,
+    stand,
+    occluder,
+    vegetation
+};
+constexpr int kSurfaceKinds = 12;
+// "ground", "pier", ... as in the truth's `points_by_surface`.
+const char* surface_name(Surface s);
 
 struct Hit {
     Surface surface = Surface::none;
@@ -39,6 +60,14 @@ struct Hit {
     // Surface coordinates of the hit, m: on pier and deck faces the material point's (u, v)
     // of concrete_albedo; on a checkerboard (across, up) from its centre; else zero.
     Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+    int part = -1;  // block, occluder or vegetation patch index; -1 otherwise
+};
+
+// A target with its supports at one epoch, and the box bounding them all.
+struct TargetGeometry {
+    std::vector<Cylinder> supports;
+    Surface support_surface = Surface::mast;
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
 };
 
 // Faces of the pier box: 0 west (x0), 1 east (x1), 2 south (y0), 3 north (y1), 4 top.
@@ -50,6 +79,9 @@ struct SceneAtEpoch {
     std::vector<Eigen::Vector3d> target_normals;  // checkerboards: facing the scanner
     double pier_reach = 0.001;                    // m, bound on |u| at this epoch
     PierDisplacementField displacement;           // u(q) at this epoch
+    std::vector<TargetGeometry> target_geometry;  // supports and bounds, per target
+    std::vector<OccluderState> occluders;         // where each occluder is at this epoch
+    std::vector<VegetationState> vegetation;      // leaves at this epoch
 
     SceneAtEpoch(const Site& s, const EpochConditions& conditions);
     // At kDefaultStartUtc + hours (epoch_conditions.hpp).

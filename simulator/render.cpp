@@ -14,6 +14,7 @@
 #include "simulator/random.hpp"
 #include "simulator/range_noise.hpp"
 #include "simulator/ray_cast.hpp"
+#include "simulator/terrain.hpp"
 
 namespace tlsmon::sim {
 
@@ -31,6 +32,7 @@ struct CellPoint {
     std::uint32_t row;
     Eigen::Vector3d scanner_xyz;
     float intensity;
+    std::uint8_t surface;
 };
 
 // What one cell's beam returns before noise.
@@ -40,17 +42,23 @@ struct Return {
     double intensity = 0.0;  // noise-free
     double signal = 0.0;     // ρ·|cos α|, footprint-weighted
     bool mixed = false;
+    Surface surface = Surface::none;  // the sub-ray surface returning the most power
 };
 
 // The surface element a sub-ray met (surface kind, face, target).
-int surface_id(const Hit& h) {
-    return static_cast<int>(h.surface) * 1000 + (h.face + 1) * 10 + (h.target + 1) * 100;
+std::uint64_t surface_id(const Hit& h) {
+    return ((static_cast<std::uint64_t>(h.surface) * 64 + static_cast<std::uint64_t>(h.face + 1)) *
+                65536 +
+            static_cast<std::uint64_t>(h.target + 1)) *
+               65536 +
+           static_cast<std::uint64_t>(h.part + 1);
 }
 
 Return thin_ray(const Hit& hit, const Eigen::Vector3d& dir, const Texture& tex) {
     Return r;
     if (hit.surface == Surface::none) return r;
     r.hit = true;
+    r.surface = hit.surface;
     r.range = hit.range;
     r.signal = hit.albedo * std::abs(hit.normal.dot(dir));
     r.intensity = r.signal * std::exp(-hit.range / tex.range_attenuation);
@@ -106,8 +114,9 @@ Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen
     Return r;
     double power = 0.0, power_range = 0.0;
     double r_min = std::numeric_limits<double>::infinity(), r_max = -r_min;
-    int first_id = -1;
-    bool several = false;
+    std::uint64_t first_id = 0;
+    bool any = false, several = false;
+    double strongest = -1.0;
     for (std::size_t k = 0; k < kSubRays; ++k) {
         const double w = uniform ? triangle_weight(k) : pattern[k].weight;
         const Hit& h = hits[k];
@@ -120,8 +129,13 @@ Return footprint(const Hit& centre, const Eigen::Vector3d& beam_dir, const Eigen
         power_range += p * h.range;
         r_min = std::min(r_min, h.range);
         r_max = std::max(r_max, h.range);
-        const int id = surface_id(h);
-        if (first_id < 0) first_id = id;
+        if (p > strongest) {
+            strongest = p;
+            r.surface = h.surface;
+        }
+        const std::uint64_t id = surface_id(h);
+        if (!any) first_id = id;
+        any = true;
         if (id != first_id) several = true;
     }
     if (power <= 0.0) return r;
@@ -165,6 +179,8 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
                     std::to_string(shape.columns) + " cells, more than the " +
                     std::to_string(max_scan_cells / 1000000) + " M allowed");
     }
+    validate_terrain(site.terrain);
+    validate_occlusion(site.occlusion);
     RenderedScan out;
     out.epoch = epoch;
     out.hours = hours;
@@ -229,8 +245,8 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
                 range += range_sigma(noise, ret.range, ret.signal) * e_r;
                 intensity += noise.intensity_sigma * e_i;
             }
-            col.push_back(
-                {r, range * readout, static_cast<float>(std::clamp(intensity, 0.0, 1.0))});
+            col.push_back({r, range * readout, static_cast<float>(std::clamp(intensity, 0.0, 1.0)),
+                           static_cast<std::uint8_t>(ret.surface)});
         }
     };
 
@@ -250,12 +266,15 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
     grid.columns = shape.columns;
     grid.row.reserve(total);
     grid.column.reserve(total);
+    out.surface.reserve(total);
     for (std::uint32_t c = 0; c < shape.columns; ++c) {
         for (const CellPoint& p : columns[c]) {
             scan.xyz.push_back(nominal * p.scanner_xyz);
             scan.intensity.push_back(p.intensity);
             grid.row.push_back(p.row);
             grid.column.push_back(c);
+            out.surface.push_back(p.surface);
+            ++out.points_by_surface[p.surface];
         }
         std::vector<CellPoint>().swap(columns[c]);
     }

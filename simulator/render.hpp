@@ -18,11 +18,14 @@
 //   intensity        = Σ wₖ albedoₖ · exp(−rₖ / r_att) · |cos αₖ| + N(0, σ_i), clamped 0..1
 // and a cell whose noise-free intensity is below `min_return` has no point. With
 // `beam.footprint` off the footprint is the central ray alone.
+#include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/scan.hpp"
 #include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
+#include "simulator/ray_cast.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {
@@ -46,6 +49,10 @@ struct RenderedScan {
     int epoch = 0;
     double hours = 0.0;
     std::uint64_t mixed_pixels = 0;  // points whose footprint straddled surfaces (footprint.hpp)
+    // Per point (scan order): the surface (ray_cast.hpp Surface) that returned most of the
+    // footprint's power, and the number of points per surface.
+    std::vector<std::uint8_t> surface;
+    std::array<std::uint64_t, kSurfaceKinds> points_by_surface{};
 };
 
 // Renders the epoch of `conditions` on `threads` threads (the result does not depend on the

@@ -34,11 +34,17 @@ struct Deck {
 // 2x2 black/white pattern whose centre is the common corner; facing the scanner.
 struct Target {
     enum class Kind { sphere, checkerboard };
+    // What holds the target up (simulator/target_layout.hpp): a mast (vertical pole), a
+    // stand (pole and three legs), a short mast on a stable block (abutment/foundation), or
+    // nothing modelled. Masts and stands are scene geometry: rays hit them.
+    enum class Mount { none, mast, stand, abutment };
     std::string name;
     Kind kind = Kind::sphere;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     double radius = 0.0725;  // sphere, m (standard 145 mm sphere)
     double size = 0.40;      // checkerboard side, m
+    Mount mount = Mount::none;
+    double base_z = 0.0;  // z of the support's foot (ground or block top), m
 };
 
 struct Scanner {
@@ -176,6 +182,60 @@ struct Texture {
     double range_attenuation = 400.0;  // intensity ∝ exp(−range / this)
 };
 
+// ---- Scene: terrain, stable blocks and occluders (simulator/terrain.hpp, occluders.hpp) ----
+
+// The valley: a cross-section z = h(y) across the valley (the bridge runs along y), piecewise
+// linear through (profile_y[k], profile_z[k]) and level beyond the ends, extruded along x.
+// The default is the flat plane z = 0. Stable blocks (foundation, abutment) are boxes on it.
+struct Block {
+    enum class Kind { foundation, abutment };
+    std::string name;
+    Kind kind = Kind::foundation;
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // box, m
+    double albedo = 0.40;  // mean reflectance (concrete texture)
+};
+
+struct Terrain {
+    std::vector<double> profile_y{0.0};  // m, increasing
+    std::vector<double> profile_z{0.0};  // m, ground height at profile_y
+    double albedo = 0.20;                // mean ground reflectance (soil, grass, gravel)
+    std::vector<Block> blocks;
+};
+
+// Occluders: a vehicle (box) or a person (cylinder) standing somewhere on a path between
+// the scanner and the pier at random epochs; seeded per epoch.
+struct Occluder {
+    enum class Kind { vehicle, person };
+    std::string name;
+    Kind kind = Kind::person;
+    double probability = 0.1;  // of being present at an epoch
+    Eigen::Vector2d path_start = Eigen::Vector2d::Zero(), path_end = Eigen::Vector2d::Zero();
+    double length = 0.5, width = 0.5, height = 1.75;  // m; a person: diameter = width
+    double albedo = 0.30;
+};
+
+// A vegetation patch (a bush): an ellipsoid on the ground filled with leaves, one possible
+// leaf per voxel of `leaf_spacing`, present with probability `density`; the leaves move by
+// up to `sway` between epochs (wind), so its points differ from epoch to epoch.
+struct Vegetation {
+    std::string name;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();     // m, on the ground
+    Eigen::Vector3d radii = Eigen::Vector3d(1.5, 1.0, 1.0);  // m, ellipsoid half-axes
+    double leaf_spacing = 0.08;  // m, voxel side
+    double leaf_radius = 0.025;  // m
+    double density = 0.15;       // fraction of voxels holding a leaf
+    double sway = 0.01;          // m, largest leaf movement between epochs
+    double albedo = 0.30;        // leaves at 1.5 µm
+};
+
+struct Occlusion {
+    std::uint64_t seed = 11;
+    std::vector<Occluder> occluders;
+    std::vector<Vegetation> vegetation;
+};
+
+// ---- end of terrain and occluders ----
+
 struct Site {
     Pier pier;
     Deck deck;
@@ -191,6 +251,9 @@ struct Site {
     Atmosphere atmosphere;
     MeteoStation meteo;
     double cadence_seconds = 900.0;
+    // Terrain, stable blocks and occluders.
+    Terrain terrain;
+    Occlusion occlusion;
 };
 
 // Presets. `small`: tests (179k cells); `pier`: benchmarks (10.5 M cells, ≈ 6.8 M points);

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.hpp"
 #include "simulator/render.hpp"
+#include "simulator/target_layout.hpp"
 
 namespace tlsmon {
 
@@ -111,20 +113,159 @@ void read_deck(TomlFields& f, sim::Deck& d) {
     f.reject_unknown_keys();
 }
 
-sim::Target read_target(TomlFields& f) {
-    sim::Target t;
-    f.get("name", t.name);
-    if (t.name.empty()) f.fail("name", "every target needs a name");
+sim::Target read_target(TomlFields& f, const sim::Site& site) {
+    // Either `centre`, or a set-out place: `distance` (horizontal) or `range` (slant), with
+    // `azimuth_deg` and `height` above what the mount stands on (target_layout.hpp).
+    sim::TargetPlacement p;
+    f.get("name", p.name);
+    if (p.name.empty()) f.fail("name", "every target needs a name");
     std::string kind = "sphere";
     f.get_choice("kind", kind, {"sphere", "checkerboard"});
-    t.kind = kind == "sphere" ? sim::Target::Kind::sphere : sim::Target::Kind::checkerboard;
-    if (!f.has("centre")) f.fail("centre", "every target needs a centre [x, y, z]");
-    get_vector3(f, "centre", t.centre, kBig);
-    f.get("radius", t.radius, 0.001, 10.0);
-    f.get("size", t.size, 0.01, 10.0);
-    f.reject_unknown_keys();
-    return t;
+    p.kind = kind == "sphere" ? sim::Target::Kind::sphere : sim::Target::Kind::checkerboard;
+    std::string mount = "none";
+    f.get_choice("mount", mount, {"none", "mast", "stand", "abutment"});
+    p.mount = mount == "mast"       ? sim::Target::Mount::mast
+              : mount == "stand"    ? sim::Target::Mount::stand
+              : mount == "abutment" ? sim::Target::Mount::abutment
+                                    : sim::Target::Mount::none;
+    f.get("radius", p.radius, 0.001, 10.0);
+    f.get("size", p.size, 0.01, 10.0);
+    const bool placed = f.has("distance") || f.has("range");
+    if (f.has("centre") == placed) {
+        f.fail(placed ? "centre" : "name",
+               "give a target either `centre` or `distance`/`range` with `azimuth_deg` and "
+               "`height`");
+    }
+    if (f.has("distance") && f.has("range")) f.fail("range", "give `distance` or `range`, not both");
+    try {
+        if (placed) {
+            f.get("distance", p.distance, 0.01, kBig);
+            f.get("range", p.range, 0.01, kBig);
+            if (!f.has("azimuth_deg")) f.fail("azimuth_deg", "a placed target needs azimuth_deg");
+            f.get("azimuth_deg", p.azimuth_deg, -360.0, 360.0);
+            f.get("height", p.height, -1000.0, 1000.0);
+            f.reject_unknown_keys();
+            return sim::place_target(site, p);
+        }
+        sim::Target t;
+        t.name = p.name;
+        t.kind = p.kind;
+        t.radius = p.radius;
+        t.size = p.size;
+        t.mount = p.mount;
+        get_vector3(f, "centre", t.centre, kBig);
+        f.reject_unknown_keys();
+        t.base_z = sim::target_base_z(site, t);
+        return t;
+    } catch (const ConfigError&) {
+        throw;
+    } catch (const Error& e) {
+        f.fail(placed ? "azimuth_deg" : "centre", e.what());
+    }
 }
+
+// ---- Terrain, stable blocks, occluders and vegetation (docs/simulator.md "Terrain") ----
+
+void read_terrain(TomlFields& f, sim::Terrain& t) {
+    f.get("profile_y", t.profile_y);
+    f.get("profile_z", t.profile_z);
+    if (f.has("profile_y") != f.has("profile_z")) {
+        f.fail(f.has("profile_y") ? "profile_z" : "profile_y",
+               "profile_y and profile_z are given together");
+    }
+    if (t.profile_y.empty() || t.profile_y.size() != t.profile_z.size()) {
+        f.fail("profile_z", "expected as many heights as profile_y values (at least one)");
+    }
+    for (std::size_t k = 1; k < t.profile_y.size(); ++k) {
+        if (!(t.profile_y[k] > t.profile_y[k - 1])) f.fail("profile_y", "values must increase");
+    }
+    for (const double v : t.profile_z) {
+        if (std::abs(v) > 1e4) f.fail("profile_z", "value outside ±10000");
+    }
+    f.get("albedo", t.albedo, 0.0, 1.0);
+    f.reject_unknown_keys();
+}
+
+sim::Block read_block(TomlFields& f) {
+    sim::Block b;
+    f.get("name", b.name);
+    if (b.name.empty()) f.fail("name", "every block needs a name");
+    std::string kind = "foundation";
+    f.get_choice("kind", kind, {"foundation", "abutment"});
+    b.kind = kind == "abutment" ? sim::Block::Kind::abutment : sim::Block::Kind::foundation;
+    if (!f.has("lo") || !f.has("hi")) f.fail("lo", "a block needs corners lo and hi [x, y, z]");
+    get_vector3(f, "lo", b.lo, kBig);
+    get_vector3(f, "hi", b.hi, kBig);
+    if (!(b.hi.array() > b.lo.array()).all()) f.fail("hi", "must exceed lo on every axis");
+    f.get("albedo", b.albedo, 0.0, 1.0);
+    f.reject_unknown_keys();
+    return b;
+}
+
+void get_vector2(TomlFields& f, const std::string& key, Eigen::Vector2d& v) {
+    if (!f.has(key)) return;
+    std::vector<double> a;
+    f.get(key, a);
+    if (a.size() != 2) f.fail(key, "expected [x, y]");
+    for (const double x : a) {
+        if (std::abs(x) > kBig) f.fail(key, "value outside ±1e6");
+    }
+    v = {a[0], a[1]};
+}
+
+sim::Occluder read_occluder(TomlFields& f) {
+    sim::Occluder o;
+    f.get("name", o.name);
+    if (o.name.empty()) f.fail("name", "every occluder needs a name");
+    std::string kind = "person";
+    f.get_choice("kind", kind, {"person", "vehicle"});
+    o.kind = kind == "vehicle" ? sim::Occluder::Kind::vehicle : sim::Occluder::Kind::person;
+    if (o.kind == sim::Occluder::Kind::vehicle) {
+        o.length = 5.0, o.width = 2.0, o.height = 2.3;
+    }
+    f.get("probability", o.probability, 0.0, 1.0);
+    if (!f.has("path_start") || !f.has("path_end")) {
+        f.fail("path_start", "an occluder needs path_start and path_end [x, y]");
+    }
+    get_vector2(f, "path_start", o.path_start);
+    get_vector2(f, "path_end", o.path_end);
+    f.get("length", o.length, 0.01, 100.0);
+    f.get("width", o.width, 0.01, 100.0);
+    f.get("height", o.height, 0.01, 100.0);
+    f.get("albedo", o.albedo, 0.0, 1.0);
+    f.reject_unknown_keys();
+    return o;
+}
+
+sim::Vegetation read_vegetation(TomlFields& f) {
+    sim::Vegetation v;
+    f.get("name", v.name);
+    if (v.name.empty()) f.fail("name", "every vegetation patch needs a name");
+    if (!f.has("centre")) f.fail("centre", "a vegetation patch needs a centre [x, y]");
+    get_vector2(f, "centre", v.centre);
+    get_vector3(f, "radii", v.radii, 100.0);
+    if (!(v.radii.array() > 0.0).all()) f.fail("radii", "every half-axis must be > 0");
+    f.get("leaf_spacing", v.leaf_spacing, 0.01, 1.0);
+    f.get("leaf_radius", v.leaf_radius, 0.001, 0.5);
+    f.get("density", v.density, 0.0, 1.0);
+    f.get("sway", v.sway, 0.0, 0.5);
+    f.get("albedo", v.albedo, 0.0, 1.0);
+    if (v.leaf_radius + v.sway > 0.5 * v.leaf_spacing) {
+        f.fail("leaf_radius", "leaf_radius + sway must not exceed half the leaf_spacing");
+    }
+    if ((v.radii * 2.0 / v.leaf_spacing).prod() > 5e7) {
+        f.fail("leaf_spacing", "more than 50 M voxels: raise leaf_spacing or shrink radii");
+    }
+    f.reject_unknown_keys();
+    return v;
+}
+
+void read_occlusion(TomlFields& f, sim::Occlusion& o) {
+    get_seed(f, "seed", o.seed);
+    f.reject_unknown_keys();
+}
+
+// ---- end of terrain and occluders ----
 
 void read_deformation(TomlFields& f, sim::Deformation& d) {
     f.get("enabled", d.enabled);
@@ -242,9 +383,30 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
     if (auto t = root.table("drift")) read_drift(*t, site.drift);
     if (auto t = root.table("pier")) read_pier(*t, site.pier);
     if (auto t = root.table("deck")) read_deck(*t, site.deck);
+    // Terrain and blocks before the targets: a placed target stands on them.
+    if (auto t = root.table("terrain")) read_terrain(*t, site.terrain);
+    if (root.has("block")) {
+        site.terrain.blocks.clear();
+        for (TomlFields& b : root.array_of_tables("block")) site.terrain.blocks.push_back(read_block(b));
+    }
+    if (auto t = root.table("occlusion")) read_occlusion(*t, site.occlusion);
+    if (root.has("occluder")) {
+        site.occlusion.occluders.clear();
+        for (TomlFields& o : root.array_of_tables("occluder")) {
+            site.occlusion.occluders.push_back(read_occluder(o));
+        }
+    }
+    if (root.has("vegetation")) {
+        site.occlusion.vegetation.clear();
+        for (TomlFields& v : root.array_of_tables("vegetation")) {
+            site.occlusion.vegetation.push_back(read_vegetation(v));
+        }
+    }
     if (root.has("target")) {
         site.targets.clear();
-        for (TomlFields& t : root.array_of_tables("target")) site.targets.push_back(read_target(t));
+        for (TomlFields& t : root.array_of_tables("target")) {
+            site.targets.push_back(read_target(t, site));
+        }
         if (site.targets.size() < 4) root.fail("target", "at least 4 targets are needed");
     }
     if (auto t = root.table("deformation")) read_deformation(*t, site.deformation);

@@ -7,6 +7,7 @@
 #include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/footprint.hpp"
+#include "simulator/scene_truth.hpp"
 #include "simulator/series.hpp"
 
 namespace tlsmon::sim {
@@ -54,7 +55,7 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
     j["time_utc"] = format_utc(acquired_utc);
     j["time_unix"] = acquired_utc;
     j["hours_since_first_epoch"] = hours;
-    j["frame"] = "project: x east, y north, z up, metres, ground z = 0";
+    j["frame"] = "project: x east, y north, z up, metres, the pier's foot at z = 0";
 
     const Eigen::Affine3d nominal = nominal_pose(site.scanner);
     json& sc = j["scanner"];
@@ -232,6 +233,8 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
         scan["points"] = rendered->scan.size();
         scan["mixed_pixels"] = rendered->mixed_pixels;
     }
+    // Terrain, target mounts, occluders and vegetation (scene_truth.hpp).
+    add_scene_truth(j, site, epoch, hours, rendered);
     return j;
 }
 

@@ -9,6 +9,7 @@
 #include "simulator/deformation.hpp"
 #include "simulator/ray_cast.hpp"
 #include "simulator/render.hpp"
+#include "simulator/terrain.hpp"
 #include "simulator/texture.hpp"
 
 namespace tlsmon::sim {
@@ -260,8 +261,8 @@ TEST(SimulatorExact, IntensityFollowsAlbedoRangeAndIncidence) {
             ++west;
         } else if (std::abs(p.z()) < 1e-6) {
             const double cos_i = std::abs(d.z()) / r;
-            ASSERT_NEAR(scan.intensity[i], ground_albedo(s.texture, p.x(), p.y()) * fall * cos_i,
-                        1e-6);
+            ASSERT_NEAR(scan.intensity[i],
+                        terrain_albedo(s.texture, s.terrain, p.x(), p.y()) * fall * cos_i, 1e-6);
             ++ground;
         }
     }

@@ -1,0 +1,96 @@
+#include "simulator/terrain.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "simulator/geometry.hpp"
+#include "simulator/random.hpp"
+#include "simulator/texture.hpp"
+
+namespace tlsmon::sim {
+
+double terrain_height(const Terrain& t, double y) {
+    const auto& ys = t.profile_y;
+    const auto& zs = t.profile_z;
+    if (y <= ys.front()) return zs.front();
+    if (y >= ys.back()) return zs.back();
+    const std::size_t k = static_cast<std::size_t>(
+        std::upper_bound(ys.begin(), ys.end(), y) - ys.begin());  // ys[k-1] <= y < ys[k]
+    const double f = (y - ys[k - 1]) / (ys[k] - ys[k - 1]);
+    return zs[k - 1] + f * (zs[k] - zs[k - 1]);
+}
+
+double support_height(const Terrain& t, double x, double y, int* block) {
+    double z = terrain_height(t, y);
+    if (block) *block = -1;
+    for (std::size_t i = 0; i < t.blocks.size(); ++i) {
+        const Block& b = t.blocks[i];
+        if (x < b.lo.x() || x > b.hi.x() || y < b.lo.y() || y > b.hi.y()) continue;
+        if (b.hi.z() > z) {
+            z = b.hi.z();
+            if (block) *block = static_cast<int>(i);
+        }
+    }
+    return z;
+}
+
+double intersect_terrain(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                         double t_max, Eigen::Vector3d& normal) {
+    const auto& ys = t.profile_y;
+    const auto& zs = t.profile_z;
+    const std::size_t n = ys.size();
+    double best = kNoHit;
+    // Piece k spans [ys[k−1], ys[k]] with slope m; piece 0 and piece n are the level ends.
+    // On a piece h(y) = z_a + m (y − y_a), and z(t) − h(y(t)) = c0 + c1 t vanishes at
+    // t = −c0 / c1, a crossing from above when c1 < 0.
+    for (std::size_t k = 0; k <= n; ++k) {
+        double y_lo, y_hi, y_a, z_a, m;
+        if (k == 0) {
+            y_lo = -kNoHit, y_hi = ys[0], y_a = ys[0], z_a = zs[0], m = 0.0;
+        } else if (k == n) {
+            y_lo = ys[n - 1], y_hi = kNoHit, y_a = ys[n - 1], z_a = zs[n - 1], m = 0.0;
+        } else {
+            y_lo = ys[k - 1], y_hi = ys[k], y_a = y_lo, z_a = zs[k - 1];
+            m = (zs[k] - zs[k - 1]) / (y_hi - y_lo);
+        }
+        const double c1 = d.z() - m * d.y();
+        if (c1 >= -1e-15) continue;
+        const double c0 = o.z() - z_a - m * (o.y() - y_a);
+        const double tt = -c0 / c1;
+        if (!(tt > 0.0 && tt < best && tt < t_max)) continue;
+        const double y = o.y() + tt * d.y();
+        if (y < y_lo || y > y_hi) continue;
+        best = tt;
+        normal = Eigen::Vector3d(0.0, -m, 1.0).normalized();
+    }
+    return best;
+}
+
+double terrain_albedo(const Texture& tex, const Terrain& t, double x, double y) {
+    // Patches of grass (darker at 1.5 µm: leaf water absorbs), soil and gravel (brighter)
+    // over metres, and clods and stones over decimetres.
+    const std::uint64_t seed = hash_combine(tex.seed, 0x7465727261696eULL);
+    const double patch = value_noise(seed, x / 6.0, y / 6.0) - 0.5;
+    const double fine = value_noise(hash_combine(seed, 3), x / 0.25, y / 0.25) - 0.5;
+    const double a = t.albedo * (1.0 + 0.9 * patch + 0.5 * fine);
+    return std::clamp(a, 0.03, 1.0);
+}
+
+void validate_terrain(const Terrain& t) {
+    if (t.profile_y.empty() || t.profile_y.size() != t.profile_z.size()) {
+        throw Error("terrain: profile_y and profile_z need the same number (≥ 1) of values");
+    }
+    for (std::size_t k = 1; k < t.profile_y.size(); ++k) {
+        if (!(t.profile_y[k] > t.profile_y[k - 1])) {
+            throw Error("terrain: profile_y must increase");
+        }
+    }
+    for (const Block& b : t.blocks) {
+        if (!(b.hi.array() > b.lo.array()).all()) {
+            throw Error("terrain: block '" + b.name + "' needs hi > lo on every axis");
+        }
+    }
+}
+
+}  // namespace tlsmon::sim
