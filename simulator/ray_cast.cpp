@@ -35,6 +35,16 @@ Eigen::Vector2d face_uv(int face, const Eigen::Vector3d& p) {
     }
 }
 
+// Can the ray o + t·d (d unit, 0 < t < t_max) pass within `radius` of `centre`? Cheaper
+// than a slab test: the first cull for the small objects (targets, occluders).
+bool near_ray(const Eigen::Vector3d& centre, double radius, const Eigen::Vector3d& o,
+              const Eigen::Vector3d& d, double t_max) {
+    const Eigen::Vector3d v = centre - o;
+    const double along = v.dot(d);
+    if (along < -radius || along > t_max + radius) return false;
+    return v.squaredNorm() - along * along <= radius * radius;
+}
+
 void consider(Hit& best, const Hit& h) {
     if (h.range < best.range) best = h;
 }
@@ -76,6 +86,8 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
             g.lo = g.lo.cwiseMin(cyl.a - r).cwiseMin(cyl.b - r);
             g.hi = g.hi.cwiseMax(cyl.a + r).cwiseMax(cyl.b + r);
         }
+        g.bound_centre = 0.5 * (g.lo + g.hi);
+        g.bound_radius = 0.5 * (g.hi - g.lo).norm();
         target_geometry.push_back(std::move(g));
     }
     occluders = occluder_states(s, e);
@@ -181,6 +193,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
         const Target& tg = site.targets[i];
         const Eigen::Vector3d& c = scene.target_centres[i];
         const TargetGeometry& g = scene.target_geometry[i];
+        if (!near_ray(g.bound_centre, g.bound_radius, o, d, best.range)) continue;
         double t_in, t_out;
         if (!box_interval(g.lo, g.hi, o, d, best.range, t_in, t_out)) continue;
         for (const Cylinder& cyl : g.supports) {
@@ -221,6 +234,7 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
     // Occluders and vegetation.
     const Occlusion& occ = site.occlusion;
     for (std::size_t i = 0; i < occ.occluders.size(); ++i) {
+        if (!scene.occluders[i].present) continue;
         const SolidHit sh = intersect_occluder(occ.occluders[i], scene.occluders[i], o, d, best.range);
         if (sh.t >= best.range) continue;
         Hit h{Surface::occluder, sh.t, sh.normal, occ.occluders[i].albedo, -1};

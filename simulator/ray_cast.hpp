@@ -68,6 +68,8 @@ struct TargetGeometry {
     std::vector<Cylinder> supports;
     Surface support_surface = Surface::mast;
     Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+    Eigen::Vector3d bound_centre = Eigen::Vector3d::Zero();  // sphere around the box
+    double bound_radius = 0.0;
 };
 
 // Faces of the pier box: 0 west (x0), 1 east (x1), 2 south (y0), 3 north (y1), 4 top.
