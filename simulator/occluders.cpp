@@ -39,9 +39,9 @@ std::vector<OccluderState> occluder_states(const Site& site, int epoch) {
     const Occlusion& occ = site.occlusion;
     for (std::size_t i = 0; i < occ.occluders.size(); ++i) {
         const Occluder& o = occ.occluders[i];
-        Rng rng(hash_combine(
-            hash_combine(hash_combine(occ.seed, kOccluderStream), static_cast<std::uint64_t>(epoch)),
-            i));
+        Rng rng(hash_combine(hash_combine(hash_combine(occ.seed, kOccluderStream),
+                                          static_cast<std::uint64_t>(epoch)),
+                             i));
         OccluderState s;
         const double draw = rng.uniform(), where = rng.uniform(), way = rng.uniform();
         s.present = draw < o.probability;
@@ -79,8 +79,8 @@ std::vector<VegetationState> vegetation_states(const Site& site, int epoch) {
     return out;
 }
 
-SolidHit intersect_occluder(const Occluder& o, const OccluderState& s, const Eigen::Vector3d& origin,
-                            const Eigen::Vector3d& d, double t_max) {
+SolidHit intersect_occluder(const Occluder& o, const OccluderState& s,
+                            const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double t_max) {
     SolidHit hit;
     if (!s.present) return hit;
     double t_in, t_out;
@@ -109,7 +109,8 @@ SolidHit intersect_occluder(const Occluder& o, const OccluderState& s, const Eig
 }
 
 SolidHit intersect_vegetation(const Vegetation& v, const VegetationState& s,
-                              const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double t_max) {
+                              const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                              double t_max) {
     SolidHit hit;
     double t_in, t_out;
     if (!box_interval(s.lo, s.hi, origin, d, t_max, t_in, t_out)) return hit;
@@ -137,7 +138,8 @@ SolidHit intersect_vegetation(const Vegetation& v, const VegetationState& s,
     }
     const Eigen::Vector3d inv_r2 = v.radii.cwiseProduct(v.radii).cwiseInverse();
     while (true) {
-        const Eigen::Vector3d centre = s.lo + (cell.cast<double>() + Eigen::Vector3d::Constant(0.5)) * h;
+        const Eigen::Vector3d centre =
+            s.lo + (cell.cast<double>() + Eigen::Vector3d::Constant(0.5)) * h;
         const Eigen::Vector3d e = centre - s.centre;
         if (e.cwiseProduct(e).dot(inv_r2) <= 1.0 && centre.z() - v.leaf_radius > s.ground_z) {
             const std::uint64_t vh = voxel_hash(s.seed, cell.x(), cell.y(), cell.z());

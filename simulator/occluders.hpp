@@ -29,7 +29,7 @@ struct OccluderState {
 std::vector<OccluderState> occluder_states(const Site& site, int epoch);
 
 struct VegetationState {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // ellipsoid centre
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();                            // ellipsoid centre
     Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // voxel grid
     Eigen::Vector3i cells = Eigen::Vector3i::Zero();
     double ground_z = 0.0;  // ground height at the centre
@@ -43,11 +43,12 @@ struct SolidHit {
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
 };
 
-SolidHit intersect_occluder(const Occluder& o, const OccluderState& s, const Eigen::Vector3d& origin,
-                            const Eigen::Vector3d& d, double t_max);
+SolidHit intersect_occluder(const Occluder& o, const OccluderState& s,
+                            const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double t_max);
 
 SolidHit intersect_vegetation(const Vegetation& v, const VegetationState& s,
-                              const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double t_max);
+                              const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                              double t_max);
 
 // Throws tlsmon::Error naming the patch when leaf_radius + sway exceeds half the spacing.
 void validate_occlusion(const Occlusion& occlusion);

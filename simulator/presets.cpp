@@ -27,8 +27,8 @@ TargetPlacement sphere(std::string name, double distance, double azimuth_deg, do
     return p;
 }
 
-TargetPlacement board(std::string name, double distance, double azimuth_deg, double height,
-                      M mount, double size = 0.40) {
+TargetPlacement board(std::string name, double distance, double azimuth_deg, double height, M mount,
+                      double size = 0.40) {
     TargetPlacement p = sphere(std::move(name), distance, azimuth_deg, height, mount);
     p.kind = K::checkerboard;
     p.size = size;
@@ -58,8 +58,8 @@ void valley_near(Site& s) {
     s.terrain.profile_y = {60.0, 130.0};
     s.terrain.profile_z = {0.0, 25.0};
     s.terrain.blocks = {
-        block("P-foundation", Block::Kind::foundation,
-              {s.pier.x0 - 1.5, s.pier.y0 - 1.5, -1.0}, {s.pier.x1 + 1.5, s.pier.y1 + 1.5, 0.4}),
+        block("P-foundation", Block::Kind::foundation, {s.pier.x0 - 1.5, s.pier.y0 - 1.5, -1.0},
+              {s.pier.x1 + 1.5, s.pier.y1 + 1.5, 0.4}),
         block("A-north", Block::Kind::abutment, {22.0, 56.0, -1.0}, {30.0, 62.0, 2.5})};
 }
 
@@ -78,8 +78,7 @@ Site preset_small() {
     valley_near(s);
     // Four targets a 0.1° grid still resolves: two spheres on masts 20–22 m out, a board on
     // a stand, and a 0.6 m board on the pier's foundation at 44 m.
-    place_all(s, {sphere("T1", 20.0, 92.0, 1.0, M::mast),
-                  board("T2", 26.0, 68.0, 1.2, M::stand),
+    place_all(s, {sphere("T1", 20.0, 92.0, 1.0, M::mast), board("T2", 26.0, 68.0, 1.2, M::stand),
                   sphere("T3", 22.0, 65.0, 1.6, M::mast),
                   board("T4", 44.2, 89.0, 0.6, M::abutment, 0.60)});
     return s;
@@ -95,12 +94,11 @@ Site preset_pier() {
     // Six targets 12–100 m out over 64–93° of azimuth and 1.2–15.7 m of height: near ones on
     // masts and stands, two on the stable blocks at the pier's foot and the valley side,
     // and a far sphere on a mast up the north side to hold the rotation.
-    place_all(s, {sphere("T1", 18.0, 91.0, 1.6, M::mast),
-                  board("T2", 27.0, 64.0, 1.4, M::stand),
-                  sphere("T3", 44.2, 88.8, 0.5, M::abutment),
-                  board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
-                  sphere("T5", 100.0, 93.0, 1.5, M::mast, 0.10),
-                  board("T6", 12.0, 72.0, 1.2, M::stand)});
+    place_all(
+        s, {sphere("T1", 18.0, 91.0, 1.6, M::mast), board("T2", 27.0, 64.0, 1.4, M::stand),
+            sphere("T3", 44.2, 88.8, 0.5, M::abutment),
+            board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
+            sphere("T5", 100.0, 93.0, 1.5, M::mast, 0.10), board("T6", 12.0, 72.0, 1.2, M::stand)});
     // A person crossing between the station and the pier about one scan in twelve, a
     // maintenance van parked on the track in front of the pier about one scan in twenty-five,
     // and a bush west of the pier.

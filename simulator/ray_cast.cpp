@@ -125,12 +125,12 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
         const Eigen::Vector2d uv = face_uv(face, o + bh.t * d);
         // Concrete texture at the block's own mean reflectance, independent pattern per block.
         const double scale = site.texture.albedo > 0.0 ? k.albedo / site.texture.albedo : 0.0;
-        const double albedo = std::clamp(
-            scale * concrete_albedo(site.texture, 20 + 5 * static_cast<int>(i) + face, uv.x(),
-                                    uv.y()),
-            0.02, 1.0);
-        Hit h{k.kind == Block::Kind::abutment ? Surface::abutment : Surface::foundation,
-              bh.t, n, albedo, -1};
+        const double albedo =
+            std::clamp(scale * concrete_albedo(site.texture, 20 + 5 * static_cast<int>(i) + face,
+                                               uv.x(), uv.y()),
+                       0.02, 1.0);
+        Hit h{k.kind == Block::Kind::abutment ? Surface::abutment : Surface::foundation, bh.t, n,
+              albedo, -1};
         h.part = static_cast<int>(i);
         consider(best, h);
     }
@@ -235,7 +235,8 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
     const Occlusion& occ = site.occlusion;
     for (std::size_t i = 0; i < occ.occluders.size(); ++i) {
         if (!scene.occluders[i].present) continue;
-        const SolidHit sh = intersect_occluder(occ.occluders[i], scene.occluders[i], o, d, best.range);
+        const SolidHit sh =
+            intersect_occluder(occ.occluders[i], scene.occluders[i], o, d, best.range);
         if (sh.t >= best.range) continue;
         Hit h{Surface::occluder, sh.t, sh.normal, occ.occluders[i].albedo, -1};
         h.part = static_cast<int>(i);

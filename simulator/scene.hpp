@@ -219,13 +219,13 @@ struct Occluder {
 // up to `sway` between epochs (wind), so its points differ from epoch to epoch.
 struct Vegetation {
     std::string name;
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero();     // m, on the ground
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();        // m, on the ground
     Eigen::Vector3d radii = Eigen::Vector3d(1.5, 1.0, 1.0);  // m, ellipsoid half-axes
-    double leaf_spacing = 0.08;  // m, voxel side
-    double leaf_radius = 0.025;  // m
-    double density = 0.15;       // fraction of voxels holding a leaf
-    double sway = 0.01;          // m, largest leaf movement between epochs
-    double albedo = 0.30;        // leaves at 1.5 µm
+    double leaf_spacing = 0.08;                              // m, voxel side
+    double leaf_radius = 0.025;                              // m
+    double density = 0.15;                                   // fraction of voxels holding a leaf
+    double sway = 0.01;    // m, largest leaf movement between epochs
+    double albedo = 0.30;  // leaves at 1.5 µm
 };
 
 struct Occlusion {

@@ -136,7 +136,8 @@ sim::Target read_target(TomlFields& f, const sim::Site& site) {
                "give a target either `centre` or `distance`/`range` with `azimuth_deg` and "
                "`height`");
     }
-    if (f.has("distance") && f.has("range")) f.fail("range", "give `distance` or `range`, not both");
+    if (f.has("distance") && f.has("range"))
+        f.fail("range", "give `distance` or `range`, not both");
     try {
         if (placed) {
             f.get("distance", p.distance, 0.01, kBig);
@@ -387,7 +388,8 @@ sim::Site read_site(const toml::table& doc, const std::string& source,
     if (auto t = root.table("terrain")) read_terrain(*t, site.terrain);
     if (root.has("block")) {
         site.terrain.blocks.clear();
-        for (TomlFields& b : root.array_of_tables("block")) site.terrain.blocks.push_back(read_block(b));
+        for (TomlFields& b : root.array_of_tables("block"))
+            site.terrain.blocks.push_back(read_block(b));
     }
     if (auto t = root.table("occlusion")) read_occlusion(*t, site.occlusion);
     if (root.has("occluder")) {

@@ -94,8 +94,8 @@ void add_scene_truth(nlohmann::json& j, const Site& site, int epoch, double hour
         const double occluded = static_cast<double>(s.occluded) / s.rays;
         tj["sightlines"] = {{"rays", s.rays}, {"reach_target", s.reach}, {"occluded", s.occluded}};
         tj["occluded"] = s.occluded > 0;
-        sight.push_back({{"target", t.name}, {"occluded_fraction", occluded},
-                         {"occluded", s.occluded > 0}});
+        sight.push_back(
+            {{"target", t.name}, {"occluded_fraction", occluded}, {"occluded", s.occluded > 0}});
     }
 
     const Occlusion& occ = site.occlusion;
@@ -103,12 +103,9 @@ void add_scene_truth(nlohmann::json& j, const Site& site, int epoch, double hour
     for (std::size_t i = 0; i < occ.occluders.size(); ++i) {
         const Occluder& o = occ.occluders[i];
         const OccluderState& st = scene.occluders[i];
-        json oj = {{"name", o.name},
-                   {"kind", occluder_kind_name(o.kind)},
-                   {"present", st.present},
-                   {"probability", o.probability},
-                   {"length", o.length},
-                   {"width", o.width},
+        json oj = {{"name", o.name},        {"kind", occluder_kind_name(o.kind)},
+                   {"present", st.present}, {"probability", o.probability},
+                   {"length", o.length},    {"width", o.width},
                    {"height", o.height}};
         if (st.present) {
             oj["position"] = vec(st.base + Eigen::Vector3d(0.0, 0.0, 0.2));

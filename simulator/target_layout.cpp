@@ -13,8 +13,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-double base_at(const Site& site, const std::string& name, Target::Mount mount, double x,
-               double y) {
+double base_at(const Site& site, const std::string& name, Target::Mount mount, double x, double y) {
     int block = -1;
     const double z = support_height(site.terrain, x, y, &block);
     if (mount == Target::Mount::abutment && block < 0) {

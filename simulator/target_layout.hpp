@@ -21,8 +21,8 @@ namespace tlsmon::sim {
 struct TargetPlacement {
     std::string name;
     Target::Kind kind = Target::Kind::sphere;
-    double distance = 0.0;  // horizontal, from the scanner, m (used when range is 0)
-    double range = 0.0;     // slant range to the centre, m; 0: use distance
+    double distance = 0.0;      // horizontal, from the scanner, m (used when range is 0)
+    double range = 0.0;         // slant range to the centre, m; 0: use distance
     double azimuth_deg = 90.0;  // scanner frame, counter-clockwise from the scanner's +x
     double height = 1.5;        // centre above the ground or block top, m
     Target::Mount mount = Target::Mount::mast;

@@ -15,8 +15,8 @@ double terrain_height(const Terrain& t, double y) {
     const auto& zs = t.profile_z;
     if (y <= ys.front()) return zs.front();
     if (y >= ys.back()) return zs.back();
-    const std::size_t k = static_cast<std::size_t>(
-        std::upper_bound(ys.begin(), ys.end(), y) - ys.begin());  // ys[k-1] <= y < ys[k]
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(ys.begin(), ys.end(), y) -
+                                                   ys.begin());  // ys[k-1] <= y < ys[k]
     const double f = (y - ys[k - 1]) / (ys[k] - ys[k - 1]);
     return zs[k - 1] + f * (zs[k] - zs[k - 1]);
 }

@@ -377,9 +377,10 @@ path_end = [10.0, 10.0]
 
     // An abutment mount with no block under it is an error naming the key and line.
     try {
-        parse_scene_file("[[target]]\nname = \"X\"\ndistance = 12.0\nazimuth_deg = 80.0\n"
-                         "mount = \"abutment\"\n",
-                         "bad.toml", std::nullopt);
+        parse_scene_file(
+            "[[target]]\nname = \"X\"\ndistance = 12.0\nazimuth_deg = 80.0\n"
+            "mount = \"abutment\"\n",
+            "bad.toml", std::nullopt);
         FAIL() << "no error";
     } catch (const Error& e) {
         const std::string what = e.what();
