@@ -31,6 +31,7 @@ Site exact(Site s) {
     s.drift.enabled = false;
     s.deformation.enabled = false;
     s.beam.footprint = false;
+    s.atmosphere.enabled = false;  // ranges unscaled by the air's refractive index
     return s;
 }
 
