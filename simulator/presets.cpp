@@ -91,14 +91,16 @@ Site preset_pier() {
     s.scanner.azimuth_step_deg = 0.013;
     s.scanner.elevation_step_deg = 0.013;
     s.deck.enabled = true;
-    // Six targets 12–100 m out over 64–93° of azimuth and 1.2–15.7 m of height: near ones on
-    // masts and stands, two on the stable blocks at the pier's foot and the valley side,
-    // and a far sphere on a mast up the north side to hold the rotation.
-    place_all(
-        s, {sphere("T1", 18.0, 91.0, 1.6, M::mast), board("T2", 27.0, 64.0, 1.4, M::stand),
-            sphere("T3", 44.2, 88.8, 0.5, M::abutment),
-            board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
-            sphere("T5", 100.0, 93.0, 1.5, M::mast, 0.10), board("T6", 12.0, 72.0, 1.2, M::stand)});
+    // Six targets 18–85 m out over 64–93° of azimuth and 1.2–10.6 m of height, chosen as a
+    // surveyor would for the distance: 145 mm spheres only near (their centres hold to
+    // 0.15 mm there), large boards beyond, two of them on the stable blocks at the pier's foot
+    // and the valley side, and a far board up the north side to hold the rotation.
+    place_all(s, {sphere("T1", 18.0, 91.0, 1.6, M::mast),
+                  board("T2", 27.0, 64.0, 1.4, M::stand),
+                  board("T3", 44.2, 88.8, 0.6, M::abutment, 0.60),
+                  board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
+                  board("T5", 85.0, 93.0, 1.7, M::mast, 1.0),
+                  sphere("T6", 25.0, 72.0, 1.2, M::stand)});
     // A person crossing between the station and the pier about one scan in twelve, a
     // maintenance van parked on the track in front of the pier about one scan in twenty-five,
     // and a bush west of the pier.

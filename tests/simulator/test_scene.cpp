@@ -208,8 +208,6 @@ TEST(SimulatorScene, EveryPresetTargetIsVisibleFromTheStation) {
         }
         EXPECT_GE(spheres, 2) << name;
         EXPECT_GE(boards, 2) << name;
-        const EpochFiles f = simulate_epoch(s, epoch, kStart, 2, {});
-        (void)f;  // rendering the whole preset is the benchmark's job; the truth alone:
     }
 }
 
