@@ -35,6 +35,41 @@ TargetPlacement board(std::string name, double distance, double azimuth_deg, dou
     return p;
 }
 
+// A person walking from `from` to `to` (x, y), present with `probability` per epoch.
+Occluder person(double probability, Eigen::Vector2d from, Eigen::Vector2d to) {
+    Occluder o;
+    o.name = "person";
+    o.kind = Occluder::Kind::person;
+    o.probability = probability;
+    o.path_start = from;
+    o.path_end = to;
+    return o;
+}
+
+// A vehicle (length x width x height, m) somewhere on the track from `from` to `to`.
+Occluder vehicle(std::string name, double probability, Eigen::Vector2d from, Eigen::Vector2d to,
+                 Eigen::Vector3d size, double albedo) {
+    Occluder o;
+    o.name = std::move(name);
+    o.kind = Occluder::Kind::vehicle;
+    o.probability = probability;
+    o.path_start = from;
+    o.path_end = to;
+    o.length = size.x();
+    o.width = size.y();
+    o.height = size.z();
+    o.albedo = albedo;
+    return o;
+}
+
+Vegetation bush(Eigen::Vector2d centre, Eigen::Vector3d radii) {
+    Vegetation v;
+    v.name = "bush";
+    v.centre = centre;
+    v.radii = radii;
+    return v;
+}
+
 void place_all(Site& s, const std::vector<TargetPlacement>& placements) {
     s.targets.clear();
     for (const TargetPlacement& p : placements) s.targets.push_back(place_target(s, p));
@@ -95,39 +130,18 @@ Site preset_pier() {
     // surveyor would for the distance: 145 mm spheres only near (their centres hold to
     // 0.15 mm there), large boards beyond, two of them on the stable blocks at the pier's foot
     // and the valley side, and a far board up the north side to hold the rotation.
-    place_all(s, {sphere("T1", 18.0, 91.0, 1.6, M::mast),
-                  board("T2", 27.0, 64.0, 1.4, M::stand),
-                  board("T3", 44.2, 88.8, 0.6, M::abutment, 0.60),
-                  board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
-                  board("T5", 85.0, 93.0, 1.7, M::mast, 1.0),
-                  sphere("T6", 25.0, 72.0, 1.2, M::stand)});
+    place_all(
+        s, {sphere("T1", 18.0, 91.0, 1.6, M::mast), board("T2", 27.0, 64.0, 1.4, M::stand),
+            board("T3", 44.2, 88.8, 0.6, M::abutment, 0.60),
+            board("T4", 64.1, 66.0, 1.0, M::abutment, 0.60),
+            board("T5", 85.0, 93.0, 1.7, M::mast, 1.0), sphere("T6", 25.0, 72.0, 1.2, M::stand)});
     // A person crossing between the station and the pier about one scan in twelve, a
     // maintenance van parked on the track in front of the pier about one scan in twenty-five,
     // and a bush west of the pier.
-    Occluder person;
-    person.name = "person";
-    person.kind = Occluder::Kind::person;
-    person.probability = 0.08;
-    person.path_start = {-3.0, 28.0};
-    person.path_end = {20.0, 36.0};
-    person.width = 0.5;
-    person.height = 1.75;
-    Occluder van;
-    van.name = "van";
-    van.kind = Occluder::Kind::vehicle;
-    van.probability = 0.04;
-    van.path_start = {-4.0, 33.0};
-    van.path_end = {22.0, 33.0};
-    van.length = 5.0;
-    van.width = 2.0;
-    van.height = 2.3;
-    van.albedo = 0.6;
-    Vegetation bush;
-    bush.name = "bush";
-    bush.centre = {-3.0, 36.0};
-    bush.radii = {1.8, 1.2, 1.4};
-    s.occlusion.occluders = {person, van};
-    s.occlusion.vegetation = {bush};
+    s.occlusion.occluders = {
+        person(0.08, {-3.0, 28.0}, {20.0, 36.0}),
+        vehicle("van", 0.04, {-4.0, 33.0}, {22.0, 33.0}, {5.0, 2.0, 2.3}, 0.6)};
+    s.occlusion.vegetation = {bush({-3.0, 36.0}, {1.8, 1.2, 1.4})};
     return s;
 }
 
@@ -168,28 +182,10 @@ Site preset_hochmosel() {
                   board("H6", 170.0, 96.0, 2.0, M::mast, 1.0)});
     s.events.step_z_min = 100.0;
     s.events.step_z_max = 140.0;
-    Occluder truck;
-    truck.name = "truck";
-    truck.kind = Occluder::Kind::vehicle;
-    truck.probability = 0.05;
-    truck.path_start = {-30.0, 80.0};
-    truck.path_end = {40.0, 80.0};
-    truck.length = 7.0;
-    truck.width = 2.5;
-    truck.height = 3.2;
-    truck.albedo = 0.5;
-    Occluder person;
-    person.name = "person";
-    person.kind = Occluder::Kind::person;
-    person.probability = 0.08;
-    person.path_start = {-10.0, 70.0};
-    person.path_end = {25.0, 96.0};
-    Vegetation bush;
-    bush.name = "bush";
-    bush.centre = {-6.0, 92.0};
-    bush.radii = {2.5, 1.5, 2.0};
-    s.occlusion.occluders = {truck, person};
-    s.occlusion.vegetation = {bush};
+    s.occlusion.occluders = {
+        vehicle("truck", 0.05, {-30.0, 80.0}, {40.0, 80.0}, {7.0, 2.5, 3.2}, 0.5),
+        person(0.08, {-10.0, 70.0}, {25.0, 96.0})};
+    s.occlusion.vegetation = {bush({-6.0, 92.0}, {2.5, 1.5, 2.0})};
     return s;
 }
 
