@@ -52,6 +52,13 @@ struct EventsOptions {
 };
 int run_events(const EventsOptions& options);
 
+// `tlsmon modbus-map --config FILE [--format markdown|csv]`: 0, or 1 with the error.
+struct ModbusMapOptions {
+    std::string config;
+    std::string format = "markdown";
+};
+int run_modbus_map(const ModbusMapOptions& options);
+
 // `tlsmon simulate` (compiled into the executable only: the daemon library does not link
 // the simulator).
 struct SimulateOptions {

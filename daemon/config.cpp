@@ -1,5 +1,7 @@
 #include "daemon/config.hpp"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cctype>
 #include <set>
@@ -63,10 +65,31 @@ void check_ingest(TomlFields& t, IngestConfig& c) {
     if (c.retry_max < c.retry_initial) t.fail("retry_max", "must be >= ingest.retry_initial");
 }
 
+bool is_ipv4(const std::string& text) {
+    in_addr a{};
+    return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
+}
+
+void check_modbus(TomlFields& t, const ModbusConfig& c) {
+    if (!is_ipv4(c.address)) t.fail("address", "'" + c.address + "' is not an IPv4 address");
+    for (const auto& a : c.allowlist) {
+        if (!is_ipv4(a)) t.fail("allowlist", "'" + a + "' is not an IPv4 address");
+    }
+    if (c.quantities.empty() || c.quantities.size() > 8) {
+        t.fail("quantities", "expected 1 to 8 quantity names (8 slots per zone)");
+    }
+    std::set<std::string> seen;
+    for (const auto& q : c.quantities) {
+        if (q.empty()) t.fail("quantities", "expected non-empty quantity names");
+        if (!seen.insert(q).second) t.fail("quantities", "'" + q + "' is listed twice");
+    }
+}
+
 void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "station") check_station(t, c.station);
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
+    if (section == "modbus") check_modbus(t, c.modbus);
 }
 
 ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {

@@ -14,6 +14,7 @@
 
 #include "core/toml_fields.hpp"
 #include "daemon/ingest_files.hpp"
+#include "daemon/modbus/modbus_config.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
@@ -79,6 +80,7 @@ struct Config {
     LoggingConfig logging;
     DaemonConfig daemon;
     CoverageConfig coverage;  // the pipeline's stages, in their order
+    ModbusConfig modbus;
     std::vector<ZoneConfig> zones;
 };
 

@@ -27,6 +27,10 @@ constexpr std::array<Named<LogLevel>, 7> kLogLevels{{
     {LogLevel::critical, "critical"},
     {LogLevel::off, "off"},
 }};
+constexpr std::array<Named<WordOrder>, 2> kWordOrders{{
+    {WordOrder::abcd, "ABCD"},
+    {WordOrder::cdab, "CDAB"},
+}};
 constexpr std::array<Named<JournaldMode>, 3> kJournaldModes{{
     {JournaldMode::automatic, "auto"},
     {JournaldMode::on, "on"},
@@ -115,6 +119,14 @@ ConfigKey optional_path(Member<S, std::filesystem::path> m, std::string_view dot
         m.of(c) = text;
     };
     k.value = [m](const Config& c) { return toml_string(m.of(c).string()); };
+    return k;
+}
+
+template <class S>
+ConfigKey flag(Member<S, bool> m, std::string_view dotted, std::string help) {
+    ConfigKey k = key(dotted, "boolean", "`true`, `false`", std::move(help));
+    k.read = [m, name = k.name](TomlFields& t, Config& c) { t.get(name, m.of(c)); };
+    k.value = [m](const Config& c) { return std::string(m.of(c) ? "true" : "false"); };
     return k;
 }
 
@@ -299,6 +311,40 @@ std::vector<ConfigKey> declare_keys() {
                "An epoch with a smaller share of its points inside the grown box is rejected "
                "before any analysis (the scanner turned, the scan is cut short, a file of "
                "another station). 0: never rejected; the share is stored either way."),
+
+        flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
+             "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
+        text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",
+             "Address the server listens on; `0.0.0.0`: every interface."),
+        integer(at(&C::modbus, &ModbusConfig::port), "modbus.port", 1, 65535, "",
+                "TCP port (Modbus: 502, which needs privileges; the demo uses 1502)."),
+        integer(at(&C::modbus, &ModbusConfig::unit_id), "modbus.unit_id", 0, 255, "",
+                "Unit identifier answered; requests for another unit are dropped."),
+        choice(at(&C::modbus, &ModbusConfig::word_order), "modbus.word_order", kWordOrders,
+               "Order of the two registers of a 32-bit value (float32, uint32): `ABCD` = high "
+               "word first, `CDAB` = low word first. Bytes within a register are always "
+               "big-endian."),
+        integer(at(&C::modbus, &ModbusConfig::max_clients), "modbus.max_clients", 1, 256, "",
+                "Connections served at once; a further one is closed at once."),
+        seconds(at(&C::modbus, &ModbusConfig::idle_timeout), "modbus.idle_timeout", 1, day, "",
+                "A client that sends no complete request for this long is disconnected."),
+        names(at(&C::modbus, &ModbusConfig::allowlist), "modbus.allowlist", "IPv4 addresses",
+              "Client addresses allowed to connect; empty: any client."),
+        flag(at(&C::modbus, &ModbusConfig::writable_coils), "modbus.writable_coils",
+             "Whether SCADA may acknowledge alarms by writing the acknowledge coils; `false`: "
+             "every write is answered with an exception."),
+        names(at(&C::modbus, &ModbusConfig::quantities), "modbus.quantities",
+              "1 to 8 quantity names, no repeats; append only",
+              "The quantities of each zone shown in the input registers; the position in this "
+              "list is the quantity's slot in the zone's block, so add new ones at the end."),
+        seconds(at(&C::modbus, &ModbusConfig::stale_seconds), "modbus.stale_seconds", 1, 30 * day,
+                "",
+                "A zone value whose epoch was acquired longer ago than this is flagged stale in "
+                "its quality word."),
+        seconds(at(&C::modbus, &ModbusConfig::snapshot_interval), "modbus.snapshot_interval",
+                0.1, 3600, "",
+                "The registers are rebuilt from the database after each epoch and at least "
+                "this often."),
     };
 }
 

@@ -29,7 +29,8 @@ struct ConfigKey {
 std::string toml_string(const std::string& s);
 std::string toml_number(double v);
 
-// In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage].
+// In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage],
+// [modbus].
 const std::vector<ConfigKey>& config_keys();
 
 // The sections of config_keys(), in that order.

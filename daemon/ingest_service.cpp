@@ -9,11 +9,13 @@
 #include <thread>
 #include <utility>
 
+#include "daemon/alarm_actions.hpp"
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/ingest_meteo.hpp"
 #include "daemon/logging.hpp"
+#include "daemon/modbus/modbus_service.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/startup_checks.hpp"
 #include "daemon/systemd_notify.hpp"
@@ -105,6 +107,8 @@ class Daemon {
     std::optional<Clock::time_point> meteo_wait_;
     Clock::time_point next_status_{};
     std::int64_t done_ = 0, rejected_ = 0, failed_ = 0;
+    // Last member: stopped first, before the database it reads is closed.
+    std::unique_ptr<ModbusService> modbus_;
 };
 
 void Daemon::start() {
@@ -116,6 +120,15 @@ void Daemon::start() {
                        " interrupted epoch(s) back to pending");
     auto ctx = pipeline();
     ensure_reference(ctx);
+    if (config_.modbus.enabled) {
+        std::vector<std::string> zones;
+        for (const auto& z : config_.zones) zones.push_back(z.name);
+        modbus_ = std::make_unique<ModbusService>(
+            config_.modbus, config_.paths.database, std::move(zones),
+            [](EpochDatabase& db, const std::string& rule, UtcSeconds now) {
+                return acknowledge_alarm(db, rule, AlarmActor::scada, now);
+            });
+    }
     watcher_.rescan(Clock::now());
     next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
 }
@@ -253,6 +266,7 @@ void Daemon::process_backlog() {
                 spdlog::warn("processing paused for {:.1f} s", backoff_);
                 return;
             }
+            if (modbus_) modbus_->epoch_committed();
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;

@@ -53,6 +53,7 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
+    ModbusMapOptions modbus_map;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -202,6 +203,17 @@ void add_m3c2(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_m3c2(o); });
 }
 
+void add_modbus_map(CLI::App& app, CommandLine& c) {
+    auto& o = c.modbus_map;
+    auto* cmd = app.add_subcommand(
+        "modbus-map", "Print the Modbus register map of a configuration (docs/modbus.md)");
+    cmd->add_option("--config", o.config, "TOML configuration file")->required();
+    cmd->add_option("--format", o.format, "Output format")
+        ->check(CLI::IsMember({"markdown", "csv"}))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_modbus_map(o); });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -218,6 +230,7 @@ int main(int argc, char** argv) {
     tlsmon::add_query(app, c);
     tlsmon::add_events(app, c);
     tlsmon::add_m3c2(app, c);
+    tlsmon::add_modbus_map(app, c);
 
     try {
         app.parse(argc, argv);

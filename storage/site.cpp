@@ -60,4 +60,13 @@ std::vector<std::pair<std::string, std::string>> Site::zones() const {
     });
 }
 
+std::vector<std::pair<ZoneId, std::string>> Site::zone_ids() const {
+    return guarded(*c_, "listing zones", [&] {
+        SQLite::Statement s(c_->db, "SELECT id, name FROM zones ORDER BY id");
+        std::vector<std::pair<ZoneId, std::string>> out;
+        while (s.executeStep()) out.emplace_back(s.getColumn(0).getInt64(), s.getColumn(1));
+        return out;
+    });
+}
+
 }  // namespace tlsmon

@@ -24,6 +24,8 @@ class Site {
     std::vector<Station> stations() const;
     ZoneId upsert_zone(const std::string& name, const std::string& definition_json);
     std::vector<std::pair<std::string, std::string>> zones() const;  // name, definition
+    // Every zone's id and name, by id (ids follow the order of first appearance).
+    std::vector<std::pair<ZoneId, std::string>> zone_ids() const;
 
   private:
     Connection* c_;

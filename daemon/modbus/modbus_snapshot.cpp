@@ -1,0 +1,124 @@
+#include "daemon/modbus/modbus_snapshot.hpp"
+
+#include <algorithm>
+
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr UtcSeconds kDay = 86400;
+constexpr UtcSeconds kRateWindow = kDay;        // rate: slope over the last 24 h
+constexpr UtcSeconds kValueLookBack = 30 * kDay;  // older values count as none
+
+}  // namespace
+
+MapInputs modbus_map_inputs(const EpochDatabase* db, const std::vector<std::string>& config_zones,
+                            const ModbusConfig& config) {
+    MapInputs in;
+    in.quantities = config.quantities;
+    ZoneId next = 1;
+    if (db) {
+        for (const auto& [id, name] : db->site().zone_ids()) {
+            in.zones.push_back({static_cast<int>(id - 1), name});
+            next = std::max(next, id + 1);
+        }
+        for (const auto& rule : db->alarms().rules()) {
+            in.rules.push_back({static_cast<int>(rule.id - 1), rule.name});
+        }
+    }
+    for (const auto& name : config_zones) {
+        const bool known = std::any_of(in.zones.begin(), in.zones.end(),
+                                       [&](const MapSlot& z) { return z.name == name; });
+        if (!known) in.zones.push_back({static_cast<int>(next++ - 1), name});
+    }
+    return in;
+}
+
+std::optional<double> slope_per_day(const std::vector<std::pair<UtcSeconds, double>>& points) {
+    if (points.size() < 2) return std::nullopt;
+    double mt = 0, mv = 0;
+    for (const auto& [t, v] : points) {
+        mt += static_cast<double>(t - points.front().first);
+        mv += v;
+    }
+    const double n = static_cast<double>(points.size());
+    mt /= n;
+    mv /= n;
+    double stt = 0, stv = 0;
+    for (const auto& [t, v] : points) {
+        const double dt = static_cast<double>(t - points.front().first) - mt;
+        stt += dt * dt;
+        stv += dt * (v - mv);
+    }
+    if (stt <= 0) return std::nullopt;
+    return stv / stt * static_cast<double>(kDay);
+}
+
+ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& inputs,
+                                    const ModbusConfig& config, UtcSeconds now) {
+    ModbusSnapshot s;
+    const StatusSummary summary = db.series().status_summary();
+    s.database_ok = true;
+    s.backlog = summary.backlog > 0;
+    const auto count = [&](EpochStatus st) {
+        const auto it = summary.epochs_by_status.find(st);
+        return it == summary.epochs_by_status.end() ? std::int64_t{0} : it->second;
+    };
+    s.epochs_processed = static_cast<std::uint32_t>(
+        count(EpochStatus::done) + count(EpochStatus::rejected) + count(EpochStatus::failed));
+    if (summary.last_done) {
+        s.last_epoch_time = static_cast<std::uint32_t>(std::max<UtcSeconds>(0, summary.last_done->acquired));
+    }
+    s.last_epoch_failed = summary.last_failure &&
+                          (!summary.last_done || summary.last_failure->updated >= summary.last_done->updated);
+    s.stale = !summary.last_done ||
+              static_cast<double>(now - summary.last_done->acquired) > config.stale_seconds;
+
+    for (const auto& z : inputs.zones) {
+        for (std::size_t q = 0; q < inputs.quantities.size(); ++q) {
+            TimeRange range;
+            range.from = now - kValueLookBack;
+            const auto points = db.series().points(z.name, inputs.quantities[q], range);
+            if (points.empty()) continue;
+            const SeriesPoint& last = points.back();
+            ZoneValue v;
+            v.zone_slot = z.slot;
+            v.quantity_slot = static_cast<int>(q);
+            v.value = last.value;
+            v.lod = last.uncertainty;
+            v.significant = last.significant;
+            v.stale = static_cast<double>(now - last.acquired) > config.stale_seconds;
+            std::vector<std::pair<UtcSeconds, double>> window;
+            for (const auto& p : points) {
+                if (p.acquired >= last.acquired - kRateWindow) window.emplace_back(p.acquired, p.value);
+            }
+            v.rate = slope_per_day(window);
+            if (const auto reg = db.series().registration(last.epoch)) {
+                v.registration_degraded = !reg->accepted;
+            }
+            s.values.push_back(v);
+        }
+    }
+    const auto rules = db.alarms().rules();
+    const auto states = db.alarms().states();
+    for (const auto& rule : rules) {
+        RuleStatus r;
+        r.slot = static_cast<int>(rule.id - 1);
+        r.name = rule.name;
+        r.zone = rule.zone;
+        r.quantity = rule.quantity;
+        r.state = "normal";
+        for (const auto& st : states) {
+            if (st.rule == rule.name) {
+                r.state = st.state;
+                r.level = st.level;
+            }
+        }
+        s.rules.push_back(r);
+    }
+    return s;
+}
+
+}  // namespace tlsmon

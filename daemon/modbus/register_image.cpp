@@ -1,0 +1,112 @@
+#include "daemon/modbus/register_image.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "daemon/modbus/register_words.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+void put(std::vector<std::uint16_t>& regs, int address, std::array<std::uint16_t, 2> words) {
+    regs.at(static_cast<std::size_t>(address)) = words[0];
+    regs.at(static_cast<std::size_t>(address) + 1) = words[1];
+}
+
+float as_float(const std::optional<double>& v) {
+    return v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
+}
+
+int block(int zone_slot, int quantity_slot) {
+    return kRegZoneBase + zone_slot * kRegZoneStride + quantity_slot * kRegQuantityStride;
+}
+
+}  // namespace
+
+RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
+                               const ModbusSnapshot& s, WordOrder order) {
+    RegisterImage img;
+    img.input_registers.assign(static_cast<std::size_t>(map.input_registers), 0);
+    img.discrete_inputs.assign(static_cast<std::size_t>(map.discrete_inputs), 0);
+    img.coil_rules.assign(static_cast<std::size_t>(map.coils), "");
+    auto& r = img.input_registers;
+
+    bool any_alarm = false, any_unack = false;
+    for (const auto& rule : s.rules) {
+        if (alarm_level_code(rule.level) > 0 && alarm_level_code(rule.level) <= 3) any_alarm = true;
+        if (rule.state == "unack" || rule.state == "rtn_unack") any_unack = true;
+    }
+    std::uint16_t status = kStatusRunning;
+    if (s.database_ok) status |= kStatusDatabaseOk;
+    if (s.backlog) status |= kStatusBacklog;
+    if (s.last_epoch_failed) status |= kStatusLastEpochFailed;
+    if (s.stale) status |= kStatusStale;
+    if (any_alarm) status |= kStatusAnyAlarm;
+    r.at(kRegMapVersion) = kModbusMapVersion;
+    r.at(kRegStatus) = status;
+    put(r, kRegLastEpochTime, u32_words(s.last_epoch_time, order));
+    put(r, kRegEpochsProcessed, u32_words(s.epochs_processed, order));
+    put(r, kRegTestFloat, float_words(123456.0f, order));
+
+    const auto nan = float_words(std::numeric_limits<float>::quiet_NaN(), order);
+    for (const auto& z : inputs.zones) {
+        for (std::size_t q = 0; q < inputs.quantities.size(); ++q) {
+            const int b = block(z.slot, static_cast<int>(q));
+            put(r, b + kOffValue, nan);
+            put(r, b + kOffLod, nan);
+            put(r, b + kOffRate, nan);
+        }
+    }
+    for (const auto& v : s.values) {
+        const int b = block(v.zone_slot, v.quantity_slot);
+        if (b + kOffState >= static_cast<int>(r.size())) continue;  // not in this map
+        put(r, b + kOffValue, float_words(as_float(v.value), order));
+        put(r, b + kOffLod, float_words(as_float(v.lod), order));
+        put(r, b + kOffRate, float_words(as_float(v.rate), order));
+        std::uint16_t quality = 0;
+        if (v.value) quality |= kQualityValid;
+        if (v.stale) quality |= kQualityStale;
+        if (v.value && !v.significant) quality |= kQualityBelowLod;
+        if (v.registration_degraded) quality |= kQualityRegistrationDegraded;
+        r.at(static_cast<std::size_t>(b + kOffQuality)) = quality;
+    }
+    // Each zone quantity shows the highest level among the rules watching it, and that rule's
+    // state; with no rule at a level, the "worst" state (unacknowledged first).
+    for (const auto& rule : s.rules) {
+        const auto z = std::find_if(inputs.zones.begin(), inputs.zones.end(),
+                                    [&](const MapSlot& m) { return m.name == rule.zone; });
+        const auto q = std::find(inputs.quantities.begin(), inputs.quantities.end(), rule.quantity);
+        if (z != inputs.zones.end() && q != inputs.quantities.end()) {
+            const int b = block(z->slot, static_cast<int>(q - inputs.quantities.begin()));
+            auto& level = r.at(static_cast<std::size_t>(b + kOffLevel));
+            auto& state = r.at(static_cast<std::size_t>(b + kOffState));
+            const std::uint16_t l = alarm_level_code(rule.level);
+            const std::uint16_t st = isa_state_code(rule.state);
+            if (l > level || (l == level && (st == 1 || st == 3) && state != 1)) {
+                level = l;
+                state = st;
+            }
+        }
+        const int bit = kBitRuleBase + rule.slot * kBitRuleStride;
+        if (bit + 3 >= static_cast<int>(img.discrete_inputs.size())) continue;
+        const std::uint16_t l = alarm_level_code(rule.level);
+        for (int level = 1; level <= 3; ++level) {
+            img.discrete_inputs[static_cast<std::size_t>(bit + level - 1)] =
+                (l >= level && l <= 3) ? 1 : 0;
+        }
+        img.discrete_inputs[static_cast<std::size_t>(bit + 3)] =
+            (rule.state == "unack" || rule.state == "rtn_unack") ? 1 : 0;
+    }
+    img.discrete_inputs.at(kBitAnyAlarm) = any_alarm ? 1 : 0;
+    img.discrete_inputs.at(kBitAnyUnacknowledged) = any_unack ? 1 : 0;
+    img.discrete_inputs.at(kBitSystemFault) = (!s.database_ok || s.last_epoch_failed) ? 1 : 0;
+    img.coil_rules.at(kCoilAcknowledgeAll) = "*";
+    for (const auto& rule : inputs.rules) {
+        const auto c = static_cast<std::size_t>(kCoilRuleBase + rule.slot);
+        if (c < img.coil_rules.size()) img.coil_rules[c] = rule.name;
+    }
+    return img;
+}
+
+}  // namespace tlsmon

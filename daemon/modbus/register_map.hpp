@@ -1,0 +1,100 @@
+#pragma once
+// The Modbus register map, generated deterministically from the zones, the configured
+// quantities and the alarm rules (docs/modbus.md). Addresses are 0-based protocol
+// addresses. The map is versioned and stable: a zone's block and a rule's bits and coil sit
+// at fixed strides indexed by the zone's / rule's slot, which is its database id - 1 (ids are
+// given in order of first appearance and never reused: zones and rules are upserted by name
+// and never deleted), and a quantity's slot is its position in `modbus.quantities` (append
+// only). Adding a zone, rule or quantity therefore never moves an existing address.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tlsmon {
+
+inline constexpr int kModbusMapVersion = 1;
+
+// Fixed input registers.
+inline constexpr int kRegMapVersion = 0;
+inline constexpr int kRegHeartbeat = 1;
+inline constexpr int kRegStatus = 2;
+inline constexpr int kRegLastEpochTime = 3;    // uint32, 2 registers
+inline constexpr int kRegEpochsProcessed = 5;  // uint32, 2 registers
+inline constexpr int kRegTestFloat = 7;        // float32, 2 registers
+// Per zone and quantity: base + zone_slot * zone stride + quantity_slot * quantity stride.
+inline constexpr int kRegZoneBase = 100;
+inline constexpr int kRegZoneStride = 80;
+inline constexpr int kRegQuantityStride = 10;
+inline constexpr int kMaxQuantities = kRegZoneStride / kRegQuantityStride;
+inline constexpr int kMaxZones = (65536 - kRegZoneBase) / kRegZoneStride;
+// Offsets in a quantity block.
+inline constexpr int kOffValue = 0, kOffLod = 2, kOffRate = 4, kOffQuality = 6, kOffLevel = 7,
+                     kOffState = 8;
+
+// Discrete inputs.
+inline constexpr int kBitAnyAlarm = 0, kBitAnyUnacknowledged = 1, kBitSystemFault = 2;
+inline constexpr int kBitRuleBase = 16;   // + rule_slot * 4 + level - 1 (warning 1 .. alarm 3)
+inline constexpr int kBitRuleStride = 4;  // the 4th bit: the rule is unacknowledged
+// Coils.
+inline constexpr int kCoilAcknowledgeAll = 0;
+inline constexpr int kCoilRuleBase = 16;  // + rule_slot
+inline constexpr int kMaxRules = 65536 - kCoilRuleBase;
+
+// Daemon status bits (input register kRegStatus).
+inline constexpr std::uint16_t kStatusRunning = 1u << 0;
+inline constexpr std::uint16_t kStatusDatabaseOk = 1u << 1;
+inline constexpr std::uint16_t kStatusBacklog = 1u << 2;
+inline constexpr std::uint16_t kStatusLastEpochFailed = 1u << 3;
+inline constexpr std::uint16_t kStatusStale = 1u << 4;
+inline constexpr std::uint16_t kStatusAnyAlarm = 1u << 5;
+
+// Quality word bits of a zone value.
+inline constexpr std::uint16_t kQualityValid = 1u << 0;
+inline constexpr std::uint16_t kQualityStale = 1u << 1;
+inline constexpr std::uint16_t kQualityBelowLod = 1u << 2;
+inline constexpr std::uint16_t kQualityRegistrationDegraded = 1u << 3;
+
+// ISA-18.2 state codes (register ".isa_state") and alarm level codes (".alarm_level").
+std::uint16_t isa_state_code(const std::string& state);  // "normal" 0 .. "out_of_service" 5
+std::uint16_t alarm_level_code(const std::string& level);  // "" 0, warning 1, alert 2, alarm 3
+
+struct MapSlot {
+    int slot = 0;  // database id - 1
+    std::string name;
+};
+
+struct MapInputs {
+    std::vector<MapSlot> zones;
+    std::vector<std::string> quantities;  // slot = index
+    std::vector<MapSlot> rules;
+};
+
+enum class ModbusTable { input_register, discrete_input, coil };
+enum class ModbusType { uint16, uint32, float32, bit };
+
+struct MapEntry {
+    ModbusTable table = ModbusTable::input_register;
+    int address = 0;  // 0-based protocol address
+    int count = 1;    // registers (or bits)
+    std::string name;
+    ModbusType type = ModbusType::uint16;
+    std::string unit;
+    std::string meaning;
+};
+
+struct RegisterMap {
+    std::vector<MapEntry> entries;  // by table, then address
+    int input_registers = 0;        // one past the highest address used, per table
+    int discrete_inputs = 0;
+    int coils = 0;
+};
+
+// Throws Error when a slot is beyond the map's room (kMaxZones, kMaxRules, kMaxQuantities).
+RegisterMap build_register_map(const MapInputs& inputs);
+
+std::string map_markdown(const RegisterMap& map);
+std::string map_csv(const RegisterMap& map);
+const char* table_name(ModbusTable table);
+const char* type_name(ModbusType type);
+
+}  // namespace tlsmon
