@@ -1,7 +1,8 @@
 // The daemon's Modbus server under the load: 20 clients polling the heartbeat at
 // 10 Hz while others connect and send nothing, send random bytes, send truncated frames and
 // write to read-only addresses. The well-behaved clients keep getting answers and the
-// heartbeat never stalls more than 2 s.
+// heartbeat never stalls more than 2 s, also while the daemon processes epochs (simulated
+// scans moved into the ingest folder during the load).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using test::ModbusTcpClient;
+namespace fs = std::filesystem;
 
 constexpr auto kLoad = std::chrono::seconds(8);
 
@@ -134,7 +136,17 @@ TEST(ModbusRobustness, WellBehavedClientsKeepGettingAnswersUnderAbuse) {
             }
         });
     }
-    std::this_thread::sleep_for(kLoad);
+    // Scans arrive during the load; the pipeline processes them meanwhile.
+    const fs::path staging = site.root / "staging";
+    ASSERT_EQ(test::shell(std::string(TLSMON_BINARY) + " simulate --preset small --epochs 3 --out " +
+                          staging.string())
+                  .status,
+              0);
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    for (const auto& f : fs::directory_iterator(staging)) {
+        if (f.path().extension() == ".ptx") fs::rename(f.path(), site.ingest() / f.path().filename());
+    }
+    std::this_thread::sleep_for(kLoad - std::chrono::seconds(1));
     int idle_closed = 0;
     for (auto& c : idle) idle_closed += c->closed_by_peer(100) ? 1 : 0;
     stop = true;
@@ -152,6 +164,18 @@ TEST(ModbusRobustness, WellBehavedClientsKeepGettingAnswersUnderAbuse) {
     ASSERT_TRUE(after.connect(port));
     EXPECT_TRUE(after.read_input_registers(7, 2).has_value());
     EXPECT_TRUE(daemon.running());
+    // The epochs were processed during the load, and the register counting them says so.
+    std::int64_t processed = 0;
+    for (const auto& [status, n] : site.open_db().series().status_summary().epochs_by_status) {
+        if (status != EpochStatus::pending && status != EpochStatus::processing) processed += n;
+    }
+    EXPECT_GE(processed, 1) << test::shell("cat " + site.log().string()).output;
+    ASSERT_TRUE(test::wait_until(
+        [&] {
+            const auto r = after.read_input_registers(5, 2);
+            return r && (((*r)[0] << 16) | (*r)[1]) == processed;
+        },
+        10));
 }
 
 }  // namespace
