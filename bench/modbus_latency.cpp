@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
         return 1;
     }
     auto at = [&](double q) {
-        return latencies_ms[static_cast<std::size_t>(q * static_cast<double>(latencies_ms.size() - 1))];
+        return latencies_ms[static_cast<std::size_t>(q *
+                                                     static_cast<double>(latencies_ms.size() - 1))];
     };
     std::printf("modbus latency under load (%.0f s): %zu requests answered, %d lost\n", seconds,
                 latencies_ms.size(), lost.load());

@@ -17,13 +17,13 @@ struct ModbusConfig {
     int unit_id = 1;
     WordOrder word_order = WordOrder::abcd;
     int max_clients = 32;
-    double idle_timeout = 60.0;  // seconds without a request before a client is dropped
+    double idle_timeout = 60.0;          // seconds without a request before a client is dropped
     std::vector<std::string> allowlist;  // IPv4 client addresses; empty = any client
     bool writable_coils = true;          // acknowledge coils; false = every write refused
     // The quantities of each zone shown in the registers, slot = position (append only).
     std::vector<std::string> quantities = {"m3c2_median_m", "m3c2_mean_m", "keypoint_dz_m"};
-    double stale_seconds = 2700.0;     // a zone value older than this is flagged stale
-    double snapshot_interval = 5.0;    // registers refreshed from the database this often
+    double stale_seconds = 2700.0;   // a zone value older than this is flagged stale
+    double snapshot_interval = 5.0;  // registers refreshed from the database this often
 };
 
 }  // namespace tlsmon

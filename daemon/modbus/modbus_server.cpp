@@ -45,7 +45,9 @@ std::uint16_t be16(const std::uint8_t* p) {
     return static_cast<std::uint16_t>((p[0] << 8) | p[1]);
 }
 
-void set_nonblocking(int fd) { ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK); }
+void set_nonblocking(int fd) {
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+}
 
 }  // namespace
 
@@ -178,8 +180,7 @@ void ModbusServer::State::accept_client() {
             ::close(fd);
             continue;
         }
-        if (clients.size() >= static_cast<std::size_t>(config.max_clients) ||
-            fd >= FD_SETSIZE) {
+        if (clients.size() >= static_cast<std::size_t>(config.max_clients) || fd >= FD_SETSIZE) {
             spdlog::warn("modbus: connection from {} refused: {} clients connected (max_clients)",
                          peer, clients.size());
             ::close(fd);
@@ -197,7 +198,8 @@ bool ModbusServer::State::coil_write_allowed(const std::uint8_t* pdu) const {
     const int count = pdu[0] == MODBUS_FC_WRITE_SINGLE_COIL ? 1 : be16(pdu + 3);
     if (count < 1) return false;
     for (int a = address; a < address + count; ++a) {
-        if (a >= static_cast<int>(coil_rules.size()) || coil_rules[static_cast<std::size_t>(a)].empty())
+        if (a >= static_cast<int>(coil_rules.size()) ||
+            coil_rules[static_cast<std::size_t>(a)].empty())
             return false;
     }
     return true;
@@ -209,9 +211,7 @@ bool ModbusServer::State::answer(Client& c, const std::uint8_t* frame, std::size
     const std::size_t pdu_size = size - kMbapBytes;
     const int function = pdu[0];
     modbus_set_socket(ctx, c.fd);
-    auto exception = [&](unsigned code) {
-        return modbus_reply_exception(ctx, frame, code) >= 0;
-    };
+    auto exception = [&](unsigned code) { return modbus_reply_exception(ctx, frame, code) >= 0; };
     switch (function) {
         case MODBUS_FC_READ_COILS:
         case MODBUS_FC_READ_DISCRETE_INPUTS:
@@ -297,7 +297,8 @@ void ModbusServer::State::run() {
             }
             timeval timeout{0, kTickMs * 1000};
             const int ready = ::select(top + 1, &read_set, nullptr, nullptr, &timeout);
-            if (ready < 0 && errno != EINTR) throw Error("modbus: select: " + std::string(std::strerror(errno)));
+            if (ready < 0 && errno != EINTR)
+                throw Error("modbus: select: " + std::string(std::strerror(errno)));
             if (stop) break;
             if (ready > 0 && FD_ISSET(wake[0], &read_set)) {
                 char drain[64];

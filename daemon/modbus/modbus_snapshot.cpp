@@ -9,7 +9,7 @@ namespace tlsmon {
 namespace {
 
 constexpr UtcSeconds kDay = 86400;
-constexpr UtcSeconds kRateWindow = kDay;        // rate: slope over the last 24 h
+constexpr UtcSeconds kRateWindow = kDay;          // rate: slope over the last 24 h
 constexpr UtcSeconds kValueLookBack = 30 * kDay;  // older values count as none
 
 }  // namespace
@@ -69,10 +69,12 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
     s.epochs_processed = static_cast<std::uint32_t>(
         count(EpochStatus::done) + count(EpochStatus::rejected) + count(EpochStatus::failed));
     if (summary.last_done) {
-        s.last_epoch_time = static_cast<std::uint32_t>(std::max<UtcSeconds>(0, summary.last_done->acquired));
+        s.last_epoch_time =
+            static_cast<std::uint32_t>(std::max<UtcSeconds>(0, summary.last_done->acquired));
     }
-    s.last_epoch_failed = summary.last_failure &&
-                          (!summary.last_done || summary.last_failure->updated >= summary.last_done->updated);
+    s.last_epoch_failed =
+        summary.last_failure &&
+        (!summary.last_done || summary.last_failure->updated >= summary.last_done->updated);
     s.stale = !summary.last_done ||
               static_cast<double>(now - summary.last_done->acquired) > config.stale_seconds;
 
@@ -92,7 +94,8 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
             v.stale = static_cast<double>(now - last.acquired) > config.stale_seconds;
             std::vector<std::pair<UtcSeconds, double>> window;
             for (const auto& p : points) {
-                if (p.acquired >= last.acquired - kRateWindow) window.emplace_back(p.acquired, p.value);
+                if (p.acquired >= last.acquired - kRateWindow)
+                    window.emplace_back(p.acquired, p.value);
             }
             v.rate = slope_per_day(window);
             if (const auto reg = db.series().registration(last.epoch)) {

@@ -38,19 +38,26 @@ std::uint16_t alarm_level_code(const std::string& level) {
 
 const char* table_name(ModbusTable table) {
     switch (table) {
-        case ModbusTable::input_register: return "input register";
-        case ModbusTable::discrete_input: return "discrete input";
-        case ModbusTable::coil: return "coil";
+        case ModbusTable::input_register:
+            return "input register";
+        case ModbusTable::discrete_input:
+            return "discrete input";
+        case ModbusTable::coil:
+            return "coil";
     }
     return "?";
 }
 
 const char* type_name(ModbusType type) {
     switch (type) {
-        case ModbusType::uint16: return "uint16";
-        case ModbusType::uint32: return "uint32";
-        case ModbusType::float32: return "float32";
-        case ModbusType::bit: return "bit";
+        case ModbusType::uint16:
+            return "uint16";
+        case ModbusType::uint32:
+            return "uint32";
+        case ModbusType::float32:
+            return "float32";
+        case ModbusType::bit:
+            return "bit";
     }
     return "?";
 }
@@ -61,8 +68,8 @@ RegisterMap build_register_map(const MapInputs& in) {
     RegisterMap m;
     auto add = [&m](T table, int address, int count, std::string name, Y type, std::string unit,
                     std::string meaning) {
-        m.entries.push_back({table, address, count, std::move(name), type, std::move(unit),
-                             std::move(meaning)});
+        m.entries.push_back(
+            {table, address, count, std::move(name), type, std::move(unit), std::move(meaning)});
     };
     add(T::input_register, kRegMapVersion, 1, "map_version", Y::uint16, "",
         "Version of this register layout (" + std::to_string(kModbusMapVersion) + ")");
@@ -91,8 +98,8 @@ RegisterMap build_register_map(const MapInputs& in) {
                         ") lies beyond the Modbus map's " + std::to_string(kMaxZones) + " zones");
         }
         for (std::size_t q = 0; q < in.quantities.size(); ++q) {
-            const int base = kRegZoneBase + z.slot * kRegZoneStride +
-                             static_cast<int>(q) * kRegQuantityStride;
+            const int base =
+                kRegZoneBase + z.slot * kRegZoneStride + static_cast<int>(q) * kRegQuantityStride;
             const std::string& qn = in.quantities[q];
             const std::string id = z.name + "/" + qn;
             const std::string unit = unit_of(qn);
@@ -154,12 +161,13 @@ RegisterMap build_register_map(const MapInputs& in) {
 }
 
 std::string map_markdown(const RegisterMap& map) {
-    std::string out = "| table | address | count | name | type | unit | meaning |\n"
-                      "|---|---|---|---|---|---|---|\n";
+    std::string out =
+        "| table | address | count | name | type | unit | meaning |\n"
+        "|---|---|---|---|---|---|---|\n";
     for (const auto& e : map.entries) {
-        out += std::string("| ") + table_name(e.table) + " | " + std::to_string(e.address) +
-               " | " + std::to_string(e.count) + " | `" + e.name + "` | " + type_name(e.type) +
-               " | " + e.unit + " | " + e.meaning + " |\n";
+        out += std::string("| ") + table_name(e.table) + " | " + std::to_string(e.address) + " | " +
+               std::to_string(e.count) + " | `" + e.name + "` | " + type_name(e.type) + " | " +
+               e.unit + " | " + e.meaning + " |\n";
     }
     return out;
 }

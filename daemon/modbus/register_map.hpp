@@ -55,7 +55,7 @@ inline constexpr std::uint16_t kQualityBelowLod = 1u << 2;
 inline constexpr std::uint16_t kQualityRegistrationDegraded = 1u << 3;
 
 // ISA-18.2 state codes (register ".isa_state") and alarm level codes (".alarm_level").
-std::uint16_t isa_state_code(const std::string& state);  // "normal" 0 .. "out_of_service" 5
+std::uint16_t isa_state_code(const std::string& state);    // "normal" 0 .. "out_of_service" 5
 std::uint16_t alarm_level_code(const std::string& level);  // "" 0, warning 1, alert 2, alarm 3
 
 struct MapSlot {

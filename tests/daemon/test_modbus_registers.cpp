@@ -15,11 +15,15 @@ namespace {
 TEST(ModbusWords, TestFloatIsIeee754HighWordFirstInAbcd) {
     // 123456 = 1.8837890625 * 2^16: sign 0, exponent 127 + 16 = 0x8F, mantissa 0x712000
     // -> 0x47F12000.
-    EXPECT_EQ(float_words(123456.0f, WordOrder::abcd), (std::array<std::uint16_t, 2>{0x47F1, 0x2000}));
-    EXPECT_EQ(float_words(123456.0f, WordOrder::cdab), (std::array<std::uint16_t, 2>{0x2000, 0x47F1}));
+    EXPECT_EQ(float_words(123456.0f, WordOrder::abcd),
+              (std::array<std::uint16_t, 2>{0x47F1, 0x2000}));
+    EXPECT_EQ(float_words(123456.0f, WordOrder::cdab),
+              (std::array<std::uint16_t, 2>{0x2000, 0x47F1}));
     EXPECT_EQ(float_words(-2.0f, WordOrder::abcd), (std::array<std::uint16_t, 2>{0xC000, 0x0000}));
-    EXPECT_EQ(u32_words(0x12345678u, WordOrder::abcd), (std::array<std::uint16_t, 2>{0x1234, 0x5678}));
-    EXPECT_EQ(u32_words(0x12345678u, WordOrder::cdab), (std::array<std::uint16_t, 2>{0x5678, 0x1234}));
+    EXPECT_EQ(u32_words(0x12345678u, WordOrder::abcd),
+              (std::array<std::uint16_t, 2>{0x1234, 0x5678}));
+    EXPECT_EQ(u32_words(0x12345678u, WordOrder::cdab),
+              (std::array<std::uint16_t, 2>{0x5678, 0x1234}));
     EXPECT_EQ(float_from_words({0x2000, 0x47F1}, WordOrder::cdab), 123456.0f);
 }
 
@@ -82,9 +86,9 @@ TEST(ModbusImage, MissingValuesAreNanWithQualityCleared) {
     EXPECT_EQ(r[106], 0);
     EXPECT_EQ(float_from_words({r[110], r[111]}, WordOrder::abcd), 0.004f);
     EXPECT_EQ(float_from_words({r[114], r[115]}, WordOrder::abcd), 0.5f);
-    EXPECT_EQ(r[116], kQualityValid);  // significant, fresh, registration fine
-    EXPECT_EQ(r[117], 2);               // alert
-    EXPECT_EQ(r[118], 1);               // unacknowledged
+    EXPECT_EQ(r[116], kQualityValid);       // significant, fresh, registration fine
+    EXPECT_EQ(r[117], 2);                   // alert
+    EXPECT_EQ(r[118], 1);                   // unacknowledged
     EXPECT_EQ(img.discrete_inputs[16], 1);  // warning or above
     EXPECT_EQ(img.discrete_inputs[17], 1);  // alert or above
     EXPECT_EQ(img.discrete_inputs[18], 0);  // not alarm
@@ -116,7 +120,8 @@ TEST(ModbusSnapshot, ConfiguredZonesUnknownToTheDatabaseTakeTheNextSlots) {
 
 TEST(ModbusConfigSection, ReadsAndChecksTheKeys) {
     const Config c = parse_config(
-        "[modbus]\nenabled = true\nport = 1503\nword_order = \"CDAB\"\nallowlist = [\"10.0.0.7\"]\n",
+        "[modbus]\nenabled = true\nport = 1503\nword_order = \"CDAB\"\nallowlist = "
+        "[\"10.0.0.7\"]\n",
         "site.toml", "/tmp");
     EXPECT_TRUE(c.modbus.enabled);
     EXPECT_EQ(c.modbus.port, 1503);

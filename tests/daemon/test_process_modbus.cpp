@@ -71,7 +71,8 @@ void write_epoch(const test::Site& site, UtcSeconds acquired, std::vector<ZoneRe
     for (int attempt = 0; attempt < 10; ++attempt) {
         char sha[65];
         std::snprintf(sha, sizeof sha, "%064x", serial * 100 + attempt);
-        const auto id = db.epochs().insert({sha, acquired, site.root / "gone.ptx", 1, std::nullopt}).id;
+        const auto id =
+            db.epochs().insert({sha, acquired, site.root / "gone.ptx", 1, std::nullopt}).id;
         if (!db.epochs().claim(id)) continue;
         EpochResults r;
         r.zone_results = results;
@@ -167,8 +168,10 @@ TEST(ModbusProcess, AcknowledgeCoilLeavesAnAcknowledgementBySCADA) {
         auto db = EpochDatabase::open(r.site.database(), EpochDatabase::Mode::read_write);
         db.alarms().upsert_rule({0, "top settles", "pier top", "m3c2_median_m", "{}", true});
         db.alarms().upsert_rule({0, "foot tilts", "pier foot", "keypoint_dz_m", "{}", true});
-        db.alarms().set_state({"top settles", "unack", "alarm", now_utc() - 100, 0.02, std::nullopt});
-        db.alarms().set_state({"foot tilts", "unack", "warning", now_utc() - 100, 0.01, std::nullopt});
+        db.alarms().set_state(
+            {"top settles", "unack", "alarm", now_utc() - 100, 0.02, std::nullopt});
+        db.alarms().set_state(
+            {"foot tilts", "unack", "warning", now_utc() - 100, 0.01, std::nullopt});
     }
     r.start();
     // Rule "foot tilts" has id 2, slot 1: bits 20..23, coil 17.
@@ -201,7 +204,8 @@ TEST(ModbusProcess, AcknowledgeCoilLeavesAnAcknowledgementBySCADA) {
     EXPECT_TRUE(by_scada);
     // Self-resetting: the coil reads 0; the rule's unacknowledged bit clears.
     EXPECT_EQ(mbpoll(r.port, "-t 0 -r 17 -c 1").values, std::vector<double>{0});
-    ASSERT_TRUE(wait_until([&] { return mbpoll(r.port, "-t 1 -r 23 -c 1").values == std::vector<double>{0}; }, 10));
+    ASSERT_TRUE(wait_until(
+        [&] { return mbpoll(r.port, "-t 1 -r 23 -c 1").values == std::vector<double>{0}; }, 10));
     // A reserved coil and a discrete input are not writable.
     EXPECT_NE(mbpoll(r.port, "-t 0 -r 5", "1").status, 0);
 }
@@ -222,7 +226,9 @@ TEST(ModbusProcess, MapPrintedForTheIntegratorIsWhatTheServerAnswers) {
         if (!std::regex_search(line, m, row)) continue;
         ++rows;
         const std::string address = m[1], name = m[3], type = m[4];
-        const std::string t = type == "float32" ? "3:float -B" : type == "uint32" ? "3:int -B" : "3";
+        const std::string t = type == "float32"  ? "3:float -B"
+                              : type == "uint32" ? "3:int -B"
+                                                 : "3";
         const Poll p = mbpoll(r.port, "-t " + t + " -r " + address + " -c 1");
         ASSERT_EQ(p.status, 0) << line << "\n" << p.output;
         ASSERT_EQ(p.values.size(), 1u) << line << "\n" << p.output;

@@ -116,11 +116,11 @@ TEST(ModbusRobustness, WellBehavedClientsKeepGettingAnswersUnderAbuse) {
         threads.emplace_back([&] {
             ModbusTcpClient c;
             const std::vector<std::vector<std::uint8_t>> writes = {
-                {6, 0, 0, 0, 7},                    // write register 0 (no holding registers)
-                {16, 0, 1, 0, 1, 2, 0, 9},          // write multiple registers at 1
-                {5, 0, 5, 0xFF, 0},                 // reserved coil 5
-                {15, 0, 2, 0, 3, 1, 7},             // coils 2..4, reserved
-                {0x2B, 0x0E, 1, 0},                 // device identification: not served
+                {6, 0, 0, 0, 7},            // write register 0 (no holding registers)
+                {16, 0, 1, 0, 1, 2, 0, 9},  // write multiple registers at 1
+                {5, 0, 5, 0xFF, 0},         // reserved coil 5
+                {15, 0, 2, 0, 3, 1, 7},     // coils 2..4, reserved
+                {0x2B, 0x0E, 1, 0},         // device identification: not served
             };
             while (!stop) {
                 if (!c.connected()) c.connect(port);
@@ -138,13 +138,14 @@ TEST(ModbusRobustness, WellBehavedClientsKeepGettingAnswersUnderAbuse) {
     }
     // Scans arrive during the load; the pipeline processes them meanwhile.
     const fs::path staging = site.root / "staging";
-    ASSERT_EQ(test::shell(std::string(TLSMON_BINARY) + " simulate --preset small --epochs 3 --out " +
-                          staging.string())
+    ASSERT_EQ(test::shell(std::string(TLSMON_BINARY) +
+                          " simulate --preset small --epochs 3 --out " + staging.string())
                   .status,
               0);
     std::this_thread::sleep_for(std::chrono::seconds(1));
     for (const auto& f : fs::directory_iterator(staging)) {
-        if (f.path().extension() == ".ptx") fs::rename(f.path(), site.ingest() / f.path().filename());
+        if (f.path().extension() == ".ptx")
+            fs::rename(f.path(), site.ingest() / f.path().filename());
     }
     std::this_thread::sleep_for(kLoad - std::chrono::seconds(1));
     int idle_closed = 0;

@@ -64,13 +64,9 @@ class ModbusTcpClient {
     std::vector<std::uint8_t> frame(const std::vector<std::uint8_t>& pdu, std::uint8_t unit = 1) {
         ++tid_;
         const auto len = static_cast<std::uint16_t>(pdu.size() + 1);
-        std::vector<std::uint8_t> f = {static_cast<std::uint8_t>(tid_ >> 8),
-                                       static_cast<std::uint8_t>(tid_ & 0xFF),
-                                       0,
-                                       0,
-                                       static_cast<std::uint8_t>(len >> 8),
-                                       static_cast<std::uint8_t>(len & 0xFF),
-                                       unit};
+        std::vector<std::uint8_t> f = {
+            static_cast<std::uint8_t>(tid_ >> 8), static_cast<std::uint8_t>(tid_ & 0xFF), 0,   0,
+            static_cast<std::uint8_t>(len >> 8),  static_cast<std::uint8_t>(len & 0xFF),  unit};
         f.insert(f.end(), pdu.begin(), pdu.end());
         return f;
     }
@@ -103,13 +99,14 @@ class ModbusTcpClient {
 
     std::optional<std::vector<std::uint16_t>> read_input_registers(int address, int count,
                                                                    int timeout_ms = 1000) {
-        const auto r = request({4, static_cast<std::uint8_t>(address >> 8),
-                                static_cast<std::uint8_t>(address & 0xFF), 0,
-                                static_cast<std::uint8_t>(count)},
-                               timeout_ms);
+        const auto r = request(
+            {4, static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address & 0xFF),
+             0, static_cast<std::uint8_t>(count)},
+            timeout_ms);
         if (!r || r->size() != 2u + 2u * count || (*r)[0] != 4) return std::nullopt;
         std::vector<std::uint16_t> out;
-        for (int i = 0; i < count; ++i) out.push_back(static_cast<std::uint16_t>(((*r)[2 + 2 * i] << 8) | (*r)[3 + 2 * i]));
+        for (int i = 0; i < count; ++i)
+            out.push_back(static_cast<std::uint16_t>(((*r)[2 + 2 * i] << 8) | (*r)[3 + 2 * i]));
         return out;
     }
 
