@@ -10,6 +10,7 @@
 #include <regex>
 
 #include "tests/daemon/daemon_harness.hpp"
+#include "tests/support/modbus_client.hpp"
 
 namespace tlsmon {
 namespace {
@@ -186,22 +187,26 @@ TEST(ModbusProcess, AcknowledgeCoilLeavesAnAcknowledgementBySCADA) {
     EXPECT_EQ(bits.values, (std::vector<double>{1, 1, 1, 1, 1, 0, 0, 1}));
     const Poll write = mbpoll(r.port, "-t 0 -r 17", "1");
     ASSERT_EQ(write.status, 0) << write.output;
-    ASSERT_TRUE(wait_until(
-        [&] {
-            for (const auto& s : r.site.open_db().alarms().states()) {
-                if (s.rule == "foot tilts") return s.state == "ack";
-            }
-            return false;
-        },
-        10));
-    bool by_scada = false;
-    for (const auto& e : r.site.open_db().series().events({})) {
-        if (e.rule == "foot tilts" && e.kind == "ack") {
-            by_scada = e.message.find("SCADA") != std::string::npos;
+    // The state and its event row (two writes): wait for both.
+    const auto acknowledged = [&] {
+        const auto db = r.site.open_db();
+        bool state_ack = false, event_by_scada = false;
+        for (const auto& s : db.alarms().states()) {
+            if (s.rule == "foot tilts") state_ack = s.state == "ack";
         }
-        EXPECT_NE(e.rule, "top settles") << "only the written coil's rule is acknowledged";
+        for (const auto& e : db.series().events({})) {
+            if (e.rule == "foot tilts" && e.kind == "ack") {
+                event_by_scada = e.message.find("SCADA") != std::string::npos;
+            }
+        }
+        return state_ack && event_by_scada;
+    };
+    ASSERT_TRUE(wait_until(acknowledged, 10));
+    for (const auto& s : r.site.open_db().alarms().states()) {
+        if (s.rule == "top settles") {
+            EXPECT_EQ(s.state, "unack") << "only the written coil's rule is acknowledged";
+        }
     }
-    EXPECT_TRUE(by_scada);
     // Self-resetting: the coil reads 0; the rule's unacknowledged bit clears.
     EXPECT_EQ(mbpoll(r.port, "-t 0 -r 17 -c 1").values, std::vector<double>{0});
     ASSERT_TRUE(wait_until(
@@ -244,6 +249,38 @@ TEST(ModbusProcess, MapPrintedForTheIntegratorIsWhatTheServerAnswers) {
     }
     EXPECT_EQ(rows, 6 + 2 * 2 * 6);  // fixed + zones x quantities x rows
     EXPECT_NE(map.output.find("coil,0,1,\"acknowledge_all\""), std::string::npos);
+}
+
+TEST(ModbusProcess, AllowlistMaxClientsAndUnitIdAreEnforced) {
+    const int port = free_port();
+    test::Site site("modbus_limits", "[modbus]\nenabled = true\nport = " + std::to_string(port) +
+                                         "\nmax_clients = 2\nunit_id = 3\n");
+    DaemonProcess daemon(site.config(), site.log());
+    test::ModbusTcpClient a, b, c;
+    ASSERT_TRUE(wait_until([&] { return a.connect(port) && !a.closed_by_peer(300); }, 20));
+    ASSERT_TRUE(b.connect(port));
+    ASSERT_TRUE(c.connect(port));
+    EXPECT_TRUE(c.closed_by_peer(2000)) << "a third client beyond max_clients = 2";
+    // Unit 3 is answered; a request for unit 1 is not (no answer within 500 ms).
+    b.unit = 3;
+    const auto version = b.read_input_registers(0, 1, 2000);
+    ASSERT_TRUE(version.has_value());
+    EXPECT_EQ((*version)[0], 1);
+    EXPECT_FALSE(a.read_input_registers(0, 1, 500).has_value());
+    daemon.signal(SIGTERM);
+    ASSERT_EQ(daemon.wait(20), 0);
+
+    const int port2 = free_port();
+    test::Site listed("modbus_allowlist",
+                      "[modbus]\nenabled = true\nport = " + std::to_string(port2) +
+                          "\nallowlist = [\"10.9.9.9\"]\n");
+    DaemonProcess second(listed.config(), listed.log());
+    ASSERT_TRUE(wait_until(
+        [&] { return shell("grep -q 'modbus: listening' " + listed.log().string()).status == 0; },
+        20));
+    test::ModbusTcpClient d;
+    ASSERT_TRUE(d.connect(port2));
+    EXPECT_TRUE(d.closed_by_peer(2000)) << "127.0.0.1 is not in the allowlist";
 }
 
 }  // namespace

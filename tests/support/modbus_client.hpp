@@ -60,8 +60,10 @@ class ModbusTcpClient {
                                static_cast<ssize_t>(bytes.size());
     }
 
-    // A request ADU: MBAP header (unit `unit`) + PDU.
-    std::vector<std::uint8_t> frame(const std::vector<std::uint8_t>& pdu, std::uint8_t unit = 1) {
+    std::uint8_t unit = 1;  // the unit id of the requests
+
+    // A request ADU: MBAP header + PDU.
+    std::vector<std::uint8_t> frame(const std::vector<std::uint8_t>& pdu) {
         ++tid_;
         const auto len = static_cast<std::uint16_t>(pdu.size() + 1);
         std::vector<std::uint8_t> f = {
