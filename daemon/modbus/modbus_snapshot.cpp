@@ -10,7 +10,7 @@ namespace {
 
 constexpr UtcSeconds kDay = 86400;
 constexpr UtcSeconds kRateWindow = kDay;          // rate: slope over the last 24 h
-constexpr UtcSeconds kValueLookBack = 30 * kDay;  // older values count as none
+constexpr UtcSeconds kValueLookBack = 30 * kDay;  // before the last epoch: older = none
 
 }  // namespace
 
@@ -81,7 +81,9 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
     for (const auto& z : inputs.zones) {
         for (std::size_t q = 0; q < inputs.quantities.size(); ++q) {
             TimeRange range;
-            range.from = now - kValueLookBack;
+            // Back from the last epoch, not from now: after an outage or in a replay the
+            // latest values still show (flagged stale).
+            range.from = (summary.last_done ? summary.last_done->acquired : now) - kValueLookBack;
             const auto points = db.series().points(z.name, inputs.quantities[q], range);
             if (points.empty()) continue;
             const SeriesPoint& last = points.back();
