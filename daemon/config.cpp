@@ -112,6 +112,33 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     return z;
 }
 
+TargetConfig read_target(TomlFields& t, const std::set<std::string>& taken) {
+    TargetConfig g;
+    if (!t.has("name")) t.fail("name", "every [[target]] needs a name");
+    t.get("name", g.name);
+    if (g.name.empty()) t.fail("name", "expected a non-empty target name");
+    if (taken.count(g.name)) t.fail("name", "target '" + g.name + "' is defined twice");
+    std::string kind = "sphere";
+    t.get_choice("kind", kind, std::vector<std::string>{"sphere", "checkerboard"});
+    g.kind = kind == "sphere" ? TargetKind::sphere : TargetKind::checkerboard;
+    t.get("radius", g.radius, 0.01, 1.0);
+    t.get("size", g.size, 0.05, 5.0);
+    const auto vec = [&](const char* key) {
+        std::vector<double> v;
+        t.get(key, v);
+        if (v.size() != 3) t.fail(key, "expected three numbers [x, y, z] in metres");
+        return Eigen::Vector3d(v[0], v[1], v[2]);
+    };
+    if (!t.has("approximate")) {
+        t.fail("approximate", "every [[target]] needs approximate = [x, y, z] (project frame)");
+    }
+    g.approximate = vec("approximate");
+    if (t.has("surveyed")) g.surveyed = vec("surveyed");
+    t.get("surveyed_sigma", g.surveyed_sigma, 1e-6, 0.1);
+    t.reject_unknown_keys();
+    return g;
+}
+
 // Relative paths (defaults included) resolve against the configuration's folder.
 void resolve_paths(Config& c, const fs::path& base) {
     c.paths.ingest = resolve(c.paths.ingest, base);
@@ -140,6 +167,11 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     for (auto& t : top.array_of_tables("zone")) {
         c.zones.push_back(read_zone(t, zone_names));
         zone_names.insert(c.zones.back().name);
+    }
+    std::set<std::string> target_names;
+    for (auto& t : top.array_of_tables("target")) {
+        c.registration.targets.push_back(read_target(t, target_names));
+        target_names.insert(c.registration.targets.back().name);
     }
     top.reject_unknown_keys();
     return c;
@@ -174,8 +206,27 @@ std::vector<std::string> describe(const Config& c) {
         l.push_back("zone " + toml_string(z.name) + ": min = " + triple(z.min) +
                     ", max = " + triple(z.max));
     }
+    for (const auto& g : c.registration.targets) {
+        const auto& a = g.approximate;
+        l.push_back("target " + toml_string(g.name) + ": kind = " + to_string(g.kind) +
+                    ", approximate = " + triple({a.x(), a.y(), a.z()}) +
+                    (g.surveyed ? ", surveyed" : ""));
+    }
     return l;
 }
+
+namespace {
+
+RegistrationConfig with_zones(const Config& config) {
+    RegistrationConfig r = config.registration;
+    for (const auto& z : config.zones) {
+        r.zones.push_back({z.name, Eigen::Vector3d(z.min[0], z.min[1], z.min[2]),
+                           Eigen::Vector3d(z.max[0], z.max[1], z.max[2])});
+    }
+    return r;
+}
+
+}  // namespace
 
 PipelineConfig pipeline_config(const Config& config) {
     return PipelineConfig{.archive = config.paths.archive,
@@ -183,6 +234,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .archive_mode = config.ingest.archive,
                           .reference_epoch = config.ingest.reference_epoch,
                           .coverage = config.coverage,
+                          .registration = with_zones(config),
                           .meteo = config.meteo};
 }
 

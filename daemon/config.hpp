@@ -80,6 +80,7 @@ struct Config {
     LoggingConfig logging;
     DaemonConfig daemon;
     CoverageConfig coverage;  // the pipeline's stages, in their order
+    RegistrationConfig registration;  // targets: the [[target]] tables
     ModbusConfig modbus;
     std::vector<ZoneConfig> zones;
 };

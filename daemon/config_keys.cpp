@@ -312,6 +312,32 @@ std::vector<ConfigKey> declare_keys() {
                "before any analysis (the scanner turned, the scan is cut short, a file of "
                "another station). 0: never rejected; the share is stored either way."),
 
+        number(at(&C::registration, &RegistrationConfig::search_radius),
+               "registration.search_radius", 0.05, 5, "m",
+               "A target's points are taken within this of its predicted centre (its centre in "
+               "the reference epoch), through the scan grid's angular window."),
+        number(at(&C::registration, &RegistrationConfig::centre_sigma_floor),
+               "registration.centre_sigma_floor", 0, 0.01, "m",
+               "Added as σ² per coordinate to every fitted centre's covariance: the fit's σ is "
+               "only its random part; what a centre repeats to beyond it (the footprint, the "
+               "silhouette's mixed returns) is 0.05–0.1 mm (docs/registration.md)."),
+        integer(at(&C::registration, &RegistrationConfig::min_targets),
+                "registration.min_targets", 3, 100, "",
+                "Usable targets that must remain after outliers are excluded; fewer: rejected."),
+        number(at(&C::registration, &RegistrationConfig::max_rms), "registration.max_rms", 0, 1,
+               "m", "Quality gate: RMS of the used targets' residual lengths."),
+        number(at(&C::registration, &RegistrationConfig::max_sigma_angle_arcsec),
+               "registration.max_sigma_angle_arcsec", 0, 3600, "″",
+               "Quality gate: σ of each of ω, φ, κ."),
+        number(at(&C::registration, &RegistrationConfig::max_sigma_translation),
+               "registration.max_sigma_translation", 0, 1, "m",
+               "Quality gate: σ of each of tx, ty, tz."),
+        number(at(&C::registration, &RegistrationConfig::global_alpha),
+               "registration.global_alpha", 1e-6, 0.5, "",
+               "Significance level of the global test of the variance factor."),
+        number(at(&C::registration, &RegistrationConfig::target_alpha),
+               "registration.target_alpha", 1e-9, 0.5, "",
+               "Significance level of each target's outlier test (Baarda's α0)."),
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 
 #include "core/utc_time.hpp"
 #include "formats/meteo_csv.hpp"
@@ -113,6 +114,80 @@ std::optional<ReferenceEpoch> reference_for(PipelineContext& ctx, const Epoch& e
     return ReferenceEpoch(epoch, [scans] { return scans; });
 }
 
+// What the registration stage measured, as the commit stores it.
+void record_registration(const RegistrationResult& r, const StageVerdict& verdict,
+                         EpochId epoch, EpochResults& results) {
+    namespace reg = registration;
+    RegistrationRow row;
+    row.method = "targets";
+    row.status = reg::describe(r.tested.status);
+    row.reason = verdict.rejected;
+    row.target_count = r.used;
+    row.rms_m = r.rms;
+    row.max_residual_m = r.max_residual;
+    row.accepted = r.accepted();
+    Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+    if (const auto& T = r.tested.transform) {
+        M = T->matrix();
+        row.sigma0 = std::sqrt(T->variance_factor);
+        row.variance_factor = T->variance_factor;
+        row.redundancy = T->redundancy;
+        row.parameters = std::array<double, 6>{T->omega,          T->phi,
+                                               T->kappa,          T->translation.x(),
+                                               T->translation.y(), T->translation.z()};
+        const auto s = T->sigmas();
+        row.sigmas = std::array<double, 6>{s(0), s(1), s(2), s(3), s(4), s(5)};
+        row.quaternion = std::array<double, 4>{T->quaternion.w(), T->quaternion.x(),
+                                               T->quaternion.y(), T->quaternion.z()};
+    }
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = M(i, j);
+    results.registration = row;
+    for (std::size_t i = 0; i < r.measured.size(); ++i) {
+        const auto& m = r.measured[i];
+        TargetObservation o;
+        o.target = m.name;
+        o.kind = to_string(m.kind);
+        o.status = m.status;
+        o.reason = m.reason;
+        for (int k = 0; k < 3; ++k) o.measured[k] = m.found() || m.status == "excluded" ? m.centre[k] : 0.0;
+        if (m.found() || m.status == "excluded") {
+            const Eigen::Vector3d s = m.covariance.diagonal().cwiseSqrt();
+            o.sigma = std::array<double, 3>{s.x(), s.y(), s.z()};
+        }
+        if (i < r.tested.targets.size()) {
+            const auto& v = r.tested.targets[i];
+            o.use = reg::describe(v.use);
+            o.used = v.use == reg::TargetUse::used;
+            o.stable = v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
+            for (int k = 0; k < 3; ++k) o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;
+            if (v.statistic > 0 || v.critical > 0) {
+                o.statistic = v.statistic;
+                o.critical = v.critical;
+            }
+            if (std::isfinite(v.minimal_detectable_bias)) {
+                o.minimal_detectable_bias_m = v.minimal_detectable_bias;
+            }
+        } else {
+            o.used = false;
+        }
+        results.targets.push_back(std::move(o));
+    }
+    results.target_exclusions = r.newly_excluded;
+    for (const auto& name : r.newly_excluded) {
+        results.system_events.push_back(SystemEvent{
+            now_utc(), "warning", "target_excluded",
+            "target " + name + " moved and is excluded from the registration until it is "
+                               "re-surveyed",
+            epoch});
+    }
+    if (r.accepted()) {
+        for (const auto& z : r.zones) {
+            results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
+        }
+    }
+}
+
 // The stages in order. Each gets the epoch, the reference and its own config section, and
 // records its time; the first that cannot run for this epoch decides its rejection.
 StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResults& results) {
@@ -146,7 +221,22 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
         !v.ran()) {
         return v;
     }
-    // Registration, M3C2, keypoints, zones and alarms follow here, in this order.
+    StageOutputs outputs;
+    if (!ctx.config.registration.targets.empty()) {
+        RegistrationResult registration;
+        const auto excluded = ctx.db.registrations().excluded_targets();
+        bool measured = false;
+        auto v = timed("registration", [&] {
+            const auto verdict = register_to_reference(ctx.config.registration, input, *reference,
+                                                       ctx.cache, excluded, registration);
+            measured = true;
+            return verdict;
+        });
+        if (measured) record_registration(registration, v, input.epoch.id, results);
+        if (!v.ran()) return v;
+        outputs.to_reference = registration.tested.transform;
+    }
+    // M3C2, keypoints, zones and alarms follow here, in this order, with `outputs`.
     return {};
 }
 

@@ -12,6 +12,7 @@
 #include "pipeline/coverage_stage.hpp"
 #include "pipeline/epoch_meteo.hpp"
 #include "pipeline/reference_cache.hpp"
+#include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
 #include "storage/epoch_database.hpp"
@@ -27,6 +28,7 @@ struct PipelineConfig {
     ArchiveMode archive_mode = ArchiveMode::move;
     std::string reference_epoch;  // "" = first accepted epoch; else file name or sha256
     CoverageConfig coverage;
+    RegistrationConfig registration;  // no targets: no registration
     MeteoConfig meteo;
 };
 

@@ -35,7 +35,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       reference_cache_(*connection_),
       alarms_(*connection_),
       events_(*connection_),
-      meteo_(*connection_) {}
+      meteo_(*connection_),
+      registrations_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

@@ -26,6 +26,7 @@
 #include "storage/ids.hpp"
 #include "storage/meteo_store.hpp"
 #include "storage/reference_cache_store.hpp"
+#include "storage/registration_store.hpp"
 #include "storage/results_writer.hpp"
 #include "storage/series_reader.hpp"
 #include "storage/site.hpp"
@@ -68,6 +69,8 @@ class EpochDatabase {
     EventLog& events() { return events_; }
     MeteoStore& meteo() { return meteo_; }
     const MeteoStore& meteo() const { return meteo_; }
+    RegistrationStore& registrations() { return registrations_; }
+    const RegistrationStore& registrations() const { return registrations_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -82,6 +85,7 @@ class EpochDatabase {
     AlarmStore alarms_;
     EventLog events_;
     MeteoStore meteo_;
+    RegistrationStore registrations_;
 };
 
 }  // namespace tlsmon

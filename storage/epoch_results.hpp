@@ -24,6 +24,22 @@ struct RegistrationRow {
     std::optional<double> sigma0;     // a-posteriori standard deviation of unit weight
     bool accepted = false;            // passed the quality gate
     std::string quality_json = "{}";  // further quality figures, free form
+    // The test's verdict (algorithms/registration/target_tests.hpp) and why, when not accepted.
+    std::string status;
+    std::string reason;
+    // ω, φ, κ (rad), tx, ty, tz (m) and their σ; the quaternion (w, x, y, z): absent when no
+    // transformation was estimated.
+    std::optional<std::array<double, 6>> parameters;
+    std::optional<std::array<double, 6>> sigmas;
+    std::optional<std::array<double, 4>> quaternion;
+    std::optional<double> variance_factor;
+    std::optional<std::int64_t> redundancy;
+};
+
+// The registration's σ at a zone (largest 3-D σ over its box).
+struct RegistrationZoneSigma {
+    std::string zone;
+    double max_sigma_3d_m = 0;
 };
 
 struct TargetObservation {
@@ -33,6 +49,13 @@ struct TargetObservation {
     std::array<double, 3> residual{};  // project frame, metres
     bool stable = true;                // passed the stability test
     bool used = true;                  // used in the transformation estimate
+    std::string status;                // found, not_found, bad_fit, excluded
+    std::string reason;                // why, when not found
+    std::string use;                   // used, not_usable, excluded_outlier, suspect
+    std::optional<std::array<double, 3>> sigma;  // of the measured centre, m
+    std::optional<double> statistic;   // outlier test
+    std::optional<double> critical;
+    std::optional<double> minimal_detectable_bias_m;
 };
 
 // Aggregate of one quantity over one zone in one epoch: one point of a time series.
@@ -71,6 +94,8 @@ struct EpochResults {
     std::optional<std::string> archive_path;
     std::optional<RegistrationRow> registration;
     std::vector<TargetObservation> targets;
+    std::vector<std::string> target_exclusions;  // targets this epoch excluded as moved
+    std::vector<RegistrationZoneSigma> registration_zone_sigmas;
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
     std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed

@@ -44,8 +44,11 @@ void check_results(Connection& c, EpochId id, const EpochResults& r) {
 void write_registration(Connection& c, EpochId id, const RegistrationRow& reg) {
     SQLite::Statement s(c.db,
                         "INSERT INTO registrations (epoch_id, method, transform, target_count,"
-                        " rms_m, max_residual_m, sigma0, accepted, quality_json)"
-                        " VALUES (?,?,?,?,?,?,?,?,?)");
+                        " rms_m, max_residual_m, sigma0, accepted, quality_json, status, reason,"
+                        " omega_rad, phi_rad, kappa_rad, tx_m, ty_m, tz_m, qw, qx, qy, qz,"
+                        " sigma_omega_rad, sigma_phi_rad, sigma_kappa_rad, sigma_tx_m,"
+                        " sigma_ty_m, sigma_tz_m, variance_factor, redundancy)"
+                        " VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     s.bind(1, id);
     s.bind(2, reg.method);
     s.bind(3, reg.transform.data(), static_cast<int>(sizeof(double) * reg.transform.size()));
@@ -55,6 +58,22 @@ void write_registration(Connection& c, EpochId id, const RegistrationRow& reg) {
     bind_optional(s, 7, reg.sigma0);
     s.bind(8, reg.accepted ? 1 : 0);
     s.bind(9, reg.quality_json);
+    s.bind(10, reg.status);
+    s.bind(11, reg.reason);
+    for (int k = 0; k < 6; ++k) {
+        bind_optional(s, 12 + k,
+                      reg.parameters ? std::optional<double>((*reg.parameters)[k]) : std::nullopt);
+    }
+    for (int k = 0; k < 4; ++k) {
+        bind_optional(s, 18 + k,
+                      reg.quaternion ? std::optional<double>((*reg.quaternion)[k]) : std::nullopt);
+    }
+    for (int k = 0; k < 6; ++k) {
+        bind_optional(s, 22 + k,
+                      reg.sigmas ? std::optional<double>((*reg.sigmas)[k]) : std::nullopt);
+    }
+    bind_optional(s, 28, reg.variance_factor);
+    bind_optional(s, 29, reg.redundancy);
     s.exec();
 }
 
@@ -63,7 +82,9 @@ void write_targets(Connection& c, EpochId id, const std::vector<TargetObservatio
     SQLite::Statement s(c.db,
                         "INSERT INTO target_observations (epoch_id, target, kind, measured_x,"
                         " measured_y, measured_z, residual_x, residual_y, residual_z, stable,"
-                        " used) VALUES (?,?,?,?,?,?,?,?,?,?,?)");
+                        " used, status, reason, use, sigma_x, sigma_y, sigma_z, statistic,"
+                        " critical, minimal_detectable_bias_m)"
+                        " VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     for (const auto& t : targets) {
         s.reset();
         s.bind(1, id);
@@ -73,6 +94,41 @@ void write_targets(Connection& c, EpochId id, const std::vector<TargetObservatio
         for (int i = 0; i < 3; ++i) s.bind(7 + i, t.residual[i]);
         s.bind(10, t.stable ? 1 : 0);
         s.bind(11, t.used ? 1 : 0);
+        s.bind(12, t.status);
+        s.bind(13, t.reason);
+        s.bind(14, t.use);
+        for (int k = 0; k < 3; ++k) {
+            bind_optional(s, 15 + k, t.sigma ? std::optional<double>((*t.sigma)[k]) : std::nullopt);
+        }
+        bind_optional(s, 18, t.statistic);
+        bind_optional(s, 19, t.critical);
+        bind_optional(s, 20, t.minimal_detectable_bias_m);
+        s.exec();
+    }
+}
+
+void write_exclusions(Connection& c, EpochId id, const std::vector<std::string>& targets) {
+    if (targets.empty()) return;
+    SQLite::Statement s(c.db, "INSERT INTO target_exclusions (target, epoch_id) VALUES (?,?)");
+    for (const auto& t : targets) {
+        s.reset();
+        s.bind(1, t);
+        s.bind(2, id);
+        s.exec();
+    }
+}
+
+void write_zone_sigmas(Connection& c, EpochId id,
+                       const std::vector<RegistrationZoneSigma>& sigmas) {
+    if (sigmas.empty()) return;
+    SQLite::Statement s(c.db,
+                        "INSERT INTO registration_zone_sigmas (epoch_id, zone, max_sigma_3d_m)"
+                        " VALUES (?,?,?)");
+    for (const auto& z : sigmas) {
+        s.reset();
+        s.bind(1, id);
+        s.bind(2, z.zone);
+        s.bind(3, z.max_sigma_3d_m);
         s.exec();
     }
 }
@@ -186,6 +242,8 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results) {
         write_stages(*c_, id, results.stages);
         if (results.registration) write_registration(*c_, id, *results.registration);
         write_targets(*c_, id, results.targets);
+        write_exclusions(*c_, id, results.target_exclusions);
+        write_zone_sigmas(*c_, id, results.registration_zone_sigmas);
         write_zone_results(*c_, id, results.zone_results);
         write_core_point_arrays(*c_, id, results.core_point_arrays);
         for (const auto& a : results.alarm_states) write_alarm_state(*c_, a);

@@ -1,0 +1,47 @@
+#pragma once
+// What the registration stage needs of the site: its reference targets and the limits of its
+// quality gate (docs/configuration.md, [registration] and [[target]]).
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tlsmon {
+
+enum class TargetKind { sphere, checkerboard };
+const char* to_string(TargetKind kind);
+
+struct TargetConfig {
+    std::string name;
+    TargetKind kind = TargetKind::sphere;
+    double radius = 0.0725;  // sphere, m
+    double size = 0.40;      // checkerboard side, m
+    Eigen::Vector3d approximate = Eigen::Vector3d::Zero();  // project frame, within a few cm
+    // A surveyed centre (project frame) replaces the one measured in the reference epoch.
+    std::optional<Eigen::Vector3d> surveyed;
+    double surveyed_sigma = 0.0005;  // m, per coordinate, of a surveyed centre
+};
+
+// A zone of the structure as a box; the registration's σ is propagated to its corners.
+struct RegistrationZone {
+    std::string name;
+    Eigen::Vector3d min = Eigen::Vector3d::Zero();
+    Eigen::Vector3d max = Eigen::Vector3d::Zero();
+};
+
+struct RegistrationConfig {
+    std::vector<TargetConfig> targets;  // none: no registration (the stage does not run)
+    double search_radius = 0.30;        // m about the predicted centre
+    // Added (as σ² per coordinate) to every fitted centre's covariance: what a centre really
+    // repeats to beyond the fit's random part (docs/registration.md, "Sphere targets").
+    double centre_sigma_floor = 0.0001;  // m
+    int min_targets = 3;
+    double max_rms = 0.002;                // m, RMS of the used targets' residual lengths
+    double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ
+    double max_sigma_translation = 0.002;  // m, each of tx, ty, tz
+    double global_alpha = 0.05;
+    double target_alpha = 0.001;
+    std::vector<RegistrationZone> zones;
+};
+
+}  // namespace tlsmon

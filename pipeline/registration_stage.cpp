@@ -1,0 +1,303 @@
+#include "pipeline/registration_stage.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "algorithms/registration/checkerboard_centre.hpp"
+#include "algorithms/registration/registration_error.hpp"
+#include "algorithms/registration/sphere_fit.hpp"
+#include "core/error.hpp"
+#include "pipeline/payload.hpp"
+#include "pipeline/target_window.hpp"
+
+namespace tlsmon {
+
+namespace reg = registration;
+
+const char* to_string(TargetKind kind) {
+    return kind == TargetKind::sphere ? "sphere" : "checkerboard";
+}
+
+namespace {
+
+constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+
+// The target's centre in one scan, or why not.
+TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
+                             const Eigen::Vector3d& predicted, const RegistrationConfig& config) {
+    TargetMeasurement m;
+    m.name = target.name;
+    m.kind = target.kind;
+    const TargetWindow w = points_near(scan, predicted, config.search_radius);
+    m.points = w.indices.size();
+    std::vector<Eigen::Vector3d> xyz;
+    xyz.reserve(w.indices.size());
+    for (const auto i : w.indices) xyz.push_back(scan.xyz[i]);
+    if (target.kind == TargetKind::sphere) {
+        reg::SphereFitParams p;
+        p.radius = target.radius;
+        p.seed = std::hash<std::string>{}(target.name) | 1u;
+        const reg::SphereFit f = reg::fit_sphere(xyz, predicted, p);
+        if (!f.found()) {
+            m.status = f.status == reg::SphereFitStatus::bad_fit ? "bad_fit" : "not_found";
+            m.reason = std::string(reg::describe(f.reason)) + (f.detail.empty() ? "" : ": ") +
+                       f.detail;
+            return m;
+        }
+        m.status = "found";
+        m.centre = f.centre;
+        m.covariance = f.centre_covariance;
+    } else {
+        if (scan.intensity.size() != scan.size()) {
+            m.reason = "the scan has no intensity, which a checkerboard's centre needs";
+            return m;
+        }
+        std::vector<float> intensity;
+        intensity.reserve(w.indices.size());
+        for (const auto i : w.indices) intensity.push_back(scan.intensity[i]);
+        CheckerboardSearch s;
+        s.approximate_centre = predicted;
+        s.size = target.size;
+        s.viewpoint = scan.scanner_position();
+        try {
+            const CheckerboardCentre c = checkerboard_centre(xyz, intensity, s);
+            m.centre = c.centre;
+            m.covariance = c.covariance;
+        } catch (const Error& e) {
+            m.reason = e.what();
+            return m;
+        }
+        const double offset = (m.centre - predicted).norm();
+        if (offset > 0.05) {
+            m.reason = fmt::format("centre {:.1f} mm from the prediction (at most 50 mm)",
+                                   1e3 * offset);
+            return m;
+        }
+        m.status = "found";
+    }
+    m.covariance += config.centre_sigma_floor * config.centre_sigma_floor *
+                    Eigen::Matrix3d::Identity();
+    return m;
+}
+
+// The canonical text of everything the reference centres depend on.
+std::string reference_parameters(const RegistrationConfig& c) {
+    std::string s = fmt::format("search_radius={:.17g};floor={:.17g}", c.search_radius,
+                                c.centre_sigma_floor);
+    for (const auto& t : c.targets) {
+        s += fmt::format(";{}:{}:{:.17g}:{:.17g}:{:.17g},{:.17g},{:.17g}", t.name,
+                         to_string(t.kind), t.radius, t.size, t.approximate.x(),
+                         t.approximate.y(), t.approximate.z());
+        if (t.surveyed) {
+            s += fmt::format(":surveyed {:.17g},{:.17g},{:.17g}±{:.17g}", t.surveyed->x(),
+                             t.surveyed->y(), t.surveyed->z(), t.surveyed_sigma);
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+TargetMeasurement measure_target(const TargetConfig& target, const std::vector<Scan>& scans,
+                                 const Eigen::Vector3d& predicted,
+                                 const RegistrationConfig& config) {
+    TargetMeasurement best;
+    best.name = target.name;
+    best.kind = target.kind;
+    best.reason = "no scan in the file";
+    for (const auto& scan : scans) {
+        TargetMeasurement m = measure_in(target, scan, predicted, config);
+        if (m.found()) return m;
+        if (m.points >= best.points) best = std::move(m);
+    }
+    return best;
+}
+
+ReferenceTargets measure_reference_targets(const RegistrationConfig& config,
+                                           const std::vector<Scan>& scans) {
+    ReferenceTargets r;
+    for (const auto& t : config.targets) {
+        if (t.surveyed) {
+            TargetMeasurement m;
+            m.name = t.name;
+            m.kind = t.kind;
+            m.status = "found";
+            m.reason = "surveyed";
+            m.centre = *t.surveyed;
+            m.covariance = t.surveyed_sigma * t.surveyed_sigma * Eigen::Matrix3d::Identity();
+            r.targets.push_back(m);
+        } else {
+            r.targets.push_back(measure_target(t, scans, t.approximate, config));
+        }
+    }
+    return r;
+}
+
+std::string ReferenceTargets::encode() const {
+    PayloadWriter w;
+    w.put<std::uint64_t>(targets.size());
+    for (const auto& t : targets) {
+        w.put<std::uint8_t>(t.found() ? 1 : 0);
+        w.put<std::uint8_t>(t.kind == TargetKind::sphere ? 0 : 1);
+        for (int k = 0; k < 3; ++k) w.put(t.centre[k]);
+        for (int k = 0; k < 9; ++k) w.put(t.covariance.data()[k]);
+        w.put<std::uint64_t>(t.points);
+        w.put_array(std::vector<char>(t.name.begin(), t.name.end()));
+        w.put_array(std::vector<char>(t.reason.begin(), t.reason.end()));
+    }
+    return w.take();
+}
+
+ReferenceTargets ReferenceTargets::decode(std::string_view payload) {
+    PayloadReader r(payload);
+    ReferenceTargets out;
+    const auto n = r.get<std::uint64_t>();
+    if (n > payload.size()) throw Error("reference cache payload: absurd target count");
+    for (std::uint64_t i = 0; i < n; ++i) {
+        TargetMeasurement t;
+        t.status = r.get<std::uint8_t>() ? "found" : "not_found";
+        t.kind = r.get<std::uint8_t>() ? TargetKind::checkerboard : TargetKind::sphere;
+        for (int k = 0; k < 3; ++k) t.centre[k] = r.get<double>();
+        for (int k = 0; k < 9; ++k) t.covariance.data()[k] = r.get<double>();
+        t.points = r.get<std::uint64_t>();
+        const auto name = r.get_array<char>();
+        const auto reason = r.get_array<char>();
+        t.name.assign(name.begin(), name.end());
+        t.reason.assign(reason.begin(), reason.end());
+        out.targets.push_back(std::move(t));
+    }
+    r.finish();
+    return out;
+}
+
+RegistrationResult register_epoch(const RegistrationConfig& config,
+                                  const ReferenceTargets& reference,
+                                  const std::vector<Scan>& scans,
+                                  const std::set<std::string>& excluded) {
+    if (reference.targets.size() != config.targets.size()) {
+        throw Error("the reference centres do not match the configured targets");
+    }
+    RegistrationResult out;
+    out.reference = reference.targets;
+    std::vector<reg::TargetPair> pairs;
+    for (std::size_t i = 0; i < config.targets.size(); ++i) {
+        const auto& t = config.targets[i];
+        const auto& ref = reference.targets[i];
+        // Predicted where it was in the reference epoch: the drift moves it by millimetres.
+        const Eigen::Vector3d predicted = ref.found() ? ref.centre : t.approximate;
+        TargetMeasurement m = measure_target(t, scans, predicted, config);
+        reg::TargetPair p;
+        p.centres.reference = ref.centre;
+        p.centres.reference_covariance = ref.covariance;
+        p.centres.epoch = m.centre;
+        p.centres.epoch_covariance = m.covariance;
+        p.usable = ref.found() && m.found() && !excluded.count(t.name);
+        if (!ref.found()) {
+            p.centres.epoch_covariance = Eigen::Matrix3d::Identity();
+            p.centres.reference_covariance = Eigen::Matrix3d::Identity();
+            if (m.reason.empty()) m.reason = "not found in the reference epoch: " + ref.reason;
+        }
+        if (excluded.count(t.name)) {
+            m.reason = "excluded as moved until it is re-surveyed";
+            if (m.found()) m.status = "excluded";
+        }
+        if (!m.found() && m.status != "excluded") {
+            p.centres.epoch_covariance = Eigen::Matrix3d::Identity();
+        }
+        pairs.push_back(p);
+        out.measured.push_back(std::move(m));
+    }
+    reg::TargetTestParams params;
+    params.global_alpha = config.global_alpha;
+    params.target_alpha = config.target_alpha;
+    params.min_targets = static_cast<std::size_t>(config.min_targets);
+    out.tested = reg::register_with_tests(pairs, params);
+    for (std::size_t i = 0; i < out.tested.targets.size(); ++i) {
+        const auto& v = out.tested.targets[i];
+        if (v.use == reg::TargetUse::excluded_outlier) {
+            out.newly_excluded.push_back(config.targets[i].name);
+        }
+        if (v.use == reg::TargetUse::used) {
+            ++out.used;
+            const double len = v.residual.norm();
+            out.rms += len * len;
+            out.max_residual = std::max(out.max_residual, len);
+        }
+    }
+    out.rms = out.used ? std::sqrt(out.rms / out.used) : 0.0;
+    if (!out.tested.accepted() || !out.tested.transform) return out;
+    const reg::RigidTransform& T = *out.tested.transform;
+    const auto sig = T.sigmas();
+    if (out.rms > config.max_rms) {
+        out.gate = fmt::format("RMS of the target residuals {:.2f} mm above registration.max_rms "
+                               "= {:.2f} mm",
+                               1e3 * out.rms, 1e3 * config.max_rms);
+    }
+    const char* angles[] = {"ω", "φ", "κ"};
+    for (int k = 0; k < 3 && out.gate.empty(); ++k) {
+        if (sig(k) / kArcsec > config.max_sigma_angle_arcsec) {
+            out.gate = fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
+                                   angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
+        }
+    }
+    const char* axes[] = {"tx", "ty", "tz"};
+    for (int k = 0; k < 3 && out.gate.empty(); ++k) {
+        if (sig(3 + k) > config.max_sigma_translation) {
+            out.gate = fmt::format(
+                "σ of {} {:.2f} mm above registration.max_sigma_translation = {:.2f} mm", axes[k],
+                1e3 * sig(3 + k), 1e3 * config.max_sigma_translation);
+        }
+    }
+    for (const auto& z : config.zones) {
+        ZoneRegistrationSigma s{z.name, 0.0};
+        for (int c = 0; c < 8; ++c) {
+            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(), (c & 2) ? z.max.y() : z.min.y(),
+                                    (c & 4) ? z.max.z() : z.min.z());
+            s.max_sigma_3d = std::max(
+                s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
+        }
+        out.zones.push_back(s);
+    }
+    return out;
+}
+
+StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
+                                   ReferenceEpoch& reference, ReferenceCache& cache,
+                                   const std::set<std::string>& excluded,
+                                   RegistrationResult& result) {
+    const auto centres = cache.get<ReferenceTargets>(
+        reference, ProductKey{"registration.targets", reference_parameters(config), 1},
+        [&](const std::vector<Scan>& scans) { return measure_reference_targets(config, scans); });
+    result = register_epoch(config, *centres, *input.scans, excluded);
+    StageVerdict verdict;
+    std::string not_found;
+    for (const auto& m : result.measured) {
+        if (!m.found() && m.status != "excluded") {
+            not_found += (not_found.empty() ? "" : "; ") + m.name + " " + m.status + " (" +
+                         m.reason + ")";
+        }
+    }
+    for (const auto& name : result.newly_excluded) {
+        not_found += (not_found.empty() ? "" : "; ") + name + " moved, excluded";
+    }
+    if (!result.tested.accepted()) {
+        verdict.rejected = std::string(reg::describe(result.tested.status)) + ": " +
+                           result.tested.reason + (not_found.empty() ? "" : " [" + not_found + "]");
+        return verdict;
+    }
+    if (!result.gate.empty()) {
+        verdict.rejected = "quality gate: " + result.gate;
+        return verdict;
+    }
+    const auto sig = result.tested.transform->sigmas();
+    verdict.note = fmt::format("{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm",
+                               result.used, 1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3),
+                               1e3 * sig(4), 1e3 * sig(5));
+    if (!not_found.empty()) verdict.note += " [" + not_found + "]";
+    return verdict;
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,92 @@
+#pragma once
+// Stage "registration": each configured target is found in the epoch through the grid's
+// angular window about its reference centre and fitted (sphere: known-radius fit;
+// checkerboard: plane + intensity pattern), its covariance given a floor; the reference
+// centres are measured once in the reference epoch (a product of the reference cache) or
+// taken from a survey; the weighted rigid transformation epoch -> reference with its tests
+// (algorithms/registration/target_tests.hpp) excludes a moved target, and the quality gate
+// of the configuration decides whether the epoch can be analysed. The accepted
+// transformation is handed to the later stages (StageOutputs).
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/registration/target_tests.hpp"
+#include "pipeline/reference_cache.hpp"
+#include "pipeline/registration_config.hpp"
+#include "pipeline/stage.hpp"
+
+namespace tlsmon {
+
+// One target as measured in one epoch.
+struct TargetMeasurement {
+    std::string name;
+    TargetKind kind = TargetKind::sphere;
+    std::string status = "not_found";  // found | not_found | bad_fit | excluded
+    std::string reason;                // why, when not found
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();          // project frame of the epoch
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // m², with the floor
+    std::size_t points = 0;  // points in the search window
+    bool found() const { return status == "found"; }
+};
+
+// The reference centres: measured in the reference epoch, or surveyed.
+struct ReferenceTargets {
+    std::vector<TargetMeasurement> targets;  // in the configuration's order
+
+    std::string encode() const;
+    static ReferenceTargets decode(std::string_view payload);
+};
+
+// Finds and fits one target in the scans near `predicted` (project frame).
+TargetMeasurement measure_target(const TargetConfig& target, const std::vector<Scan>& scans,
+                                 const Eigen::Vector3d& predicted,
+                                 const RegistrationConfig& config);
+
+ReferenceTargets measure_reference_targets(const RegistrationConfig& config,
+                                           const std::vector<Scan>& scans);
+
+// The σ of the registration at a zone: the largest √tr(Σ_p) over the box's corners (Σ_p is
+// a convex quadratic in p, so its largest value over a box lies at a corner).
+struct ZoneRegistrationSigma {
+    std::string zone;
+    double max_sigma_3d = 0;  // m
+};
+
+struct RegistrationResult {
+    std::vector<TargetMeasurement> measured;  // this epoch, in the configuration's order
+    std::vector<TargetMeasurement> reference;
+    registration::TestedRegistration tested;
+    std::string gate;  // why the quality gate refused, "" if it passed
+    double rms = 0;    // m, RMS residual length of the used targets
+    double max_residual = 0;
+    int used = 0;
+    std::vector<ZoneRegistrationSigma> zones;
+    std::vector<std::string> newly_excluded;  // targets this epoch excluded as moved
+    bool accepted() const { return tested.accepted() && gate.empty(); }
+};
+
+// What the stages hand to the later stages.
+struct StageOutputs {
+    // Maps the epoch's points into the reference frame; absent without registration.
+    std::optional<registration::RigidTransform> to_reference;
+};
+
+// Registers one epoch against the reference centres; `excluded`: targets excluded until an
+// operator re-surveys them. Pure apart from reading the scans.
+RegistrationResult register_epoch(const RegistrationConfig& config,
+                                  const ReferenceTargets& reference,
+                                  const std::vector<Scan>& scans,
+                                  const std::set<std::string>& excluded);
+
+// The stage: reference centres from the cache, then register_epoch; the verdict rejects an
+// epoch that fails a test or the gate.
+StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
+                                   ReferenceEpoch& reference, ReferenceCache& cache,
+                                   const std::set<std::string>& excluded,
+                                   RegistrationResult& result);
+
+}  // namespace tlsmon

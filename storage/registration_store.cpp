@@ -1,0 +1,129 @@
+#include "storage/registration_store.hpp"
+
+#include <cstring>
+
+#include "storage/connection.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+std::optional<double> opt(const SQLite::Column& c) {
+    if (c.isNull()) return std::nullopt;
+    return c.getDouble();
+}
+
+}  // namespace
+
+std::set<std::string> RegistrationStore::excluded_targets() const {
+    return guarded(*c_, "reading target exclusions", [&] {
+        SQLite::Statement s(c_->db,
+                            "SELECT DISTINCT target FROM target_exclusions WHERE resurveyed IS NULL");
+        std::set<std::string> out;
+        while (s.executeStep()) out.insert(s.getColumn(0).getString());
+        return out;
+    });
+}
+
+int RegistrationStore::mark_resurveyed(const std::string& target, std::int64_t unix_time) {
+    return guarded(*c_, "clearing a target exclusion", [&] {
+        SQLite::Statement s(c_->db,
+                            "UPDATE target_exclusions SET resurveyed = ? WHERE target = ? AND"
+                            " resurveyed IS NULL");
+        s.bind(1, unix_time);
+        s.bind(2, target);
+        return s.exec();
+    });
+}
+
+std::optional<RegistrationRow> RegistrationStore::of_epoch(EpochId id) const {
+    return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
+        SQLite::Statement s(
+            c_->db,
+            "SELECT method, transform, target_count, rms_m, max_residual_m, sigma0, accepted,"
+            " quality_json, status, reason, omega_rad, phi_rad, kappa_rad, tx_m, ty_m, tz_m, qw,"
+            " qx, qy, qz, sigma_omega_rad, sigma_phi_rad, sigma_kappa_rad, sigma_tx_m,"
+            " sigma_ty_m, sigma_tz_m, variance_factor, redundancy FROM registrations"
+            " WHERE epoch_id = ?");
+        s.bind(1, id);
+        if (!s.executeStep()) return std::nullopt;
+        RegistrationRow r;
+        r.method = s.getColumn(0).getString();
+        const auto t = s.getColumn(1);
+        if (t.getBytes() == static_cast<int>(sizeof(r.transform))) {
+            std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
+        }
+        r.target_count = s.getColumn(2).getInt64();
+        r.rms_m = s.getColumn(3).getDouble();
+        r.max_residual_m = s.getColumn(4).getDouble();
+        r.sigma0 = opt(s.getColumn(5));
+        r.accepted = s.getColumn(6).getInt() != 0;
+        r.quality_json = s.getColumn(7).getString();
+        r.status = s.getColumn(8).getString();
+        r.reason = s.getColumn(9).getString();
+        if (!s.getColumn(10).isNull()) {
+            std::array<double, 6> p{}, q{};
+            std::array<double, 4> quat{};
+            for (int k = 0; k < 6; ++k) p[k] = s.getColumn(10 + k).getDouble();
+            for (int k = 0; k < 4; ++k) quat[k] = s.getColumn(16 + k).getDouble();
+            for (int k = 0; k < 6; ++k) q[k] = s.getColumn(20 + k).getDouble();
+            r.parameters = p;
+            r.quaternion = quat;
+            r.sigmas = q;
+        }
+        r.variance_factor = opt(s.getColumn(26));
+        if (!s.getColumn(27).isNull()) r.redundancy = s.getColumn(27).getInt64();
+        return r;
+    });
+}
+
+std::vector<TargetObservation> RegistrationStore::targets_of_epoch(EpochId id) const {
+    return guarded(*c_, "reading target observations", [&] {
+        SQLite::Statement s(
+            c_->db,
+            "SELECT target, kind, measured_x, measured_y, measured_z, residual_x, residual_y,"
+            " residual_z, stable, used, status, reason, use, sigma_x, sigma_y, sigma_z,"
+            " statistic, critical, minimal_detectable_bias_m FROM target_observations"
+            " WHERE epoch_id = ? ORDER BY target");
+        s.bind(1, id);
+        std::vector<TargetObservation> out;
+        while (s.executeStep()) {
+            TargetObservation t;
+            t.target = s.getColumn(0).getString();
+            t.kind = s.getColumn(1).getString();
+            for (int i = 0; i < 3; ++i) t.measured[i] = s.getColumn(2 + i).getDouble();
+            for (int i = 0; i < 3; ++i) t.residual[i] = s.getColumn(5 + i).getDouble();
+            t.stable = s.getColumn(8).getInt() != 0;
+            t.used = s.getColumn(9).getInt() != 0;
+            t.status = s.getColumn(10).getString();
+            t.reason = s.getColumn(11).getString();
+            t.use = s.getColumn(12).getString();
+            if (!s.getColumn(13).isNull()) {
+                t.sigma = std::array<double, 3>{s.getColumn(13).getDouble(),
+                                                s.getColumn(14).getDouble(),
+                                                s.getColumn(15).getDouble()};
+            }
+            t.statistic = opt(s.getColumn(16));
+            t.critical = opt(s.getColumn(17));
+            t.minimal_detectable_bias_m = opt(s.getColumn(18));
+            out.push_back(std::move(t));
+        }
+        return out;
+    });
+}
+
+std::vector<RegistrationZoneSigma> RegistrationStore::zone_sigmas_of_epoch(EpochId id) const {
+    return guarded(*c_, "reading registration zone sigmas", [&] {
+        SQLite::Statement s(c_->db,
+                            "SELECT zone, max_sigma_3d_m FROM registration_zone_sigmas"
+                            " WHERE epoch_id = ? ORDER BY zone");
+        s.bind(1, id);
+        std::vector<RegistrationZoneSigma> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getString(), s.getColumn(1).getDouble()});
+        }
+        return out;
+    });
+}
+
+}  // namespace tlsmon
