@@ -34,7 +34,7 @@ struct RegistrationConfig {
     double search_radius = 0.30;        // m about the predicted centre
     // Added (as σ² per coordinate) to every fitted centre's covariance: what a centre really
     // repeats to beyond the fit's random part (docs/registration.md, "Sphere targets").
-    double centre_sigma_floor = 0.0001;  // m
+    double centre_sigma_floor = 0.000075;  // m
     int min_targets = 3;
     double max_rms = 0.002;                // m, RMS of the used targets' residual lengths
     double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ

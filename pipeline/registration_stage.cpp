@@ -220,7 +220,7 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
         if (v.use == reg::TargetUse::excluded_outlier) {
             out.newly_excluded.push_back(config.targets[i].name);
         }
-        if (v.use == reg::TargetUse::used) {
+        if (v.use == reg::TargetUse::used && out.tested.transform) {
             ++out.used;
             const double len = v.residual.norm();
             out.rms += len * len;
