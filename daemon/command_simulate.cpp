@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "daemon/commands.hpp"
+#include "daemon/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
 #include "simulator/series.hpp"
 
@@ -62,6 +63,8 @@ void simulate(const SimulateOptions& o) {
     const std::int64_t start = sim::parse_utc(o.start);
     const std::filesystem::path out(o.out);
     std::filesystem::create_directories(out);
+    // The site's configuration (targets, station, zones) before any scan.
+    write_then_rename(out / "site.toml", site_configuration(site));
 
     const auto wall_start = std::chrono::steady_clock::now();
     for (int epoch = 0; epoch < o.epochs; ++epoch) {

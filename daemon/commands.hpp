@@ -37,6 +37,20 @@ int run_query_epochs(const ReadOptions& options);
 // `tlsmon query meteo`: each epoch's meteo sidecar and the values used
 int run_query_meteo(const ReadOptions& options);
 
+// `tlsmon query registrations`: each epoch's registration, its parameters and targets
+int run_query_registrations(const ReadOptions& options);
+
+// `tlsmon register REFERENCE EPOCH --config SITE`: the registration of EPOCH onto
+// REFERENCE through the site's targets, for an analyst checking a scan by hand.
+struct RegisterOptions {
+    std::string reference;
+    std::string epoch;
+    std::string config;
+    OutputFormat format = OutputFormat::table;
+};
+// 0: accepted; 3: registered but refused (the reason printed); 1: an error.
+int run_register(const RegisterOptions& options);
+
 // `tlsmon query series --zone Z --quantity Q`
 struct SeriesOptions {
     ReadOptions read;

@@ -48,6 +48,9 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine status;
     ReadOptionsOnTheCommandLine epochs;
     ReadOptionsOnTheCommandLine meteo;
+    ReadOptionsOnTheCommandLine registrations;
+    RegisterOptions register_;
+    std::string register_format = "table";
     ReadOptionsOnTheCommandLine series_read;
     SeriesOptions series;
     ReadOptionsOnTheCommandLine events_read;
@@ -141,6 +144,14 @@ void add_query(CLI::App& app, CommandLine& c) {
     meteo_options.add_to(meteo, true);
     meteo->callback([&] { c.code = run_query_meteo(meteo_options.finish()); });
 
+    auto& registrations_options = c.registrations;
+    auto* registrations = query->add_subcommand(
+        "registrations",
+        "Epochs in a time range with their registration: parameters, σ, targets, zone σ");
+    registrations_options.add_to(registrations, true);
+    registrations->callback(
+        [&] { c.code = run_query_registrations(registrations_options.finish()); });
+
     auto& series_read = c.series_read;
     auto& series_options = c.series;
     auto* series = query->add_subcommand("series", "Time series of one zone and quantity");
@@ -151,6 +162,23 @@ void add_query(CLI::App& app, CommandLine& c) {
     series->callback([&] {
         series_options.read = series_read.finish();
         c.code = run_query_series(series_options);
+    });
+}
+
+void add_register(CLI::App& app, CommandLine& c) {
+    auto& o = c.register_;
+    auto* cmd = app.add_subcommand(
+        "register",
+        "Register a scan onto a reference scan through the site's targets and print the "
+        "transformation, its σ and each target's residual");
+    cmd->add_option("REFERENCE", o.reference, "Reference scan (epoch 0)")->required();
+    cmd->add_option("EPOCH", o.epoch, "Scan to register")->required();
+    cmd->add_option("--config", o.config, "Site configuration ([[target]] tables)")->required();
+    cmd->add_option("--format", c.register_format, "Output format")
+        ->check(CLI::IsMember({"table", "json"}));
+    cmd->callback([&] {
+        o.format = c.register_format == "json" ? OutputFormat::json : OutputFormat::table;
+        c.code = run_register(o);
     });
 }
 
@@ -231,6 +259,7 @@ int main(int argc, char** argv) {
     tlsmon::add_events(app, c);
     tlsmon::add_m3c2(app, c);
     tlsmon::add_modbus_map(app, c);
+    tlsmon::add_register(app, c);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,166 @@
+// `tlsmon register REFERENCE EPOCH --config SITE`: the registration stage on two files, for
+// an analyst checking a scan by hand. The reference's target centres are measured in
+// REFERENCE (or taken from the survey), EPOCH's against them, and the tested transformation
+// printed: its JSON holds `matrix`, the 4×4 rows that map EPOCH's points into REFERENCE's
+// frame. Nothing is stored and no exclusion carries over.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "daemon/commands.hpp"
+#include "daemon/config.hpp"
+#include "formats/scan_file.hpp"
+#include "pipeline/registration_stage.hpp"
+#include "pipeline/sha256.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr double kArcsec = 180.0 * 3600.0 / 3.141592653589793;  // per rad
+
+std::vector<Scan> read_scans(const std::string& file) {
+    const HashedBytes content = read_file_hashed(file);
+    return parse_scans(content.bytes, file);
+}
+
+nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& v) {
+    namespace reg = registration;
+    nlohmann::json j;
+    j["status"] = reg::describe(r.tested.status);
+    j["accepted"] = r.accepted();
+    j["reason"] = v.rejected;
+    j["method"] = "targets";
+    j["targets_used"] = r.used;
+    j["rms_mm"] = 1e3 * r.rms;
+    if (const auto& T = r.tested.transform) {
+        const auto s = T->sigmas();
+        j["omega_arcsec"] = T->omega * kArcsec;
+        j["phi_arcsec"] = T->phi * kArcsec;
+        j["kappa_arcsec"] = T->kappa * kArcsec;
+        j["tx_mm"] = 1e3 * T->translation.x();
+        j["ty_mm"] = 1e3 * T->translation.y();
+        j["tz_mm"] = 1e3 * T->translation.z();
+        j["sigma_omega_arcsec"] = s(0) * kArcsec;
+        j["sigma_phi_arcsec"] = s(1) * kArcsec;
+        j["sigma_kappa_arcsec"] = s(2) * kArcsec;
+        j["sigma_tx_mm"] = 1e3 * s(3);
+        j["sigma_ty_mm"] = 1e3 * s(4);
+        j["sigma_tz_mm"] = 1e3 * s(5);
+        j["quaternion_wxyz"] = {T->quaternion.w(), T->quaternion.x(), T->quaternion.y(),
+                                T->quaternion.z()};
+        j["variance_factor"] = T->variance_factor;
+        j["redundancy"] = T->redundancy;
+        const Eigen::Matrix4d M = T->matrix();
+        nlohmann::json rows = nlohmann::json::array();
+        for (int i = 0; i < 4; ++i) rows.push_back({M(i, 0), M(i, 1), M(i, 2), M(i, 3)});
+        j["matrix"] = rows;
+    }
+    nlohmann::json targets = nlohmann::json::array();
+    for (std::size_t i = 0; i < r.measured.size(); ++i) {
+        const auto& m = r.measured[i];
+        nlohmann::json t;
+        t["name"] = m.name;
+        t["kind"] = to_string(m.kind);
+        t["status"] = m.status;
+        t["reason"] = m.reason;
+        t["reference_status"] = r.reference[i].status;
+        if (i < r.tested.targets.size()) {
+            const auto& v = r.tested.targets[i];
+            t["use"] = reg::describe(v.use);
+            if (std::isfinite(v.residual.norm())) {
+                t["residual_mm"] = {1e3 * v.residual.x(), 1e3 * v.residual.y(),
+                                    1e3 * v.residual.z()};
+            }
+            if (std::isfinite(v.minimal_detectable_bias)) {
+                t["minimal_detectable_bias_mm"] = 1e3 * v.minimal_detectable_bias;
+            }
+        }
+        if (m.found() || m.status == "excluded") {
+            t["centre"] = {m.centre.x(), m.centre.y(), m.centre.z()};
+        }
+        targets.push_back(t);
+    }
+    j["targets"] = targets;
+    return j;
+}
+
+void print_table(const nlohmann::json& j) {
+    std::vector<std::pair<std::string, Cell>> fields;
+    for (const char* key :
+         {"status", "accepted", "reason", "method", "targets_used", "rms_mm", "omega_arcsec",
+          "phi_arcsec", "kappa_arcsec", "tx_mm", "ty_mm", "tz_mm", "sigma_omega_arcsec",
+          "sigma_phi_arcsec", "sigma_kappa_arcsec", "sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm",
+          "variance_factor", "redundancy"}) {
+        if (!j.contains(key)) continue;
+        const auto& v = j[key];
+        if (v.is_boolean()) {
+            fields.emplace_back(key, v.get<bool>());
+        } else if (v.is_number_integer()) {
+            fields.emplace_back(key, v.get<std::int64_t>());
+        } else if (v.is_number()) {
+            fields.emplace_back(key, v.get<double>());
+        } else {
+            fields.emplace_back(key, v.get<std::string>());
+        }
+    }
+    print_fields(std::cout, fields, OutputFormat::table);
+    if (j.contains("matrix")) {
+        std::cout << "matrix (epoch -> reference):\n";
+        for (const auto& row : j["matrix"]) {
+            std::cout << fmt::format("  {:14.9f} {:14.9f} {:14.9f} {:14.6f}\n", row[0].get<double>(),
+                                     row[1].get<double>(), row[2].get<double>(),
+                                     row[3].get<double>());
+        }
+    }
+    Table t{{"target", "kind", "status", "use", "residual_mm", "reason"}, {}};
+    for (const auto& g : j["targets"]) {
+        std::string residual;
+        if (g.contains("residual_mm")) {
+            residual = fmt::format("{:.3f} {:.3f} {:.3f}", g["residual_mm"][0].get<double>(),
+                                   g["residual_mm"][1].get<double>(),
+                                   g["residual_mm"][2].get<double>());
+        }
+        t.rows.push_back({g["name"].get<std::string>(), g["kind"].get<std::string>(),
+                          g["status"].get<std::string>(),
+                          g.value("use", std::string()),
+                          residual, g["reason"].get<std::string>()});
+    }
+    print(std::cout, t, OutputFormat::table);
+}
+
+}  // namespace
+
+int run_register(const RegisterOptions& o) {
+    bool accepted = false;
+    const int code = run_reporting_errors("register", [&] {
+        const Config config = load_config(o.config);
+        const RegistrationConfig rc = pipeline_config(config).registration;
+        if (rc.targets.empty()) {
+            throw ConfigError(o.config + ": no [[target]] tables: nothing to register with");
+        }
+        const auto reference_scans = read_scans(o.reference);
+        const auto epoch_scans = read_scans(o.epoch);
+        const ReferenceTargets reference = measure_reference_targets(rc, reference_scans);
+        const RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
+        StageVerdict v;
+        if (!r.tested.accepted()) {
+            v.rejected = std::string(registration::describe(r.tested.status)) + ": " +
+                         r.tested.reason;
+        } else if (!r.gate.empty()) {
+            v.rejected = "quality gate: " + r.gate;
+        }
+        accepted = r.accepted();
+        const nlohmann::json j = describe_result(r, v);
+        if (o.format == OutputFormat::json) {
+            std::cout << j.dump(2) << '\n';
+        } else {
+            print_table(j);
+        }
+    });
+    if (code != 0) return code;
+    return accepted ? 0 : 3;
+}
+
+}  // namespace tlsmon
