@@ -28,7 +28,7 @@ std::vector<Scan> read_scans(const std::string& file) {
 nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& v) {
     namespace reg = registration;
     nlohmann::json j;
-    j["status"] = reg::describe(r.tested.status);
+    j["status"] = name_of(r.tested.status);
     j["accepted"] = r.accepted();
     j["reason"] = v.rejected;
     j["method"] = "targets";
@@ -68,7 +68,7 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
         t["reference_status"] = r.reference[i].status;
         if (i < r.tested.targets.size()) {
             const auto& v = r.tested.targets[i];
-            t["use"] = reg::describe(v.use);
+            t["use"] = name_of(v.use);
             if (std::isfinite(v.residual.norm())) {
                 t["residual_mm"] = {1e3 * v.residual.x(), 1e3 * v.residual.y(),
                                     1e3 * v.residual.z()};

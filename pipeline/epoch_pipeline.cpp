@@ -120,7 +120,7 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
     namespace reg = registration;
     RegistrationRow row;
     row.method = "targets";
-    row.status = reg::describe(r.tested.status);
+    row.status = name_of(r.tested.status);
     row.reason = verdict.rejected;
     row.target_count = r.used;
     row.rms_m = r.rms;
@@ -157,7 +157,7 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
         }
         if (i < r.tested.targets.size()) {
             const auto& v = r.tested.targets[i];
-            o.use = reg::describe(v.use);
+            o.use = name_of(v.use);
             o.used = v.use == reg::TargetUse::used;
             o.stable = v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
             for (int k = 0; k < 3; ++k) o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;

@@ -21,6 +21,28 @@ const char* to_string(TargetKind kind) {
     return kind == TargetKind::sphere ? "sphere" : "checkerboard";
 }
 
+const char* name_of(reg::TargetUse use) {
+    switch (use) {
+        case reg::TargetUse::used: return "used";
+        case reg::TargetUse::not_usable: return "not_usable";
+        case reg::TargetUse::excluded_outlier: return "excluded_outlier";
+        case reg::TargetUse::suspect: return "suspect";
+    }
+    return "unknown";
+}
+
+const char* name_of(reg::RegistrationStatus status) {
+    switch (status) {
+        case reg::RegistrationStatus::accepted: return "accepted";
+        case reg::RegistrationStatus::global_test_failed: return "global_test_failed";
+        case reg::RegistrationStatus::too_few_targets: return "too_few_targets";
+        case reg::RegistrationStatus::degenerate_geometry: return "degenerate_geometry";
+        case reg::RegistrationStatus::outlier_not_excludable: return "outlier_not_excludable";
+        case reg::RegistrationStatus::outlier_not_identifiable: return "outlier_not_identifiable";
+    }
+    return "unknown";
+}
+
 namespace {
 
 constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);

@@ -21,6 +21,10 @@
 
 namespace tlsmon {
 
+// The short names stored and printed (`used`, `excluded_outlier`; `too_few_targets`, ...).
+const char* name_of(registration::TargetUse use);
+const char* name_of(registration::RegistrationStatus status);
+
 // One target as measured in one epoch.
 struct TargetMeasurement {
     std::string name;
