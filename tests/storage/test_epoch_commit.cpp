@@ -49,8 +49,17 @@ EpochResults full_results(EpochId id) {
     reg.accepted = true;
     reg.quality_json = R"({"chi2_p":0.41})";
     r.registration = reg;
-    r.targets = {{"T1", "sphere", {1, 2, 3}, {0.001, -0.0005, 0.0002}, true, true},
-                 {"T2", "plane", {4, 5, 6}, {0.004, 0.0, -0.001}, false, false}};
+    r.targets.resize(2);
+    r.targets[0].target = "T1";
+    r.targets[0].kind = "sphere";
+    r.targets[0].measured = {1, 2, 3};
+    r.targets[0].residual = {0.001, -0.0005, 0.0002};
+    r.targets[1].target = "T2";
+    r.targets[1].kind = "plane";
+    r.targets[1].measured = {4, 5, 6};
+    r.targets[1].residual = {0.004, 0.0, -0.001};
+    r.targets[1].stable = false;
+    r.targets[1].used = false;
     r.zone_results = {{"pier P3 top", "m3c2_mean_m", -0.0042, 0.0018, 812, true},
                       {"pier P3 top", "keypoint_dz_m", -0.0038, std::nullopt, 41, false},
                       {"segment 7", "m3c2_mean_m", 0.0003, 0.0021, 2030, false}};
