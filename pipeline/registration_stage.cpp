@@ -10,7 +10,7 @@
 #include "algorithms/registration/registration_error.hpp"
 #include "algorithms/registration/sphere_fit.hpp"
 #include "core/error.hpp"
-#include "pipeline/payload.hpp"
+#include "core/payload.hpp"
 #include "pipeline/target_window.hpp"
 
 namespace tlsmon {
@@ -53,7 +53,11 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
     TargetMeasurement m;
     m.name = target.name;
     m.kind = target.kind;
-    const TargetWindow w = points_near(scan, predicted, config.search_radius);
+    // Wide enough for the whole target: a board's fit takes the points within 0.75·size.
+    const double radius = std::max(config.search_radius, target.kind == TargetKind::sphere
+                                                             ? 2.0 * target.radius
+                                                             : 0.8 * target.size);
+    const TargetWindow w = points_near(scan, predicted, radius);
     m.points = w.indices.size();
     std::vector<Eigen::Vector3d> xyz;
     xyz.reserve(w.indices.size());
