@@ -143,6 +143,7 @@ int run_register(const RegisterOptions& o) {
         const auto reference_scans = read_scans(o.reference);
         const auto epoch_scans = read_scans(o.epoch);
         const ReferenceTargets reference = measure_reference_targets(rc, reference_scans);
+        // Read alone, the files come without their air: no atmospheric correction.
         const RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
         StageVerdict v;
         if (!r.tested.accepted()) {

@@ -13,6 +13,10 @@ constexpr std::array<Named<ArchiveMode>, 2> kArchiveModes{{
     {ArchiveMode::move, "move"},
     {ArchiveMode::keep, "keep"},
 }};
+constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
+    {AtmosphereCorrection::measured_air, "measured_air"},
+    {AtmosphereCorrection::off, "off"},
+}};
 constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
     {TimeSource::scan, "scan"},
     {TimeSource::file_name, "file_name"},
@@ -338,6 +342,26 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::registration, &RegistrationConfig::target_alpha),
                "registration.target_alpha", 1e-9, 0.5, "",
                "Significance level of each target's outlier test (Baarda's α0)."),
+        choice(at(&C::registration, &RegistrationConfig::atmosphere), "registration.atmosphere",
+               kAtmosphereCorrections,
+               "`measured_air`: when the epoch has meteo values, every range (target centres, "
+               "and the points handed to later stages) is corrected from the scanner's "
+               "setting below to the measured air, IAG 1999 group refractivity "
+               "(core/group_refractivity.hpp); the reference epoch with its own meteo. "
+               "Without meteo for the epoch or the reference, nothing is corrected and the "
+               "registration row says so. `off`: never corrected."),
+        number(at(&C::registration, &RegistrationConfig::scanner_wavelength_nm),
+               "registration.scanner_wavelength_nm", 300, 2000, "nm",
+               "The scanner's carrier wavelength."),
+        number(at(&C::registration, &RegistrationConfig::scanner_temperature_c),
+               "registration.scanner_temperature_c", -60, 60, "°C",
+               "Air temperature of the scanner's atmospheric setting."),
+        number(at(&C::registration, &RegistrationConfig::scanner_pressure_hpa),
+               "registration.scanner_pressure_hpa", 300, 1200, "hPa",
+               "Air pressure of the scanner's atmospheric setting."),
+        number(at(&C::registration, &RegistrationConfig::scanner_humidity_pct),
+               "registration.scanner_humidity_pct", 0, 100, "%",
+               "Relative humidity of the scanner's atmospheric setting."),
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",

@@ -119,7 +119,13 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                          EpochId epoch, EpochResults& results) {
     namespace reg = registration;
     RegistrationRow row;
-    row.method = "targets";
+    row.method = r.epoch_range_scale ? "targets+atmosphere" : "targets";
+    row.quality_json = fmt::format(
+        R"({{"atmosphere":"{}","epoch_ppm":{},"reference_ppm":{}}})",
+        r.epoch_range_scale ? "corrected" : "not_corrected",
+        r.epoch_range_scale ? fmt::format("{:.3f}", (*r.epoch_range_scale - 1) * 1e6) : "null",
+        r.reference_range_scale ? fmt::format("{:.3f}", (*r.reference_range_scale - 1) * 1e6)
+                                : "null");
     row.status = name_of(r.tested.status);
     row.reason = verdict.rejected;
     row.target_count = r.used;
@@ -225,16 +231,31 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
     if (!ctx.config.registration.targets.empty()) {
         RegistrationResult registration;
         const auto excluded = ctx.db.registrations().excluded_targets();
+        // The reference epoch's own air: its stored meteo (this epoch's when it is the
+        // reference itself).
+        std::optional<MeteoSidecar> reference_meteo;
+        if (reference->epoch().id == input.epoch.id) {
+            reference_meteo = input.meteo;
+        } else {
+            for (const auto& m : ctx.db.meteo().of_epoch(reference->epoch().id)) {
+                if (m.outcome == MeteoOutcome::used && m.values) reference_meteo = m;
+            }
+        }
         bool measured = false;
         auto v = timed("registration", [&] {
             const auto verdict = register_to_reference(ctx.config.registration, input, *reference,
-                                                       ctx.cache, excluded, registration);
+                                                       ctx.cache, excluded, reference_meteo,
+                                                       registration);
             measured = true;
             return verdict;
         });
         if (measured) record_registration(registration, v, input.epoch.id, results);
         if (!v.ran()) return v;
         outputs.to_reference = registration.tested.transform;
+        if (registration.epoch_range_scale && !input.scans->empty()) {
+            outputs.range_scale = *registration.epoch_range_scale;
+            outputs.scanner = input.scans->front().scanner_position();
+        }
     }
     // M3C2, keypoints, zones and alarms follow here, in this order, with `outputs`.
     return {};

@@ -29,6 +29,9 @@ struct RegistrationZone {
     Eigen::Vector3d max = Eigen::Vector3d::Zero();
 };
 
+// What to do with the epoch's meteo values (EpochInput::meteo).
+enum class AtmosphereCorrection { measured_air, off };
+
 struct RegistrationConfig {
     std::vector<TargetConfig> targets;  // none: no registration (the stage does not run)
     double search_radius = 0.30;        // m about the predicted centre
@@ -41,6 +44,12 @@ struct RegistrationConfig {
     double max_sigma_translation = 0.002;  // m, each of tx, ty, tz
     double global_alpha = 0.05;
     double target_alpha = 0.001;
+    AtmosphereCorrection atmosphere = AtmosphereCorrection::measured_air;
+    // The scanner's atmospheric setting: the air its ranges were converted with.
+    double scanner_wavelength_nm = 1500.0;
+    double scanner_temperature_c = 20.0;
+    double scanner_pressure_hpa = 1013.25;
+    double scanner_humidity_pct = 60.0;
     std::vector<RegistrationZone> zones;
 };
 

@@ -10,6 +10,7 @@
 #include "algorithms/registration/registration_error.hpp"
 #include "algorithms/registration/sphere_fit.hpp"
 #include "core/error.hpp"
+#include "core/group_refractivity.hpp"
 #include "core/payload.hpp"
 #include "pipeline/target_window.hpp"
 
@@ -53,6 +54,7 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
     TargetMeasurement m;
     m.name = target.name;
     m.kind = target.kind;
+    m.viewpoint = scan.scanner_position();
     // Wide enough for the whole target: a board's fit takes the points within 0.75·size.
     const double radius = std::max(config.search_radius, target.kind == TargetKind::sphere
                                                              ? 2.0 * target.radius
@@ -170,6 +172,7 @@ std::string ReferenceTargets::encode() const {
         w.put<std::uint8_t>(t.kind == TargetKind::sphere ? 0 : 1);
         for (int k = 0; k < 3; ++k) w.put(t.centre[k]);
         for (int k = 0; k < 9; ++k) w.put(t.covariance.data()[k]);
+        for (int k = 0; k < 3; ++k) w.put(t.viewpoint[k]);
         w.put<std::uint64_t>(t.points);
         w.put_array(std::vector<char>(t.name.begin(), t.name.end()));
         w.put_array(std::vector<char>(t.reason.begin(), t.reason.end()));
@@ -188,6 +191,7 @@ ReferenceTargets ReferenceTargets::decode(std::string_view payload) {
         t.kind = r.get<std::uint8_t>() ? TargetKind::checkerboard : TargetKind::sphere;
         for (int k = 0; k < 3; ++k) t.centre[k] = r.get<double>();
         for (int k = 0; k < 9; ++k) t.covariance.data()[k] = r.get<double>();
+        for (int k = 0; k < 3; ++k) t.viewpoint[k] = r.get<double>();
         t.points = r.get<std::uint64_t>();
         const auto name = r.get_array<char>();
         const auto reason = r.get_array<char>();
@@ -202,12 +206,25 @@ ReferenceTargets ReferenceTargets::decode(std::string_view payload) {
 RegistrationResult register_epoch(const RegistrationConfig& config,
                                   const ReferenceTargets& reference,
                                   const std::vector<Scan>& scans,
-                                  const std::set<std::string>& excluded) {
+                                  const std::set<std::string>& excluded,
+                                  const RangeScales& scales) {
     if (reference.targets.size() != config.targets.size()) {
         throw Error("the reference centres do not match the configured targets");
     }
     RegistrationResult out;
     out.reference = reference.targets;
+    if (scales.epoch && scales.reference) {
+        out.epoch_range_scale = scales.epoch;
+        out.reference_range_scale = scales.reference;
+        out.atmosphere = fmt::format(
+            "ranges corrected to the measured air: epoch {:+.2f} ppm, reference {:+.2f} ppm",
+            (*scales.epoch - 1) * 1e6, (*scales.reference - 1) * 1e6);
+    } else if (scales.epoch || scales.reference) {
+        out.atmosphere = std::string("not corrected: no meteo for the ") +
+                         (scales.epoch ? "reference epoch" : "epoch");
+    } else {
+        out.atmosphere = "not corrected: no meteo";
+    }
     std::vector<reg::TargetPair> pairs;
     for (std::size_t i = 0; i < config.targets.size(); ++i) {
         const auto& t = config.targets[i];
@@ -215,10 +232,15 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
         // Predicted where it was in the reference epoch: the drift moves it by millimetres.
         const Eigen::Vector3d predicted = ref.found() ? ref.centre : t.approximate;
         TargetMeasurement m = measure_target(t, scans, predicted, config);
+        // The air: ranges scaled back by 1/scale about the scanner (both or neither).
+        const bool correct = scales.epoch && scales.reference;
+        const auto corrected = [](const TargetMeasurement& t, double scale) {
+            return Eigen::Vector3d(t.viewpoint + (t.centre - t.viewpoint) / scale);
+        };
         reg::TargetPair p;
-        p.centres.reference = ref.centre;
+        p.centres.reference = correct ? corrected(ref, *scales.reference) : ref.centre;
         p.centres.reference_covariance = ref.covariance;
-        p.centres.epoch = m.centre;
+        p.centres.epoch = correct ? corrected(m, *scales.epoch) : m.centre;
         p.centres.epoch_covariance = m.covariance;
         p.usable = ref.found() && m.found() && !excluded.count(t.name);
         if (!ref.found()) {
@@ -290,14 +312,31 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     return out;
 }
 
+std::optional<double> measured_range_scale(const RegistrationConfig& config,
+                                           const std::optional<MeteoSidecar>& meteo) {
+    if (config.atmosphere == AtmosphereCorrection::off || !meteo || !meteo->values) {
+        return std::nullopt;
+    }
+    const auto& v = *meteo->values;
+    const double n_true = group_refractivity(config.scanner_wavelength_nm, v.air_temperature_c,
+                                             v.pressure_hpa, v.relative_humidity_pct);
+    const double n_setting =
+        group_refractivity(config.scanner_wavelength_nm, config.scanner_temperature_c,
+                           config.scanner_pressure_hpa, config.scanner_humidity_pct);
+    return range_scale(n_true, n_setting);
+}
+
 StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
                                    ReferenceEpoch& reference, ReferenceCache& cache,
                                    const std::set<std::string>& excluded,
+                                   const std::optional<MeteoSidecar>& reference_meteo,
                                    RegistrationResult& result) {
     const auto centres = cache.get<ReferenceTargets>(
-        reference, ProductKey{"registration.targets", reference_parameters(config), 1},
+        reference, ProductKey{"registration.targets", reference_parameters(config), 2},
         [&](const std::vector<Scan>& scans) { return measure_reference_targets(config, scans); });
-    result = register_epoch(config, *centres, *input.scans, excluded);
+    const RangeScales scales{measured_range_scale(config, input.meteo),
+                             measured_range_scale(config, reference_meteo)};
+    result = register_epoch(config, *centres, *input.scans, excluded, scales);
     StageVerdict verdict;
     std::string not_found;
     for (const auto& m : result.measured) {
@@ -323,6 +362,7 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
                                result.used, 1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3),
                                1e3 * sig(4), 1e3 * sig(5));
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
+    verdict.note += "; atmosphere " + result.atmosphere;
     return verdict;
 }
 

@@ -34,6 +34,7 @@ struct TargetMeasurement {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();          // project frame of the epoch
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // m², with the floor
     std::size_t points = 0;  // points in the search window
+    Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the scanner, project frame
     bool found() const { return status == "found"; }
 };
 
@@ -70,6 +71,10 @@ struct RegistrationResult {
     int used = 0;
     std::vector<ZoneRegistrationSigma> zones;
     std::vector<std::string> newly_excluded;  // targets this epoch excluded as moved
+    // Range scales n_true/n_setting applied (1/scale about the scanner) from the meteo of
+    // the epoch and of the reference; absent: not corrected.
+    std::optional<double> epoch_range_scale, reference_range_scale;
+    std::string atmosphere;  // what was done about the air, in words
     bool accepted() const { return tested.accepted() && gate.empty(); }
 };
 
@@ -77,6 +82,20 @@ struct RegistrationResult {
 struct StageOutputs {
     // Maps the epoch's points into the reference frame; absent without registration.
     std::optional<registration::RigidTransform> to_reference;
+    // The epoch's ranges are to be scaled by 1/range_scale about `scanner` before
+    // `to_reference` applies (1: no atmospheric correction).
+    double range_scale = 1.0;
+    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();
+};
+
+// n_true/n_setting for the measured air of `meteo` (IAG 1999, core/group_refractivity.hpp);
+// absent without meteo values or with the correction off.
+std::optional<double> measured_range_scale(const RegistrationConfig& config,
+                                           const std::optional<MeteoSidecar>& meteo);
+
+// The scales of the epoch and of the reference epoch (absent: not corrected).
+struct RangeScales {
+    std::optional<double> epoch, reference;
 };
 
 // Registers one epoch against the reference centres; `excluded`: targets excluded until an
@@ -84,13 +103,15 @@ struct StageOutputs {
 RegistrationResult register_epoch(const RegistrationConfig& config,
                                   const ReferenceTargets& reference,
                                   const std::vector<Scan>& scans,
-                                  const std::set<std::string>& excluded);
+                                  const std::set<std::string>& excluded,
+                                  const RangeScales& scales = {});
 
 // The stage: reference centres from the cache, then register_epoch; the verdict rejects an
 // epoch that fails a test or the gate.
 StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
                                    ReferenceEpoch& reference, ReferenceCache& cache,
                                    const std::set<std::string>& excluded,
+                                   const std::optional<MeteoSidecar>& reference_meteo,
                                    RegistrationResult& result);
 
 }  // namespace tlsmon

@@ -11,7 +11,7 @@
 //   N_L    = (273.15/1013.25) · N_gr · p/T − 11.27 · e/T   T in K, p and e in hPa
 //   e      = RH/100 · f · E_w(t),  E_w = 6.1121 · exp(17.502 t/(240.97 + t))  (Buck 1981),
 //   f      = 1.0007 + 3.46e-6 · p                   enhancement factor (Buck 1981)
-// n = 1 + N·1e-6.
+// n = 1 + N·1e-6. The formula itself is in core/group_refractivity.hpp.
 #include "simulator/scene.hpp"
 #include "simulator/weather.hpp"
 

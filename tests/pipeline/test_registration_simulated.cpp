@@ -16,6 +16,7 @@
 #include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "simulator/weather.hpp"
 #include "../simulator/narrow_window.hpp"
 
 namespace tlsmon {
@@ -198,6 +199,67 @@ TEST(RegistrationSimulated, TwoUsableTargetsAreRefused) {
     EXPECT_FALSE(r.accepted());
     EXPECT_EQ(r.tested.status, registration::RegistrationStatus::too_few_targets);
     EXPECT_EQ(r.used, 0);
+}
+
+// The air switched on: every range is scaled by n_true/n_setting (the scanner set to 20 °C,
+// 1013.25 hPa, 60 %; the simulated early-summer day at the site). With the meteo values of
+// each epoch (the air itself, without the weather station's 0.1 °C noise) the stage scales
+// the ranges back (the same formula as the simulator's) and the error at the pier against
+// the true geometry stays within the bound. Printed beside it, for comparison only: the
+// uncorrected registration against the reference as measured (its own scale); with a few
+// ppm between the epochs and the targets in one sector, the translation absorbs much of it.
+TEST(RegistrationSimulated, MeasuredAirCorrectsTheRangeScale) {
+    sim::Site site = drifting_pier();
+    site.atmosphere.enabled = true;
+    RegistrationConfig config = site_config(site);
+    config.scanner_wavelength_nm = site.atmosphere.wavelength_nm;
+    config.scanner_temperature_c = site.atmosphere.scanner_temperature_c;
+    config.scanner_pressure_hpa = site.atmosphere.scanner_pressure_hpa;
+    config.scanner_humidity_pct = site.atmosphere.scanner_humidity_pct;
+    const auto pier = pier_points(site);
+    const Eigen::Vector3d scanner = sim::nominal_pose(site.scanner).translation();
+    const auto meteo_of = [&](int epoch, double hours, double& true_scale) {
+        const sim::EpochConditions c = sim::epoch_conditions(site, epoch, hours);
+        true_scale = c.atmosphere.range_scale;
+        MeteoSidecar m;
+        MeteoValues v;
+        v.air_temperature_c = c.thermal.air.temperature_c;
+        v.pressure_hpa = c.thermal.air.pressure_hpa;
+        v.relative_humidity_pct = c.thermal.air.relative_humidity_pct;
+        m.values = v;
+        return std::optional<MeteoSidecar>(m);
+    };
+    double scale0 = 1;
+    const auto meteo0 = meteo_of(0, 0.0, scale0);
+    const RenderedEpoch e0 = render_windows(site, 0, 0.0);
+    const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
+    for (int i = 1; i <= 3; ++i) {
+        const double hours = 3.0 * i;
+        double scale_i = 1;
+        const auto meteo_i = meteo_of(i, hours, scale_i);
+        const RenderedEpoch ei = render_windows(site, i, hours);
+        const RangeScales scales{measured_range_scale(config, meteo_i),
+                                 measured_range_scale(config, meteo0)};
+        ASSERT_TRUE(scales.epoch && scales.reference);
+        EXPECT_NEAR(*scales.epoch, scale_i, 1e-9);  // the same formula as the simulator's
+        const RegistrationResult r = register_epoch(config, reference, ei.scans, {}, scales);
+        ASSERT_TRUE(r.accepted()) << r.tested.reason << " " << r.gate;
+        const RegistrationResult u = register_epoch(config, reference, ei.scans, {});
+        // Corrected: the exact answer is H₀⁻¹·Hᵢ on the true ranges.
+        const Scored s = score(*r.tested.transform, e0.header_to_true, ei.header_to_true, pier);
+        // Uncorrected, against the reference's points as measured (its own scale).
+        double rms_u = 0;
+        for (const auto& P : pier) {
+            const Eigen::Vector3d xi = scanner + scale_i * (ei.header_to_true.inverse() * P - scanner);
+            const Eigen::Vector3d x0 = scanner + scale0 * (e0.header_to_true.inverse() * P - scanner);
+            rms_u += (u.tested.transform->apply(xi) - x0).squaredNorm();
+        }
+        rms_u = std::sqrt(rms_u / pier.size());
+        std::printf("epoch %d: %+.2f ppm vs reference %+.2f ppm; pier RMS error corrected %.3f mm, "
+                    "uncorrected %.3f mm\n",
+                    i, (scale_i - 1) * 1e6, (scale0 - 1) * 1e6, 1e3 * s.rms, 1e3 * rms_u);
+        EXPECT_LE(s.rms, 0.001) << "epoch " << i;
+    }
 }
 
 }  // namespace
