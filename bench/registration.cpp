@@ -39,12 +39,14 @@ int main(int argc, char** argv) {
     for (int run = 0; run < 5; ++run) {
         const auto t = std::chrono::steady_clock::now();
         r = register_epoch(config, reference, scans, {});
-        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
+        times.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count());
     }
     const auto s = bench::spread_of(times);
-    std::printf("registration of %zu targets (%d used, %s): median %.4f s (min %.4f, max %.4f) "
-                "over %zu runs\n",
-                config.targets.size(), r.used, r.accepted() ? "accepted" : "refused", s.median,
-                s.min, s.max, s.runs);
+    std::printf(
+        "registration of %zu targets (%d used, %s): median %.4f s (min %.4f, max %.4f) "
+        "over %zu runs\n",
+        config.targets.size(), r.used, r.accepted() ? "accepted" : "refused", s.median, s.min,
+        s.max, s.runs);
     return 0;
 }

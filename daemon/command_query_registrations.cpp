@@ -21,11 +21,10 @@ std::string target_summary(const std::vector<TargetObservation>& targets) {
     std::string out;
     for (const auto& t : targets) {
         const double len = std::hypot(t.residual[0], t.residual[1], t.residual[2]);
-        out += fmt::format("{}{} {} {}", out.empty() ? "" : "; ", t.target,
-                           t.use.empty() ? t.status : t.use,
-                           t.status == "found" || t.status == "excluded"
-                               ? fmt::format("{:.2f} mm", 1e3 * len)
-                               : "(" + t.status + ")");
+        out += fmt::format(
+            "{}{} {} {}", out.empty() ? "" : "; ", t.target, t.use.empty() ? t.status : t.use,
+            t.status == "found" || t.status == "excluded" ? fmt::format("{:.2f} mm", 1e3 * len)
+                                                          : "(" + t.status + ")");
     }
     return out;
 }
@@ -33,27 +32,59 @@ std::string target_summary(const std::vector<TargetObservation>& targets) {
 std::string zone_summary(const std::vector<RegistrationZoneSigma>& zones) {
     std::string out;
     for (const auto& z : zones) {
-        out += fmt::format("{}{} {:.2f} mm", out.empty() ? "" : "; ", z.zone, 1e3 * z.max_sigma_3d_m);
+        out +=
+            fmt::format("{}{} {:.2f} mm", out.empty() ? "" : "; ", z.zone, 1e3 * z.max_sigma_3d_m);
     }
     return out;
 }
 
 Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epochs) {
-    Table t{{"epoch", "acquired", "status", "registration", "accepted", "method", "targets_used",
-             "rms_mm", "omega_arcsec", "phi_arcsec", "kappa_arcsec", "tx_mm", "ty_mm", "tz_mm",
-             "sigma_omega_arcsec", "sigma_phi_arcsec", "sigma_kappa_arcsec", "sigma_tx_mm",
-             "sigma_ty_mm", "sigma_tz_mm", "qw", "qx", "qy", "qz", "variance_factor",
-             "redundancy", "targets", "zone_sigma_3d", "reason"},
+    Table t{{"epoch",
+             "acquired",
+             "status",
+             "registration",
+             "accepted",
+             "method",
+             "targets_used",
+             "rms_mm",
+             "omega_arcsec",
+             "phi_arcsec",
+             "kappa_arcsec",
+             "tx_mm",
+             "ty_mm",
+             "tz_mm",
+             "sigma_omega_arcsec",
+             "sigma_phi_arcsec",
+             "sigma_kappa_arcsec",
+             "sigma_tx_mm",
+             "sigma_ty_mm",
+             "sigma_tz_mm",
+             "qw",
+             "qx",
+             "qy",
+             "qz",
+             "variance_factor",
+             "redundancy",
+             "targets",
+             "zone_sigma_3d",
+             "reason"},
             {}};
     for (const auto& e : epochs) {
         const auto r = db.registrations().of_epoch(e.id);
         if (!r) continue;
-        std::vector<Cell> row{e.id, format_utc(e.acquired), std::string(to_string(e.status)),
-                              r->status, r->accepted, r->method, r->target_count, 1e3 * r->rms_m};
+        std::vector<Cell> row{e.id,
+                              format_utc(e.acquired),
+                              std::string(to_string(e.status)),
+                              r->status,
+                              r->accepted,
+                              r->method,
+                              r->target_count,
+                              1e3 * r->rms_m};
         const double unit[6] = {kArcsec, kArcsec, kArcsec, 1e3, 1e3, 1e3};
         for (int k = 0; k < 6; ++k) {
-            row.push_back(optional_cell(r->parameters ? std::optional<double>((*r->parameters)[k] * unit[k])
-                                                      : std::nullopt));
+            row.push_back(optional_cell(r->parameters
+                                            ? std::optional<double>((*r->parameters)[k] * unit[k])
+                                            : std::nullopt));
         }
         for (int k = 0; k < 6; ++k) {
             row.push_back(optional_cell(r->sigmas ? std::optional<double>((*r->sigmas)[k] * unit[k])

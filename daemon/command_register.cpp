@@ -88,11 +88,26 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
 
 void print_table(const nlohmann::json& j) {
     std::vector<std::pair<std::string, Cell>> fields;
-    for (const char* key :
-         {"status", "accepted", "reason", "method", "targets_used", "rms_mm", "omega_arcsec",
-          "phi_arcsec", "kappa_arcsec", "tx_mm", "ty_mm", "tz_mm", "sigma_omega_arcsec",
-          "sigma_phi_arcsec", "sigma_kappa_arcsec", "sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm",
-          "variance_factor", "redundancy"}) {
+    for (const char* key : {"status",
+                            "accepted",
+                            "reason",
+                            "method",
+                            "targets_used",
+                            "rms_mm",
+                            "omega_arcsec",
+                            "phi_arcsec",
+                            "kappa_arcsec",
+                            "tx_mm",
+                            "ty_mm",
+                            "tz_mm",
+                            "sigma_omega_arcsec",
+                            "sigma_phi_arcsec",
+                            "sigma_kappa_arcsec",
+                            "sigma_tx_mm",
+                            "sigma_ty_mm",
+                            "sigma_tz_mm",
+                            "variance_factor",
+                            "redundancy"}) {
         if (!j.contains(key)) continue;
         const auto& v = j[key];
         if (v.is_boolean()) {
@@ -109,23 +124,22 @@ void print_table(const nlohmann::json& j) {
     if (j.contains("matrix")) {
         std::cout << "matrix (epoch -> reference):\n";
         for (const auto& row : j["matrix"]) {
-            std::cout << fmt::format("  {:14.9f} {:14.9f} {:14.9f} {:14.6f}\n", row[0].get<double>(),
-                                     row[1].get<double>(), row[2].get<double>(),
-                                     row[3].get<double>());
+            std::cout << fmt::format("  {:14.9f} {:14.9f} {:14.9f} {:14.6f}\n",
+                                     row[0].get<double>(), row[1].get<double>(),
+                                     row[2].get<double>(), row[3].get<double>());
         }
     }
     Table t{{"target", "kind", "status", "use", "residual_mm", "reason"}, {}};
     for (const auto& g : j["targets"]) {
         std::string residual;
         if (g.contains("residual_mm")) {
-            residual = fmt::format("{:.3f} {:.3f} {:.3f}", g["residual_mm"][0].get<double>(),
-                                   g["residual_mm"][1].get<double>(),
-                                   g["residual_mm"][2].get<double>());
+            residual =
+                fmt::format("{:.3f} {:.3f} {:.3f}", g["residual_mm"][0].get<double>(),
+                            g["residual_mm"][1].get<double>(), g["residual_mm"][2].get<double>());
         }
         t.rows.push_back({g["name"].get<std::string>(), g["kind"].get<std::string>(),
-                          g["status"].get<std::string>(),
-                          g.value("use", std::string()),
-                          residual, g["reason"].get<std::string>()});
+                          g["status"].get<std::string>(), g.value("use", std::string()), residual,
+                          g["reason"].get<std::string>()});
     }
     print(std::cout, t, OutputFormat::table);
 }
@@ -147,8 +161,8 @@ int run_register(const RegisterOptions& o) {
         const RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
         StageVerdict v;
         if (!r.tested.accepted()) {
-            v.rejected = std::string(registration::describe(r.tested.status)) + ": " +
-                         r.tested.reason;
+            v.rejected =
+                std::string(registration::describe(r.tested.status)) + ": " + r.tested.reason;
         } else if (!r.gate.empty()) {
             v.rejected = "quality gate: " + r.gate;
         }

@@ -95,7 +95,7 @@ int run_simulate(const SimulateOptions& options);
 struct M3c2Options {
     std::string reference;
     std::string compared;
-    std::string core_file;              // core points from this file ...
+    std::string core_file;               // core points from this file ...
     std::optional<double> core_spacing;  // ... or subsampled from REFERENCE; neither: every point
     std::vector<double> normal_radii{0.05, 0.10, 0.20};
     double cylinder_radius = 0.05;

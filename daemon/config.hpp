@@ -79,7 +79,7 @@ struct Config {
     MeteoConfig meteo;
     LoggingConfig logging;
     DaemonConfig daemon;
-    CoverageConfig coverage;  // the pipeline's stages, in their order
+    CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
     ModbusConfig modbus;
     std::vector<ZoneConfig> zones;

@@ -325,8 +325,8 @@ std::vector<ConfigKey> declare_keys() {
                "Added as σ² per coordinate to every fitted centre's covariance: the fit's σ is "
                "only its random part; what a centre repeats to beyond it (the footprint, the "
                "silhouette's mixed returns) is 0.05–0.1 mm (docs/registration.md)."),
-        integer(at(&C::registration, &RegistrationConfig::min_targets),
-                "registration.min_targets", 3, 100, "",
+        integer(at(&C::registration, &RegistrationConfig::min_targets), "registration.min_targets",
+                3, 100, "",
                 "Usable targets that must remain after outliers are excluded; fewer: rejected."),
         number(at(&C::registration, &RegistrationConfig::max_rms), "registration.max_rms", 0, 1,
                "m", "Quality gate: RMS of the used targets' residual lengths."),
@@ -336,12 +336,10 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::registration, &RegistrationConfig::max_sigma_translation),
                "registration.max_sigma_translation", 0, 1, "m",
                "Quality gate: σ of each of tx, ty, tz."),
-        number(at(&C::registration, &RegistrationConfig::global_alpha),
-               "registration.global_alpha", 1e-6, 0.5, "",
-               "Significance level of the global test of the variance factor."),
-        number(at(&C::registration, &RegistrationConfig::target_alpha),
-               "registration.target_alpha", 1e-9, 0.5, "",
-               "Significance level of each target's outlier test (Baarda's α0)."),
+        number(at(&C::registration, &RegistrationConfig::global_alpha), "registration.global_alpha",
+               1e-6, 0.5, "", "Significance level of the global test of the variance factor."),
+        number(at(&C::registration, &RegistrationConfig::target_alpha), "registration.target_alpha",
+               1e-9, 0.5, "", "Significance level of each target's outlier test (Baarda's α0)."),
         choice(at(&C::registration, &RegistrationConfig::atmosphere), "registration.atmosphere",
                kAtmosphereCorrections,
                "`measured_air`: when the epoch has meteo values, every range (target centres, "

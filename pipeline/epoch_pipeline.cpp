@@ -115,8 +115,8 @@ std::optional<ReferenceEpoch> reference_for(PipelineContext& ctx, const Epoch& e
 }
 
 // What the registration stage measured, as the commit stores it.
-void record_registration(const RegistrationResult& r, const StageVerdict& verdict,
-                         EpochId epoch, EpochResults& results) {
+void record_registration(const RegistrationResult& r, const StageVerdict& verdict, EpochId epoch,
+                         EpochResults& results) {
     namespace reg = registration;
     RegistrationRow row;
     row.method = r.epoch_range_scale ? "targets+atmosphere" : "targets";
@@ -138,9 +138,8 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
         row.sigma0 = std::sqrt(T->variance_factor);
         row.variance_factor = T->variance_factor;
         row.redundancy = T->redundancy;
-        row.parameters = std::array<double, 6>{T->omega,          T->phi,
-                                               T->kappa,          T->translation.x(),
-                                               T->translation.y(), T->translation.z()};
+        row.parameters = std::array<double, 6>{
+            T->omega, T->phi, T->kappa, T->translation.x(), T->translation.y(), T->translation.z()};
         const auto s = T->sigmas();
         row.sigmas = std::array<double, 6>{s(0), s(1), s(2), s(3), s(4), s(5)};
         row.quaternion = std::array<double, 4>{T->quaternion.w(), T->quaternion.x(),
@@ -156,7 +155,8 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
         o.kind = to_string(m.kind);
         o.status = m.status;
         o.reason = m.reason;
-        for (int k = 0; k < 3; ++k) o.measured[k] = m.found() || m.status == "excluded" ? m.centre[k] : 0.0;
+        for (int k = 0; k < 3; ++k)
+            o.measured[k] = m.found() || m.status == "excluded" ? m.centre[k] : 0.0;
         if (m.found() || m.status == "excluded") {
             const Eigen::Vector3d s = m.covariance.diagonal().cwiseSqrt();
             o.sigma = std::array<double, 3>{s.x(), s.y(), s.z()};
@@ -165,8 +165,10 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
             const auto& v = r.tested.targets[i];
             o.use = name_of(v.use);
             o.used = v.use == reg::TargetUse::used;
-            o.stable = v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
-            for (int k = 0; k < 3; ++k) o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;
+            o.stable =
+                v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
+            for (int k = 0; k < 3; ++k)
+                o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;
             if (v.statistic > 0 || v.critical > 0) {
                 o.statistic = v.statistic;
                 o.critical = v.critical;
@@ -181,11 +183,12 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
     }
     results.target_exclusions = r.newly_excluded;
     for (const auto& name : r.newly_excluded) {
-        results.system_events.push_back(SystemEvent{
-            now_utc(), "warning", "target_excluded",
-            "target " + name + " moved and is excluded from the registration until it is "
-                               "re-surveyed",
-            epoch});
+        results.system_events.push_back(
+            SystemEvent{now_utc(), "warning", "target_excluded",
+                        "target " + name +
+                            " moved and is excluded from the registration until it is "
+                            "re-surveyed",
+                        epoch});
     }
     if (r.accepted()) {
         for (const auto& z : r.zones) {
@@ -243,9 +246,9 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
         }
         bool measured = false;
         auto v = timed("registration", [&] {
-            const auto verdict = register_to_reference(ctx.config.registration, input, *reference,
-                                                       ctx.cache, excluded, reference_meteo,
-                                                       registration);
+            const auto verdict =
+                register_to_reference(ctx.config.registration, input, *reference, ctx.cache,
+                                      excluded, reference_meteo, registration);
             measured = true;
             return verdict;
         });

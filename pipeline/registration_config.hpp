@@ -14,8 +14,8 @@ const char* to_string(TargetKind kind);
 struct TargetConfig {
     std::string name;
     TargetKind kind = TargetKind::sphere;
-    double radius = 0.0725;  // sphere, m
-    double size = 0.40;      // checkerboard side, m
+    double radius = 0.0725;                                 // sphere, m
+    double size = 0.40;                                     // checkerboard side, m
     Eigen::Vector3d approximate = Eigen::Vector3d::Zero();  // project frame, within a few cm
     // A surveyed centre (project frame) replaces the one measured in the reference epoch.
     std::optional<Eigen::Vector3d> surveyed;

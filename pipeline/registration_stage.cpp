@@ -24,22 +24,32 @@ const char* to_string(TargetKind kind) {
 
 const char* name_of(reg::TargetUse use) {
     switch (use) {
-        case reg::TargetUse::used: return "used";
-        case reg::TargetUse::not_usable: return "not_usable";
-        case reg::TargetUse::excluded_outlier: return "excluded_outlier";
-        case reg::TargetUse::suspect: return "suspect";
+        case reg::TargetUse::used:
+            return "used";
+        case reg::TargetUse::not_usable:
+            return "not_usable";
+        case reg::TargetUse::excluded_outlier:
+            return "excluded_outlier";
+        case reg::TargetUse::suspect:
+            return "suspect";
     }
     return "unknown";
 }
 
 const char* name_of(reg::RegistrationStatus status) {
     switch (status) {
-        case reg::RegistrationStatus::accepted: return "accepted";
-        case reg::RegistrationStatus::global_test_failed: return "global_test_failed";
-        case reg::RegistrationStatus::too_few_targets: return "too_few_targets";
-        case reg::RegistrationStatus::degenerate_geometry: return "degenerate_geometry";
-        case reg::RegistrationStatus::outlier_not_excludable: return "outlier_not_excludable";
-        case reg::RegistrationStatus::outlier_not_identifiable: return "outlier_not_identifiable";
+        case reg::RegistrationStatus::accepted:
+            return "accepted";
+        case reg::RegistrationStatus::global_test_failed:
+            return "global_test_failed";
+        case reg::RegistrationStatus::too_few_targets:
+            return "too_few_targets";
+        case reg::RegistrationStatus::degenerate_geometry:
+            return "degenerate_geometry";
+        case reg::RegistrationStatus::outlier_not_excludable:
+            return "outlier_not_excludable";
+        case reg::RegistrationStatus::outlier_not_identifiable:
+            return "outlier_not_identifiable";
     }
     return "unknown";
 }
@@ -56,9 +66,9 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
     m.kind = target.kind;
     m.viewpoint = scan.scanner_position();
     // Wide enough for the whole target: a board's fit takes the points within 0.75·size.
-    const double radius = std::max(config.search_radius, target.kind == TargetKind::sphere
-                                                             ? 2.0 * target.radius
-                                                             : 0.8 * target.size);
+    const double radius =
+        std::max(config.search_radius,
+                 target.kind == TargetKind::sphere ? 2.0 * target.radius : 0.8 * target.size);
     const TargetWindow w = points_near(scan, predicted, radius);
     m.points = w.indices.size();
     std::vector<Eigen::Vector3d> xyz;
@@ -71,8 +81,8 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
         const reg::SphereFit f = reg::fit_sphere(xyz, predicted, p);
         if (!f.found()) {
             m.status = f.status == reg::SphereFitStatus::bad_fit ? "bad_fit" : "not_found";
-            m.reason = std::string(reg::describe(f.reason)) + (f.detail.empty() ? "" : ": ") +
-                       f.detail;
+            m.reason =
+                std::string(reg::describe(f.reason)) + (f.detail.empty() ? "" : ": ") + f.detail;
             return m;
         }
         m.status = "found";
@@ -100,25 +110,25 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
         }
         const double offset = (m.centre - predicted).norm();
         if (offset > 0.05) {
-            m.reason = fmt::format("centre {:.1f} mm from the prediction (at most 50 mm)",
-                                   1e3 * offset);
+            m.reason =
+                fmt::format("centre {:.1f} mm from the prediction (at most 50 mm)", 1e3 * offset);
             return m;
         }
         m.status = "found";
     }
-    m.covariance += config.centre_sigma_floor * config.centre_sigma_floor *
-                    Eigen::Matrix3d::Identity();
+    m.covariance +=
+        config.centre_sigma_floor * config.centre_sigma_floor * Eigen::Matrix3d::Identity();
     return m;
 }
 
 // The canonical text of everything the reference centres depend on.
 std::string reference_parameters(const RegistrationConfig& c) {
-    std::string s = fmt::format("search_radius={:.17g};floor={:.17g}", c.search_radius,
-                                c.centre_sigma_floor);
+    std::string s =
+        fmt::format("search_radius={:.17g};floor={:.17g}", c.search_radius, c.centre_sigma_floor);
     for (const auto& t : c.targets) {
-        s += fmt::format(";{}:{}:{:.17g}:{:.17g}:{:.17g},{:.17g},{:.17g}", t.name,
-                         to_string(t.kind), t.radius, t.size, t.approximate.x(),
-                         t.approximate.y(), t.approximate.z());
+        s +=
+            fmt::format(";{}:{}:{:.17g}:{:.17g}:{:.17g},{:.17g},{:.17g}", t.name, to_string(t.kind),
+                        t.radius, t.size, t.approximate.x(), t.approximate.y(), t.approximate.z());
         if (t.surveyed) {
             s += fmt::format(":surveyed {:.17g},{:.17g},{:.17g}±{:.17g}", t.surveyed->x(),
                              t.surveyed->y(), t.surveyed->z(), t.surveyed_sigma);
@@ -204,8 +214,7 @@ ReferenceTargets ReferenceTargets::decode(std::string_view payload) {
 }
 
 RegistrationResult register_epoch(const RegistrationConfig& config,
-                                  const ReferenceTargets& reference,
-                                  const std::vector<Scan>& scans,
+                                  const ReferenceTargets& reference, const std::vector<Scan>& scans,
                                   const std::set<std::string>& excluded,
                                   const RangeScales& scales) {
     if (reference.targets.size() != config.targets.size()) {
@@ -280,15 +289,17 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     const reg::RigidTransform& T = *out.tested.transform;
     const auto sig = T.sigmas();
     if (out.rms > config.max_rms) {
-        out.gate = fmt::format("RMS of the target residuals {:.2f} mm above registration.max_rms "
-                               "= {:.2f} mm",
-                               1e3 * out.rms, 1e3 * config.max_rms);
+        out.gate = fmt::format(
+            "RMS of the target residuals {:.2f} mm above registration.max_rms "
+            "= {:.2f} mm",
+            1e3 * out.rms, 1e3 * config.max_rms);
     }
     const char* angles[] = {"ω", "φ", "κ"};
     for (int k = 0; k < 3 && out.gate.empty(); ++k) {
         if (sig(k) / kArcsec > config.max_sigma_angle_arcsec) {
-            out.gate = fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
-                                   angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
+            out.gate =
+                fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
+                            angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
         }
     }
     const char* axes[] = {"tx", "ty", "tz"};
@@ -302,10 +313,11 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     for (const auto& z : config.zones) {
         ZoneRegistrationSigma s{z.name, 0.0};
         for (int c = 0; c < 8; ++c) {
-            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(), (c & 2) ? z.max.y() : z.min.y(),
+            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(),
+                                    (c & 2) ? z.max.y() : z.min.y(),
                                     (c & 4) ? z.max.z() : z.min.z());
-            s.max_sigma_3d = std::max(
-                s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
+            s.max_sigma_3d =
+                std::max(s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
         }
         out.zones.push_back(s);
     }
@@ -341,8 +353,8 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
     std::string not_found;
     for (const auto& m : result.measured) {
         if (!m.found() && m.status != "excluded") {
-            not_found += (not_found.empty() ? "" : "; ") + m.name + " " + m.status + " (" +
-                         m.reason + ")";
+            not_found +=
+                (not_found.empty() ? "" : "; ") + m.name + " " + m.status + " (" + m.reason + ")";
         }
     }
     for (const auto& name : result.newly_excluded) {
@@ -358,9 +370,9 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
         return verdict;
     }
     const auto sig = result.tested.transform->sigmas();
-    verdict.note = fmt::format("{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm",
-                               result.used, 1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3),
-                               1e3 * sig(4), 1e3 * sig(5));
+    verdict.note = fmt::format(
+        "{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm", result.used,
+        1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
     verdict.note += "; atmosphere " + result.atmosphere;
     return verdict;

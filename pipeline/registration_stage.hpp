@@ -29,12 +29,12 @@ const char* name_of(registration::RegistrationStatus status);
 struct TargetMeasurement {
     std::string name;
     TargetKind kind = TargetKind::sphere;
-    std::string status = "not_found";  // found | not_found | bad_fit | excluded
-    std::string reason;                // why, when not found
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();          // project frame of the epoch
+    std::string status = "not_found";                  // found | not_found | bad_fit | excluded
+    std::string reason;                                // why, when not found
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // project frame of the epoch
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // m², with the floor
-    std::size_t points = 0;  // points in the search window
-    Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the scanner, project frame
+    std::size_t points = 0;                                    // points in the search window
+    Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();       // the scanner, project frame
     bool found() const { return status == "found"; }
 };
 
@@ -101,8 +101,7 @@ struct RangeScales {
 // Registers one epoch against the reference centres; `excluded`: targets excluded until an
 // operator re-surveys them. Pure apart from reading the scans.
 RegistrationResult register_epoch(const RegistrationConfig& config,
-                                  const ReferenceTargets& reference,
-                                  const std::vector<Scan>& scans,
+                                  const ReferenceTargets& reference, const std::vector<Scan>& scans,
                                   const std::set<std::string>& excluded,
                                   const RangeScales& scales = {});
 

@@ -76,26 +76,32 @@ TargetWindow points_near(const Scan& scan, const Eigen::Vector3d& predicted, dou
     // The half-angle of the sphere of `radius` about the prediction, seen from the scanner;
     // in azimuth widened by 1/cos(elevation) (meridians converge towards the zenith).
     const double half = std::asin(radius / distance);
-    const double half_az = std::min(std::numbers::pi, half / std::max(1e-3, std::cos(std::fabs(el0) + half)));
+    const double half_az =
+        std::min(std::numbers::pi, half / std::max(1e-3, std::cos(std::fabs(el0) + half)));
     const auto& g = *scan.grid;
     const std::size_t n = scan.size();
     // The azimuth runs one way along the file: its sense from the first and last column.
     const double sense = wrapped(dir.azimuth(n - 1), dir.azimuth(0)) < 0 ? -1.0 : 1.0;
     const auto along = [&](std::size_t i) { return sense * wrapped(dir.azimuth(i), az0); };
-    const std::size_t begin = partition_point(0, n, [&](std::size_t i) { return along(i) < -half_az; });
-    const std::size_t end = partition_point(begin, n, [&](std::size_t i) { return along(i) <= half_az; });
+    const std::size_t begin =
+        partition_point(0, n, [&](std::size_t i) { return along(i) < -half_az; });
+    const std::size_t end =
+        partition_point(begin, n, [&](std::size_t i) { return along(i) <= half_az; });
     TargetWindow w;
     w.through_grid = true;
     const double r2 = radius * radius;
     for (std::size_t s = begin; s < end;) {
         // One column: [s, e).
         const std::uint32_t c = g.column[s];
-        const std::size_t e = partition_point(s, end, [&](std::size_t i) { return g.column[i] == c; });
+        const std::size_t e =
+            partition_point(s, end, [&](std::size_t i) { return g.column[i] == c; });
         if (e > s + 1) {
             const double el_sense = dir.elevation(e - 1) < dir.elevation(s) ? -1.0 : 1.0;
             const auto up = [&](std::size_t i) { return el_sense * (dir.elevation(i) - el0); };
-            const std::size_t a = partition_point(s, e, [&](std::size_t i) { return up(i) < -half; });
-            const std::size_t b = partition_point(a, e, [&](std::size_t i) { return up(i) <= half; });
+            const std::size_t a =
+                partition_point(s, e, [&](std::size_t i) { return up(i) < -half; });
+            const std::size_t b =
+                partition_point(a, e, [&](std::size_t i) { return up(i) <= half; });
             for (std::size_t i = a; i < b; ++i) {
                 ++w.examined;
                 if ((scan.xyz[i] - predicted).squaredNorm() <= r2) w.indices.push_back(i);

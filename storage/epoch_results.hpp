@@ -43,17 +43,17 @@ struct RegistrationZoneSigma {
 };
 
 struct TargetObservation {
-    std::string target;                // name of the reference target
-    std::string kind;                  // "sphere", "plane", ...
-    std::array<double, 3> measured{};  // centre in the scan frame, metres
-    std::array<double, 3> residual{};  // project frame, metres
-    bool stable = true;                // passed the stability test
-    bool used = true;                  // used in the transformation estimate
-    std::string status;                // found, not_found, bad_fit, excluded
-    std::string reason;                // why, when not found
-    std::string use;                   // used, not_usable, excluded_outlier, suspect
+    std::string target;                          // name of the reference target
+    std::string kind;                            // "sphere", "plane", ...
+    std::array<double, 3> measured{};            // centre in the scan frame, metres
+    std::array<double, 3> residual{};            // project frame, metres
+    bool stable = true;                          // passed the stability test
+    bool used = true;                            // used in the transformation estimate
+    std::string status;                          // found, not_found, bad_fit, excluded
+    std::string reason;                          // why, when not found
+    std::string use;                             // used, not_usable, excluded_outlier, suspect
     std::optional<std::array<double, 3>> sigma;  // of the measured centre, m
-    std::optional<double> statistic;   // outlier test
+    std::optional<double> statistic;             // outlier test
     std::optional<double> critical;
     std::optional<double> minimal_detectable_bias_m;
 };

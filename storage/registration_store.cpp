@@ -17,8 +17,8 @@ std::optional<double> opt(const SQLite::Column& c) {
 
 std::set<std::string> RegistrationStore::excluded_targets() const {
     return guarded(*c_, "reading target exclusions", [&] {
-        SQLite::Statement s(c_->db,
-                            "SELECT DISTINCT target FROM target_exclusions WHERE resurveyed IS NULL");
+        SQLite::Statement s(
+            c_->db, "SELECT DISTINCT target FROM target_exclusions WHERE resurveyed IS NULL");
         std::set<std::string> out;
         while (s.executeStep()) out.insert(s.getColumn(0).getString());
         return out;
@@ -99,9 +99,9 @@ std::vector<TargetObservation> RegistrationStore::targets_of_epoch(EpochId id) c
             t.reason = s.getColumn(11).getString();
             t.use = s.getColumn(12).getString();
             if (!s.getColumn(13).isNull()) {
-                t.sigma = std::array<double, 3>{s.getColumn(13).getDouble(),
-                                                s.getColumn(14).getDouble(),
-                                                s.getColumn(15).getDouble()};
+                t.sigma =
+                    std::array<double, 3>{s.getColumn(13).getDouble(), s.getColumn(14).getDouble(),
+                                          s.getColumn(15).getDouble()};
             }
             t.statistic = opt(s.getColumn(16));
             t.critical = opt(s.getColumn(17));

@@ -11,13 +11,13 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "pipeline/registration_stage.hpp"
+#include "../simulator/narrow_window.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "pipeline/registration_stage.hpp"
 #include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "simulator/weather.hpp"
-#include "../simulator/narrow_window.hpp"
 
 namespace tlsmon {
 namespace {
@@ -36,7 +36,8 @@ RegistrationConfig site_config(const sim::Site& site) {
     for (const auto& t : site.targets) {
         TargetConfig g;
         g.name = t.name;
-        g.kind = t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
+        g.kind =
+            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
         g.radius = t.radius;
         g.size = t.size;
         // A site's approximate positions are good to a few centimetres.
@@ -47,7 +48,7 @@ RegistrationConfig site_config(const sim::Site& site) {
 }
 
 struct RenderedEpoch {
-    std::vector<Scan> scans;   // one window per target
+    std::vector<Scan> scans;  // one window per target
     Eigen::Affine3d header_to_true;
 };
 
@@ -68,16 +69,18 @@ RenderedEpoch render_windows(const sim::Site& site, int epoch, double hours) {
 std::vector<Eigen::Vector3d> pier_points(const sim::Site& site) {
     std::vector<Eigen::Vector3d> p;
     for (double z = 0.0; z <= site.pier.height; z += 2.5) {
-        for (double x = site.pier.x0; x <= site.pier.x1; x += 2.5) p.emplace_back(x, site.pier.y0, z);
-        for (double y = site.pier.y0; y <= site.pier.y1; y += 2.5) p.emplace_back(site.pier.x0, y, z);
+        for (double x = site.pier.x0; x <= site.pier.x1; x += 2.5)
+            p.emplace_back(x, site.pier.y0, z);
+        for (double y = site.pier.y0; y <= site.pier.y1; y += 2.5)
+            p.emplace_back(site.pier.x0, y, z);
     }
     return p;
 }
 
 struct Scored {
-    double rms = 0;        // m, of the error over the pier's points
+    double rms = 0;  // m, of the error over the pier's points
     int within = 0, components = 0;
-    double sum_q2 = 0;     // Σ (error/σ)² of the top corner's components
+    double sum_q2 = 0;  // Σ (error/σ)² of the top corner's components
 };
 
 // The error of the estimated transformation at the pier against H₀⁻¹·Hᵢ, and whether each
@@ -133,16 +136,15 @@ TEST(RegistrationSimulated, PierSeriesMeetsTheBoundWithHonestSigma) {
                 << "series " << k << " epoch " << i << ": " << r.tested.reason << " " << r.gate;
             ++accepted;
             EXPECT_GE(r.used, static_cast<int>(config.targets.size()) - 1);
-            const Scored s =
-                score(*r.tested.transform, e0.header_to_true, ei.header_to_true, pier);
+            const Scored s = score(*r.tested.transform, e0.header_to_true, ei.header_to_true, pier);
             within += s.within;
             components += s.components;
             sum_q2 += s.sum_q2;
             worst = std::max(worst, s.rms);
             const auto sig = r.tested.transform->sigmas();
             std::printf("series %d epoch %d: pier RMS error %.3f mm, κ %.1f″ ± %.1f″, s0² %.2f\n",
-                        k, i, 1e3 * s.rms, r.tested.transform->kappa * 206264.8,
-                        sig(2) * 206264.8, r.tested.transform->variance_factor);
+                        k, i, 1e3 * s.rms, r.tested.transform->kappa * 206264.8, sig(2) * 206264.8,
+                        r.tested.transform->variance_factor);
             EXPECT_LE(s.rms, 0.001) << "series " << k << " epoch " << i;
         }
     }
@@ -172,8 +174,8 @@ TEST(RegistrationSimulated, KnockedTargetIsExcludedAndTheEpochStillMeetsTheBound
     EXPECT_EQ(r.used, static_cast<int>(config.targets.size()) - 1);
     // Its apparent movement is the knock, seen in the reference frame.
     EXPECT_NEAR(r.tested.targets[0].residual.norm(), 0.010, 0.001);
-    const Scored s = score(*r.tested.transform, e0.header_to_true, e3.header_to_true,
-                           pier_points(site));
+    const Scored s =
+        score(*r.tested.transform, e0.header_to_true, e3.header_to_true, pier_points(site));
     std::printf("knocked: pier RMS error %.3f mm\n", 1e3 * s.rms);
     EXPECT_LE(s.rms, 0.001);
 
@@ -250,14 +252,17 @@ TEST(RegistrationSimulated, MeasuredAirCorrectsTheRangeScale) {
         // Uncorrected, against the reference's points as measured (its own scale).
         double rms_u = 0;
         for (const auto& P : pier) {
-            const Eigen::Vector3d xi = scanner + scale_i * (ei.header_to_true.inverse() * P - scanner);
-            const Eigen::Vector3d x0 = scanner + scale0 * (e0.header_to_true.inverse() * P - scanner);
+            const Eigen::Vector3d xi =
+                scanner + scale_i * (ei.header_to_true.inverse() * P - scanner);
+            const Eigen::Vector3d x0 =
+                scanner + scale0 * (e0.header_to_true.inverse() * P - scanner);
             rms_u += (u.tested.transform->apply(xi) - x0).squaredNorm();
         }
         rms_u = std::sqrt(rms_u / pier.size());
-        std::printf("epoch %d: %+.2f ppm vs reference %+.2f ppm; pier RMS error corrected %.3f mm, "
-                    "uncorrected %.3f mm\n",
-                    i, (scale_i - 1) * 1e6, (scale0 - 1) * 1e6, 1e3 * s.rms, 1e3 * rms_u);
+        std::printf(
+            "epoch %d: %+.2f ppm vs reference %+.2f ppm; pier RMS error corrected %.3f mm, "
+            "uncorrected %.3f mm\n",
+            i, (scale_i - 1) * 1e6, (scale0 - 1) * 1e6, 1e3 * s.rms, 1e3 * rms_u);
         EXPECT_LE(s.rms, 0.001) << "epoch " << i;
     }
 }

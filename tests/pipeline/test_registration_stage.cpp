@@ -9,11 +9,11 @@
 
 #include <fstream>
 
+#include "../simulator/narrow_window.hpp"
 #include "formats/ptx_writer.hpp"
 #include "pipeline_site.hpp"
 #include "simulator/drift.hpp"
 #include "simulator/render.hpp"
-#include "../simulator/narrow_window.hpp"
 
 namespace tlsmon {
 namespace {
@@ -49,7 +49,8 @@ TEST(RegistrationStage, KnockedTargetStaysExcludedAndTwoTargetsAreRejected) {
     for (const auto& t : site.targets) {
         TargetConfig g;
         g.name = t.name;
-        g.kind = t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
+        g.kind =
+            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
         g.approximate = t.centre + Eigen::Vector3d(-0.01, 0.02, 0.005);
         ps.config.registration.targets.push_back(g);
     }
