@@ -22,13 +22,16 @@
 namespace tlsmon {
 namespace {
 
-sim::Site drifting_pier() {
-    sim::Site site = sim::preset_pier();
+sim::Site drifting(sim::Site site) {
     site.drift.yaw_amplitude_arcsec = 60.0;
     site.drift.tilt_amplitude_arcsec = 10.0;
     site.drift.translation_sigma = 0.0015;
     site.atmosphere.enabled = false;
     return site;
+}
+
+sim::Site drifting_pier() {
+    return drifting(sim::preset_pier());
 }
 
 RegistrationConfig site_config(const sim::Site& site) {
@@ -201,6 +204,43 @@ TEST(RegistrationSimulated, TwoUsableTargetsAreRefused) {
     EXPECT_FALSE(r.accepted());
     EXPECT_EQ(r.tested.status, registration::RegistrationStatus::too_few_targets);
     EXPECT_EQ(r.used, 0);
+}
+
+// The `hochmosel` preset (pier at 100–175 m, targets near the scanner): the figures only —
+// the error at the pier and the σ the method predicts there (docs/registration.md).
+TEST(RegistrationSimulated, HochmoselFigures) {
+    double worst = 0, sum_q2 = 0, worst_sigma = 0;
+    int within = 0, components = 0;
+    for (int k = 0; k < 3; ++k) {
+        sim::Site site = drifting(sim::preset_hochmosel());
+        site.noise.seed = 201 + k;
+        const RegistrationConfig config = site_config(site);
+        const auto pier = pier_points(site);
+        const RenderedEpoch e0 = render_windows(site, 0, 0.0);
+        const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
+        for (int i = 1; i <= 2; ++i) {
+            const RenderedEpoch ei = render_windows(site, i, 2.0 * k + 6.5 * i);
+            const RegistrationResult r = register_epoch(config, reference, ei.scans, {});
+            ASSERT_TRUE(r.tested.transform) << r.tested.reason;
+            const Scored s = score(*r.tested.transform, e0.header_to_true, ei.header_to_true, pier);
+            const Eigen::Vector3d top = ei.header_to_true.inverse() * pier.back();
+            worst_sigma = std::max(
+                worst_sigma,
+                std::sqrt(
+                    registration::registration_covariance_at(*r.tested.transform, top).trace()));
+            worst = std::max(worst, s.rms);
+            within += s.within;
+            components += s.components;
+            sum_q2 += s.sum_q2;
+            std::printf("hochmosel series %d epoch %d: %s, %d targets, pier RMS error %.3f mm\n", k,
+                        i, name_of(r.tested.status), r.used, 1e3 * s.rms);
+        }
+    }
+    std::printf(
+        "hochmosel: worst pier RMS %.3f mm; 3-D sigma at the pier top up to %.2f mm; "
+        "within 2 sigma %d/%d; RMS(error/sigma) %.2f\n",
+        1e3 * worst, 1e3 * worst_sigma, within, components, std::sqrt(sum_q2 / components));
+    EXPECT_GT(components, 0);
 }
 
 // The air switched on: every range is scaled by n_true/n_setting (the scanner set to 20 °C,
