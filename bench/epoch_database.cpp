@@ -68,12 +68,14 @@ EpochResults epoch_results(int i, bool with_arrays) {
     reg.accepted = true;
     r.registration = reg;
     for (int t = 0; t < 6; ++t) {
-        r.targets.push_back({std::string("T").append(std::to_string(t)),
-                             t < 4 ? "sphere" : "plane",
-                             {10.0 * t, 5.0, 2.0},
-                             {0.0005, -0.0003, 0.0001},
-                             true,
-                             true});
+        TargetObservation o;
+        o.target = std::string("T").append(std::to_string(t));
+        o.kind = t < 4 ? "sphere" : "plane";
+        o.measured = {10.0 * t, 5.0, 2.0};
+        o.residual = {0.0005, -0.0003, 0.0001};
+        o.status = "found";
+        o.use = "used";
+        r.targets.push_back(o);
     }
     const double season = 0.004 * std::sin(2 * M_PI * i / 35040.0);
     for (int z = 0; z < kZones; ++z) {
