@@ -189,3 +189,58 @@ TEST(SystemAlarms, EpochOutcomesAndDatabase) {
 
 }  // namespace
 }  // namespace tlsmon
+
+#include "alarms/rule_step.hpp"
+
+namespace tlsmon {
+namespace {
+
+TEST(RuleStep, StepSeriesRaisesWithinOnDelayPlusOneEpochsAndNoneBefore) {
+    AlarmRuleSpec r;
+    r.levels[2] = LevelLimits{0.010, std::nullopt, 0.002};
+    r.on_delay = 2;
+    RuleStatus st;
+    const UtcSeconds t0 = 1772366400;
+    // 0 mm for 4 epochs, then a 12 mm step at epoch 4: raised at epoch 4 + 2 = 6.
+    for (int k = 0; k < 8; ++k) {
+        const double v = k < 4 ? 0.0 : 0.012;
+        const auto s = step_rule(r, st, RuleInput{v, true, EpochQuality::accepted}, t0 + 900 * k);
+        st = s.status;
+        if (k < 6) {
+            EXPECT_EQ(st.machine.state, IsaState::normal) << "epoch " << k;
+            EXPECT_TRUE(s.events.empty());
+        } else if (k == 6) {
+            ASSERT_EQ(s.events.size(), 1u);
+            EXPECT_EQ(s.events[0].kind, "raise");
+            EXPECT_EQ(s.events[0].time, t0 + 900 * 6);
+            EXPECT_EQ(st.machine.level, AlarmLevel::alarm);
+        }
+    }
+    EXPECT_EQ(st.machine.state, IsaState::unack);
+}
+
+TEST(RuleStep, LateEpochLeavesTheRuleUntouched) {
+    AlarmRuleSpec r;
+    r.levels[0] = LevelLimits{0.005, std::nullopt, 0};
+    RuleStatus st;
+    st.evaluated = 2000;
+    const auto s = step_rule(r, st, RuleInput{0.02, true, EpochQuality::accepted}, 1999);
+    EXPECT_TRUE(s.late);
+    EXPECT_FALSE(s.evaluated);
+    EXPECT_EQ(s.status.machine.state, IsaState::normal);
+}
+
+TEST(RuleStep, NoValueOnlyExpiresAShelve) {
+    AlarmRuleSpec r;
+    r.levels[0] = LevelLimits{0.005, std::nullopt, 0};
+    RuleStatus st;
+    st.machine = {IsaState::shelved, AlarmLevel::none, AlarmLevel::warning, 0, 100};
+    auto s = step_rule(r, st, std::nullopt, 50);
+    EXPECT_EQ(s.status.machine.state, IsaState::shelved);
+    s = step_rule(r, st, std::nullopt, 100);
+    EXPECT_EQ(s.status.machine.state, IsaState::unack);
+    EXPECT_FALSE(s.evaluated);
+}
+
+}  // namespace
+}  // namespace tlsmon
