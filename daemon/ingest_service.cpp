@@ -21,6 +21,7 @@
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/meteo_csv.hpp"
+#include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -114,6 +115,8 @@ class Daemon {
 void Daemon::start() {
     station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
     for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
+    // The rules' definitions; their states (and memories) stay as stored.
+    store_alarm_rules(db_, config_.alarm.rules);
     const std::int64_t recovered = db_.epochs().recover_interrupted();
     events_.record(db_, "info", "start",
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
@@ -149,6 +152,7 @@ void Daemon::reload() {
         watcher_.set_config(config_.ingest);
         station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
         for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
+        store_alarm_rules(db_, config_.alarm.rules);
         log_config(config_);
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
