@@ -38,10 +38,11 @@ void commit_step_epoch(const test::Site& site) {
     });
 }
 
-AlarmState state_of(const test::Site& site) {
-    const auto states = site.open_db().alarms().states();
-    EXPECT_EQ(states.size(), 1u);
-    return states.empty() ? AlarmState{} : states[0];
+AlarmState state_of(const test::Site& site, const std::string& rule = "P3 settlement") {
+    for (const auto& s : site.open_db().alarms().states()) {
+        if (s.rule == rule) return s;
+    }
+    return AlarmState{rule, "(no row)", "", 0, {}, {}, "", {}, "", {}};
 }
 
 TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelves) {
@@ -59,6 +60,10 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(kept.level, "alarm");
     EXPECT_EQ(kept.memory, "0:0 0:0 1:0");
     EXPECT_EQ(kept.evaluated, kT0);
+    // The newest epoch was acquired on 2026-03-01, more than 3 x 15 min ago: stale.
+    const auto stale = state_of(site, "system.stale");
+    EXPECT_EQ(stale.state, "unack");
+    EXPECT_EQ(stale.level, "alarm");
 
     const std::string db = " --db " + site.database().string();
     auto listed = test::shell(tlsmon("alarms --format csv" + db));
@@ -66,12 +71,16 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_NE(listed.output.find("P3 settlement,unack,alarm,2026-03-01T12:00:00Z,0.012,1,"),
               std::string::npos)
         << listed.output;
+    EXPECT_NE(listed.output.find("system.stale,unack,alarm,"), std::string::npos)
+        << listed.output;
 
     auto ack = test::shell(tlsmon("alarms ack 'P3 settlement' --config " + site.config().string()));
     ASSERT_EQ(ack.status, 0) << ack.output;
     EXPECT_EQ(ack.output, "ack: 1 rule changed\n");
     EXPECT_EQ(state_of(site).state, "ack");
-    // A second acknowledgement changes nothing.
+    // Every rule: only system.stale is left to acknowledge; then nothing.
+    EXPECT_EQ(test::shell(tlsmon("alarms ack '*'" + db)).output, "ack: 1 rule changed\n");
+    EXPECT_EQ(state_of(site, "system.stale").state, "ack");
     EXPECT_EQ(test::shell(tlsmon("alarms ack '*'" + db)).output, "ack: 0 rules changed\n");
 
     ASSERT_EQ(test::shell(tlsmon("alarms shelve 'P3 settlement' --until 2099-01-01" + db)).status,
@@ -82,7 +91,8 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     ASSERT_EQ(test::shell(tlsmon("alarms unshelve 'P3 settlement'" + db)).status, 0);
     EXPECT_EQ(state_of(site).state, "unack");  // the condition still stands: annunciated afresh
 
-    const auto history = test::shell(tlsmon("alarms history --format json" + db));
+    const auto history =
+        test::shell(tlsmon("alarms history --rule 'P3 settlement' --format json" + db));
     ASSERT_EQ(history.status, 0) << history.output;
     const auto events = nlohmann::json::parse(history.output);
     ASSERT_EQ(events.size(), 4u) << history.output;
@@ -103,7 +113,9 @@ TEST(AlarmsCommand, UnknownRuleAndPastShelveAreErrorsNamingThem) {
     const auto unknown = test::shell(tlsmon("alarms ack 'P4 tilt'" + db));
     EXPECT_EQ(unknown.status, 1);
     EXPECT_NE(unknown.output.find("no alarm rule 'P4 tilt'"), std::string::npos) << unknown.output;
-    EXPECT_NE(unknown.output.find("(rules: P3 settlement)"), std::string::npos) << unknown.output;
+    EXPECT_NE(unknown.output.find("(rules: P3 settlement, system.database_error,"),
+              std::string::npos)
+        << unknown.output;
     const auto past = test::shell(tlsmon("alarms shelve 'P3 settlement' --until 2020-01-01" + db));
     EXPECT_EQ(past.status, 1);
     EXPECT_NE(past.output.find("a shelve ends in the future"), std::string::npos) << past.output;
