@@ -9,7 +9,7 @@ namespace tlsmon {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kStates{"normal",  "unack",   "ack",
+constexpr std::array<std::string_view, 6> kStates{"normal",    "unack",   "ack",
                                                   "rtn_unack", "shelved", "out_of_service"};
 constexpr std::array<std::string_view, 4> kLevels{"", "warning", "alert", "alarm"};
 
@@ -35,13 +35,20 @@ void resume(AlarmStep& step, std::string kind, AlarmActorKind actor, UtcSeconds 
 
 }  // namespace
 
-std::string_view to_string(IsaState s) { return kStates[static_cast<std::size_t>(s)]; }
-std::string_view to_string(AlarmLevel l) { return kLevels[static_cast<std::size_t>(l)]; }
+std::string_view to_string(IsaState s) {
+    return kStates[static_cast<std::size_t>(s)];
+}
+std::string_view to_string(AlarmLevel l) {
+    return kLevels[static_cast<std::size_t>(l)];
+}
 std::string_view to_string(AlarmActorKind a) {
     switch (a) {
-        case AlarmActorKind::rule: return "rule";
-        case AlarmActorKind::scada: return "SCADA";
-        case AlarmActorKind::cli: return "CLI";
+        case AlarmActorKind::rule:
+            return "rule";
+        case AlarmActorKind::scada:
+            return "SCADA";
+        case AlarmActorKind::cli:
+            return "CLI";
     }
     return "rule";
 }
@@ -69,8 +76,7 @@ AlarmStep expire_shelve(const AlarmMachineState& s, UtcSeconds now) {
     return step;
 }
 
-AlarmStep on_process(const AlarmMachineState& s, AlarmLevel level, bool latching,
-                     UtcSeconds now) {
+AlarmStep on_process(const AlarmMachineState& s, AlarmLevel level, bool latching, UtcSeconds now) {
     AlarmStep step = expire_shelve(s, now);
     AlarmMachineState& st = step.state;
     st.process = level;
@@ -164,8 +170,7 @@ AlarmStep on_unshelve(const AlarmMachineState& s, AlarmActorKind actor, UtcSecon
     return step;
 }
 
-AlarmStep on_remove_from_service(const AlarmMachineState& s, AlarmActorKind actor,
-                                 UtcSeconds now) {
+AlarmStep on_remove_from_service(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now) {
     AlarmStep step = expire_shelve(s, now);
     if (step.state.state != IsaState::out_of_service) {
         step.state.shelved_until.reset();
@@ -174,8 +179,7 @@ AlarmStep on_remove_from_service(const AlarmMachineState& s, AlarmActorKind acto
     return step;
 }
 
-AlarmStep on_return_to_service(const AlarmMachineState& s, AlarmActorKind actor,
-                               UtcSeconds now) {
+AlarmStep on_return_to_service(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now) {
     AlarmStep step{s, {}};
     if (s.state == IsaState::out_of_service) resume(step, "in_service", actor, now);
     return step;

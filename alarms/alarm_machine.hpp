@@ -75,8 +75,7 @@ AlarmStep on_shelve(const AlarmMachineState& s, UtcSeconds until, AlarmActorKind
 // Unshelve / return to service: to unack when the process is abnormal (the alarm is
 // annunciated afresh), else normal. No change when not shelved / not out of service.
 AlarmStep on_unshelve(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now);
-AlarmStep on_remove_from_service(const AlarmMachineState& s, AlarmActorKind actor,
-                                 UtcSeconds now);
+AlarmStep on_remove_from_service(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now);
 AlarmStep on_return_to_service(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now);
 // A shelve whose expiry is <= now ends as by unshelve, with event kind "shelve_expired" by
 // the rule. Called by every other input first; the daemon also calls it on its own.

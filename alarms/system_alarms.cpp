@@ -4,11 +4,16 @@ namespace tlsmon {
 
 std::string_view rule_name(SystemAlarm a) {
     switch (a) {
-        case SystemAlarm::stale: return "system.stale";
-        case SystemAlarm::registration_rejected: return "system.registration_rejected";
-        case SystemAlarm::processing_failure: return "system.processing_failure";
-        case SystemAlarm::disk_nearly_full: return "system.disk_nearly_full";
-        case SystemAlarm::database_error: return "system.database_error";
+        case SystemAlarm::stale:
+            return "system.stale";
+        case SystemAlarm::registration_rejected:
+            return "system.registration_rejected";
+        case SystemAlarm::processing_failure:
+            return "system.processing_failure";
+        case SystemAlarm::disk_nearly_full:
+            return "system.disk_nearly_full";
+        case SystemAlarm::database_error:
+            return "system.database_error";
     }
     return "system.unknown";
 }
@@ -16,10 +21,13 @@ std::string_view rule_name(SystemAlarm a) {
 AlarmLevel system_alarm_level(SystemAlarm a) {
     switch (a) {
         case SystemAlarm::stale:
-        case SystemAlarm::database_error: return AlarmLevel::alarm;
+        case SystemAlarm::database_error:
+            return AlarmLevel::alarm;
         case SystemAlarm::processing_failure:
-        case SystemAlarm::disk_nearly_full: return AlarmLevel::alert;
-        case SystemAlarm::registration_rejected: return AlarmLevel::warning;
+        case SystemAlarm::disk_nearly_full:
+            return AlarmLevel::alert;
+        case SystemAlarm::registration_rejected:
+            return AlarmLevel::warning;
     }
     return AlarmLevel::alarm;
 }

@@ -9,8 +9,13 @@
 
 namespace tlsmon {
 
-enum class SystemAlarm { stale, registration_rejected, processing_failure, disk_nearly_full,
-                         database_error };
+enum class SystemAlarm {
+    stale,
+    registration_rejected,
+    processing_failure,
+    disk_nearly_full,
+    database_error
+};
 constexpr std::array<SystemAlarm, 5> kSystemAlarms{
     SystemAlarm::stale, SystemAlarm::registration_rejected, SystemAlarm::processing_failure,
     SystemAlarm::disk_nearly_full, SystemAlarm::database_error};
@@ -23,9 +28,9 @@ std::string_view rule_name(SystemAlarm a);
 AlarmLevel system_alarm_level(SystemAlarm a);
 
 struct SystemAlarmConfig {
-    double cadence_seconds = 900;  // the scanner's interval
-    double stale_factor = 3;       // stale when no new epoch for stale_factor x cadence
-    double disk_free_min = 0.05;   // nearly full below this free fraction ...
+    double cadence_seconds = 900;      // the scanner's interval
+    double stale_factor = 3;           // stale when no new epoch for stale_factor x cadence
+    double disk_free_min = 0.05;       // nearly full below this free fraction ...
     double disk_free_deadband = 0.01;  // ... and clear again above min + deadband
 };
 

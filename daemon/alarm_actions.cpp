@@ -2,13 +2,13 @@
 // transaction (AlarmStore::update), so it is safe while the daemon commits epochs: the
 // busy timeout makes the one wait for the other.
 #include "daemon/alarm_actions.hpp"
-#include "daemon/alarm_shelving.hpp"
 
 #include <functional>
 #include <map>
 
 #include "alarms/alarm_machine.hpp"
 #include "core/error.hpp"
+#include "daemon/alarm_shelving.hpp"
 #include "pipeline/alarm_rows.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -18,9 +18,12 @@ namespace {
 
 AlarmActorKind kind_of(AlarmActor a) {
     switch (a) {
-        case AlarmActor::rule: return AlarmActorKind::rule;
-        case AlarmActor::scada: return AlarmActorKind::scada;
-        case AlarmActor::cli: return AlarmActorKind::cli;
+        case AlarmActor::rule:
+            return AlarmActorKind::rule;
+        case AlarmActor::scada:
+            return AlarmActorKind::scada;
+        case AlarmActor::cli:
+            return AlarmActorKind::cli;
     }
     return AlarmActorKind::rule;
 }
@@ -35,8 +38,8 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
     if (rule != "*" && !known.count(rule)) {
         std::string names;
         for (const auto& [name, _] : known) names += (names.empty() ? "" : ", ") + name;
-        throw Error("no alarm rule '" + rule + "' in " + db.path().string() + " (rules: " +
-                    (names.empty() ? "none" : names) + ")");
+        throw Error("no alarm rule '" + rule + "' in " + db.path().string() +
+                    " (rules: " + (names.empty() ? "none" : names) + ")");
     }
     int changed = 0;
     db.alarms().update([&](const std::vector<AlarmState>& states) {
@@ -54,7 +57,8 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
             const auto value = row == rows.end() ? std::nullopt : row->second.value;
             const auto epoch = row == rows.end() ? std::nullopt : row->second.epoch;
             out.states.push_back(state_row(name, status, value, epoch));
-            for (const auto& t : step.events) out.events.push_back(event_row(name, t, value, epoch));
+            for (const auto& t : step.events)
+                out.events.push_back(event_row(name, t, value, epoch));
             ++changed;
         }
         return out;
@@ -66,8 +70,9 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
 
 int acknowledge_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor,
                       UtcSeconds now) {
-    return apply(db, rule,
-                 [&](const AlarmMachineState& s) { return on_acknowledge(s, kind_of(actor), now); });
+    return apply(db, rule, [&](const AlarmMachineState& s) {
+        return on_acknowledge(s, kind_of(actor), now);
+    });
 }
 
 int shelve_alarm(EpochDatabase& db, const std::string& rule, UtcSeconds until, AlarmActor actor,

@@ -38,9 +38,8 @@ int run_alarms(const ReadOptions& options) {
         Table t{{"rule", "state", "level", "since", "value", "epoch", "shelved_until"}, {}};
         for (const auto& a : db.alarms().states()) {
             if (a.state == "normal") continue;
-            t.rows.push_back({a.rule, a.state, a.level, format_utc(a.since),
-                              optional_cell(a.value), optional_cell(a.epoch),
-                              time_cell(a.shelved_until)});
+            t.rows.push_back({a.rule, a.state, a.level, format_utc(a.since), optional_cell(a.value),
+                              optional_cell(a.epoch), time_cell(a.shelved_until)});
         }
         print(std::cout, t, options.format);
     });

@@ -73,8 +73,8 @@ struct ZoneConfig {
 
 // [alarm]: the system alarms' parameters, and the [[alarm.rule]] tables (docs/alarms.md).
 struct AlarmConfig {
-    double cadence = 900;        // the scanner's interval between scans, seconds
-    double stale_factor = 3;     // system.stale after stale_factor x cadence without an epoch
+    double cadence = 900;         // the scanner's interval between scans, seconds
+    double stale_factor = 3;      // system.stale after stale_factor x cadence without an epoch
     double disk_free_min = 0.05;  // system.disk_nearly_full below this free share
     std::vector<AlarmRuleSpec> rules;
 };

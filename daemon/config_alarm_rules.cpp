@@ -37,8 +37,8 @@ AlarmRuleSpec read_rule(TomlFields& t, const std::set<std::string>& zones,
     if (!zones.count(r.zone)) {
         std::string names;
         for (const auto& z : zones) names += (names.empty() ? "" : ", ") + z;
-        t.fail("zone", "no [[zone]] named '" + r.zone + "' (zones: " +
-                           (names.empty() ? "none" : names) + ")");
+        t.fail("zone", "no [[zone]] named '" + r.zone +
+                           "' (zones: " + (names.empty() ? "none" : names) + ")");
     }
     t.get("quantity", r.quantity);
     if (r.quantity.empty()) t.fail("quantity", "expected a quantity name, e.g. m3c2_median_m");
@@ -61,7 +61,8 @@ AlarmRuleSpec read_rule(TomlFields& t, const std::set<std::string>& zones,
         std::string key = wrong.substr(0, wrong.find(' '));  // "levels.alert.deadband"
         if (key.rfind("levels.", 0) == 0) key = key.substr(7);
         if (key == "a") key = "name";
-        std::string what = wrong;  // "levels.alert.high ... levels.warning.high" -> "alert.high ..."
+        std::string what =
+            wrong;  // "levels.alert.high ... levels.warning.high" -> "alert.high ..."
         for (auto at = what.find("levels."); at != std::string::npos; at = what.find("levels.")) {
             what.erase(at, 7);
         }

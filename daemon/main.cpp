@@ -199,8 +199,9 @@ void add_events(CLI::App& app, CommandLine& c) {
 }
 
 void add_alarms(CLI::App& app, CommandLine& c) {
-    auto* cmd = app.add_subcommand("alarms", "Alarms standing now (not normal); history; "
-                                             "acknowledge, shelve, unshelve (docs/alarms.md)");
+    auto* cmd = app.add_subcommand("alarms",
+                                   "Alarms standing now (not normal); history; "
+                                   "acknowledge, shelve, unshelve (docs/alarms.md)");
     c.alarms.add_to(cmd, false);
     auto* history = cmd->add_subcommand("history", "Alarm events by time");
     c.alarm_history_read.add_to(history, true);

@@ -31,8 +31,8 @@ std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Epoch& epoc
     if (!rule.rate_window_seconds) return RuleInput{own->value, own->significant, quality};
     const auto window = static_cast<UtcSeconds>(*rule.rate_window_seconds);
     std::vector<TimedValue> pts;
-    for (const auto& p :
-         series.points(rule.zone, rule.quantity, TimeRange{epoch.acquired - window, epoch.acquired})) {
+    for (const auto& p : series.points(rule.zone, rule.quantity,
+                                       TimeRange{epoch.acquired - window, epoch.acquired})) {
         pts.push_back({p.acquired, p.value});
     }
     const auto rate = rate_mm_per_day(pts, epoch.acquired, *rule.rate_window_seconds);

@@ -30,8 +30,8 @@ AlarmState state_row(const std::string& rule, const RuleStatus& s, std::optional
     return row;
 }
 
-AlarmEvent event_row(const std::string& rule, const AlarmTransition& t,
-                     std::optional<double> value, std::optional<EpochId> epoch) {
+AlarmEvent event_row(const std::string& rule, const AlarmTransition& t, std::optional<double> value,
+                     std::optional<EpochId> epoch) {
     AlarmEvent e;
     e.time = t.time;
     e.rule = rule;

@@ -10,10 +10,10 @@ namespace tlsmon {
 
 // A stored state; a rule without a row is normal with a fresh memory.
 RuleStatus rule_status(const AlarmState& row);
-AlarmState state_row(const std::string& rule, const RuleStatus& status,
-                     std::optional<double> value, std::optional<EpochId> epoch);
+AlarmState state_row(const std::string& rule, const RuleStatus& status, std::optional<double> value,
+                     std::optional<EpochId> epoch);
 // "unack -> ack" in the message; actor as stored ("rule", "SCADA", "CLI").
-AlarmEvent event_row(const std::string& rule, const AlarmTransition& t,
-                     std::optional<double> value, std::optional<EpochId> epoch);
+AlarmEvent event_row(const std::string& rule, const AlarmTransition& t, std::optional<double> value,
+                     std::optional<EpochId> epoch);
 
 }  // namespace tlsmon

@@ -30,10 +30,10 @@ struct AlarmState {
     UtcSeconds since = 0;
     std::optional<double> value;
     std::optional<EpochId> epoch;
-    std::string process;                     // level of the process condition ("" = normal)
+    std::string process;                      // level of the process condition ("" = normal)
     std::optional<UtcSeconds> shelved_until;  // state "shelved"
-    std::string memory;                      // the rule's memory between epochs (alarms/)
-    std::optional<UtcSeconds> evaluated;     // acquisition time of the last epoch evaluated
+    std::string memory;                       // the rule's memory between epochs (alarms/)
+    std::optional<UtcSeconds> evaluated;      // acquisition time of the last epoch evaluated
 };
 
 struct AlarmEvent {

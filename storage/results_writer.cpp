@@ -231,7 +231,9 @@ void write_status(Connection& c, EpochId id, const EpochResults& r) {
 
 }  // namespace
 
-void ResultsWriter::commit(EpochId id, const EpochResults& results) { commit(id, results, {}); }
+void ResultsWriter::commit(EpochId id, const EpochResults& results) {
+    commit(id, results, {});
+}
 
 void ResultsWriter::commit(EpochId id, const EpochResults& results,
                            const AlarmEvaluation& evaluate) {

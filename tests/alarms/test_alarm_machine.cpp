@@ -13,7 +13,9 @@ using S = IsaState;
 constexpr auto kRule = AlarmActorKind::rule;
 constexpr auto kCli = AlarmActorKind::cli;
 
-AlarmMachineState in(S s, L level, L process) { return {s, level, process, 0, std::nullopt}; }
+AlarmMachineState in(S s, L level, L process) {
+    return {s, level, process, 0, std::nullopt};
+}
 
 TEST(AlarmMachine, NormalRaisesToUnackAtTheProcessLevel) {
     const auto step = on_process({}, L::alert, false, 100);

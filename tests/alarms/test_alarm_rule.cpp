@@ -63,9 +63,9 @@ TEST(AlarmRule, LowLimit) {
 TEST(AlarmRule, OnDelayNeedsOnDelayPlusOneConsecutiveEpochs) {
     // A step at epoch 3 with on_delay 2: the warning comes at epoch 5 (= 3 + 2), none before.
     const auto r = high_rule(0.005, 0.010, 0, 2, 0);
-    EXPECT_EQ(run(r, {0, 0, 0, 0.006, 0.006, 0.006, 0.006}),
-              (std::vector<L>{L::none, L::none, L::none, L::none, L::none, L::warning,
-                              L::warning}));
+    EXPECT_EQ(
+        run(r, {0, 0, 0, 0.006, 0.006, 0.006, 0.006}),
+        (std::vector<L>{L::none, L::none, L::none, L::none, L::none, L::warning, L::warning}));
 }
 
 TEST(AlarmRule, AnInterruptedRunRestartsTheOnDelay) {
@@ -77,8 +77,7 @@ TEST(AlarmRule, AnInterruptedRunRestartsTheOnDelay) {
 TEST(AlarmRule, OffDelayNeedsOffDelayPlusOneConsecutiveEpochs) {
     const auto r = high_rule(0.005, 0.010, 0, 0, 1);
     EXPECT_EQ(run(r, {0.006, 0.004, 0.006, 0.004, 0.004, 0.004}),
-              (std::vector<L>{L::warning, L::warning, L::warning, L::warning, L::none,
-                              L::none}));
+              (std::vector<L>{L::warning, L::warning, L::warning, L::warning, L::none, L::none}));
 }
 
 TEST(AlarmRule, GatingIgnoresValuesBelowTheLoD) {

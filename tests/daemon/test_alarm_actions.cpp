@@ -20,12 +20,12 @@ struct Fixture {
             db.alarms().upsert_rule({0, name, "z", "m3c2_median_m", "{}", true});
         }
         // a: unack (alarm), b: rtn_unack (warning), c: ack, d: no state row (normal).
-        db.alarms().set_state({"a", "unack", "alarm", 100, 0.012, std::nullopt, "alarm",
-                               std::nullopt, "", 100});
-        db.alarms().set_state({"b", "rtn_unack", "warning", 100, 0.001, std::nullopt, "",
-                               std::nullopt, "", 100});
-        db.alarms().set_state({"c", "ack", "alert", 100, 0.009, std::nullopt, "alert",
-                               std::nullopt, "", 100});
+        db.alarms().set_state(
+            {"a", "unack", "alarm", 100, 0.012, std::nullopt, "alarm", std::nullopt, "", 100});
+        db.alarms().set_state(
+            {"b", "rtn_unack", "warning", 100, 0.001, std::nullopt, "", std::nullopt, "", 100});
+        db.alarms().set_state(
+            {"c", "ack", "alert", 100, 0.009, std::nullopt, "alert", std::nullopt, "", 100});
     }
     std::string state(const std::string& rule) const {
         for (const auto& s : db.alarms().states()) {
@@ -67,8 +67,7 @@ TEST(AlarmActions, UnknownRuleNamesTheRules) {
         acknowledge_alarm(f.db, "x", AlarmActor::cli, 1);
         FAIL() << "an unknown rule was acknowledged";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("(rules: a, b, c, d)"), std::string::npos)
-            << e.what();
+        EXPECT_NE(std::string(e.what()).find("(rules: a, b, c, d)"), std::string::npos) << e.what();
     }
 }
 

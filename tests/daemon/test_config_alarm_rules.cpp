@@ -8,7 +8,9 @@ namespace {
 
 const std::string kZone = "[[zone]]\nname = \"pier P3 top\"\nmin = [0, 0, 0]\nmax = [1, 1, 10]\n";
 
-Config parse(const std::string& rules) { return parse_config(kZone + rules, "site.toml", "/tmp"); }
+Config parse(const std::string& rules) {
+    return parse_config(kZone + rules, "site.toml", "/tmp");
+}
 
 std::string error_of(const std::string& rules) {
     try {
@@ -71,9 +73,10 @@ TEST(ConfigAlarmRules, MistakesNameTheKey) {
     EXPECT_NE(error_of(head + "on_delay = -1\nalarm = { high = 1 }\n")
                   .find("key 'alarm.rule[0].on_delay'"),
               std::string::npos);
-    EXPECT_NE(error_of(head + "alarm = { high = 1 }\nsignificant_only = true\nrate_window = \"1h\"\n")
-                  .find("significant_only applies to value rules"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of(head + "alarm = { high = 1 }\nsignificant_only = true\nrate_window = \"1h\"\n")
+            .find("significant_only applies to value rules"),
+        std::string::npos);
     // The line of the rule is named.
     EXPECT_NE(error_of(head + "alarm = { high = 1, low = 2 }\n").find("site.toml:"),
               std::string::npos);

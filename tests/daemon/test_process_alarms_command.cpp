@@ -19,16 +19,17 @@ const std::string kRules =
     "[[alarm.rule]]\nname = \"P3 settlement\"\nzone = \"pier P3 top\"\n"
     "quantity = \"m3c2_median_m\"\nalarm = { high = 0.010, deadband = 0.002 }\n";
 
-std::string tlsmon(const std::string& args) { return std::string(TLSMON_BINARY) + " " + args; }
+std::string tlsmon(const std::string& args) {
+    return std::string(TLSMON_BINARY) + " " + args;
+}
 
 // An epoch whose zone value (12 mm) is above the alarm level, committed with the rules of
 // the site's configuration, as the pipeline commits it.
 void commit_step_epoch(const test::Site& site) {
     const Config config = load_config(site.config());
     auto db = EpochDatabase::open(site.database(), EpochDatabase::Mode::read_write);
-    const auto id = db.epochs()
-                        .insert({std::string(64, 'b'), kT0, "/ingest/s.ptx", 10, std::nullopt})
-                        .id;
+    const auto id =
+        db.epochs().insert({std::string(64, 'b'), kT0, "/ingest/s.ptx", 10, std::nullopt}).id;
     ASSERT_TRUE(db.epochs().claim(id));
     const Epoch epoch = *db.epochs().find(id);
     EpochResults r;
@@ -71,8 +72,7 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_NE(listed.output.find("P3 settlement,unack,alarm,2026-03-01T12:00:00Z,0.012,1,"),
               std::string::npos)
         << listed.output;
-    EXPECT_NE(listed.output.find("system.stale,unack,alarm,"), std::string::npos)
-        << listed.output;
+    EXPECT_NE(listed.output.find("system.stale,unack,alarm,"), std::string::npos) << listed.output;
 
     auto ack = test::shell(tlsmon("alarms ack 'P3 settlement' --config " + site.config().string()));
     ASSERT_EQ(ack.status, 0) << ack.output;
