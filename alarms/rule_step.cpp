@@ -2,7 +2,7 @@
 
 namespace tlsmon {
 
-RuleStepResult step_rule(const AlarmRuleSpec& rule, const RuleStatus& status,
+RuleStepResult step_rule(const AlarmRuleSpec& rule, const AlarmRuleStatus& status,
                          const std::optional<RuleInput>& input, UtcSeconds acquired) {
     RuleStepResult out{status, {}, false, false};
     if (!rule.enabled) return out;

@@ -11,14 +11,14 @@
 
 namespace tlsmon {
 
-struct RuleStatus {
+struct AlarmRuleStatus {
     AlarmMachineState machine;
     RuleMemory memory;
     std::optional<UtcSeconds> evaluated;  // acquisition time of the newest epoch evaluated
 };
 
 struct RuleStepResult {
-    RuleStatus status;
+    AlarmRuleStatus status;
     std::vector<AlarmTransition> events;
     bool evaluated = false;  // the rule took the epoch's value
     bool late = false;       // acquired before the newest epoch already evaluated
@@ -26,7 +26,7 @@ struct RuleStepResult {
 
 // `input`: the rule's value in this epoch, nullopt when the epoch has none (then only a
 // shelve may expire). A disabled rule does nothing.
-RuleStepResult step_rule(const AlarmRuleSpec& rule, const RuleStatus& status,
+RuleStepResult step_rule(const AlarmRuleSpec& rule, const AlarmRuleStatus& status,
                          const std::optional<RuleInput>& input, UtcSeconds acquired);
 
 }  // namespace tlsmon

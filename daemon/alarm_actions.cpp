@@ -50,7 +50,8 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
         for (const auto& [name, _] : known) {
             if (rule != "*" && name != rule) continue;
             const auto row = rows.find(name);
-            RuleStatus status = row == rows.end() ? RuleStatus{} : rule_status(row->second);
+            AlarmRuleStatus status =
+                row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
             const AlarmStep step = action(status.machine);
             if (step.events.empty()) continue;
             status.machine = step.state;

@@ -10,9 +10,12 @@
 namespace tlsmon {
 
 void store_system_alarm_rules(EpochDatabase& db) {
+    // A rule names a zone; the system rules' zone is this one, which no analysis aggregates
+    // into. Stored after the configured zones, so their ids (and Modbus slots) come first.
+    db.site().upsert_zone(kSystemZone, "{\"system\": true}");
     for (SystemAlarm a : kSystemAlarms) {
         const std::string level(to_string(system_alarm_level(a)));
-        db.alarms().upsert_rule(AlarmRule{0, std::string(rule_name(a)), "(system)", "system",
+        db.alarms().upsert_rule(AlarmRule{0, std::string(rule_name(a)), kSystemZone, "system",
                                           "{\"system\":true,\"level\":\"" + level + "\"}", true});
     }
 }
@@ -23,7 +26,7 @@ int observe_system_alarms(EpochDatabase& db, const SystemAlarmConfig& config,
     db.alarms().update([&](const std::vector<AlarmState>& states) {
         std::map<std::string, AlarmState> rows;
         for (const auto& s : states) rows.emplace(s.rule, s);
-        std::array<RuleStatus, 5> status{};
+        std::array<AlarmRuleStatus, 5> status{};
         std::array<bool, 5> previous{};
         for (std::size_t i = 0; i < kSystemAlarms.size(); ++i) {
             const auto row = rows.find(std::string(rule_name(kSystemAlarms[i])));

@@ -10,7 +10,11 @@
 
 namespace tlsmon {
 
-// Stores the five system rules (at start).
+// The zone of the system rules (a rule names a zone); it holds no values.
+inline constexpr const char* kSystemZone = "(system)";
+
+// Stores the zone "(system)" and the five system rules (at start, after the configured
+// zones and rules).
 void store_system_alarm_rules(EpochDatabase& db);
 
 // Feeds one observation to the system rules (fields absent keep their condition) in one

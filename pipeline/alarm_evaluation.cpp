@@ -54,7 +54,8 @@ AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const E
     for (const auto& rule : rules) {
         if (!stored.count(rule.name)) continue;
         const auto row = rows.find(rule.name);
-        const RuleStatus status = row == rows.end() ? RuleStatus{} : rule_status(row->second);
+        const AlarmRuleStatus status =
+            row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
         const auto input = rule_input(rule, epoch, results, series, quality);
         const auto step = step_rule(rule, status, input, epoch.acquired);
         if (!step.evaluated && step.events.empty()) continue;

@@ -2,8 +2,8 @@
 
 namespace tlsmon {
 
-RuleStatus rule_status(const AlarmState& row) {
-    RuleStatus s;
+AlarmRuleStatus rule_status(const AlarmState& row) {
+    AlarmRuleStatus s;
     s.machine.state = parse_isa_state(row.state);
     s.machine.level = parse_alarm_level(row.level);
     s.machine.process = parse_alarm_level(row.process);
@@ -14,7 +14,7 @@ RuleStatus rule_status(const AlarmState& row) {
     return s;
 }
 
-AlarmState state_row(const std::string& rule, const RuleStatus& s, std::optional<double> value,
+AlarmState state_row(const std::string& rule, const AlarmRuleStatus& s, std::optional<double> value,
                      std::optional<EpochId> epoch) {
     AlarmState row;
     row.rule = rule;
@@ -40,6 +40,7 @@ AlarmEvent event_row(const std::string& rule, const AlarmTransition& t, std::opt
     e.value = value;
     e.epoch = epoch;
     e.message = std::string(to_string(t.from)) + " -> " + std::string(to_string(t.to));
+    if (t.actor != AlarmActorKind::rule) e.message += " by " + std::string(to_string(t.actor));
     e.actor = std::string(to_string(t.actor));
     return e;
 }

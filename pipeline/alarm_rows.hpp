@@ -9,10 +9,11 @@
 namespace tlsmon {
 
 // A stored state; a rule without a row is normal with a fresh memory.
-RuleStatus rule_status(const AlarmState& row);
-AlarmState state_row(const std::string& rule, const RuleStatus& status, std::optional<double> value,
-                     std::optional<EpochId> epoch);
-// "unack -> ack" in the message; actor as stored ("rule", "SCADA", "CLI").
+AlarmRuleStatus rule_status(const AlarmState& row);
+AlarmState state_row(const std::string& rule, const AlarmRuleStatus& status,
+                     std::optional<double> value, std::optional<EpochId> epoch);
+// "unack -> ack by SCADA" in the message (no "by" for the rule); actor as stored
+// ("rule", "SCADA", "CLI").
 AlarmEvent event_row(const std::string& rule, const AlarmTransition& t, std::optional<double> value,
                      std::optional<EpochId> epoch);
 

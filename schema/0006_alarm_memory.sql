@@ -9,7 +9,3 @@ ALTER TABLE alarm_states ADD COLUMN shelved_until INTEGER;
 ALTER TABLE alarm_states ADD COLUMN memory TEXT NOT NULL DEFAULT '';
 ALTER TABLE alarm_states ADD COLUMN evaluated INTEGER;
 ALTER TABLE alarm_events ADD COLUMN actor TEXT NOT NULL DEFAULT 'rule';
--- The system alarms (system.stale, ...; docs/alarms.md) are rules like the others; a rule
--- names a zone, so theirs is this one, which no analysis aggregates into.
-INSERT INTO zones (name, definition) VALUES ('(system)', '{"system": true}')
-    ON CONFLICT (name) DO NOTHING;

@@ -198,7 +198,7 @@ TEST(RuleStep, StepSeriesRaisesWithinOnDelayPlusOneEpochsAndNoneBefore) {
     AlarmRuleSpec r;
     r.levels[2] = LevelLimits{0.010, std::nullopt, 0.002};
     r.on_delay = 2;
-    RuleStatus st;
+    AlarmRuleStatus st;
     const UtcSeconds t0 = 1772366400;
     // 0 mm for 4 epochs, then a 12 mm step at epoch 4: raised at epoch 4 + 2 = 6.
     for (int k = 0; k < 8; ++k) {
@@ -221,7 +221,7 @@ TEST(RuleStep, StepSeriesRaisesWithinOnDelayPlusOneEpochsAndNoneBefore) {
 TEST(RuleStep, LateEpochLeavesTheRuleUntouched) {
     AlarmRuleSpec r;
     r.levels[0] = LevelLimits{0.005, std::nullopt, 0};
-    RuleStatus st;
+    AlarmRuleStatus st;
     st.evaluated = 2000;
     const auto s = step_rule(r, st, RuleInput{0.02, true, EpochQuality::accepted}, 1999);
     EXPECT_TRUE(s.late);
@@ -232,7 +232,7 @@ TEST(RuleStep, LateEpochLeavesTheRuleUntouched) {
 TEST(RuleStep, NoValueOnlyExpiresAShelve) {
     AlarmRuleSpec r;
     r.levels[0] = LevelLimits{0.005, std::nullopt, 0};
-    RuleStatus st;
+    AlarmRuleStatus st;
     st.machine = {IsaState::shelved, AlarmLevel::none, AlarmLevel::warning, 0, 100};
     auto s = step_rule(r, st, std::nullopt, 50);
     EXPECT_EQ(s.status.machine.state, IsaState::shelved);

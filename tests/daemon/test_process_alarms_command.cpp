@@ -101,7 +101,7 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(events[0]["time"], "2026-03-01T12:00:00Z");
     EXPECT_EQ(events[1]["kind"], "ack");
     EXPECT_EQ(events[1]["actor"], "CLI");
-    EXPECT_EQ(events[1]["message"], "unack -> ack");
+    EXPECT_EQ(events[1]["message"], "unack -> ack by CLI");
     EXPECT_EQ(events[2]["kind"], "shelve");
     EXPECT_EQ(events[3]["kind"], "unshelve");
 }
