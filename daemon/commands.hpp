@@ -73,6 +73,26 @@ struct ModbusMapOptions {
 };
 int run_modbus_map(const ModbusMapOptions& options);
 
+// `tlsmon alarms`: the rules whose state is not normal.
+int run_alarms(const ReadOptions& options);
+
+// `tlsmon alarms history [--rule R]`: alarm events by time.
+struct AlarmHistoryOptions {
+    ReadOptions read;
+    std::string rule;  // "" = every rule
+};
+int run_alarm_history(const AlarmHistoryOptions& options);
+
+// `tlsmon alarms ack|shelve|unshelve RULE` ("*" = every rule): 0, or 1 with the error.
+struct AlarmActionOptions {
+    std::string db;
+    std::string config;
+    std::string action;  // "ack", "shelve", "unshelve"
+    std::string rule;
+    std::string until;  // shelve: ISO-8601 UTC
+};
+int run_alarm_action(const AlarmActionOptions& options);
+
 // `tlsmon simulate` (compiled into the executable only: the daemon library does not link
 // the simulator).
 struct SimulateOptions {

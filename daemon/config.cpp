@@ -6,6 +6,7 @@
 #include <cctype>
 #include <set>
 
+#include "daemon/config_alarm_rules.hpp"
 #include "daemon/config_keys.hpp"
 
 namespace tlsmon {
@@ -152,6 +153,12 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     Config c;
     c.file = source;
     TomlFields top(root, source);
+    // Zones first: the alarm rules name them.
+    std::set<std::string> zone_names;
+    for (auto& t : top.array_of_tables("zone")) {
+        c.zones.push_back(read_zone(t, zone_names));
+        zone_names.insert(c.zones.back().name);
+    }
     for (const std::string& section : config_sections()) {
         auto t = top.table(section);
         if (!t) continue;
@@ -160,14 +167,10 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         }
         if (section == "paths") resolve_paths(c, base);
         check_section(section, *t, c);
+        if (section == "alarm") c.alarm.rules = read_alarm_rules(*t, zone_names);
         t->reject_unknown_keys();
     }
     resolve_paths(c, base);
-    std::set<std::string> zone_names;
-    for (auto& t : top.array_of_tables("zone")) {
-        c.zones.push_back(read_zone(t, zone_names));
-        zone_names.insert(c.zones.back().name);
-    }
     std::set<std::string> target_names;
     for (auto& t : top.array_of_tables("target")) {
         c.registration.targets.push_back(read_target(t, target_names));
@@ -212,6 +215,7 @@ std::vector<std::string> describe(const Config& c) {
                     ", approximate = " + triple({a.x(), a.y(), a.z()}) +
                     (g.surveyed ? ", surveyed" : ""));
     }
+    for (const auto& r : c.alarm.rules) l.push_back(describe_alarm_rule(r));
     return l;
 }
 
@@ -235,7 +239,8 @@ PipelineConfig pipeline_config(const Config& config) {
                           .reference_epoch = config.ingest.reference_epoch,
                           .coverage = config.coverage,
                           .registration = with_zones(config),
-                          .meteo = config.meteo};
+                          .meteo = config.meteo,
+                          .alarm_rules = config.alarm.rules};
 }
 
 }  // namespace tlsmon

@@ -71,6 +71,14 @@ struct ZoneConfig {
     std::array<double, 3> max{};
 };
 
+// [alarm]: the system alarms' parameters, and the [[alarm.rule]] tables (docs/alarms.md).
+struct AlarmConfig {
+    double cadence = 900;         // the scanner's interval between scans, seconds
+    double stale_factor = 3;      // system.stale after stale_factor x cadence without an epoch
+    double disk_free_min = 0.05;  // system.disk_nearly_full below this free share
+    std::vector<AlarmRuleSpec> rules;
+};
+
 struct Config {
     std::filesystem::path file;  // the configuration file read ("" for built-in defaults)
     StationConfig station;
@@ -82,6 +90,7 @@ struct Config {
     CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
     ModbusConfig modbus;
+    AlarmConfig alarm;
     std::vector<ZoneConfig> zones;
 };
 

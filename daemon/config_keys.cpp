@@ -393,6 +393,16 @@ std::vector<ConfigKey> declare_keys() {
                 0.1, 3600, "",
                 "The registers are rebuilt from the database after each epoch and at least "
                 "this often."),
+
+        seconds(at(&C::alarm, &AlarmConfig::cadence), "alarm.cadence", 60, day, "",
+                "The scanner's interval between scans, for the `system.stale` alarm."),
+        number(at(&C::alarm, &AlarmConfig::stale_factor), "alarm.stale_factor", 1, 1000, "",
+               "`system.stale` is raised when no new epoch was acquired for this many "
+               "`cadence` intervals."),
+        number(at(&C::alarm, &AlarmConfig::disk_free_min), "alarm.disk_free_min", 0, 0.5, "",
+               "`system.disk_nearly_full` is raised when the free share of the database's "
+               "file system falls below this (cleared 0.01 above it). The alarm rules are "
+               "the `[[alarm.rule]]` tables (docs/alarms.md)."),
     };
 }
 

@@ -18,9 +18,11 @@
 #include "daemon/modbus/modbus_service.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/startup_checks.hpp"
+#include "daemon/system_alarm_watch.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/meteo_csv.hpp"
+#include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -75,6 +77,8 @@ class Daemon {
     void ingest(const fs::path& file);
     // Processes pending epochs until none is left, a retry is due later, or stop.
     void process_backlog();
+    // Feeds the system alarms (daemon/system_alarm_watch.hpp); a failure is logged only.
+    void observe(SystemObservation seen);
     void report_status();
     std::string since_start() const {
         return std::to_string(done_) + " epoch(s) done, " + std::to_string(rejected_) +
@@ -114,6 +118,9 @@ class Daemon {
 void Daemon::start() {
     station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
     for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
+    // The rules' definitions; their states (and memories) stay as stored.
+    store_alarm_rules(db_, config_.alarm.rules);
+    store_system_alarm_rules(db_);
     const std::int64_t recovered = db_.epochs().recover_interrupted();
     events_.record(db_, "info", "start",
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
@@ -149,6 +156,7 @@ void Daemon::reload() {
         watcher_.set_config(config_.ingest);
         station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
         for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
+        store_alarm_rules(db_, config_.alarm.rules);
         log_config(config_);
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
@@ -270,6 +278,13 @@ void Daemon::process_backlog() {
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;
+            if (outcome != EpochOutcome::skipped) {
+                SystemObservation seen;
+                seen.last_epoch_rejected = outcome == EpochOutcome::rejected;
+                seen.last_epoch_failed = outcome == EpochOutcome::failed;
+                seen.database_error = false;
+                observe(seen);
+            }
             backoff_ = 0;
             systemd_.watchdog_if_due();
             // New files keep arriving during a long backlog: take them in between.
@@ -281,6 +296,25 @@ void Daemon::process_backlog() {
                                  : std::min(backoff_ * 2, config_.ingest.retry_max);
         retry_at_ = Clock::now() + seconds(backoff_);
         spdlog::error("{}; retry in {:.1f} s", e.what(), backoff_);
+        SystemObservation seen;
+        seen.database_error = true;
+        observe(seen);
+    }
+}
+
+void Daemon::observe(SystemObservation seen) {
+    const SystemAlarmConfig config{.cadence_seconds = config_.alarm.cadence,
+                                   .stale_factor = config_.alarm.stale_factor,
+                                   .disk_free_min = config_.alarm.disk_free_min};
+    try {
+        seen.now = now_utc();
+        if (!seen.last_epoch_acquired) seen.last_epoch_acquired = newest_epoch_acquired(db_);
+        if (!seen.disk_free_fraction) {
+            seen.disk_free_fraction = disk_free_share(config_.paths.database.parent_path());
+        }
+        observe_system_alarms(db_, config, seen);
+    } catch (const std::exception& e) {
+        spdlog::error("system alarms not updated: {}", e.what());
     }
 }
 
@@ -288,6 +322,7 @@ void Daemon::report_status() {
     const auto now = Clock::now();
     if (now < next_status_) return;
     next_status_ = now + seconds(config_.daemon.status_interval);
+    observe({});  // system.stale and system.disk_nearly_full
     std::string text = since_start();
     if (now < retry_at_) text += "; waiting to retry after a disk/database error";
     systemd_.status(text);

@@ -57,6 +57,10 @@ struct CommandLine {
     EventsOptions events;
     M3c2Options m3c2;
     ModbusMapOptions modbus_map;
+    ReadOptionsOnTheCommandLine alarms;
+    ReadOptionsOnTheCommandLine alarm_history_read;
+    AlarmHistoryOptions alarm_history;
+    std::map<std::string, AlarmActionOptions> alarm_actions;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -194,6 +198,40 @@ void add_events(CLI::App& app, CommandLine& c) {
     });
 }
 
+void add_alarms(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand("alarms",
+                                   "Alarms standing now (not normal); history; "
+                                   "acknowledge, shelve, unshelve (docs/alarms.md)");
+    c.alarms.add_to(cmd, false);
+    auto* history = cmd->add_subcommand("history", "Alarm events by time");
+    c.alarm_history_read.add_to(history, true);
+    history->add_option("--rule", c.alarm_history.rule, "Only this rule's events");
+    history->callback([&] {
+        c.alarm_history.read = c.alarm_history_read.finish();
+        c.code = run_alarm_history(c.alarm_history);
+    });
+    const std::pair<const char*, const char*> actions[] = {
+        {"ack", "Acknowledge the alarm of RULE (\"*\": every rule)"},
+        {"shelve", "Shelve the alarm of RULE until --until"},
+        {"unshelve", "End the shelve of RULE"}};
+    for (const auto& [name, help] : actions) {
+        auto& o = c.alarm_actions[name];
+        o.action = name;
+        auto* sub = cmd->add_subcommand(name, help);
+        auto* db = sub->add_option("--db", o.db, "Epoch database (SQLite file)");
+        sub->add_option("--config", o.config, "Configuration file naming the database")
+            ->excludes(db);
+        sub->add_option("RULE", o.rule, "Alarm rule name")->required();
+        if (std::string(name) == "shelve") {
+            sub->add_option("--until", o.until, "End of the shelve, ISO-8601 UTC")->required();
+        }
+        sub->callback([&] { c.code = run_alarm_action(o); });
+    }
+    cmd->callback([cmd, &c] {
+        if (cmd->get_subcommands().empty()) c.code = run_alarms(c.alarms.finish());
+    });
+}
+
 void add_m3c2(CLI::App& app, CommandLine& c) {
     auto& o = c.m3c2;
     auto* cmd = app.add_subcommand(
@@ -260,6 +298,7 @@ int main(int argc, char** argv) {
     tlsmon::add_m3c2(app, c);
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);
+    tlsmon::add_alarms(app, c);
 
     try {
         app.parse(argc, argv);

@@ -11,6 +11,7 @@
 #include "core/utc_time.hpp"
 #include "formats/meteo_csv.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "pipeline/sha256.hpp"
 
@@ -411,7 +412,12 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
                 now_utc(), "warning", "epoch_rejected",
                 "epoch " + std::to_string(epoch.id) + " rejected: " + verdict.rejected, epoch.id});
         }
-        ctx.db.results().commit(epoch.id, results);
+        // The alarm rules run inside the commit, on the rows it writes (alarm_evaluation.hpp).
+        ctx.db.results().commit(epoch.id, results,
+                                [&](const AlarmStore& alarms, const SeriesReader& series) {
+                                    return evaluate_epoch_alarms(ctx.config.alarm_rules, epoch,
+                                                                 results, alarms, series);
+                                });
         if (verdict.ran()) {
             spdlog::info("epoch {} done: {} points, read {:.0f} ms, analyses {:.0f} ms ({})",
                          epoch.id, *results.point_count, *results.timings.read_ms,

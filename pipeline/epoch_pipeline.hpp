@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "alarms/alarm_rule.hpp"
 #include "pipeline/coverage_stage.hpp"
 #include "pipeline/epoch_meteo.hpp"
 #include "pipeline/reference_cache.hpp"
@@ -30,6 +32,8 @@ struct PipelineConfig {
     CoverageConfig coverage;
     RegistrationConfig registration;  // no targets: no registration
     MeteoConfig meteo;
+    // Evaluated in each epoch's commit (pipeline/alarm_evaluation.hpp).
+    std::vector<AlarmRuleSpec> alarm_rules;
 };
 
 struct PipelineContext {

@@ -2,6 +2,7 @@
 // Alarm rules (from the configuration), the current state of each rule, and alarm events
 // outside an epoch commit (acknowledge from SCADA, shelving). The state machine itself is
 // alarms/; here are only its rows.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,10 +26,14 @@ struct AlarmRule {
 struct AlarmState {
     std::string rule;  // rule name
     std::string state;
-    std::string level;  // "", "H", "HH", ...
+    std::string level;  // "", "warning", "alert", "alarm"
     UtcSeconds since = 0;
     std::optional<double> value;
     std::optional<EpochId> epoch;
+    std::string process;                      // level of the process condition ("" = normal)
+    std::optional<UtcSeconds> shelved_until;  // state "shelved"
+    std::string memory;                       // the rule's memory between epochs (alarms/)
+    std::optional<UtcSeconds> evaluated;      // acquisition time of the last epoch evaluated
 };
 
 struct AlarmEvent {
@@ -39,6 +44,13 @@ struct AlarmEvent {
     std::optional<double> value;
     std::optional<EpochId> epoch;
     std::string message;
+    std::string actor = "rule";  // "rule", "SCADA", "CLI"
+};
+
+// The rows one alarm evaluation or operator action writes.
+struct AlarmRows {
+    std::vector<AlarmState> states;
+    std::vector<AlarmEvent> events;
 };
 
 class AlarmStore {
@@ -51,6 +63,14 @@ class AlarmStore {
     void set_state(const AlarmState& state);
     std::vector<AlarmState> states() const;  // by rule name
     void record_event(const AlarmEvent& event);
+
+    // Read-modify-write in ONE immediate transaction (safe beside the running daemon, which
+    // waits for it through the busy timeout): `change` gets every rule's state and returns
+    // the rows to write.
+    void update(const std::function<AlarmRows(const std::vector<AlarmState>&)>& change);
+    // Alarm events by time, newest last; `rule` filters when not empty.
+    std::vector<AlarmEvent> events(const std::optional<UtcSeconds>& from,
+                                   const std::string& rule = "") const;
 
   private:
     Connection* c_;

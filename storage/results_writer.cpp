@@ -232,6 +232,11 @@ void write_status(Connection& c, EpochId id, const EpochResults& r) {
 }  // namespace
 
 void ResultsWriter::commit(EpochId id, const EpochResults& results) {
+    commit(id, results, {});
+}
+
+void ResultsWriter::commit(EpochId id, const EpochResults& results,
+                           const AlarmEvaluation& evaluate) {
     check_results(*c_, id, results);
     const std::string context = "committing epoch " + std::to_string(id);
     guarded(*c_, context.c_str(), [&] {
@@ -248,6 +253,11 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results) {
         write_core_point_arrays(*c_, id, results.core_point_arrays);
         for (const auto& a : results.alarm_states) write_alarm_state(*c_, a);
         for (const auto& e : results.alarm_events) write_alarm_event(*c_, e);
+        if (evaluate) {
+            const AlarmRows rows = evaluate(AlarmStore(*c_), SeriesReader(*c_));
+            for (const auto& a : rows.states) write_alarm_state(*c_, a);
+            for (const auto& e : rows.events) write_alarm_event(*c_, e);
+        }
         for (const auto& e : results.system_events) write_system_event(*c_, e);
         if (results.meteo) write_meteo_sidecar(*c_, *results.meteo);
         tx.commit();

@@ -46,24 +46,31 @@ AlarmRuleId rule_id_by_name(Connection& c, const std::string& rule) {
 
 void write_alarm_state(Connection& c, const AlarmState& state) {
     SQLite::Statement s(c.db,
-                        "INSERT INTO alarm_states (rule_id, state, level, since, value, epoch_id)"
-                        " VALUES (?,?,?,?,?,?) ON CONFLICT (rule_id) DO UPDATE SET"
+                        "INSERT INTO alarm_states (rule_id, state, level, since, value, epoch_id,"
+                        " process, shelved_until, memory, evaluated)"
+                        " VALUES (?,?,?,?,?,?,?,?,?,?) ON CONFLICT (rule_id) DO UPDATE SET"
                         " state = excluded.state, level = excluded.level,"
                         " since = excluded.since, value = excluded.value,"
-                        " epoch_id = excluded.epoch_id");
+                        " epoch_id = excluded.epoch_id, process = excluded.process,"
+                        " shelved_until = excluded.shelved_until, memory = excluded.memory,"
+                        " evaluated = excluded.evaluated");
     s.bind(1, rule_id_by_name(c, state.rule));
     s.bind(2, state.state);
     s.bind(3, state.level);
     s.bind(4, static_cast<std::int64_t>(state.since));
     bind_optional(s, 5, state.value);
     bind_optional(s, 6, state.epoch);
+    s.bind(7, state.process);
+    bind_optional(s, 8, state.shelved_until);
+    s.bind(9, state.memory);
+    bind_optional(s, 10, state.evaluated);
     s.exec();
 }
 
 void write_alarm_event(Connection& c, const AlarmEvent& event) {
     SQLite::Statement s(c.db,
                         "INSERT INTO alarm_events (time, rule_id, kind, level, value, epoch_id,"
-                        " message) VALUES (?,?,?,?,?,?,?)");
+                        " message, actor) VALUES (?,?,?,?,?,?,?,?)");
     s.bind(1, static_cast<std::int64_t>(event.time));
     s.bind(2, rule_id_by_name(c, event.rule));
     s.bind(3, event.kind);
@@ -71,6 +78,7 @@ void write_alarm_event(Connection& c, const AlarmEvent& event) {
     bind_optional(s, 5, event.value);
     bind_optional(s, 6, event.epoch);
     s.bind(7, event.message);
+    s.bind(8, event.actor);
     s.exec();
 }
 

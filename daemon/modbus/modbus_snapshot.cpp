@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "daemon/system_alarm_watch.hpp"
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon {
@@ -21,6 +22,7 @@ MapInputs modbus_map_inputs(const EpochDatabase* db, const std::vector<std::stri
     ZoneId next = 1;
     if (db) {
         for (const auto& [id, name] : db->site().zone_ids()) {
+            if (name == kSystemZone) continue;  // the system alarms' zone holds no values
             in.zones.push_back({static_cast<int>(id - 1), name});
             next = std::max(next, id + 1);
         }

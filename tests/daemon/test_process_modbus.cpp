@@ -169,10 +169,10 @@ TEST(ModbusProcess, AcknowledgeCoilLeavesAnAcknowledgementBySCADA) {
         auto db = EpochDatabase::open(r.site.database(), EpochDatabase::Mode::read_write);
         db.alarms().upsert_rule({0, "top settles", "pier top", "m3c2_median_m", "{}", true});
         db.alarms().upsert_rule({0, "foot tilts", "pier foot", "keypoint_dz_m", "{}", true});
-        db.alarms().set_state(
-            {"top settles", "unack", "alarm", now_utc() - 100, 0.02, std::nullopt});
-        db.alarms().set_state(
-            {"foot tilts", "unack", "warning", now_utc() - 100, 0.01, std::nullopt});
+        db.alarms().set_state({"top settles", "unack", "alarm", now_utc() - 100, 0.02, std::nullopt,
+                               "alarm", std::nullopt, "", std::nullopt});
+        db.alarms().set_state({"foot tilts", "unack", "warning", now_utc() - 100, 0.01,
+                               std::nullopt, "warning", std::nullopt, "", std::nullopt});
     }
     r.start();
     // Rule "foot tilts" has id 2, slot 1: bits 20..23, coil 17.

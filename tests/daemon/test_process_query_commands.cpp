@@ -85,9 +85,10 @@ class QueryCommands : public ::testing::Test {
         db.events().record({kT0 - 60, "info", "start", "tlsmon started", std::nullopt});
         db.events().record(
             {kT0 + 1000, "error", "disk_full", "write failed, \"/var\" full", std::nullopt});
-        db.alarms().set_state({"P3 settlement", "unack", "H", kT0 + 900, -0.0042, 2});
-        db.alarms().record_event(
-            {kT0 + 900, "P3 settlement", "raise", "H", -0.0042, 2, "P3 top settled 4.2 mm"});
+        db.alarms().set_state({"P3 settlement", "unack", "H", kT0 + 900, -0.0042, 2, "H",
+                               std::nullopt, "", kT0 + 900});
+        db.alarms().record_event({kT0 + 900, "P3 settlement", "raise", "H", -0.0042, 2,
+                                  "P3 top settled 4.2 mm", "rule"});
     }
     std::string db() const { return "--db " + db_path_.string(); }
 

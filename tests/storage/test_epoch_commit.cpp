@@ -66,8 +66,10 @@ EpochResults full_results(EpochId id) {
     std::vector<float> d(10000);
     for (std::size_t i = 0; i < d.size(); ++i) d[i] = 0.001f * std::sin(0.01f * i);
     r.core_point_arrays = {{"m3c2_distance_m", d}, {"lod95_m", std::vector<float>(10000, 0.002f)}};
-    r.alarm_states = {{"P3 settlement", "unack", "H", 1000, -0.0042, id}};
-    r.alarm_events = {{1000, "P3 settlement", "raise", "H", -0.0042, id, "P3 top settled 4.2 mm"}};
+    r.alarm_states = {{"P3 settlement", "unack", "alert", 1000, -0.0042, id, "alert", std::nullopt,
+                       "0:0 1:0 0:0", 1000}};
+    r.alarm_events = {
+        {1000, "P3 settlement", "raise", "alert", -0.0042, id, "P3 top settled 4.2 mm", "rule"}};
     r.system_events = {{1000, "info", "epoch_done", "epoch analysed", id}};
     return r;
 }
@@ -259,12 +261,12 @@ TEST(EpochCommit, EventsFilterByTimeAndKind) {
     Fixture f;
     f.db.events().record({100, "info", "start", "tlsmon 0.1.0 started", std::nullopt});
     f.db.events().record({200, "error", "disk_full", "database or disk is full", std::nullopt});
-    f.db.alarms().record_event(
-        {150, "P3 settlement", "ack", "H", std::nullopt, std::nullopt, "acknowledged by SCADA"});
+    f.db.alarms().record_event({150, "P3 settlement", "ack", "alert", std::nullopt, std::nullopt,
+                                "acknowledged by SCADA", "SCADA"});
     EXPECT_THROW(f.db.events().record({300, "fatal", "x", "", std::nullopt}), StorageError);
-    EXPECT_THROW(
-        f.db.alarms().record_event({300, "no rule", "raise", "", std::nullopt, std::nullopt, ""}),
-        StorageError);
+    EXPECT_THROW(f.db.alarms().record_event(
+                     {300, "no rule", "raise", "", std::nullopt, std::nullopt, "", "rule"}),
+                 StorageError);
     const auto all = f.db.series().events({});
     ASSERT_EQ(all.size(), 3u);
     EXPECT_EQ(all[0].kind, "start");

@@ -1,0 +1,103 @@
+#include "pipeline/alarm_evaluation.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+#include <set>
+
+#include "alarms/alarm_rate.hpp"
+#include "pipeline/alarm_rows.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+// Registration not accepted by the quality gate but the epoch analysed anyway: degraded.
+EpochQuality epoch_quality(const EpochResults& r) {
+    if (r.outcome != EpochStatus::done) return EpochQuality::rejected;
+    if (r.registration && !r.registration->accepted) return EpochQuality::degraded;
+    return EpochQuality::accepted;
+}
+
+std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Epoch& epoch,
+                                    const EpochResults& results, const SeriesReader& series,
+                                    EpochQuality quality) {
+    if (quality != EpochQuality::accepted) return RuleInput{0, false, quality};
+    const ZoneResult* own = nullptr;
+    for (const auto& z : results.zone_results) {
+        if (z.zone == rule.zone && z.quantity == rule.quantity) own = &z;
+    }
+    if (!own) return std::nullopt;  // this epoch says nothing about the rule's quantity
+    if (!rule.rate_window_seconds) return RuleInput{own->value, own->significant, quality};
+    const auto window = static_cast<UtcSeconds>(*rule.rate_window_seconds);
+    std::vector<TimedValue> pts;
+    for (const auto& p : series.points(rule.zone, rule.quantity,
+                                       TimeRange{epoch.acquired - window, epoch.acquired})) {
+        pts.push_back({p.acquired, p.value});
+    }
+    const auto rate = rate_mm_per_day(pts, epoch.acquired, *rule.rate_window_seconds);
+    if (!rate) return std::nullopt;
+    return RuleInput{*rate, true, quality};
+}
+
+}  // namespace
+
+AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const Epoch& epoch,
+                                const EpochResults& results, const AlarmStore& alarms,
+                                const SeriesReader& series) {
+    std::set<std::string> stored;
+    for (const auto& r : alarms.rules()) stored.insert(r.name);
+    std::map<std::string, AlarmState> rows;
+    for (const auto& s : alarms.states()) rows.emplace(s.rule, s);
+    const EpochQuality quality = epoch_quality(results);
+    AlarmRows out;
+    for (const auto& rule : rules) {
+        if (!stored.count(rule.name)) continue;
+        const auto row = rows.find(rule.name);
+        const AlarmRuleStatus status =
+            row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
+        const auto input = rule_input(rule, epoch, results, series, quality);
+        const auto step = step_rule(rule, status, input, epoch.acquired);
+        if (!step.evaluated && step.events.empty()) continue;
+        const std::optional<double> value =
+            step.evaluated ? std::optional<double>(input->value) : std::nullopt;
+        const std::optional<EpochId> id = step.evaluated ? std::optional(epoch.id) : std::nullopt;
+        auto state = state_row(rule.name, step.status, value, id);
+        if (!step.evaluated && row != rows.end()) {  // keep the last value and its epoch
+            state.value = row->second.value;
+            state.epoch = row->second.epoch;
+        }
+        out.states.push_back(state);
+        for (const auto& t : step.events) out.events.push_back(event_row(rule.name, t, value, id));
+    }
+    return out;
+}
+
+std::string rule_definition_json(const AlarmRuleSpec& r) {
+    static const char* names[3] = {"warning", "alert", "alarm"};
+    auto number = [](const std::optional<double>& v) {
+        return v ? fmt::format("{}", *v) : std::string("null");
+    };
+    std::string levels;
+    for (int k = 0; k < 3; ++k) {
+        if (!r.levels[k]) continue;
+        const auto& l = *r.levels[k];
+        levels += fmt::format("{}\"{}\":{{\"high\":{},\"low\":{},\"deadband\":{}}}",
+                              levels.empty() ? "" : ",", names[k], number(l.high), number(l.low),
+                              l.deadband);
+    }
+    return fmt::format(
+        "{{\"levels\":{{{}}},\"on_delay\":{},\"off_delay\":{},\"significant_only\":{},"
+        "\"rate_window_seconds\":{},\"latching\":{}}}",
+        levels, r.on_delay, r.off_delay, r.significant_only, number(r.rate_window_seconds),
+        r.latching);
+}
+
+void store_alarm_rules(EpochDatabase& db, const std::vector<AlarmRuleSpec>& rules) {
+    for (const auto& r : rules) {
+        db.alarms().upsert_rule(
+            AlarmRule{0, r.name, r.zone, r.quantity, rule_definition_json(r), r.enabled});
+    }
+}
+
+}  // namespace tlsmon
