@@ -199,28 +199,6 @@ std::optional<RegistrationRow> SeriesReader::registration(EpochId id) const {
     });
 }
 
-std::vector<TargetObservation> SeriesReader::target_observations(EpochId id) const {
-    return guarded(*c_, "reading target observations", [&] {
-        SQLite::Statement s(c_->db,
-                            "SELECT target, kind, measured_x, measured_y, measured_z, residual_x,"
-                            " residual_y, residual_z, stable, used FROM target_observations"
-                            " WHERE epoch_id = ? ORDER BY target");
-        s.bind(1, id);
-        std::vector<TargetObservation> out;
-        while (s.executeStep()) {
-            TargetObservation t;
-            t.target = s.getColumn(0).getString();
-            t.kind = s.getColumn(1).getString();
-            for (int i = 0; i < 3; ++i) t.measured[i] = s.getColumn(2 + i).getDouble();
-            for (int i = 0; i < 3; ++i) t.residual[i] = s.getColumn(5 + i).getDouble();
-            t.stable = s.getColumn(8).getInt() != 0;
-            t.used = s.getColumn(9).getInt() != 0;
-            out.push_back(t);
-        }
-        return out;
-    });
-}
-
 std::vector<StageRun> SeriesReader::stages(EpochId id) const {
     return guarded(*c_, "reading the stages of an epoch", [&] {
         SQLite::Statement s(c_->db,

@@ -96,7 +96,7 @@ TEST(EpochCommit, EverythingIsStoredAndReadBack) {
     EXPECT_TRUE(reg->accepted);
     EXPECT_EQ(reg->quality_json, R"({"chi2_p":0.41})");
 
-    const auto targets = f.db.series().target_observations(id);
+    const auto targets = f.db.registrations().targets_of_epoch(id);
     ASSERT_EQ(targets.size(), 2u);
     EXPECT_EQ(targets[1].target, "T2");
     EXPECT_EQ(targets[1].kind, "plane");
