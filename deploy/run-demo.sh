@@ -16,7 +16,10 @@ rm -rf var && mkdir -p var/ingest
 daemon=$!
 trap 'kill -TERM $daemon 2>/dev/null || true' EXIT
 
-"$tlsmon" simulate --preset small --out var/ingest --epochs "$epochs" --realtime 2
+# The series starts now: the scans come every 2 s but are stamped 15 min apart, so an older
+# start would make the first scans look late and raise the system.stale alarm at once.
+start=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+"$tlsmon" simulate --preset small --out var/ingest --epochs "$epochs" --realtime 2 --start "$start"
 # The last scan counts as complete after ingest.stable_seconds (10 s) without change.
 for _ in $(seq 60); do
   compgen -G 'var/ingest/*.ptx' >/dev/null || break
