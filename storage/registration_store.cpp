@@ -50,9 +50,11 @@ std::optional<RegistrationRow> RegistrationStore::of_epoch(EpochId id) const {
         RegistrationRow r;
         r.method = s.getColumn(0).getString();
         const auto t = s.getColumn(1);
-        if (t.getBytes() == static_cast<int>(sizeof(r.transform))) {
-            std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
+        if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
+            throw_storage(*c_, "epoch " + std::to_string(id) + ": transform has " +
+                                   std::to_string(t.getBytes()) + " bytes, not 128");
         }
+        std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
         r.target_count = s.getColumn(2).getInt64();
         r.rms_m = s.getColumn(3).getDouble();
         r.max_residual_m = s.getColumn(4).getDouble();

@@ -173,32 +173,6 @@ std::optional<CorePointArray> SeriesReader::core_point_array(EpochId id,
     });
 }
 
-std::optional<RegistrationRow> SeriesReader::registration(EpochId id) const {
-    return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
-        SQLite::Statement s(c_->db,
-                            "SELECT method, transform, target_count, rms_m, max_residual_m,"
-                            " sigma0, accepted, quality_json FROM registrations"
-                            " WHERE epoch_id = ?");
-        s.bind(1, id);
-        if (!s.executeStep()) return std::nullopt;
-        RegistrationRow r;
-        r.method = s.getColumn(0).getString();
-        const auto t = s.getColumn(1);
-        if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
-            throw_storage(*c_, "epoch " + std::to_string(id) + ": transform has " +
-                                   std::to_string(t.getBytes()) + " bytes, not 128");
-        }
-        std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
-        r.target_count = s.getColumn(2).getInt64();
-        r.rms_m = s.getColumn(3).getDouble();
-        r.max_residual_m = s.getColumn(4).getDouble();
-        r.sigma0 = optional_double(s.getColumn(5));
-        r.accepted = s.getColumn(6).getInt() != 0;
-        r.quality_json = s.getColumn(7).getString();
-        return r;
-    });
-}
-
 std::vector<StageRun> SeriesReader::stages(EpochId id) const {
     return guarded(*c_, "reading the stages of an epoch", [&] {
         SQLite::Statement s(c_->db,

@@ -69,7 +69,6 @@ class SeriesReader {
     std::vector<EventRow> events(const TimeRange& range,
                                  const std::optional<std::string>& kind = std::nullopt) const;
     std::optional<CorePointArray> core_point_array(EpochId id, const std::string& quantity) const;
-    std::optional<RegistrationRow> registration(EpochId id) const;
     // The pipeline stages that ran for the epoch, in order.
     std::vector<StageRun> stages(EpochId id) const;
     std::int64_t database_bytes() const;  // main file + WAL on disk

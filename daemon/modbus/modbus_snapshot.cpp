@@ -102,7 +102,7 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
                     window.emplace_back(p.acquired, p.value);
             }
             v.rate = slope_per_day(window);
-            if (const auto reg = db.series().registration(last.epoch)) {
+            if (const auto reg = db.registrations().of_epoch(last.epoch)) {
                 v.registration_degraded = !reg->accepted;
             }
             s.values.push_back(v);

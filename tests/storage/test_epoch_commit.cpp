@@ -87,7 +87,7 @@ TEST(EpochCommit, EverythingIsStoredAndReadBack) {
     EXPECT_DOUBLE_EQ(e->timings.total_ms.value_or(-1), 5600.75);
     EXPECT_EQ(e->archive_path.value_or(""), "/archive/2026/03/s.ptx");
 
-    const auto reg = f.db.series().registration(id);
+    const auto reg = f.db.registrations().of_epoch(id);
     ASSERT_TRUE(reg);
     EXPECT_EQ(reg->transform, results.registration->transform);
     EXPECT_EQ(reg->target_count, 4);
@@ -195,7 +195,7 @@ TEST(EpochCommit, RejectedKeepsRegistrationButNoResults) {
     f.db.results().commit(id, r);
     EXPECT_EQ(f.db.epochs().find(id)->status, EpochStatus::rejected);
     EXPECT_EQ(f.db.epochs().find(id)->reason, "registration RMS 12.0 mm > 5.0 mm");
-    EXPECT_TRUE(f.db.series().registration(id));
+    EXPECT_TRUE(f.db.registrations().of_epoch(id));
     EXPECT_TRUE(f.db.series().points("pier P3 top", "m3c2_mean_m", {}).empty());
 }
 
