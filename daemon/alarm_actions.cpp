@@ -88,4 +88,22 @@ int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor,
                  [&](const AlarmMachineState& s) { return on_unshelve(s, kind_of(actor), now); });
 }
 
+int expire_due_shelves(EpochDatabase& db, UtcSeconds now) {
+    return apply(db, "*", [&](const AlarmMachineState& s) { return expire_shelve(s, now); });
+}
+
+int remove_alarm_from_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
+                              UtcSeconds now) {
+    return apply(db, rule, [&](const AlarmMachineState& s) {
+        return on_remove_from_service(s, kind_of(actor), now);
+    });
+}
+
+int return_alarm_to_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
+                            UtcSeconds now) {
+    return apply(db, rule, [&](const AlarmMachineState& s) {
+        return on_return_to_service(s, kind_of(actor), now);
+    });
+}
+
 }  // namespace tlsmon

@@ -1,6 +1,7 @@
 #pragma once
-// Shelving (ISA-18.2: a temporary, operator-initiated suppression with an expiry), beside
-// acknowledge_alarm (daemon/alarm_actions.hpp) and written the same way.
+// Suppression by an operator (ISA-18.2): shelving, temporary with an expiry, and removal
+// from service for maintenance, beside acknowledge_alarm (daemon/alarm_actions.hpp) and
+// written the same way.
 #include <string>
 
 #include "core/utc_time.hpp"
@@ -16,5 +17,18 @@ int shelve_alarm(EpochDatabase& db, const std::string& rule, UtcSeconds until, A
                  UtcSeconds now);
 // Ends a shelve early. Returns how many rules changed (0 when none was shelved).
 int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now);
+// Ends every shelve whose expiry is <= now (event `shelve_expired`, by the rule): the
+// daemon calls it every `daemon.status_interval`, so an expiry does not wait for the rule's
+// next epoch. Returns how many rules changed.
+int expire_due_shelves(EpochDatabase& db, UtcSeconds now);
+
+// Removes the rule from service (maintenance of the scanner, works on the structure): it
+// keeps following its condition without annunciating it until returned to service, with no
+// expiry. Returns how many rules changed (0 when already out of service).
+int remove_alarm_from_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
+                              UtcSeconds now);
+// Returns it to service: annunciated afresh (unack) if its condition stands, else normal.
+int return_alarm_to_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
+                            UtcSeconds now);
 
 }  // namespace tlsmon

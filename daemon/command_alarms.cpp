@@ -1,4 +1,4 @@
-// `tlsmon alarms [history] | ack|shelve|unshelve RULE`: the alarms standing now and their
+// `tlsmon alarms [history] | ack|shelve|unshelve|out-of-service|in-service RULE`: the alarms standing now and their
 // history (read-only, like `tlsmon query`), and the operator's actions, written through the
 // database in one immediate transaction each (daemon/alarm_actions.cpp): safe while the
 // daemon runs, which waits for the write through its busy timeout and sees it at its next
@@ -71,6 +71,10 @@ int run_alarm_action(const AlarmActionOptions& o) {
             changed = shelve_alarm(db, o.rule, parse_utc(o.until), AlarmActor::cli, now);
         } else if (o.action == "unshelve") {
             changed = unshelve_alarm(db, o.rule, AlarmActor::cli, now);
+        } else if (o.action == "out-of-service") {
+            changed = remove_alarm_from_service(db, o.rule, AlarmActor::cli, now);
+        } else if (o.action == "in-service") {
+            changed = return_alarm_to_service(db, o.rule, AlarmActor::cli, now);
         } else {
             throw Error("unknown alarm action '" + o.action + "'");
         }

@@ -83,11 +83,11 @@ struct AlarmHistoryOptions {
 };
 int run_alarm_history(const AlarmHistoryOptions& options);
 
-// `tlsmon alarms ack|shelve|unshelve RULE` ("*" = every rule): 0, or 1 with the error.
+// `tlsmon alarms ack|shelve|unshelve|out-of-service|in-service RULE` ("*" = every rule): 0, or 1 with the error.
 struct AlarmActionOptions {
     std::string db;
     std::string config;
-    std::string action;  // "ack", "shelve", "unshelve"
+    std::string action;  // "ack", "shelve", "unshelve", "out-of-service", "in-service"
     std::string rule;
     std::string until;  // shelve: ISO-8601 UTC
 };

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "daemon/alarm_actions.hpp"
+#include "daemon/alarm_shelving.hpp"
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
@@ -313,6 +314,8 @@ void Daemon::observe(SystemObservation seen) {
             seen.disk_free_fraction = disk_free_share(config_.paths.database.parent_path());
         }
         observe_system_alarms(db_, config, seen);
+        // A shelve ends at its expiry, not at its rule's next epoch (docs/alarms.md).
+        if (const int n = expire_due_shelves(db_, seen.now)) spdlog::info("{} shelve(s) expired", n);
     } catch (const std::exception& e) {
         spdlog::error("system alarms not updated: {}", e.what());
     }

@@ -201,7 +201,7 @@ void add_events(CLI::App& app, CommandLine& c) {
 void add_alarms(CLI::App& app, CommandLine& c) {
     auto* cmd = app.add_subcommand("alarms",
                                    "Alarms standing now (not normal); history; "
-                                   "acknowledge, shelve, unshelve (docs/alarms.md)");
+                                   "acknowledge, shelve, unshelve, out-of-service, in-service (docs/alarms.md)");
     c.alarms.add_to(cmd, false);
     auto* history = cmd->add_subcommand("history", "Alarm events by time");
     c.alarm_history_read.add_to(history, true);
@@ -213,7 +213,9 @@ void add_alarms(CLI::App& app, CommandLine& c) {
     const std::pair<const char*, const char*> actions[] = {
         {"ack", "Acknowledge the alarm of RULE (\"*\": every rule)"},
         {"shelve", "Shelve the alarm of RULE until --until"},
-        {"unshelve", "End the shelve of RULE"}};
+        {"unshelve", "End the shelve of RULE"},
+        {"out-of-service", "Remove RULE from service (maintenance) until in-service"},
+        {"in-service", "Return RULE to service"}};
     for (const auto& [name, help] : actions) {
         auto& o = c.alarm_actions[name];
         o.action = name;

@@ -86,5 +86,48 @@ TEST(AlarmActions, ShelveAndUnshelve) {
     EXPECT_EQ(f.db.alarms().events(std::nullopt).back().kind, "shelve_expired");
 }
 
+TEST(AlarmActions, DueShelvesExpireWithoutAnEpoch) {
+    Fixture f;
+    ASSERT_EQ(shelve_alarm(f.db, "a", 1000, AlarmActor::cli, 500), 1);
+    ASSERT_EQ(shelve_alarm(f.db, "d", 2000, AlarmActor::cli, 500), 1);
+    EXPECT_EQ(expire_due_shelves(f.db, 999), 0);
+    EXPECT_EQ(f.state("a"), "shelved");
+    EXPECT_EQ(expire_due_shelves(f.db, 1000), 1);  // a's expiry reached, d's not
+    EXPECT_EQ(f.state("a"), "unack");              // its condition (alarm) still stands
+    EXPECT_EQ(f.state("d"), "shelved");
+    const auto last = f.db.alarms().events(std::nullopt).back();
+    EXPECT_EQ(last.rule, "a");
+    EXPECT_EQ(last.kind, "shelve_expired");
+    EXPECT_EQ(last.actor, "rule");
+    EXPECT_EQ(last.time, 1000);
+    EXPECT_EQ(expire_due_shelves(f.db, 2500), 1);
+    EXPECT_EQ(f.state("d"), "normal");  // no condition: back to normal
+    EXPECT_EQ(expire_due_shelves(f.db, 3000), 0);
+}
+
+TEST(AlarmActions, OutOfServiceUntilReturnedNotByTime) {
+    Fixture f;
+    EXPECT_EQ(remove_alarm_from_service(f.db, "a", AlarmActor::cli, 100), 1);
+    EXPECT_EQ(f.state("a"), "out_of_service");
+    EXPECT_EQ(remove_alarm_from_service(f.db, "a", AlarmActor::cli, 110), 0);  // already
+    EXPECT_EQ(acknowledge_alarm(f.db, "a", AlarmActor::cli, 120), 0);
+    EXPECT_THROW(shelve_alarm(f.db, "a", 900, AlarmActor::cli, 130), Error);
+    EXPECT_EQ(expire_due_shelves(f.db, 1'000'000), 0);  // no expiry
+    EXPECT_EQ(f.state("a"), "out_of_service");
+    EXPECT_EQ(return_alarm_to_service(f.db, "a", AlarmActor::cli, 200), 1);
+    EXPECT_EQ(f.state("a"), "unack");  // its condition still stands: annunciated afresh
+    EXPECT_EQ(return_alarm_to_service(f.db, "a", AlarmActor::cli, 210), 0);
+    EXPECT_EQ(remove_alarm_from_service(f.db, "d", AlarmActor::cli, 300), 1);
+    EXPECT_EQ(return_alarm_to_service(f.db, "d", AlarmActor::cli, 310), 1);
+    EXPECT_EQ(f.state("d"), "normal");
+    std::vector<std::string> kinds;
+    for (const auto& e : f.db.alarms().events(std::nullopt)) {
+        EXPECT_EQ(e.actor, "CLI");
+        kinds.push_back(e.kind);
+    }
+    EXPECT_EQ(kinds, (std::vector<std::string>{"out_of_service", "in_service", "out_of_service",
+                                               "in_service"}));
+}
+
 }  // namespace
 }  // namespace tlsmon

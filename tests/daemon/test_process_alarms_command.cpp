@@ -106,6 +106,39 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(events[3]["kind"], "unshelve");
 }
 
+// The running daemon ends a shelve at its expiry (every daemon.status_interval), without an
+// epoch; out of service holds until `in-service`.
+TEST(AlarmsCommand, DaemonEndsAShelveAtItsExpiryAndOutOfServiceHolds) {
+    test::Site site("alarms-expiry", kRules + "[daemon]\nstatus_interval = 1\n");
+    ASSERT_EQ(test::shell(tlsmon("run --once --config " + site.config().string())).status, 0);
+    commit_step_epoch(site);
+    const std::string db = " --db " + site.database().string();
+    ASSERT_EQ(test::shell(tlsmon("alarms out-of-service 'system.stale'" + db)).output,
+              "out-of-service: 1 rule changed\n");
+    const UtcSeconds until = now_utc() + 3;
+    ASSERT_EQ(test::shell(tlsmon("alarms shelve 'P3 settlement' --until " + format_utc(until) + db))
+                  .status,
+              0);
+    EXPECT_EQ(state_of(site).state, "shelved");
+
+    test::DaemonProcess daemon(site.config(), site.log());
+    EXPECT_TRUE(test::wait_until([&] { return state_of(site).state != "shelved"; }, 15))
+        << "the shelve did not expire";
+    const UtcSeconds noticed = now_utc();
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(10), 0);
+    const auto expired = state_of(site);
+    EXPECT_EQ(expired.state, "unack");  // the 12 mm condition still stands
+    EXPECT_GE(expired.since, until);
+    EXPECT_LE(noticed, until + 3);  // within the status interval (1 s) and the poll
+    const auto history = test::shell(tlsmon("alarms history --format csv --rule 'P3 settlement'" + db));
+    EXPECT_NE(history.output.find(",shelve_expired,"), std::string::npos) << history.output;
+    // The stale alarm stood while out of service but was not annunciated; in service: it is.
+    EXPECT_EQ(state_of(site, "system.stale").state, "out_of_service");
+    ASSERT_EQ(test::shell(tlsmon("alarms in-service 'system.stale'" + db)).status, 0);
+    EXPECT_EQ(state_of(site, "system.stale").state, "unack");
+}
+
 TEST(AlarmsCommand, UnknownRuleAndPastShelveAreErrorsNamingThem) {
     test::Site site("alarms-errors", kRules);
     ASSERT_EQ(test::shell(tlsmon("run --once --config " + site.config().string())).status, 0);
