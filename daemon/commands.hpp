@@ -130,6 +130,31 @@ struct M3c2Options {
 // 0, or 1 with the error on stderr.
 int run_m3c2(const M3c2Options& options);
 
+// `tlsmon report --database DB --truth DIR --out DIR`: a finished run scored against the
+// simulator's truth files (Markdown, CSV, PNG plots). 0, or 1 with the error on stderr.
+struct ReportOptions {
+    std::string database;
+    std::string truth;
+    std::string out;
+    std::string config;  // the daemon's configuration, named in the example commands
+    int modbus_port = 1502;
+};
+int run_report(const ReportOptions& options);
+
+// `tlsmon demo`: the daemon on a simulated day, one scan every few seconds, a line per epoch,
+// then the report (compiled into the executable only, like `simulate`).
+struct DemoOptions {
+    std::string workdir = "tlsmon-demo";
+    int epochs = 96;
+    double interval = 2.0;
+    std::string preset = "small";
+    std::string start;  // ISO-8601 UTC; "" = now, to the minute
+    int modbus_port = 1502;
+    unsigned threads = 2;
+};
+// 0: the run finished and its report was written; 1: an error; 130: interrupted (Ctrl-C).
+int run_demo(const DemoOptions& options);
+
 // `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
 
 }  // namespace tlsmon

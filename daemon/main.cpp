@@ -61,6 +61,8 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine alarm_history_read;
     AlarmHistoryOptions alarm_history;
     std::map<std::string, AlarmActionOptions> alarm_actions;
+    ReportOptions report;
+    DemoOptions demo;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -282,6 +284,53 @@ void add_modbus_map(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_modbus_map(o); });
 }
 
+void add_report(CLI::App& app, CommandLine& c) {
+    auto& o = c.report;
+    auto* cmd = app.add_subcommand(
+        "report",
+        "Score a finished run on a simulated series against the simulator's truth files: "
+        "registration, zones, alarms (Markdown, CSV, PNG plots by gnuplot)");
+    cmd->add_option("--database", o.database, "Epoch database (SQLite file)")->required();
+    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")
+        ->required();
+    cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
+    cmd->add_option("--config", o.config,
+                    "The daemon's configuration, named in the report's example commands");
+    cmd->add_option("--modbus-port", o.modbus_port, "Modbus port named in the examples")
+        ->check(CLI::Range(1, 65535))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_report(o); });
+}
+
+void add_demo(CLI::App& app, CommandLine& c) {
+    auto& o = c.demo;
+    auto* cmd = app.add_subcommand(
+        "demo",
+        "Run the daemon on a simulated day (thermal bending, scanner drift, a knocked target, "
+        "a step in one zone), one scan every few seconds, then report against the truth");
+    cmd->add_option("--workdir", o.workdir,
+                    "Working folder (created; a previous demo's folder is cleared)")
+        ->capture_default_str();
+    cmd->add_option("--epochs", o.epochs, "Number of 15-minute epochs")
+        ->check(CLI::Range(4, 100000))
+        ->capture_default_str();
+    cmd->add_option("--interval", o.interval, "Seconds between scans (wall clock)")
+        ->check(CLI::Range(0.0, 3600.0))
+        ->capture_default_str();
+    cmd->add_option("--preset", o.preset,
+                    "Scene: small (0.05° grid, five spheres), pier or hochmosel (slow)")
+        ->check(CLI::IsMember({"small", "pier", "hochmosel"}))
+        ->capture_default_str();
+    cmd->add_option("--start", o.start, "Acquisition time of epoch 0, UTC (default: now)");
+    cmd->add_option("--modbus-port", o.modbus_port, "Modbus TCP port on 127.0.0.1")
+        ->check(CLI::Range(1, 65535))
+        ->capture_default_str();
+    cmd->add_option("--threads", o.threads, "Render threads of the simulator")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_demo(o); });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -301,6 +350,8 @@ int main(int argc, char** argv) {
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);
     tlsmon::add_alarms(app, c);
+    tlsmon::add_report(app, c);
+    tlsmon::add_demo(app, c);
 
     try {
         app.parse(argc, argv);
