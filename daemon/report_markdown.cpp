@@ -184,9 +184,14 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         if (!z.face) {
             md += "Not on one face of the pier: no truth to compare with.\n\n";
         } else {
-            md +=
-                fmt::format("{} face, z {:g}–{:g} m{}.\n\n", z.face->face, z.face->z_min,
-                            z.face->z_max, z.step_zone ? "; the truth's step event moves it" : "");
+            std::string moved;
+            if (z.step_zone && r.step) {
+                moved = fmt::format("; the truth's step moves its part at z {:g}–{:g} m",
+                                    std::max(r.step->z_min, z.face->z_min),
+                                    std::min(r.step->z_max, z.face->z_max));
+            }
+            md += fmt::format("{} face, z {:g}–{:g} m{}.\n\n", z.face->face, z.face->z_min,
+                              z.face->z_max, moved);
         }
         bool table = false;
         for (const ZoneQuantityCheck& q : z.quantities) {
