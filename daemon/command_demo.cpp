@@ -206,10 +206,11 @@ int run_demo(const DemoOptions& options) {
     try {
         return demo(options);
     } catch (const Interrupted&) {
+        const fs::path dir = fs::absolute(options.workdir).lexically_normal();
         std::cerr << "\ntlsmon demo: interrupted; the daemon was stopped. What was done is in "
-                  << fs::absolute(options.workdir).string()
-                  << " (tlsmon report --database .../tlsmon.sqlite --truth .../truth --out ...)"
-                  << std::endl;
+                  << dir.string() << "; its report: tlsmon report --database "
+                  << (dir / "tlsmon.sqlite").string() << " --truth " << (dir / "truth").string()
+                  << " --out " << (dir / "report").string() << std::endl;
         return 130;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon demo: " << e.what() << '\n';
