@@ -141,8 +141,8 @@ int demo(const DemoOptions& o) {
               << o.interval << " s\n"
               << "  events (truth): target " << scene.knocked_target << " knocked 10 mm at epoch "
               << scene.knocked_epoch << "; pier z " << site.events.step_z_min << "-"
-              << site.events.step_z_max << " m steps 20 mm towards the scanner at epoch "
-              << scene.step_epoch << "\n"
+              << site.events.step_z_max << " m steps " << 1e3 * site.events.step_displacement.norm()
+              << " mm towards the scanner at epoch " << scene.step_epoch << "\n"
               << "  folder " << dir.string() << ": scene.toml, tlsmon.toml, ingest/, truth/, "
               << "tlsmon.sqlite, daemon.log\n"
               << "  daemon: " << own_executable().string() << " run --config " << config.string()
