@@ -148,7 +148,7 @@ struct DemoOptions {
     int epochs = 96;
     double interval = 2.0;
     std::string preset = "small";
-    std::string start;  // ISO-8601 UTC; "" = now, to the minute
+    std::string start;  // ISO-8601 UTC; "" = 00:00 UTC today (the reference at night)
     int modbus_port = 1502;
     unsigned threads = 2;
 };

@@ -321,7 +321,7 @@ void add_demo(CLI::App& app, CommandLine& c) {
                     "Scene: small (0.05° grid, five spheres), pier or hochmosel (slow)")
         ->check(CLI::IsMember({"small", "pier", "hochmosel"}))
         ->capture_default_str();
-    cmd->add_option("--start", o.start, "Acquisition time of epoch 0, UTC (default: now)");
+    cmd->add_option("--start", o.start, "Acquisition time of epoch 0, UTC (default: 00:00 UTC today)");
     cmd->add_option("--modbus-port", o.modbus_port, "Modbus TCP port on 127.0.0.1")
         ->check(CLI::Range(1, 65535))
         ->capture_default_str();
