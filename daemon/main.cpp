@@ -291,8 +291,7 @@ void add_report(CLI::App& app, CommandLine& c) {
         "Score a finished run on a simulated series against the simulator's truth files: "
         "registration, zones, alarms (Markdown, CSV, PNG plots by gnuplot)");
     cmd->add_option("--database", o.database, "Epoch database (SQLite file)")->required();
-    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")
-        ->required();
+    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")->required();
     cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
     cmd->add_option("--config", o.config,
                     "The daemon's configuration, named in the report's example commands");
@@ -321,7 +320,8 @@ void add_demo(CLI::App& app, CommandLine& c) {
                     "Scene: small (0.05° grid, five spheres), pier or hochmosel (slow)")
         ->check(CLI::IsMember({"small", "pier", "hochmosel"}))
         ->capture_default_str();
-    cmd->add_option("--start", o.start, "Acquisition time of epoch 0, UTC (default: 00:00 UTC today)");
+    cmd->add_option("--start", o.start,
+                    "Acquisition time of epoch 0, UTC (default: 00:00 UTC today)");
     cmd->add_option("--modbus-port", o.modbus_port, "Modbus TCP port on 127.0.0.1")
         ->check(CLI::Range(1, 65535))
         ->capture_default_str();
