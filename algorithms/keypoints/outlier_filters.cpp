@@ -64,11 +64,11 @@ double quantity(OutlierFilter filter, const KeypointMatch& m, const OutlierParam
         case OutlierFilter::row_difference:
             return m.row - m.reference_row;
         case OutlierFilter::column_difference:
-            return wrapped_difference(m.column, m.reference_column, p.columns_per_turn);
+            return periodic_difference(m.column, m.reference_column, p.columns_per_turn);
         case OutlierFilter::range_difference:
             return m.range - m.reference_range;
         case OutlierFilter::horizontal_angle_difference:
-            return wrapped_difference(m.azimuth, m.reference_azimuth, 2 * std::numbers::pi);
+            return periodic_difference(m.azimuth, m.reference_azimuth, 2 * std::numbers::pi);
         case OutlierFilter::vertical_angle_difference:
             return m.elevation - m.reference_elevation;
         case OutlierFilter::dx:
@@ -214,7 +214,7 @@ MedianAndMad median_and_mad(std::vector<double> values) {
     return {median, median_of(values)};
 }
 
-double wrapped_difference(double a, double b, double period) {
+double periodic_difference(double a, double b, double period) {
     const double d = a - b;
     if (period <= 0) return d;
     // Into (−period/2, period/2].

@@ -117,6 +117,6 @@ struct MedianAndMad {
 MedianAndMad median_and_mad(std::vector<double> values);
 
 // a − b reduced into (−period/2, period/2]; period 0 leaves a − b as is.
-double wrapped_difference(double a, double b, double period);
+double periodic_difference(double a, double b, double period);
 
 }  // namespace tlsmon::keypoints

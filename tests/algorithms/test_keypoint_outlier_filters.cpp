@@ -325,11 +325,11 @@ TEST(KeypointOutlierFilters, MedianMadAndWrappedDifference) {
     EXPECT_DOUBLE_EQ(even.mad, 1.0);
     EXPECT_TRUE(std::isnan(keypoints::median_and_mad({}).median));
     const double pi = std::numbers::pi;
-    EXPECT_NEAR(keypoints::wrapped_difference(-pi + 0.01, pi - 0.01, 2 * pi), 0.02, 1e-12);
-    EXPECT_NEAR(keypoints::wrapped_difference(pi - 0.01, -pi + 0.01, 2 * pi), -0.02, 1e-12);
-    EXPECT_DOUBLE_EQ(keypoints::wrapped_difference(0.5, 9999.5, 10000), 1.0);
-    EXPECT_DOUBLE_EQ(keypoints::wrapped_difference(0.5, 9999.5, 0), -9999.0);
-    EXPECT_DOUBLE_EQ(keypoints::wrapped_difference(pi, 0, 2 * pi), pi);  // (−π, π]
+    EXPECT_NEAR(keypoints::periodic_difference(-pi + 0.01, pi - 0.01, 2 * pi), 0.02, 1e-12);
+    EXPECT_NEAR(keypoints::periodic_difference(pi - 0.01, -pi + 0.01, 2 * pi), -0.02, 1e-12);
+    EXPECT_DOUBLE_EQ(keypoints::periodic_difference(0.5, 9999.5, 10000), 1.0);
+    EXPECT_DOUBLE_EQ(keypoints::periodic_difference(0.5, 9999.5, 0), -9999.0);
+    EXPECT_DOUBLE_EQ(keypoints::periodic_difference(pi, 0, 2 * pi), pi);  // (−π, π]
 }
 
 }  // namespace
