@@ -6,7 +6,7 @@
 //
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
-// alarms(), events(), meteo()) and live as long as it does.
+// alarms(), events(), meteo(), registrations(), keypoint_models()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -24,6 +24,7 @@
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
 #include "storage/ids.hpp"
+#include "storage/keypoint_models.hpp"
 #include "storage/meteo_store.hpp"
 #include "storage/reference_cache_store.hpp"
 #include "storage/registration_store.hpp"
@@ -71,6 +72,7 @@ class EpochDatabase {
     const MeteoStore& meteo() const { return meteo_; }
     RegistrationStore& registrations() { return registrations_; }
     const RegistrationStore& registrations() const { return registrations_; }
+    const KeypointModelStore& keypoint_models() const { return keypoint_models_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -86,6 +88,7 @@ class EpochDatabase {
     EventLog events_;
     MeteoStore meteo_;
     RegistrationStore registrations_;
+    KeypointModelStore keypoint_models_;
 };
 
 }  // namespace tlsmon

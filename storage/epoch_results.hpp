@@ -10,6 +10,7 @@
 #include "storage/alarm_store.hpp"
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
+#include "storage/keypoint_models.hpp"
 #include "storage/meteo_sidecar.hpp"
 
 namespace tlsmon {
@@ -98,6 +99,7 @@ struct EpochResults {
     std::vector<RegistrationZoneSigma> registration_zone_sigmas;
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
+    std::vector<KeypointModelRow> keypoint_models;  // d(t, z) refitted with this epoch
     std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed
     std::vector<AlarmEvent> alarm_events;
     std::vector<SystemEvent> system_events;

@@ -4,11 +4,13 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 
 #include <string>
+#include <vector>
 
 #include "storage/alarm_store.hpp"
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
 #include "storage/ids.hpp"
+#include "storage/keypoint_models.hpp"
 #include "storage/meteo_sidecar.hpp"
 
 namespace tlsmon {
@@ -26,5 +28,7 @@ void write_alarm_event(Connection& c, const AlarmEvent& event);
 void write_system_event(Connection& c, const SystemEvent& event);
 // meteo_store.cpp
 void write_meteo_sidecar(Connection& c, const MeteoSidecar& sidecar);
+// keypoint_models.cpp: the epoch's model rows (checked whole: StorageError otherwise).
+void write_keypoint_models(Connection& c, EpochId id, const std::vector<KeypointModelRow>& models);
 
 }  // namespace tlsmon
