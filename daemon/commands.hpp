@@ -59,6 +59,15 @@ struct SeriesOptions {
 };
 int run_query_series(const SeriesOptions& options);
 
+// `tlsmon query keypoint-models [--quantity Q] [--residuals]`: the keypoint displacement
+// model of each epoch, or the residuals of its own segments
+struct KeypointModelsOptions {
+    ReadOptions read;
+    std::string quantity;  // "" = every modelled quantity
+    bool residuals = false;
+};
+int run_query_keypoint_models(const KeypointModelsOptions& options);
+
 // `tlsmon events [--kind K]`
 struct EventsOptions {
     ReadOptions read;

@@ -53,6 +53,8 @@ struct CommandLine {
     std::string register_format = "table";
     ReadOptionsOnTheCommandLine series_read;
     SeriesOptions series;
+    ReadOptionsOnTheCommandLine keypoint_models_read;
+    KeypointModelsOptions keypoint_models;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
@@ -157,6 +159,22 @@ void add_query(CLI::App& app, CommandLine& c) {
     registrations_options.add_to(registrations, true);
     registrations->callback(
         [&] { c.code = run_query_registrations(registrations_options.finish()); });
+
+    auto& models_read = c.keypoint_models_read;
+    auto& models_options = c.keypoint_models;
+    auto* models = query->add_subcommand(
+        "keypoint-models",
+        "Epochs in a time range with their keypoint displacement model d(t, z): coefficients, "
+        "convergence, residual scale (docs/keypoints.md)");
+    models->add_option("--quantity", models_options.quantity,
+                       "Only the model of this quantity (e.g. keypoint_along_surface_h_m)");
+    models->add_flag("--residuals", models_options.residuals,
+                     "One row per residual of each fitting epoch's own segments");
+    models_read.add_to(models, true);
+    models->callback([&] {
+        models_options.read = models_read.finish();
+        c.code = run_query_keypoint_models(models_options);
+    });
 
     auto& series_read = c.series_read;
     auto& series_options = c.series;
