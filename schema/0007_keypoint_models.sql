@@ -1,4 +1,4 @@
--- 0008_keypoint_models: the keypoint displacement model d(t, z) refitted at each epoch over
+-- 0007_keypoint_models: the keypoint displacement model d(t, z) refitted at each epoch over
 -- all epochs so far (docs/keypoints.md, step 7; docs/schema.md, "keypoint_models").
 -- (0007 is left to the M3C2 stage's migration.)
 
