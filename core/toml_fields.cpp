@@ -74,6 +74,31 @@ bool TomlFields::has(const std::string& key) const {
     return table_->contains(key);
 }
 
+bool TomlFields::is_array(const std::string& key) const {
+    const toml::node* n = table_->get(key);
+    return n && n->is_array();
+}
+
+void TomlFields::get(const std::string& key, std::vector<std::vector<double>>& values) {
+    const toml::node* n = find(key);
+    if (!n) return;
+    const toml::array* a = n->as_array();
+    if (!a) fail(key, "expected an array of arrays of numbers");
+    std::vector<std::vector<double>> out;
+    for (const auto& row : *a) {
+        const toml::array* r = row.as_array();
+        if (!r) fail(key, "expected an array of arrays of numbers");
+        auto& v = out.emplace_back();
+        for (const auto& e : *r) {
+            if (!e.is_number()) fail(key, "expected an array of arrays of numbers");
+            const double x = *e.value<double>();
+            if (!std::isfinite(x)) fail(key, "array holds a non-finite number");
+            v.push_back(x);
+        }
+    }
+    values = std::move(out);
+}
+
 void TomlFields::get(const std::string& key, bool& value) {
     const toml::node* n = find(key);
     if (!n) return;

@@ -87,6 +87,10 @@ class TomlFields {
     void get(const std::string& key, std::vector<double>& values);
     // An array of strings.
     void get(const std::string& key, std::vector<std::string>& values);
+    // An array of arrays of numbers ([[x1, y1], [x2, y2], ...]).
+    void get(const std::string& key, std::vector<std::vector<double>>& values);
+    // Whether the key is present and holds an array.
+    bool is_array(const std::string& key) const;
 
     // Throws for the first key of this table that no getter asked for.
     void reject_unknown_keys() const;

@@ -68,6 +68,15 @@ struct KeypointModelsOptions {
 };
 int run_query_keypoint_models(const KeypointModelsOptions& options);
 
+// `tlsmon query corepoints --epoch N [--out FILE]`: one epoch's M3C2 at every core point
+// (with --out: CSV, or JSON with --format json).
+struct CorePointsOptions {
+    ReadOptions read;
+    std::int64_t epoch = 0;
+    std::string out;
+};
+int run_query_corepoints(const CorePointsOptions& options);
+
 // `tlsmon events [--kind K]`
 struct EventsOptions {
     ReadOptions read;

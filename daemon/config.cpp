@@ -86,21 +86,67 @@ void check_modbus(TomlFields& t, const ModbusConfig& c) {
     }
 }
 
+void check_m3c2(TomlFields& t, const M3c2Config& c) {
+    std::set<double> seen;
+    for (double r : c.normal_radii) {
+        if (!seen.insert(r).second) t.fail("normal_radii", "a radius is listed twice");
+    }
+    if (!c.orient_to_scanner && c.orientation.norm() == 0.0) {
+        t.fail("orientation", "the orientation vector must not be zero");
+    }
+}
+
 void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "station") check_station(t, c.station);
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
     if (section == "modbus") check_modbus(t, c.modbus);
+    if (section == "m3c2") check_m3c2(t, c.m3c2);
 }
 
+// A [[zone]]: a box (min, max) or a prism (polygon, z).
 ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     ZoneConfig z;
     if (!t.has("name")) t.fail("name", "every [[zone]] needs a name");
     t.get("name", z.name);
     if (z.name.empty()) t.fail("name", "expected a non-empty zone name");
     if (taken.count(z.name)) t.fail("name", "zone '" + z.name + "' is defined twice");
+    if (t.has("polygon")) {
+        if (t.has("min") || t.has("max")) {
+            t.fail("polygon", "a [[zone]] is a box (min, max) or a prism (polygon, z), not both");
+        }
+        std::vector<std::vector<double>> rows;
+        t.get("polygon", rows);
+        if (rows.size() < 3) t.fail("polygon", "expected at least 3 vertices [[x, y], ...]");
+        for (const auto& r : rows) {
+            if (r.size() != 2) t.fail("polygon", "each vertex is [x, y] in metres");
+            z.polygon.push_back({r[0], r[1]});
+        }
+        if (!t.has("z")) t.fail("z", "a prism [[zone]] needs z = [z_min, z_max]");
+        std::vector<double> h;
+        t.get("z", h);
+        if (h.size() != 2 || !(h[0] < h[1])) t.fail("z", "expected [z_min, z_max] with z_min < z_max");
+        try {
+            std::vector<Eigen::Vector2d> outline;
+            for (const auto& v : z.polygon) outline.emplace_back(v[0], v[1]);
+            const ZoneShape shape = prism_zone(z.name, std::move(outline), h[0], h[1]);
+            for (int i = 0; i < 3; ++i) {
+                z.min[i] = shape.box.min()[i];
+                z.max[i] = shape.box.max()[i];
+            }
+        } catch (const ConfigError&) {
+            throw;
+        } catch (const Error& e) {
+            t.fail("polygon", e.what());
+        }
+        t.reject_unknown_keys();
+        return z;
+    }
     for (const char* key : {"min", "max"}) {
-        if (!t.has(key)) t.fail(key, "every [[zone]] needs min = [x, y, z] and max = [x, y, z]");
+        if (!t.has(key)) {
+            t.fail(key,
+                   "every [[zone]] needs min = [x, y, z] and max = [x, y, z], or polygon and z");
+        }
         std::vector<double> v;
         t.get(key, v);
         if (v.size() != 3) t.fail(key, "expected three numbers [x, y, z] in metres");
@@ -112,6 +158,50 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     t.reject_unknown_keys();
     return z;
 }
+
+constexpr std::array<Named<int>, 3> kAxes{{{0, "x"}, {1, "y"}, {2, "z"}}};
+
+// A [[zone_bands]] table: the bands of a [[zone]] along an axis.
+std::vector<ZoneConfig> read_zone_bands(TomlFields& t, const std::vector<ZoneConfig>& zones,
+                                        const std::set<std::string>& taken) {
+    if (!t.has("zone")) t.fail("zone", "every [[zone_bands]] names the [[zone]] it cuts");
+    std::string base_name;
+    t.get("zone", base_name);
+    const auto base = std::find_if(zones.begin(), zones.end(), [&](const ZoneConfig& z) {
+        return z.name == base_name && z.band_of.empty();
+    });
+    if (base == zones.end()) t.fail("zone", "no [[zone]] named '" + base_name + "'");
+    int axis = 2;
+    t.get_choice("axis", axis, kAxes);
+    if (!t.has("height")) t.fail("height", "every [[zone_bands]] needs the band height in metres");
+    double height = 1.0;
+    t.get("height", height, 0.01, 1e4);
+    double from = base->min[axis], to = base->max[axis];
+    t.get("from", from, -1e7, 1e7);
+    t.get("to", to, -1e7, 1e7);
+    if (!(from < to)) t.fail("to", "must exceed `from`");
+    t.reject_unknown_keys();
+    std::vector<ZoneConfig> out;
+    try {
+        for (const ZoneShape& band : bands_of(zone_shape(*base), axis, height, from, to)) {
+            if (taken.count(band.name)) t.fail("zone", "zone '" + band.name + "' is defined twice");
+            ZoneConfig z = *base;
+            z.name = band.name;
+            z.band_of = base->name;
+            for (int i = 0; i < 3; ++i) {
+                z.min[i] = band.box.min()[i];
+                z.max[i] = band.box.max()[i];
+            }
+            out.push_back(std::move(z));
+        }
+    } catch (const ConfigError&) {
+        throw;
+    } catch (const Error& e) {
+        t.fail("height", e.what());
+    }
+    return out;
+}
+
 
 TargetConfig read_target(TomlFields& t, const std::set<std::string>& taken) {
     TargetConfig g;
@@ -158,6 +248,12 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     for (auto& t : top.array_of_tables("zone")) {
         c.zones.push_back(read_zone(t, zone_names));
         zone_names.insert(c.zones.back().name);
+    }
+    for (auto& t : top.array_of_tables("zone_bands")) {
+        for (auto& band : read_zone_bands(t, c.zones, zone_names)) {
+            zone_names.insert(band.name);
+            c.zones.push_back(std::move(band));
+        }
     }
     for (const std::string& section : config_sections()) {
         auto t = top.table(section);
@@ -206,8 +302,22 @@ std::vector<std::string> describe(const Config& c) {
         l.push_back(k.section + "." + k.name + " = " + k.value(c));
     }
     for (const auto& z : c.zones) {
-        l.push_back("zone " + toml_string(z.name) + ": min = " + triple(z.min) +
-                    ", max = " + triple(z.max));
+        std::string line = "zone " + toml_string(z.name) + ": ";
+        if (z.polygon.empty()) {
+            line += "min = " + triple(z.min) + ", max = " + triple(z.max);
+        } else {
+            line += "polygon = [";
+            for (std::size_t k = 0; k < z.polygon.size(); ++k) {
+                line += (k ? ", [" : "[") + toml_number(z.polygon[k][0]) + ", " +
+                        toml_number(z.polygon[k][1]) + "]";
+            }
+            line += "], z = [" + toml_number(z.min[2]) + ", " + toml_number(z.max[2]) + "]";
+        }
+        if (!z.band_of.empty()) {
+            line += " (band of " + toml_string(z.band_of) + ", bounds min = " + triple(z.min) +
+                    ", max = " + triple(z.max) + ")";
+        }
+        l.push_back(line);
     }
     for (const auto& g : c.registration.targets) {
         const auto& a = g.approximate;
@@ -230,7 +340,25 @@ RegistrationConfig with_zones(const Config& config) {
     return r;
 }
 
+M3c2Config with_zone_shapes(const Config& config) {
+    M3c2Config m = config.m3c2;
+    m.zones.clear();
+    for (const auto& z : config.zones) m.zones.push_back(zone_shape(z));
+    return m;
+}
+
 }  // namespace
+
+ZoneShape zone_shape(const ZoneConfig& z) {
+    const Eigen::Vector3d min(z.min[0], z.min[1], z.min[2]), max(z.max[0], z.max[1], z.max[2]);
+    if (z.polygon.empty()) return box_zone(z.name, min, max);
+    std::vector<Eigen::Vector2d> polygon;
+    for (const auto& v : z.polygon) polygon.emplace_back(v[0], v[1]);
+    ZoneShape s = prism_zone(z.name, std::move(polygon), min.z(), max.z());
+    // A band of a prism: the polygon with the band's cut of the bounds.
+    s.box = Eigen::AlignedBox3d(min, max);
+    return s;
+}
 
 PipelineConfig pipeline_config(const Config& config) {
     return PipelineConfig{.archive = config.paths.archive,
@@ -240,6 +368,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .coverage = config.coverage,
                           .registration = with_zones(config),
                           .meteo = config.meteo,
+                          .m3c2 = with_zone_shapes(config),
                           .alarm_rules = config.alarm.rules};
 }
 

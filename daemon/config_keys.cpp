@@ -17,6 +17,10 @@ constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
     {AtmosphereCorrection::measured_air, "measured_air"},
     {AtmosphereCorrection::off, "off"},
 }};
+constexpr std::array<Named<M3c2Statistic>, 2> kM3c2Statistics{{
+    {M3c2Statistic::mean, "mean"},
+    {M3c2Statistic::median, "median"},
+}};
 constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
     {TimeSource::scan, "scan"},
     {TimeSource::file_name, "file_name"},
@@ -218,6 +222,66 @@ ConfigKey choices(Member<S, std::vector<E>> m, std::string_view dotted,
     return k;
 }
 
+// [m3c2] normal_radii: lengths in metres, at least one.
+ConfigKey m3c2_radii() {
+    ConfigKey k = key("m3c2.normal_radii", "array of numbers", "1 to 10 radii, each 0.001 .. 100 m",
+                      "The normal scales D/2 of Lague 2013, as radii: at each core point the "
+                      "normal is taken at the radius where the reference is most planar "
+                      "(docs/m3c2.md).");
+    k.read = [](TomlFields& t, Config& c) {
+        std::vector<double> v = c.m3c2.normal_radii;
+        t.get("normal_radii", v);
+        if (v.empty() || v.size() > 10) t.fail("normal_radii", "expected 1 to 10 radii");
+        for (double r : v) {
+            if (!(r >= 0.001 && r <= 100)) {
+                t.fail("normal_radii", "radius " + toml_number(r) + " is outside 0.001 .. 100 m");
+            }
+        }
+        c.m3c2.normal_radii = v;
+    };
+    k.value = [](const Config& c) {
+        std::string out = "[";
+        for (double r : c.m3c2.normal_radii) out += (out.size() > 1 ? ", " : "") + toml_number(r);
+        return out + "]";
+    };
+    return k;
+}
+
+// [m3c2] orientation: "scanner" or [x, y, z].
+ConfigKey m3c2_orientation() {
+    ConfigKey k = key("m3c2.orientation", "string or array of 3 numbers",
+                      "`\"scanner\"` or a non-zero `[x, y, z]`",
+                      "Which way the normals point, and so the sign of a distance: `scanner` = "
+                      "towards the reference scan's position (positive = towards the scanner); "
+                      "a vector v = the side with n · v ≥ 0 (e.g. `[0, 0, 1]`: up).");
+    k.read = [](TomlFields& t, Config& c) {
+        if (!t.has("orientation")) {
+            std::string ignored;
+            t.get("orientation", ignored);  // absent: the default stands, the key is known
+            return;
+        }
+        if (t.is_array("orientation")) {
+            std::vector<double> v;
+            t.get("orientation", v);
+            if (v.size() != 3) t.fail("orientation", "expected \"scanner\" or [x, y, z]");
+            c.m3c2.orient_to_scanner = false;
+            c.m3c2.orientation = Eigen::Vector3d(v[0], v[1], v[2]);
+            return;
+        }
+        std::string text;
+        t.get("orientation", text);
+        if (text != "scanner") t.fail("orientation", "expected \"scanner\" or [x, y, z]");
+        c.m3c2.orient_to_scanner = true;
+    };
+    k.value = [](const Config& c) {
+        if (c.m3c2.orient_to_scanner) return std::string("\"scanner\"");
+        const auto& v = c.m3c2.orientation;
+        return "[" + toml_number(v.x()) + ", " + toml_number(v.y()) + ", " + toml_number(v.z()) +
+               "]";
+    };
+    return k;
+}
+
 std::vector<ConfigKey> declare_keys() {
     using C = Config;
     constexpr double day = 86400.0;
@@ -360,6 +424,32 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::registration, &RegistrationConfig::scanner_humidity_pct),
                "registration.scanner_humidity_pct", 0, 100, "%",
                "Relative humidity of the scanner's atmospheric setting."),
+        flag(at(&C::m3c2, &M3c2Config::enabled), "m3c2.enabled",
+             "Run M3C2 (docs/m3c2.md) for every epoch against the reference epoch, at core "
+             "points inside the zones; without any `[[zone]]` it does not run."),
+        number(at(&C::m3c2, &M3c2Config::core_spacing), "m3c2.core_spacing", 0.001, 100, "m",
+               "Core points: the reference's points inside the zones, one per cube of this edge "
+               "(the one nearest the cube's centre). Taken once, with the reference epoch."),
+        m3c2_radii(),
+        number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100,
+               "m", "Radius of the projection cylinder (d/2 of Lague 2013)."),
+        number(at(&C::m3c2, &M3c2Config::max_depth), "m3c2.max_depth", 0.001, 100, "m",
+               "Half-length of the cylinder along the normal: the largest change measured."),
+        integer(at(&C::m3c2, &M3c2Config::min_points), "m3c2.min_points", 2, 1000000, "",
+                "Points each cloud needs in a cylinder; fewer: no distance at that core point "
+                "(NaN, not counted in the zone's values)."),
+        m3c2_orientation(),
+        choice(at(&C::m3c2, &M3c2Config::statistic), "m3c2.statistic", kM3c2Statistics,
+               "Per cylinder: `mean` with the standard deviation, or `median` with the "
+               "interquartile range as the spread (robust to stray points)."),
+        number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1,
+               "m",
+               "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
+               "registration (no `[[target]]`). With a registration it is not used: each core "
+               "point gets the registration's σ along its normal."),
+        integer(at(&C::m3c2, &M3c2Config::threads), "m3c2.threads", 0, 256, "",
+                "Threads of the stage; 0: every core."),
+
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",

@@ -30,7 +30,7 @@ std::string toml_string(const std::string& s);
 std::string toml_number(double v);
 
 // In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage],
-// [modbus], [alarm].
+// [registration], [m3c2], [modbus], [alarm].
 const std::vector<ConfigKey>& config_keys();
 
 // The sections of config_keys(), in that order.

@@ -1,6 +1,7 @@
 #include "daemon/ingest_service.hpp"
 
 #include <poll.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -40,12 +41,10 @@ Clock::duration seconds(double s) {
 }
 
 std::string zone_json(const ZoneConfig& z) {
-    auto v = [](const std::array<double, 3>& a) {
-        std::string s = "[";
-        s += std::to_string(a[0]) + "," + std::to_string(a[1]) + "," + std::to_string(a[2]) + "]";
-        return s;
-    };
-    return R"({"type":"box","min":)" + v(z.min) + R"(,"max":)" + v(z.max) + "}";
+    nlohmann::json j{{"type", z.polygon.empty() ? "box" : "prism"}, {"min", z.min}, {"max", z.max}};
+    if (!z.polygon.empty()) j["polygon"] = z.polygon;
+    if (!z.band_of.empty()) j["band_of"] = z.band_of;
+    return j.dump();
 }
 
 void log_config(const Config& config) {

@@ -55,6 +55,8 @@ struct CommandLine {
     SeriesOptions series;
     ReadOptionsOnTheCommandLine keypoint_models_read;
     KeypointModelsOptions keypoint_models;
+    ReadOptionsOnTheCommandLine corepoints_read;
+    CorePointsOptions corepoints;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
@@ -186,6 +188,19 @@ void add_query(CLI::App& app, CommandLine& c) {
     series->callback([&] {
         series_options.read = series_read.finish();
         c.code = run_query_series(series_options);
+    });
+
+    auto& corepoints_read = c.corepoints_read;
+    auto& corepoints_options = c.corepoints;
+    auto* corepoints = query->add_subcommand(
+        "corepoints", "One epoch's M3C2 map: every core point, its normal, distance and LoD");
+    corepoints->add_option("--epoch", corepoints_options.epoch, "Epoch id")->required();
+    corepoints->add_option("--out", corepoints_options.out,
+                           "Write to this file (CSV; JSON with --format json)");
+    corepoints_read.add_to(corepoints, false);
+    corepoints->callback([&] {
+        corepoints_options.read = corepoints_read.finish();
+        c.code = run_query_corepoints(corepoints_options);
     });
 }
 

@@ -259,9 +259,20 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
         if (registration.epoch_range_scale && !input.scans->empty()) {
             outputs.range_scale = *registration.epoch_range_scale;
             outputs.scanner = input.scans->front().scanner_position();
+            outputs.reference_range_scale = registration.reference_range_scale.value_or(1.0);
         }
     }
-    // M3C2, keypoints, zones and alarms follow here, in this order, with `outputs`.
+    if (ctx.config.m3c2.enabled && !ctx.config.m3c2.zones.empty()) {
+        if (auto v = timed("m3c2",
+                           [&] {
+                               return run_m3c2(ctx.config.m3c2, input, *reference, ctx.cache,
+                                               outputs, results);
+                           });
+            !v.ran()) {
+            return v;
+        }
+    }
+    // Keypoints, zones and alarms follow here, in this order, with `outputs`.
     return {};
 }
 

@@ -86,6 +86,9 @@ struct StageOutputs {
     // `to_reference` applies (1: no atmospheric correction).
     double range_scale = 1.0;
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();
+    // The reference epoch's scale when the epoch's was applied (the registration corrects
+    // both or neither): `to_reference` maps into the reference's corrected ranges.
+    double reference_range_scale = 1.0;
 };
 
 // n_true/n_setting for the measured air of `meteo` (IAG 1999, core/group_refractivity.hpp);

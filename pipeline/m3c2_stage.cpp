@@ -1,0 +1,343 @@
+#include "pipeline/m3c2_stage.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "algorithms/m3c2/core_points.hpp"
+#include "algorithms/registration/registration_error.hpp"
+#include "core/error.hpp"
+#include "core/parallel_for.hpp"
+#include "core/payload.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+m3c2::NormalParameters normal_parameters(const M3c2Config& c, const Eigen::Vector3d& scanner) {
+    m3c2::NormalParameters p;
+    p.radii = c.normal_radii;
+    p.orientation = c.orient_to_scanner ? m3c2::Orientation::towards(scanner)
+                                        : m3c2::Orientation::along(c.orientation);
+    return p;
+}
+
+m3c2::CylinderParameters cylinder_parameters(const M3c2Config& c) {
+    m3c2::CylinderParameters p;
+    p.radius = c.cylinder_radius;
+    p.max_depth = c.max_depth;
+    p.statistic = c.statistic == M3c2Statistic::median ? m3c2::CylinderStatistic::median
+                                                       : m3c2::CylinderStatistic::mean;
+    return p;
+}
+
+// The points of several scans as one cloud: the first scan's own vector when there is one
+// (no copy), else a concatenation.
+struct Cloud {
+    const std::vector<Eigen::Vector3d>* points = nullptr;
+    std::vector<Eigen::Vector3d> joined;
+};
+
+Cloud cloud_of(const std::vector<Scan>& scans) {
+    Cloud c;
+    if (scans.size() == 1) {
+        c.points = &scans.front().xyz;
+        return c;
+    }
+    std::size_t n = 0;
+    for (const auto& s : scans) n += s.size();
+    c.joined.reserve(n);
+    for (const auto& s : scans) c.joined.insert(c.joined.end(), s.xyz.begin(), s.xyz.end());
+    c.points = &c.joined;
+    return c;
+}
+
+unsigned threads_of(const M3c2Config& c) {
+    return static_cast<unsigned>(std::max(0, c.threads));
+}
+
+double median_of(std::vector<double> v) {
+    if (v.empty()) return kNaN;
+    std::sort(v.begin(), v.end());
+    return m3c2::quantile_of_sorted(v, 0.5);
+}
+
+}  // namespace
+
+std::string m3c2_reference_parameters(const M3c2Config& c) {
+    std::string s = fmt::format("core_spacing={:.17g};radii=", c.core_spacing);
+    for (double r : c.normal_radii) s += fmt::format("{:.17g},", r);
+    s += fmt::format(";cylinder_radius={:.17g};max_depth={:.17g};statistic={};orientation=",
+                     c.cylinder_radius, c.max_depth,
+                     c.statistic == M3c2Statistic::median ? "median" : "mean");
+    if (c.orient_to_scanner) {
+        s += "scanner";
+    } else {
+        s += fmt::format("{:.17g},{:.17g},{:.17g}", c.orientation.x(), c.orientation.y(),
+                         c.orientation.z());
+    }
+    for (const auto& z : c.zones) {
+        s += fmt::format(";zone={}:{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", z.name,
+                         z.box.min().x(), z.box.min().y(), z.box.min().z(), z.box.max().x(),
+                         z.box.max().y(), z.box.max().z());
+        for (const auto& v : z.polygon) s += fmt::format(":{:.17g},{:.17g}", v.x(), v.y());
+    }
+    return s;
+}
+
+M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector<Scan>& scans) {
+    if (scans.empty()) throw Error("m3c2: the reference epoch holds no scan");
+    M3c2Reference out;
+    out.scanner = scans.front().scanner_position();
+    const Cloud cloud = cloud_of(scans);
+    const auto& points = *cloud.points;
+    // Core points from the reference's points inside a zone, on one lattice of cubes: a core
+    // point in two overlapping zones (a band and its face) is one core point of both.
+    std::vector<char> inside(points.size(), 0);
+    parallel_for(
+        points.size(),
+        [&](std::size_t i) {
+            const auto& p = points[i];
+            if (!p.allFinite()) return;
+            for (const auto& z : config.zones) {
+                if (z.contains(p)) {
+                    inside[i] = 1;
+                    return;
+                }
+            }
+        },
+        threads_of(config));
+    std::vector<Eigen::Vector3d> in_zones;
+    in_zones.reserve(static_cast<std::size_t>(std::count(inside.begin(), inside.end(), 1)));
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (inside[i]) in_zones.push_back(points[i]);
+    }
+    inside = {};
+    std::vector<Eigen::Vector3d> cores = m3c2::subsample(in_zones, config.core_spacing, threads_of(config));
+    in_zones = {};
+    for (const auto& z : config.zones) {
+        out.zone_names.push_back(z.name);
+        auto& members = out.zone_cores.emplace_back();
+        for (std::size_t k = 0; k < cores.size(); ++k) {
+            if (z.contains(cores[k])) members.push_back(static_cast<std::uint32_t>(k));
+        }
+    }
+    out.reference = m3c2::prepare_reference(points, std::move(cores),
+                                            normal_parameters(config, out.scanner),
+                                            cylinder_parameters(config), threads_of(config));
+    return out;
+}
+
+std::string M3c2Reference::encode() const {
+    PayloadWriter w;
+    w.put<std::uint32_t>(kFormatVersion);
+    const std::string inner = reference.encode();
+    w.put_array(std::vector<char>(inner.begin(), inner.end()));
+    w.put<double>(scanner.x());
+    w.put<double>(scanner.y());
+    w.put<double>(scanner.z());
+    w.put<std::uint64_t>(zone_names.size());
+    for (std::size_t z = 0; z < zone_names.size(); ++z) {
+        w.put_array(std::vector<char>(zone_names[z].begin(), zone_names[z].end()));
+        w.put_array(zone_cores[z]);
+    }
+    return w.take();
+}
+
+M3c2Reference M3c2Reference::decode(std::string_view payload) {
+    PayloadReader in(payload);
+    if (const auto version = in.get<std::uint32_t>(); version != kFormatVersion) {
+        throw Error("m3c2 stage payload: format " + std::to_string(version) + ", expected " +
+                    std::to_string(kFormatVersion));
+    }
+    M3c2Reference r;
+    const auto inner = in.get_array<char>();
+    r.reference = m3c2::Reference::decode(std::string_view(inner.data(), inner.size()));
+    r.scanner.x() = in.get<double>();
+    r.scanner.y() = in.get<double>();
+    r.scanner.z() = in.get<double>();
+    const auto zones = in.get<std::uint64_t>();
+    if (zones > payload.size()) throw Error("m3c2 stage payload: too many zones");
+    for (std::uint64_t z = 0; z < zones; ++z) {
+        const auto name = in.get_array<char>();
+        r.zone_names.emplace_back(name.begin(), name.end());
+        r.zone_cores.push_back(in.get_array<std::uint32_t>());
+        for (auto k : r.zone_cores.back()) {
+            if (k >= r.reference.size()) throw Error("m3c2 stage payload: core point out of range");
+        }
+    }
+    in.finish();
+    return r;
+}
+
+bool EpochToReference::identity() const {
+    return factor == 1.0 && rotation == Eigen::Matrix3d::Identity() &&
+           translation == Eigen::Vector3d::Zero();
+}
+
+EpochToReference epoch_to_reference(const StageOutputs& o, const Eigen::Vector3d& s_r) {
+    // x = s_e + (p − s_e)/k_e;  y = s_T·R·x + t;  q = s_r + k_r·(y − s_r).
+    const double k_e = o.range_scale, k_r = o.reference_range_scale;
+    if (!(k_e > 0.0 && k_r > 0.0)) throw Error("m3c2: a range scale is not positive");
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    double s_T = 1.0;
+    if (o.to_reference) {
+        R = o.to_reference->rotation;
+        t = o.to_reference->translation;
+        s_T = o.to_reference->scale;
+    }
+    EpochToReference m;
+    m.factor = k_r * s_T / k_e;
+    m.rotation = R;
+    if (k_e == 1.0 && k_r == 1.0) {
+        m.translation = t;  // exact: no rounding through the scales
+    } else {
+        m.translation = k_r * (s_T * (R * o.scanner) * (1.0 - 1.0 / k_e) + t) + s_r * (1.0 - k_r);
+    }
+    return m;
+}
+
+M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
+                       const std::vector<Scan>& scans, const StageOutputs& outputs) {
+    const m3c2::Reference& ref = product.reference;
+    const std::size_t n = ref.size();
+    const EpochToReference map = epoch_to_reference(outputs, product.scanner);
+    const Cloud cloud = cloud_of(scans);
+    M3c2Epoch out;
+    if (map.identity()) {
+        out.compared = m3c2::cylinder_sides(ref.cylinders, *cloud.points, threads_of(config));
+    } else {
+        // The cylinders pulled back into the epoch's frame: centre f⁻¹·Rᵀ(c − t), axis Rᵀn,
+        // radius and half-length divided by f; a projection there times f is the projection
+        // of the mapped point in the reference frame.
+        std::vector<Eigen::Vector3d> centres(n), axes(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            centres[k] = map.inverse(ref.cylinders.centres[k]);
+            axes[k] = map.rotation.transpose() * ref.cylinders.axes[k];
+        }
+        m3c2::CylinderParameters pulled = ref.cylinders.parameters;
+        pulled.radius /= map.factor;
+        pulled.max_depth /= map.factor;
+        const m3c2::Cylinders cylinders =
+            m3c2::make_cylinders(std::move(centres), std::move(axes), pulled, threads_of(config));
+        out.compared = m3c2::cylinder_sides(cylinders, *cloud.points, threads_of(config));
+        for (auto& side : out.compared) {
+            side.centre *= map.factor;
+            side.spread *= map.factor;
+        }
+    }
+    out.registration_sigma.assign(n, config.registration_error);
+    if (outputs.to_reference) {
+        const auto& T = *outputs.to_reference;
+        parallel_for(
+            n,
+            [&](std::size_t k) {
+                const Eigen::Vector3d& normal = ref.cylinders.axes[k];
+                if (!normal.allFinite()) return;
+                // Σ_p at the core point's place in the epoch's frame (where T is applied).
+                const Eigen::Vector3d x =
+                    T.rotation.transpose() * (ref.cylinders.centres[k] - T.translation) / T.scale;
+                out.registration_sigma[k] = registration::registration_sigma_along(T, x, normal);
+            },
+            threads_of(config));
+    }
+    out.distances.resize(n);
+    m3c2::DistanceParameters dp;
+    dp.min_points = static_cast<std::size_t>(config.min_points);
+    for (std::size_t k = 0; k < n; ++k) {
+        dp.registration_error = out.registration_sigma[k];
+        out.distances[k] = m3c2::distance_between(ref.reference_side[k], out.compared[k], dp);
+    }
+    return out;
+}
+
+std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& product, const M3c2Epoch& epoch) {
+    std::vector<ZoneResult> rows;
+    for (std::size_t z = 0; z < product.zone_names.size(); ++z) {
+        const std::string& zone = product.zone_names[z];
+        std::vector<double> d, lod;
+        std::int64_t significant = 0;
+        for (auto k : product.zone_cores[z]) {
+            const auto& r = epoch.distances[k];
+            if (!std::isfinite(r.distance)) continue;
+            d.push_back(r.distance);
+            lod.push_back(r.lod);
+            significant += r.significant;
+        }
+        const auto valid = static_cast<std::int64_t>(d.size());
+        const auto cores = static_cast<std::int64_t>(product.zone_cores[z].size());
+        rows.push_back({zone, "m3c2_valid_count", double(valid), std::nullopt, cores, false});
+        if (valid == 0) continue;
+        double mean = 0;
+        for (double v : d) mean += v;
+        mean /= double(valid);
+        const double median = median_of(d);
+        const double lod_median = median_of(lod);
+        std::vector<double> deviation(d.size());
+        for (std::size_t i = 0; i < d.size(); ++i) deviation[i] = std::abs(d[i] - median);
+        // 1.4826·MAD: the σ of a normal distribution (Rousseeuw & Croux 1993).
+        const double spread = 1.4826 * median_of(std::move(deviation));
+        rows.push_back({zone, "m3c2_median_m", median, lod_median, valid,
+                        std::abs(median) > lod_median});
+        rows.push_back(
+            {zone, "m3c2_mean_m", mean, lod_median, valid, std::abs(mean) > lod_median});
+        rows.push_back({zone, "m3c2_spread_m", spread, std::nullopt, valid, false});
+        rows.push_back({zone, "m3c2_lod95_median_m", lod_median, std::nullopt, valid, false});
+        rows.push_back({zone, "m3c2_significant_share", double(significant) / double(valid),
+                        std::nullopt, valid, false});
+    }
+    return rows;
+}
+
+std::vector<CorePointArray> m3c2_core_point_arrays(const M3c2Reference& product,
+                                                   const M3c2Epoch& epoch) {
+    const std::size_t n = product.reference.size();
+    CorePointArray distance{"m3c2_distance_m", std::vector<float>(n)};
+    CorePointArray lod{"m3c2_lod95_m", std::vector<float>(n)};
+    CorePointArray n1{"m3c2_n1", std::vector<float>(n)};
+    CorePointArray n2{"m3c2_n2", std::vector<float>(n)};
+    for (std::size_t k = 0; k < n; ++k) {
+        distance.values[k] = static_cast<float>(epoch.distances[k].distance);
+        lod.values[k] = static_cast<float>(epoch.distances[k].lod);
+        n1.values[k] = static_cast<float>(product.reference.reference_side[k].count);
+        n2.values[k] = static_cast<float>(epoch.compared[k].count);
+    }
+    return {std::move(distance), std::move(lod), std::move(n1), std::move(n2)};
+}
+
+StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input,
+                      ReferenceEpoch& reference, ReferenceCache& cache,
+                      const StageOutputs& outputs, EpochResults& results) {
+    const auto product = cache.get<M3c2Reference>(
+        reference,
+        ProductKey{M3c2Reference::kStage, m3c2_reference_parameters(config),
+                   M3c2Reference::kFormatVersion},
+        [&](const std::vector<Scan>& scans) { return prepare_m3c2_reference(config, scans); });
+    const M3c2Epoch epoch = measure_m3c2(config, *product, *input.scans, outputs);
+    auto rows = m3c2_zone_results(*product, epoch);
+    auto arrays = m3c2_core_point_arrays(*product, epoch);
+    std::size_t valid = 0;
+    double reg_max = 0;
+    for (std::size_t k = 0; k < epoch.distances.size(); ++k) {
+        if (!std::isfinite(epoch.distances[k].distance)) continue;
+        ++valid;
+        reg_max = std::max(reg_max, epoch.registration_sigma[k]);
+    }
+    results.zone_results.insert(results.zone_results.end(), std::make_move_iterator(rows.begin()),
+                                std::make_move_iterator(rows.end()));
+    results.core_point_arrays.insert(results.core_point_arrays.end(),
+                                     std::make_move_iterator(arrays.begin()),
+                                     std::make_move_iterator(arrays.end()));
+    StageVerdict verdict;
+    verdict.note = fmt::format("{} of {} core points with a distance; registration σ along the "
+                               "normal up to {:.2f} mm",
+                               valid, epoch.distances.size(), 1e3 * reg_max);
+    return verdict;
+}
+
+}  // namespace tlsmon
