@@ -39,7 +39,8 @@ int run_query_corepoints(const CorePointsOptions& o) {
     return run_reporting_errors("query corepoints", [&] {
         const auto db = open_for_reading(o.read);
         const auto epoch = db.epochs().find(o.epoch);
-        if (!epoch) throw Error("no epoch " + std::to_string(o.epoch) + " in " + db.path().string());
+        if (!epoch)
+            throw Error("no epoch " + std::to_string(o.epoch) + " in " + db.path().string());
         const auto distance = db.series().core_point_array(o.epoch, "m3c2_distance_m");
         if (!distance) {
             throw Error("epoch " + std::to_string(o.epoch) + " (" +
@@ -48,8 +49,8 @@ int run_query_corepoints(const CorePointsOptions& o) {
         const auto array = [&](const char* quantity) {
             auto a = db.series().core_point_array(o.epoch, quantity);
             if (!a || a->values.size() != distance->values.size()) {
-                throw Error("epoch " + std::to_string(o.epoch) + ": core point array '" +
-                            quantity + "' is missing or of another length");
+                throw Error("epoch " + std::to_string(o.epoch) + ": core point array '" + quantity +
+                            "' is missing or of another length");
             }
             return a->values;
         };

@@ -11,13 +11,13 @@ namespace tlsmon {
 enum class M3c2Statistic { mean, median };
 
 struct M3c2Config {
-    bool enabled = true;                            // runs when there is at least one zone
-    double core_spacing = 0.5;                      // m, cubes of the core point subsampling
-    std::vector<double> normal_radii{0.5, 1.0};     // m, D/2 of Lague 2013
-    double cylinder_radius = 0.5;                   // m, d/2
-    double max_depth = 1.0;                         // m, half-length h of the cylinder
-    int min_points = 10;                            // per cylinder and cloud, else NaN
-    bool orient_to_scanner = true;                  // else along `orientation`
+    bool enabled = true;                         // runs when there is at least one zone
+    double core_spacing = 0.5;                   // m, cubes of the core point subsampling
+    std::vector<double> normal_radii{0.5, 1.0};  // m, D/2 of Lague 2013
+    double cylinder_radius = 0.5;                // m, d/2
+    double max_depth = 1.0;                      // m, half-length h of the cylinder
+    int min_points = 10;                         // per cylinder and cloud, else NaN
+    bool orient_to_scanner = true;               // else along `orientation`
     Eigen::Vector3d orientation = Eigen::Vector3d::UnitZ();
     M3c2Statistic statistic = M3c2Statistic::mean;  // per cylinder: mean/std or median/IQR
     double registration_error = 0.0;                // m, the LoD's reg without a registration

@@ -71,9 +71,9 @@ double median_of(std::vector<double> v) {
 std::string m3c2_reference_parameters(const M3c2Config& c) {
     std::string s = fmt::format("core_spacing={:.17g};radii=", c.core_spacing);
     for (double r : c.normal_radii) s += fmt::format("{:.17g},", r);
-    s += fmt::format(";cylinder_radius={:.17g};max_depth={:.17g};statistic={};orientation=",
-                     c.cylinder_radius, c.max_depth,
-                     c.statistic == M3c2Statistic::median ? "median" : "mean");
+    s += fmt::format(
+        ";cylinder_radius={:.17g};max_depth={:.17g};statistic={};orientation=", c.cylinder_radius,
+        c.max_depth, c.statistic == M3c2Statistic::median ? "median" : "mean");
     if (c.orient_to_scanner) {
         s += "scanner";
     } else {
@@ -117,7 +117,8 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
         if (inside[i]) in_zones.push_back(points[i]);
     }
     inside = {};
-    std::vector<Eigen::Vector3d> cores = m3c2::subsample(in_zones, config.core_spacing, threads_of(config));
+    std::vector<Eigen::Vector3d> cores =
+        m3c2::subsample(in_zones, config.core_spacing, threads_of(config));
     in_zones = {};
     for (const auto& z : config.zones) {
         out.zone_names.push_back(z.name);
@@ -126,9 +127,9 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
             if (z.contains(cores[k])) members.push_back(static_cast<std::uint32_t>(k));
         }
     }
-    out.reference = m3c2::prepare_reference(points, std::move(cores),
-                                            normal_parameters(config, out.scanner),
-                                            cylinder_parameters(config), threads_of(config));
+    out.reference =
+        m3c2::prepare_reference(points, std::move(cores), normal_parameters(config, out.scanner),
+                                cylinder_parameters(config), threads_of(config));
     return out;
 }
 
@@ -282,10 +283,9 @@ std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& product, const M3
         for (std::size_t i = 0; i < d.size(); ++i) deviation[i] = std::abs(d[i] - median);
         // 1.4826·MAD: the σ of a normal distribution (Rousseeuw & Croux 1993).
         const double spread = 1.4826 * median_of(std::move(deviation));
-        rows.push_back({zone, "m3c2_median_m", median, lod_median, valid,
-                        std::abs(median) > lod_median});
         rows.push_back(
-            {zone, "m3c2_mean_m", mean, lod_median, valid, std::abs(mean) > lod_median});
+            {zone, "m3c2_median_m", median, lod_median, valid, std::abs(median) > lod_median});
+        rows.push_back({zone, "m3c2_mean_m", mean, lod_median, valid, std::abs(mean) > lod_median});
         rows.push_back({zone, "m3c2_spread_m", spread, std::nullopt, valid, false});
         rows.push_back({zone, "m3c2_lod95_median_m", lod_median, std::nullopt, valid, false});
         rows.push_back({zone, "m3c2_significant_share", double(significant) / double(valid),
@@ -310,9 +310,8 @@ std::vector<CorePointArray> m3c2_core_point_arrays(const M3c2Reference& product,
     return {std::move(distance), std::move(lod), std::move(n1), std::move(n2)};
 }
 
-StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input,
-                      ReferenceEpoch& reference, ReferenceCache& cache,
-                      const StageOutputs& outputs, EpochResults& results) {
+StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, ReferenceEpoch& reference,
+                      ReferenceCache& cache, const StageOutputs& outputs, EpochResults& results) {
     const auto product = cache.get<M3c2Reference>(
         reference,
         ProductKey{M3c2Reference::kStage, m3c2_reference_parameters(config),
@@ -334,9 +333,10 @@ StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input,
                                      std::make_move_iterator(arrays.begin()),
                                      std::make_move_iterator(arrays.end()));
     StageVerdict verdict;
-    verdict.note = fmt::format("{} of {} core points with a distance; registration σ along the "
-                               "normal up to {:.2f} mm",
-                               valid, epoch.distances.size(), 1e3 * reg_max);
+    verdict.note = fmt::format(
+        "{} of {} core points with a distance; registration σ along the "
+        "normal up to {:.2f} mm",
+        valid, epoch.distances.size(), 1e3 * reg_max);
     return verdict;
 }
 

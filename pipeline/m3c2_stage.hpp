@@ -35,8 +35,8 @@ struct M3c2Reference {
     static constexpr const char* kStage = "m3c2";
 
     m3c2::Reference reference;
-    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
-    std::vector<std::string> zone_names;                // in the configuration's order
+    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();   // the reference scan's position
+    std::vector<std::string> zone_names;                 // in the configuration's order
     std::vector<std::vector<std::uint32_t>> zone_cores;  // per zone, its core points (ascending)
 
     std::string encode() const;
@@ -65,7 +65,7 @@ struct EpochToReference {
     }
 };
 EpochToReference epoch_to_reference(const StageOutputs& outputs,
-                                     const Eigen::Vector3d& reference_scanner);
+                                    const Eigen::Vector3d& reference_scanner);
 
 // One epoch's M3C2 at every core point.
 struct M3c2Epoch {
@@ -80,8 +80,7 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& reference,
 // The zone rows (docs/m3c2.md, "Zones"): m3c2_median_m, m3c2_mean_m, m3c2_spread_m,
 // m3c2_valid_count, m3c2_lod95_median_m, m3c2_significant_share; a zone without a valid
 // core point has only m3c2_valid_count (0).
-std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& reference,
-                                          const M3c2Epoch& epoch);
+std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& reference, const M3c2Epoch& epoch);
 
 // The per-core-point float32 arrays: m3c2_distance_m, m3c2_lod95_m, m3c2_n1, m3c2_n2 (NaN:
 // no distance at that core point).
@@ -89,8 +88,7 @@ std::vector<CorePointArray> m3c2_core_point_arrays(const M3c2Reference& referenc
                                                    const M3c2Epoch& epoch);
 
 // The stage: the reference product from the cache, then the epoch, into `results`.
-StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input,
-                      ReferenceEpoch& reference, ReferenceCache& cache,
-                      const StageOutputs& outputs, EpochResults& results);
+StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, ReferenceEpoch& reference,
+                      ReferenceCache& cache, const StageOutputs& outputs, EpochResults& results);
 
 }  // namespace tlsmon

@@ -175,7 +175,7 @@ TEST(M3c2Stage, RangeScalesAndRegistrationAreUndoneByThePulledBackCylinders) {
         const Eigen::Vector3d& n = ref.reference.normals()[k];
         EXPECT_NEAR(n.z(), 1.0, 1e-9);
         EXPECT_NEAR(e.registration_sigma[k], 0.0005, 1e-9);  // n = z: σ_z
-        EXPECT_NEAR(d.lod, 1.96 * 0.0005, 1e-8);              // no noise: the reg term alone
+        EXPECT_NEAR(d.lod, 1.96 * 0.0005, 1e-8);             // no noise: the reg term alone
     }
     EXPECT_EQ(valid, ref.reference.size());
 }
