@@ -125,7 +125,8 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
         if (!t.has("z")) t.fail("z", "a prism [[zone]] needs z = [z_min, z_max]");
         std::vector<double> h;
         t.get("z", h);
-        if (h.size() != 2 || !(h[0] < h[1])) t.fail("z", "expected [z_min, z_max] with z_min < z_max");
+        if (h.size() != 2 || !(h[0] < h[1]))
+            t.fail("z", "expected [z_min, z_max] with z_min < z_max");
         try {
             std::vector<Eigen::Vector2d> outline;
             for (const auto& v : z.polygon) outline.emplace_back(v[0], v[1]);
@@ -201,7 +202,6 @@ std::vector<ZoneConfig> read_zone_bands(TomlFields& t, const std::vector<ZoneCon
     }
     return out;
 }
-
 
 TargetConfig read_target(TomlFields& t, const std::set<std::string>& taken) {
     TargetConfig g;

@@ -431,8 +431,8 @@ std::vector<ConfigKey> declare_keys() {
                "Core points: the reference's points inside the zones, one per cube of this edge "
                "(the one nearest the cube's centre). Taken once, with the reference epoch."),
         m3c2_radii(),
-        number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100,
-               "m", "Radius of the projection cylinder (d/2 of Lague 2013)."),
+        number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100, "m",
+               "Radius of the projection cylinder (d/2 of Lague 2013)."),
         number(at(&C::m3c2, &M3c2Config::max_depth), "m3c2.max_depth", 0.001, 100, "m",
                "Half-length of the cylinder along the normal: the largest change measured."),
         integer(at(&C::m3c2, &M3c2Config::min_points), "m3c2.min_points", 2, 1000000, "",
@@ -442,8 +442,7 @@ std::vector<ConfigKey> declare_keys() {
         choice(at(&C::m3c2, &M3c2Config::statistic), "m3c2.statistic", kM3c2Statistics,
                "Per cylinder: `mean` with the standard deviation, or `median` with the "
                "interquartile range as the spread (robust to stray points)."),
-        number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1,
-               "m",
+        number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1, "m",
                "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
                "registration (no `[[target]]`). With a registration it is not used: each core "
                "point gets the registration's σ along its normal."),
@@ -479,8 +478,8 @@ std::vector<ConfigKey> declare_keys() {
                 "",
                 "A zone value whose epoch was acquired longer ago than this is flagged stale in "
                 "its quality word."),
-        seconds(at(&C::modbus, &ModbusConfig::snapshot_interval), "modbus.snapshot_interval",
-                0.1, 3600, "",
+        seconds(at(&C::modbus, &ModbusConfig::snapshot_interval), "modbus.snapshot_interval", 0.1,
+                3600, "",
                 "The registers are rebuilt from the database after each epoch and at least "
                 "this often."),
 
