@@ -31,6 +31,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 long peak_mb() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -82,7 +89,9 @@ int main(int argc, char** argv) {
         std::printf("epoch 0 rendered: %zu points, %.1f s\n", scans[0].size(), seconds_since(t0));
         reference = measure_reference_targets(targets, scans);
         t0 = std::chrono::steady_clock::now();
+        const double cpu0 = cpu_seconds();
         ref = prepare_m3c2_reference(config, scans);
+        std::printf("reference product: cpu %.2f s\n", cpu_seconds() - cpu0);
         std::printf("reference product: %zu core points, %.2f s, %zu bytes encoded\n",
                     ref.reference.size(), seconds_since(t0), ref.encode().size());
     }
@@ -108,11 +117,14 @@ int main(int argc, char** argv) {
         o.scanner = scans[0].scanner_position();
         o.reference_range_scale = c0.atmosphere.range_scale;
         t0 = std::chrono::steady_clock::now();
+        const double cpu0 = cpu_seconds();
         const M3c2Epoch m = measure_m3c2(config, ref, scans, o);
         const auto rows = m3c2_zone_results(ref, m);
         const auto arrays = m3c2_core_point_arrays(ref, m);
-        std::printf("epoch %d: m3c2 stage %.2f s (2 threads), peak RSS so far %ld MB\n", i,
-                    seconds_since(t0), peak_mb());
+        std::printf(
+            "epoch %d: m3c2 stage %.2f s wall, %.2f s cpu (2 threads), peak RSS so far "
+            "%ld MB\n",
+            i, seconds_since(t0), cpu_seconds() - cpu0, peak_mb());
         std::vector<double> truth(ref.reference.size(), std::nan(""));
         for (std::size_t k = 0; k < truth.size(); ++k) {
             const auto& n = ref.reference.normals()[k];

@@ -1,0 +1,96 @@
+// `tlsmon query corepoints`: the built binary on a database the pipeline filled with a plate
+// lifted 4 mm (tests/pipeline/test_m3c2_stage.cpp's construction): one CSV row per core
+// point with its position, normal, distance, LoD and zones; clear errors otherwise.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "tests/pipeline/pipeline_site.hpp"
+
+namespace tlsmon::test {
+namespace {
+
+struct Finished {
+    int status = -1;
+    std::string out;
+};
+
+Finished run(const std::string& args) {
+    const std::string cmd = std::string(TLSMON_BINARY) + " " + args + " 2>&1";
+    Finished r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+    const int status = ::pclose(pipe);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::vector<std::string> fields(const std::string& line) {
+    std::vector<std::string> out;
+    std::istringstream in(line);
+    for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+    return out;
+}
+
+TEST(QueryCorePoints, WritesOneRowPerCorePointOfTheEpoch) {
+    PipelineSite site;
+    M3c2Config& c = site.config.m3c2;
+    c.core_spacing = 2.0;
+    c.normal_radii = {1.5};
+    c.cylinder_radius = 1.0;
+    c.max_depth = 0.5;
+    c.min_points = 3;
+    c.orient_to_scanner = false;
+    c.orientation = Eigen::Vector3d::UnitZ();
+    c.registration_error = 0.001;
+    c.zones = {box_zone("plate", {-0.1, -0.1, -1.0}, {10.1, 10.1, 1.0}),
+               prism_zone("triangle", {{0, 0}, {10, 0}, {0, 10}}, -1.0, 1.0)};
+    for (const auto& z : c.zones) site.db->site().upsert_zone(z.name, "{}");
+    const Epoch e0 = site.add_epoch("e0.xyz", 1000);
+    const Epoch e1 = site.add_epoch("e1.xyz", 2000, 0.004);
+    {
+        ReferenceCache cache(*site.db);
+        ASSERT_EQ(site.process(e0, cache), EpochOutcome::done);
+        ASSERT_EQ(site.process(e1, cache), EpochOutcome::done);
+    }
+    const auto db = site.dir / "tlsmon.sqlite";
+    const auto out = site.dir / "e1.csv";
+    const Finished r = run("query corepoints --db " + db.string() + " --epoch " +
+                           std::to_string(e1.id) + " --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    std::ifstream in(out);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "core,x,y,z,nx,ny,nz,normal_radius,distance,lod95,n1,n2,significant,zones");
+    int rows = 0, in_triangle = 0;
+    while (std::getline(in, line)) {
+        const auto f = fields(line);
+        ASSERT_EQ(f.size(), 14u) << line;
+        ++rows;
+        const double x = std::stod(f[1]), y = std::stod(f[2]);
+        EXPECT_NEAR(std::stod(f[6]), 1.0, 1e-9) << line;  // nz
+        EXPECT_EQ(std::stod(f[7]), 1.5) << line;
+        EXPECT_NEAR(std::stod(f[8]), 0.004, 1e-6) << line;
+        EXPECT_NEAR(std::stod(f[9]), 1.96e-3, 1e-6) << line;
+        EXPECT_EQ(f[12], "true") << line;
+        const bool triangle = x + y <= 10.0;
+        in_triangle += triangle;
+        EXPECT_EQ(f[13], triangle ? "plate;triangle" : "plate") << line;
+    }
+    EXPECT_EQ(rows, 36);
+    EXPECT_EQ(in_triangle, 15);
+
+    const Finished none = run("query corepoints --db " + db.string() + " --epoch 99");
+    EXPECT_EQ(none.status, 1);
+    EXPECT_NE(none.out.find("no epoch 99"), std::string::npos) << none.out;
+}
+
+}  // namespace
+}  // namespace tlsmon::test
