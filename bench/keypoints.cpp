@@ -3,7 +3,8 @@
 // keypoints and descriptors are prepared first and not counted (the pipeline computes them
 // once and keeps them in the reference cache); reading the files is not counted either.
 //
-//   bench_keypoints REFERENCE EPOCH [DETECTOR DESCRIPTOR [WINDOW_DEG [RATIO [MUTUAL]]]]
+//   bench_keypoints REFERENCE EPOCH [DETECTOR DESCRIPTOR [WINDOW_DEG [RATIO [MUTUAL
+//                   [OCTAVES LAYERS]]]]]
 //
 // e.g. two epochs of `tlsmon simulate --preset pier --epochs 2 --out /tmp/pier`.
 // OpenCV's own threads are left at their default (every core: 2 on the bench machine).
@@ -57,6 +58,10 @@ int main(int argc, char** argv) {
     if (argc > 5) matching.window_radius = std::atof(argv[5]) * std::numbers::pi / 180.0;
     if (argc > 6) matching.ratio = std::atof(argv[6]);
     if (argc > 7) matching.mutual = std::atoi(argv[7]) != 0;
+    if (argc > 9) {
+        features.kaze_octaves = std::atoi(argv[8]);
+        features.kaze_octave_layers = std::atoi(argv[9]);
+    }
     constexpr int margin = 2;
 
     auto t0 = Clock::now();
@@ -106,8 +111,9 @@ int main(int argc, char** argv) {
     std::sort(lengths.begin(), lengths.end());
     const double median_mm = lengths.empty() ? NAN : 1000 * lengths[lengths.size() / 2];
 
-    std::printf("%s + %s, window %.3f deg, ratio %.2f, mutual %d\n", features.detector.c_str(),
-                features.descriptor.c_str(), matching.window_radius * 180 / std::numbers::pi,
+    std::printf("%s + %s (octaves %d x %d), window %.3f deg, ratio %.2f, mutual %d\n",
+                features.detector.c_str(), features.descriptor.c_str(), features.kaze_octaves,
+                features.kaze_octave_layers, matching.window_radius * 180 / std::numbers::pi,
                 matching.ratio, int(matching.mutual));
     std::printf("images       %6.2f s\n", t_images);
     std::printf("detection    %6.2f s  (%zu keypoints)\n", t_detect, keypoints.size());

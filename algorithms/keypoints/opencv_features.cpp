@@ -69,6 +69,8 @@ void validate(const FeatureParameters& p) {
     if (p.clahe && (!(p.clahe_clip_limit > 0.0) || p.clahe_tiles < 1))
         throw Error("keypoints: CLAHE needs a clip limit > 0 and at least one tile");
     if (!(p.kaze_threshold > 0.0)) throw Error("keypoints: kaze_threshold must be > 0");
+    if (p.kaze_octaves < 1 || p.kaze_octave_layers < 1)
+        throw Error("keypoints: kaze_octaves and kaze_octave_layers must be >= 1");
     if (p.max_keypoints < 0) throw Error("keypoints: max_keypoints must be >= 0");
 }
 

@@ -24,18 +24,50 @@ double median_of(std::vector<double> v) {
 }
 
 // The azimuth at which the scan is cut open: the middle of the widest angular gap between
-// returns (the gap across ±π included), so that no return lies near the cut. Returns the
-// amount to add to azimuths below the cut (2π), or nothing when the widest gap is the one
-// across ±π (the azimuths are continuous as they are).
-double unwrap_cut(std::vector<double> azimuths) {
-    std::sort(azimuths.begin(), azimuths.end());
-    double widest = two_pi - (azimuths.back() - azimuths.front());  // across ±π
+// returns (the gap across ±π included), so that no return lies near the cut. Azimuths below
+// the cut are then taken + 2π; a cut at −π leaves them as they are. The gap is found on a
+// histogram of 0.1° bins (a sort of millions of azimuths costs more than the rest of the
+// images); only a scan without any empty bin falls back to the sorted azimuths.
+double unwrap_cut(const std::vector<double>& azimuths) {
+    constexpr int bins = 3600;
+    const double width = two_pi / bins;
+    std::vector<std::uint32_t> count(bins, 0);
+    for (double a : azimuths) {
+        const int k = std::clamp(static_cast<int>((a + std::numbers::pi) / width), 0, bins - 1);
+        ++count[static_cast<std::size_t>(k)];
+    }
+    // The longest circular run of empty bins: start from an occupied bin.
+    int first_occupied = -1;
+    for (int k = 0; k < bins && first_occupied < 0; ++k)
+        if (count[static_cast<std::size_t>(k)] > 0) first_occupied = k;
+    if (first_occupied < 0) return -std::numbers::pi;
+    int best_length = 0, best_start = 0, length = 0, start = 0;
+    for (int i = 1; i <= bins; ++i) {
+        const int k = (first_occupied + i) % bins;
+        if (count[static_cast<std::size_t>(k)] == 0) {
+            if (length == 0) start = k;
+            if (++length > best_length) {
+                best_length = length;
+                best_start = start;
+            }
+        } else {
+            length = 0;
+        }
+    }
+    if (best_length > 0) {
+        const int end = best_start + best_length;  // one past the run, may exceed `bins`
+        if (end > bins) return -std::numbers::pi;  // the run spans ±π: no cut needed
+        return -std::numbers::pi + width * 0.5 * (best_start + end);
+    }
+    std::vector<double> sorted = azimuths;
+    std::sort(sorted.begin(), sorted.end());
+    double widest = two_pi - (sorted.back() - sorted.front());  // across ±π
     double cut = -std::numbers::pi;
-    for (std::size_t i = 1; i < azimuths.size(); ++i) {
-        const double gap = azimuths[i] - azimuths[i - 1];
+    for (std::size_t i = 1; i < sorted.size(); ++i) {
+        const double gap = sorted[i] - sorted[i - 1];
         if (gap > widest) {
             widest = gap;
-            cut = 0.5 * (azimuths[i] + azimuths[i - 1]);
+            cut = 0.5 * (sorted[i] + sorted[i - 1]);
         }
     }
     return cut;
