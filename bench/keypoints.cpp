@@ -8,6 +8,9 @@
 //
 // e.g. two epochs of `tlsmon simulate --preset pier --epochs 2 --out /tmp/pier`.
 // OpenCV's own threads are left at their default (every core: 2 on the bench machine).
+#include <time.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +33,14 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// CPU seconds of the whole process (every thread, OpenCV's included): on a shared machine
+// the wall time depends on the load, this does not.
+double process_cpu() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 Scan read_structured(const char* path) {
@@ -85,25 +96,36 @@ int main(int argc, char** argv) {
 
     const auto start = Clock::now();
     t0 = Clock::now();
+    double c0 = process_cpu();
     const SphericalImages epoch = spherical_images_from_grid(epoch_scan);
     const Raster8 grey = prepared_image(intensity_to_8bit(epoch), features);
     const Raster8 mask = detection_mask(epoch, margin);
     const double t_images = since(t0);
+    const double cpu_images = process_cpu() - c0;
+    c0 = process_cpu();
     t0 = Clock::now();
     const auto keypoints = detect_keypoints(grey, mask, features);
     const double t_detect = since(t0);
+    const double cpu_detect = process_cpu() - c0;
+    c0 = process_cpu();
     t0 = Clock::now();
     const Features described = describe_keypoints(grey, keypoints, features);
     const double t_describe = since(t0);
+    const double cpu_describe = process_cpu() - c0;
+    c0 = process_cpu();
     t0 = Clock::now();
     const auto pairs = match_keypoints(reference_positions, reference_features.descriptors,
                                        angular_positions(epoch, described.keypoints),
                                        described.descriptors, matching);
     const double t_match = since(t0);
+    const double cpu_match = process_cpu() - c0;
+    c0 = process_cpu();
     t0 = Clock::now();
     const auto in_3d = matches_to_3d(reference, reference_features.keypoints, reference.pose, epoch,
                                      described.keypoints, epoch.pose, pairs);
     const double t_3d = since(t0);
+    const double cpu_3d = process_cpu() - c0;
+    c0 = process_cpu();
     const double total = since(start);
 
     std::vector<double> lengths;
@@ -115,16 +137,20 @@ int main(int argc, char** argv) {
                 features.detector.c_str(), features.descriptor.c_str(), features.kaze_octaves,
                 features.kaze_octave_layers, matching.window_radius * 180 / std::numbers::pi,
                 matching.ratio, int(matching.mutual));
-    std::printf("images       %6.2f s\n", t_images);
-    std::printf("detection    %6.2f s  (%zu keypoints)\n", t_detect, keypoints.size());
-    std::printf("description  %6.2f s  (%zu described)\n", t_describe, described.keypoints.size());
-    std::printf("matching     %6.2f s  (%zu pairs)\n", t_match, pairs.size());
+    std::printf("step         wall s   cpu s\n");
+    std::printf("images       %6.2f  %6.2f\n", t_images, cpu_images);
+    std::printf("detection    %6.2f  %6.2f  (%zu keypoints)\n", t_detect, cpu_detect,
+                keypoints.size());
+    std::printf("description  %6.2f  %6.2f  (%zu described)\n", t_describe, cpu_describe,
+                described.keypoints.size());
+    std::printf("matching     %6.2f  %6.2f  (%zu pairs)\n", t_match, cpu_match, pairs.size());
     std::printf(
-        "3-D          %6.2f s  (%zu in 3-D; dropped: %zu outside, %zu empty neighbour, "
-        "%zu depth edge)\n",
-        t_3d, in_3d.matches.size(), in_3d.dropped_outside, in_3d.dropped_empty_neighbour,
+        "3-D          %6.2f  %6.2f  (%zu in 3-D; dropped: %zu outside, %zu empty "
+        "neighbour, %zu depth edge)\n",
+        t_3d, cpu_3d, in_3d.matches.size(), in_3d.dropped_outside, in_3d.dropped_empty_neighbour,
         in_3d.dropped_depth_edge);
-    std::printf("total        %6.2f s  (filtering: in the outlier filters' own timing)\n", total);
+    std::printf("total        %6.2f  %6.2f  (filtering: not yet, the outlier filters' own)\n",
+                total, cpu_images + cpu_detect + cpu_describe + cpu_match + cpu_3d);
     std::printf("median |vector| %.2f mm\n", median_mm);
     return 0;
 }
