@@ -4,7 +4,9 @@
 // once and keeps them in the reference cache); reading the files is not counted either.
 //
 //   bench_keypoints REFERENCE EPOCH [DETECTOR DESCRIPTOR [WINDOW_DEG [RATIO [MUTUAL
-//                   [OCTAVES LAYERS]]]]]
+//                   [OCTAVES LAYERS [BOX...]]]]]]
+// BOX: xmin,ymin,zmin,xmax,ymax,zmax in the project frame; when given, detection is confined
+// to the returns inside the boxes (the zones of interest), as the pipeline's stage does.
 //
 // e.g. two epochs of `tlsmon simulate --preset pier --epochs 2 --out /tmp/pier`.
 // OpenCV's own threads are left at their default (every core: 2 on the bench machine).
@@ -73,6 +75,21 @@ int main(int argc, char** argv) {
         features.kaze_octaves = std::atoi(argv[8]);
         features.kaze_octave_layers = std::atoi(argv[9]);
     }
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (int i = 10; i < argc; ++i) {
+        double v[6];
+        if (std::sscanf(argv[i], "%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4],
+                        &v[5]) != 6) {
+            std::fprintf(stderr, "%s: not a box xmin,ymin,zmin,xmax,ymax,zmax\n", argv[i]);
+            return 2;
+        }
+        boxes.emplace_back(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
+    }
+    const auto mask_of = [&](const SphericalImages& images) {
+        Raster8 mask = detection_mask(images, margin);
+        if (!boxes.empty()) restrict_mask(mask, pixels_in_boxes(images, boxes));
+        return mask;
+    };
     constexpr int margin = 2;
 
     auto t0 = Clock::now();
@@ -83,8 +100,7 @@ int main(int argc, char** argv) {
     t0 = Clock::now();
     const SphericalImages reference = spherical_images_from_grid(reference_scan);
     const Raster8 reference_grey = prepared_image(intensity_to_8bit(reference), features);
-    const auto reference_keypoints =
-        detect_keypoints(reference_grey, detection_mask(reference, margin), features);
+    const auto reference_keypoints = detect_keypoints(reference_grey, mask_of(reference), features);
     const Features reference_features =
         describe_keypoints(reference_grey, reference_keypoints, features);
     const auto reference_positions = angular_positions(reference, reference_features.keypoints);
@@ -99,7 +115,7 @@ int main(int argc, char** argv) {
     double c0 = process_cpu();
     const SphericalImages epoch = spherical_images_from_grid(epoch_scan);
     const Raster8 grey = prepared_image(intensity_to_8bit(epoch), features);
-    const Raster8 mask = detection_mask(epoch, margin);
+    const Raster8 mask = mask_of(epoch);
     const double t_images = since(t0);
     const double cpu_images = process_cpu() - c0;
     c0 = process_cpu();

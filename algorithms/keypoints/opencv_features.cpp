@@ -88,9 +88,35 @@ std::vector<Keypoint> detect_keypoints(const Raster8& image, const Raster8& mask
     validate(p);
     if (!mask.pixels.empty() && (mask.rows != image.rows || mask.columns != image.columns))
         throw Error("keypoints: the detection mask's size differs from the image's");
+    // The detector works on the mask's bounding rectangle only, widened by a margin that
+    // covers its largest filters (KAZE's coarsest scale, σ ≈ 1.6 · 2^octaves pixels), so a
+    // mask confined to the zones of interest saves the scale space of the rest.
+    cv::Rect roi(0, 0, image.columns, image.rows);
+    if (!mask.pixels.empty()) {
+        int top = image.rows, bottom = -1, left = image.columns, right = -1;
+        for (int r = 0; r < mask.rows; ++r)
+            for (int c = 0; c < mask.columns; ++c)
+                if (mask.at(r, c)) {
+                    top = std::min(top, r);
+                    bottom = std::max(bottom, r);
+                    left = std::min(left, c);
+                    right = std::max(right, c);
+                }
+        if (bottom < 0) return {};
+        const int margin = 64;
+        roi = cv::Rect(cv::Point(std::max(left - margin, 0), std::max(top - margin, 0)),
+                       cv::Point(std::min(right + margin + 1, image.columns),
+                                 std::min(bottom + margin + 1, image.rows)));
+    }
     std::vector<cv::KeyPoint> found;
-    create(p.detector, p, true)
-        ->detect(view_of(image), found, mask.pixels.empty() ? cv::Mat() : view_of(mask));
+    try {
+        create(p.detector, p, true)
+            ->detect(view_of(image)(roi), found,
+                     mask.pixels.empty() ? cv::Mat() : view_of(mask)(roi));
+    } catch (const cv::Exception& e) {
+        throw Error("keypoints: the '" + p.detector + "' detector failed: " + e.what());
+    }
+    for (auto& k : found) k.pt += cv::Point2f(static_cast<float>(roi.x), static_cast<float>(roi.y));
     if (p.max_keypoints > 0) cv::KeyPointsFilter::retainBest(found, p.max_keypoints);
     std::vector<Keypoint> out;
     out.reserve(found.size());
@@ -116,7 +142,11 @@ Features describe_keypoints(const Raster8& image, const std::vector<Keypoint>& k
         cv_keypoints.push_back(c);
     }
     cv::Mat d;
-    create(p.descriptor, p, false)->compute(view_of(image), cv_keypoints, d);
+    try {
+        create(p.descriptor, p, false)->compute(view_of(image), cv_keypoints, d);
+    } catch (const cv::Exception& e) {
+        throw Error("keypoints: the '" + p.descriptor + "' descriptor failed: " + e.what());
+    }
     Features out;
     if (static_cast<std::size_t>(d.rows) != cv_keypoints.size())
         throw Error("keypoints: the '" + p.descriptor + "' descriptor returned " +

@@ -366,4 +366,32 @@ Raster8 detection_mask(const SphericalImages& images, int margin) {
     return out;
 }
 
+ImageMask pixels_in_boxes(const SphericalImages& images,
+                          const std::vector<Eigen::AlignedBox3d>& project_boxes) {
+    ImageMask inside = ImageMask::Constant(images.rows, images.columns, false);
+    for (Eigen::Index r = 0; r < images.rows; ++r)
+        for (Eigen::Index c = 0; c < images.columns; ++c) {
+            if (!images.valid(r, c)) continue;
+            const Eigen::Vector3d p =
+                images.pose *
+                cartesian_of({images.range(r, c), images.azimuth(r, c), images.elevation(r, c)});
+            for (const auto& box : project_boxes)
+                if (box.contains(p)) {
+                    inside(r, c) = true;
+                    break;
+                }
+        }
+    return inside;
+}
+
+void restrict_mask(Raster8& mask, const ImageMask& region) {
+    if (region.rows() != mask.rows || region.cols() != mask.columns)
+        throw Error("restrict_mask: the region's size differs from the mask's");
+    for (int r = 0; r < mask.rows; ++r)
+        for (int c = 0; c < mask.columns; ++c)
+            if (!region(r, c))
+                mask.pixels[static_cast<std::size_t>(r) * static_cast<std::size_t>(mask.columns) +
+                            static_cast<std::size_t>(c)] = 0;
+}
+
 }  // namespace tlsmon::keypoints

@@ -91,4 +91,11 @@ Raster8 intensity_to_8bit(const SphericalImages& images, double low_quantile = 0
 // of the sky are the contrast of "return / no return", not of the surface.
 Raster8 detection_mask(const SphericalImages& images, int margin);
 
+// The pixels whose return lies, in the project frame (the scan's pose applied), inside one of
+// the boxes: the zones of interest. Applied to a detection mask it confines detection to
+// them, and the detector's work to their bounding rectangle in the image.
+ImageMask pixels_in_boxes(const SphericalImages& images,
+                          const std::vector<Eigen::AlignedBox3d>& project_boxes);
+void restrict_mask(Raster8& mask, const ImageMask& region);
+
 }  // namespace tlsmon::keypoints

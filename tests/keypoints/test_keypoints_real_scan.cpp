@@ -249,6 +249,26 @@ TEST(KeypointsRealScan, SiftKeypointsDescribedByBriskAndAlternatives) {
     EXPECT_EQ(prepared_image(grey, p).pixels.size(), grey.pixels.size());
 }
 
+TEST(KeypointsRealScan, DetectionConfinedToZoneBoxes) {
+    // The lower half of the scan in the project frame (z < 0): every keypoint's pixel holds
+    // a return inside the box, and there are keypoints.
+    const SphericalImages& im = reference().images;
+    const Eigen::AlignedBox3d box(Eigen::Vector3d(-10, -10, -10), Eigen::Vector3d(10, 10, 0));
+    const ImageMask inside = pixels_in_boxes(im, {box});
+    for (Eigen::Index r = 0; r < im.rows; ++r)
+        for (Eigen::Index c = 0; c < im.columns; ++c)
+            if (inside(r, c)) {
+                ASSERT_LE(test::pixel_point(im, r, c).z(), 0.0);
+            }
+    ASSERT_GT(inside.count(), 1000);
+    Raster8 mask = detection_mask(im, 2);
+    restrict_mask(mask, inside);
+    const auto keypoints = detect_keypoints(intensity_to_8bit(im), mask, {});
+    ASSERT_GT(keypoints.size(), 50u);
+    for (const auto& k : keypoints)
+        ASSERT_TRUE(inside(std::lround(k.row), std::lround(k.column))) << k.row << ", " << k.column;
+}
+
 TEST(KeypointsRealScan, BadNamesAreErrors) {
     FeatureParameters p;
     p.detector = "surf";
