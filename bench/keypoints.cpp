@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
         features.kaze_octaves = std::atoi(argv[8]);
         features.kaze_octave_layers = std::atoi(argv[9]);
     }
+    constexpr int margin = 2;
     std::vector<Eigen::AlignedBox3d> boxes;
     for (int i = 10; i < argc; ++i) {
         double v[6];
@@ -90,7 +91,6 @@ int main(int argc, char** argv) {
         if (!boxes.empty()) restrict_mask(mask, pixels_in_boxes(images, boxes));
         return mask;
     };
-    constexpr int margin = 2;
 
     auto t0 = Clock::now();
     const Scan reference_scan = read_structured(argv[1]);
