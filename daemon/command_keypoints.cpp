@@ -1,7 +1,9 @@
 // `tlsmon keypoints REFERENCE EPOCH ... --out VECTORS.csv`: the keypoint displacement
 // method (docs/keypoints.md) between two structured scans already in one frame, as an
 // analyst runs it by hand: spherical images, keypoints, matching in an angular window, 3-D,
-// one CSV row per match and a summary per segment (bands of the reference's vertical angle).
+// outlier filters, one CSV row per match and a summary per segment (bands of the
+// reference's vertical angle).
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -9,7 +11,6 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@
 #include "algorithms/keypoints/keypoint_matching.hpp"
 #include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
+#include "algorithms/keypoints/outlier_filters.hpp"
+#include "algorithms/keypoints/segment_displacement.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
 #include "core/error.hpp"
 #include "daemon/commands.hpp"
@@ -71,18 +74,14 @@ Prepared prepare(const Scan& scan, const FeatureParameters& parameters) {
     return p;
 }
 
-// Segment k: the band k · width − 90° ≤ e < (k + 1) · width − 90° of the reference's
-// vertical angle.
-int band_of(double elevation, double width_deg) {
-    return static_cast<int>(std::floor((elevation / deg + 90.0) / width_deg));
-}
-
-// ---- Hook: outlier filters (issue 12, step 5: algorithms/keypoints/outlier_filters.hpp,
-// branch `kpmodel`). Until they are merged no match is removed: every `removed_by` is empty.
-// Replace the body with the sequential MAD filters per segment; the CSV and the summary
-// already report whatever it returns.
-std::vector<std::string> removed_by_outlier_filters(const std::vector<KeypointMatch>& matches) {
-    return std::vector<std::string>(matches.size());
+// Each match's `removed_by`: the outlier filter that removed it (Hochmoselbrücke method,
+// step 5: algorithms/keypoints/outlier_filters.hpp), empty when kept.
+std::vector<std::string> removed_by_names(const std::vector<OutlierFilter>& removed_by) {
+    std::vector<std::string> names;
+    names.reserve(removed_by.size());
+    for (const auto f : removed_by)
+        names.emplace_back(f == OutlierFilter::none ? std::string_view{} : outlier_filter_name(f));
+    return names;
 }
 
 // "nan" for NaN, else the number with `decimals` decimals.
@@ -118,42 +117,34 @@ void write_csv(const std::string& path, const std::vector<KeypointMatch>& matche
         throw Error(path + ": write failed: " + std::strerror(errno));
 }
 
-// ---- Hook: per-segment aggregation (issue 12, step 6: algorithms/keypoints/
-// segment_displacement.hpp, branch `kpmodel`). Until it is merged the summary is each
-// segment's plain mean vector, per-component standard deviation and count of the matches
-// the filters kept, without the minimum count and the components along the surface.
+// Per segment (step 6: algorithms/keypoints/segment_displacement.hpp): the matches kept,
+// the mean vector and its spread, and the components along the wall's normal (fitted to the
+// kept reference points, oriented towards the scanner) and along the surface.
 void print_summary(const std::vector<KeypointMatch>& matches,
-                   const std::vector<std::string>& removed_by, double width_deg) {
-    struct Sums {
-        std::size_t n = 0, removed = 0;
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum2 = Eigen::Vector3d::Zero();
-    };
-    std::map<int, Sums> by_segment;
-    for (std::size_t i = 0; i < matches.size(); ++i) {
-        Sums& s = by_segment[matches[i].segment];
-        if (!removed_by[i].empty()) {
-            ++s.removed;
+                   const std::vector<OutlierFilter>& removed_by, double width,
+                   const Eigen::Vector3d& scanner) {
+    std::vector<int> segments;
+    for (const auto& m : matches) segments.push_back(m.segment);
+    std::sort(segments.begin(), segments.end());
+    segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+    SegmentParameters parameters;
+    parameters.orientation = m3c2::Orientation::towards(scanner);
+    std::cout << "segment  elevation_deg  matches  kept  dx_mm  dy_mm  dz_mm  sx_mm  sy_mm  "
+                 "sz_mm  normal_mm  surface_h_mm  surface_v_mm  (or why undefined)\n";
+    for (const int segment : segments) {
+        const SegmentDisplacement d =
+            segment_displacement(matches, removed_by, segment, parameters);
+        const auto [lo, hi] = vertical_angle_band_bounds(segment, width);
+        std::cout << segment << "  " << number(lo / deg, 1) << ".." << number(hi / deg, 1) << "  "
+                  << d.matches << "  " << d.count;
+        if (!d.defined()) {
+            std::cout << "  " << d.undefined_reason << "\n";
             continue;
         }
-        const Eigen::Vector3d d = matches[i].displacement();
-        ++s.n;
-        s.sum += d;
-        s.sum2 += d.cwiseProduct(d);
-    }
-    std::cout << "segment  elevation_deg  matches  removed  dx_mm  dy_mm  dz_mm  "
-                 "sx_mm  sy_mm  sz_mm\n";
-    for (const auto& [segment, s] : by_segment) {
-        const double n = static_cast<double>(s.n);
-        Eigen::Vector3d mean = Eigen::Vector3d::Constant(std::nan(""));
-        Eigen::Vector3d sd = mean;
-        if (s.n > 0) mean = s.sum / n;
-        if (s.n > 1)
-            sd = ((s.sum2 - n * mean.cwiseProduct(mean)) / (n - 1)).cwiseMax(0.0).cwiseSqrt();
-        const double lo = segment * width_deg - 90.0;
-        std::cout << segment << "  " << number(lo, 1) << ".." << number(lo + width_deg, 1) << "  "
-                  << s.n << "  " << s.removed;
-        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * mean(k), 2);
-        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * sd(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.mean(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.std_dev(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.along(k), 2);
+        if (!d.wall.defined()) std::cout << "  (wall frame: " << d.wall.undefined_reason << ")";
         std::cout << "\n";
     }
 }
@@ -204,8 +195,10 @@ int run_keypoints(const KeypointsOptions& o) {
             matches_to_3d(reference.images, reference.features.keypoints, reference.images.pose,
                           epoch.images, epoch.features.keypoints, epoch.images.pose, pairs);
         const double to_3d_s = since(t0);
-        for (auto& m : in3d.matches) m.segment = band_of(m.reference_elevation, o.segments_deg);
-        const auto removed_by = removed_by_outlier_filters(in3d.matches);
+        const double width = o.segments_deg * deg;
+        for (auto& m : in3d.matches) m.segment = vertical_angle_band(m.reference_elevation, width);
+        const OutlierResult filtered = filter_outliers(in3d.matches);
+        const auto removed_by = removed_by_names(filtered.removed_by);
         write_csv(o.out, in3d.matches, removed_by);
         if (!o.images.empty())
             write_pictures(o.images, reference, epoch, in3d.matches, removed_by, o.vector_scale);
@@ -222,7 +215,8 @@ int run_keypoints(const KeypointsOptions& o) {
                   << number(epoch.detection_s, 2) << ", description "
                   << number(epoch.description_s, 2) << ", matching " << number(matching_s, 2)
                   << ", 3-D " << number(to_3d_s, 2) << "\n";
-        print_summary(in3d.matches, removed_by, o.segments_deg);
+        print_summary(in3d.matches, filtered.removed_by, width,
+                      reference.images.pose.translation());
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon keypoints: " << e.what() << "\n";
