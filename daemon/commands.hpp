@@ -173,6 +173,26 @@ struct DemoOptions {
 // 0: the run finished and its report was written; 1: an error; 130: interrupted (Ctrl-C).
 int run_demo(const DemoOptions& options);
 
+// `tlsmon keypoints REFERENCE EPOCH ... --out VECTORS.csv`: keypoint displacement vectors
+// between two structured scans already in one frame (compiled into the executable only: the
+// daemon library does not link the OpenCV adapter).
+struct KeypointsOptions {
+    std::string reference;
+    std::string epoch;
+    std::string detector = "kaze";
+    std::string descriptor = "brisk";
+    double window_deg = 0.05;
+    double ratio = 0.0;  // 0: no ratio test
+    bool mutual = false;
+    bool clahe = false;
+    double segments_deg = 5.0;  // vertical-angle bands
+    std::string out;
+    std::string images;  // folder for the pictures; "": none
+    double vector_scale = 20.0;
+};
+// 0, or 1 with the error on stderr.
+int run_keypoints(const KeypointsOptions& options);
+
 // `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
 
 }  // namespace tlsmon

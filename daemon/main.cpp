@@ -60,6 +60,7 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
+    KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
     ReadOptionsOnTheCommandLine alarm_history_read;
@@ -306,6 +307,43 @@ void add_m3c2(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_m3c2(o); });
 }
 
+void add_keypoints(CLI::App& app, CommandLine& c) {
+    auto& o = c.keypoints;
+    auto* cmd = app.add_subcommand(
+        "keypoints",
+        "Keypoint displacement vectors between two structured scans in one frame: keypoints "
+        "in the spherical intensity images, matched in an angular window, taken to 3-D; one "
+        "CSV row per match and a summary per vertical-angle band");
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (PTX or gridded E57)")
+        ->required();
+    cmd->add_option("EPOCH", o.epoch, "Compared scan file, in the reference's frame")->required();
+    cmd->add_option("--detector", o.detector, "kaze, akaze, sift, brisk or orb")
+        ->capture_default_str();
+    cmd->add_option("--descriptor", o.descriptor,
+                    "brisk, sift, orb, kaze or akaze (the last two on their own detector only)")
+        ->capture_default_str();
+    cmd->add_option("--window-deg", o.window_deg, "Angular radius of the matching window, degrees")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--ratio", o.ratio, "Lowe's ratio test (0: off)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_flag("--mutual", o.mutual, "Keep only mutually nearest matches");
+    cmd->add_flag("--clahe", o.clahe, "Equalise the intensity images (CLAHE) before detection");
+    cmd->add_option("--segments", o.segments_deg,
+                    "Segments: bands of the reference's vertical angle this many degrees high")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--out", o.out, "Result CSV file, one row per match")->required();
+    cmd->add_option("--images", o.images,
+                    "Folder for reference.png and epoch.png: the intensity images with the "
+                    "matches drawn");
+    cmd->add_option("--vector-scale", o.vector_scale, "Vectors drawn this many times their length")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_keypoints(o); });
+}
+
 void add_modbus_map(CLI::App& app, CommandLine& c) {
     auto& o = c.modbus_map;
     auto* cmd = app.add_subcommand(
@@ -380,6 +418,7 @@ int main(int argc, char** argv) {
     tlsmon::add_query(app, c);
     tlsmon::add_events(app, c);
     tlsmon::add_m3c2(app, c);
+    tlsmon::add_keypoints(app, c);
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);
     tlsmon::add_alarms(app, c);
