@@ -89,6 +89,7 @@ struct Config {
     DaemonConfig daemon;
     CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
+    IcpConfig icp;  // [registration] icp_* keys; regions: the [[stable_region]] tables
     ModbusConfig modbus;
     AlarmConfig alarm;
     std::vector<ZoneConfig> zones;
