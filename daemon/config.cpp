@@ -230,6 +230,28 @@ TargetConfig read_target(TomlFields& t, const std::set<std::string>& taken) {
     return g;
 }
 
+StableRegion read_stable_region(TomlFields& t, const std::set<std::string>& taken) {
+    StableRegion r;
+    if (!t.has("name")) t.fail("name", "every [[stable_region]] needs a name");
+    t.get("name", r.name);
+    if (r.name.empty()) t.fail("name", "expected a non-empty stable region name");
+    if (taken.count(r.name)) t.fail("name", "stable region '" + r.name + "' is defined twice");
+    for (const char* key : {"min", "max"}) {
+        if (!t.has(key)) {
+            t.fail(key, "every [[stable_region]] needs min = [x, y, z] and max = [x, y, z]");
+        }
+        std::vector<double> v;
+        t.get(key, v);
+        if (v.size() != 3) t.fail(key, "expected three numbers [x, y, z] in metres");
+        (std::string(key) == "min" ? r.min : r.max) = Eigen::Vector3d(v[0], v[1], v[2]);
+    }
+    for (int i = 0; i < 3; ++i) {
+        if (!(r.min[i] < r.max[i])) t.fail("max", "each coordinate must exceed the one in min");
+    }
+    t.reject_unknown_keys();
+    return r;
+}
+
 // Relative paths (defaults included) resolve against the configuration's folder.
 void resolve_paths(Config& c, const fs::path& base) {
     c.paths.ingest = resolve(c.paths.ingest, base);
@@ -271,6 +293,16 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     for (auto& t : top.array_of_tables("target")) {
         c.registration.targets.push_back(read_target(t, target_names));
         target_names.insert(c.registration.targets.back().name);
+    }
+    std::set<std::string> region_names;
+    for (auto& t : top.array_of_tables("stable_region")) {
+        c.icp.regions.push_back(read_stable_region(t, region_names));
+        region_names.insert(c.icp.regions.back().name);
+    }
+    if (c.icp.mode != IcpMode::off && c.icp.regions.empty()) {
+        if (auto t = top.table("registration")) {
+            t->fail("icp", "needs at least one [[stable_region]] table (ICP runs on them only)");
+        }
     }
     top.reject_unknown_keys();
     return c;
@@ -325,6 +357,11 @@ std::vector<std::string> describe(const Config& c) {
                     ", approximate = " + triple({a.x(), a.y(), a.z()}) +
                     (g.surveyed ? ", surveyed" : ""));
     }
+    for (const auto& r : c.icp.regions) {
+        l.push_back("stable_region " + toml_string(r.name) + ": min = " +
+                    triple({r.min.x(), r.min.y(), r.min.z()}) +
+                    ", max = " + triple({r.max.x(), r.max.y(), r.max.z()}));
+    }
     for (const auto& r : c.alarm.rules) l.push_back(describe_alarm_rule(r));
     return l;
 }
@@ -333,6 +370,7 @@ namespace {
 
 RegistrationConfig with_zones(const Config& config) {
     RegistrationConfig r = config.registration;
+    r.icp = config.icp;
     for (const auto& z : config.zones) {
         r.zones.push_back({z.name, Eigen::Vector3d(z.min[0], z.min[1], z.min[2]),
                            Eigen::Vector3d(z.max[0], z.max[1], z.max[2])});

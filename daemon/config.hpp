@@ -97,6 +97,7 @@ struct Config {
     CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
+    IcpConfig icp;  // [registration] icp_* keys; regions: the [[stable_region]] tables
     ModbusConfig modbus;
     AlarmConfig alarm;
     std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]

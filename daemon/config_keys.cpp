@@ -21,6 +21,12 @@ constexpr std::array<Named<M3c2Statistic>, 2> kM3c2Statistics{{
     {M3c2Statistic::mean, "mean"},
     {M3c2Statistic::median, "median"},
 }};
+constexpr std::array<Named<IcpMode>, 4> kIcpModes{{
+    {IcpMode::off, "off"},
+    {IcpMode::refine, "refine"},
+    {IcpMode::fallback, "fallback"},
+    {IcpMode::both, "both"},
+}};
 constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
     {TimeSource::scan, "scan"},
     {TimeSource::file_name, "file_name"},
@@ -449,6 +455,37 @@ std::vector<ConfigKey> declare_keys() {
         integer(at(&C::m3c2, &M3c2Config::threads), "m3c2.threads", 0, 256, "",
                 "Threads of the stage; 0: every core."),
 
+        choice(at(&C::icp, &IcpConfig::mode), "registration.icp", kIcpModes,
+               "Point-to-plane ICP on the `[[stable_region]]` tables only, never on the "
+               "structure (docs/registration.md). `refine`: after an accepted target "
+               "registration, combined with it by weights when the two agree. `fallback`: in "
+               "place of the targets when fewer than `min_targets` are usable (or they lie on a "
+               "line), from the identity, the epoch accepted if the ICP passes the `icp_*` "
+               "limits and the σ limits above. `both`: either. `off`: targets only. The row's "
+               "`method` says which was used."),
+        number(at(&C::icp, &IcpConfig::max_correspondence_distance),
+               "registration.icp_max_correspondence_distance", 0.001, 1, "m",
+               "ICP pairs an epoch point with the nearest reference point within this."),
+        integer(at(&C::icp, &IcpConfig::max_iterations), "registration.icp_max_iterations", 1,
+                1000, "", "ICP iterations at most; not converged by then: refused."),
+        number(at(&C::icp, &IcpConfig::voxel_size), "registration.icp_voxel_size", 0.01, 2, "m",
+               "Both clouds are thinned to one centroid per voxel of this side; the reference's "
+               "normals come from its centroids within three voxels."),
+        number(at(&C::icp, &IcpConfig::min_overlap), "registration.icp_min_overlap", 0, 1, "",
+               "Quality gate: share of the epoch's thinned stable points that found a pair "
+               "(the fitness)."),
+        integer(at(&C::icp, &IcpConfig::min_points), "registration.icp_min_points", 7, 10000000,
+                "", "Quality gate: pairs at least."),
+        number(at(&C::icp, &IcpConfig::max_rms), "registration.icp_max_rms", 0, 0.1, "m",
+               "Quality gate: RMS of the point-to-plane distances."),
+        number(at(&C::icp, &IcpConfig::cluster_size), "registration.icp_cluster_size", 0.1, 100,
+               "m",
+               "The ICP's covariance lets the residuals within cells of this side be correlated "
+               "(cluster-robust, docs/registration.md)."),
+        number(at(&C::icp, &IcpConfig::sigma_factor), "registration.icp_sigma_factor", 1, 10, "",
+               "The ICP's σ is multiplied by this for what no residual shows (the footprint on "
+               "grazing ground, the grid's phase); 2 is honest on the simulator "
+               "(docs/registration.md)."),
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "daemon/config_keys.hpp"
+#include "simulator/stable_ground.hpp"
 
 namespace tlsmon {
 
@@ -46,6 +47,16 @@ std::string site_configuration(const sim::Site& site) {
         "\n[[zone]]\nname = \"pier_west_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n",
         toml_number(p.x0 - 0.5), toml_number(p.y0), toml_number(p.x0 + 0.5), toml_number(p.y1),
         toml_number(p.height));
+    // Stable ground for the ICP (registration.icp): the foundation and the ground around the
+    // pier's foot, the abutments; never the pier.
+    const auto vec = [](const Eigen::Vector3d& v) {
+        return fmt::format("[{}, {}, {}]", toml_number(v.x()), toml_number(v.y()),
+                           toml_number(v.z()));
+    };
+    for (const auto& b : sim::stable_ground(site)) {
+        out += "\n[[stable_region]]\nname = " + toml_string(b.name) + "\nmin = " + vec(b.min) +
+               "\nmax = " + vec(b.max) + "\n";
+    }
     return out;
 }
 

@@ -13,6 +13,7 @@
 #include "formats/scan_file.hpp"
 #include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_files.hpp"
+#include "pipeline/icp_registration.hpp"
 #include "pipeline/sha256.hpp"
 
 namespace tlsmon {
@@ -120,13 +121,14 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                          EpochResults& results) {
     namespace reg = registration;
     RegistrationRow row;
-    row.method = r.epoch_range_scale ? "targets+atmosphere" : "targets";
+    row.method = registration_method(r);
     row.quality_json = fmt::format(
-        R"({{"atmosphere":"{}","epoch_ppm":{},"reference_ppm":{}}})",
+        R"({{"atmosphere":"{}","epoch_ppm":{},"reference_ppm":{}{}}})",
         r.epoch_range_scale ? "corrected" : "not_corrected",
         r.epoch_range_scale ? fmt::format("{:.3f}", (*r.epoch_range_scale - 1) * 1e6) : "null",
         r.reference_range_scale ? fmt::format("{:.3f}", (*r.reference_range_scale - 1) * 1e6)
-                                : "null");
+                                : "null",
+        icp_quality_json(r));
     row.status = name_of(r.tested.status);
     row.reason = verdict.rejected;
     row.target_count = r.used;

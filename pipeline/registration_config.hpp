@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/icp_config.hpp"
+
 namespace tlsmon {
 
 enum class TargetKind { sphere, checkerboard };
@@ -51,6 +53,8 @@ struct RegistrationConfig {
     double scanner_pressure_hpa = 1013.25;
     double scanner_humidity_pct = 60.0;
     std::vector<RegistrationZone> zones;
+    // ICP on the stable regions: refinement and fallback (pipeline/icp_registration.hpp).
+    IcpConfig icp;
 };
 
 }  // namespace tlsmon

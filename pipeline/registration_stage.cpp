@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/group_refractivity.hpp"
 #include "core/payload.hpp"
+#include "pipeline/icp_registration.hpp"
 #include "pipeline/target_window.hpp"
 
 namespace tlsmon {
@@ -349,6 +350,7 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
     const RangeScales scales{measured_range_scale(config, input.meteo),
                              measured_range_scale(config, reference_meteo)};
     result = register_epoch(config, *centres, *input.scans, excluded, scales);
+    apply_icp(config, input, reference, cache, scales, result);  // registration.icp
     StageVerdict verdict;
     std::string not_found;
     for (const auto& m : result.measured) {
@@ -375,6 +377,7 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
         1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
     verdict.note += "; atmosphere " + result.atmosphere;
+    if (result.icp) verdict.note += "; " + registration_method(result);
     return verdict;
 }
 

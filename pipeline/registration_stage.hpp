@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "algorithms/registration/target_tests.hpp"
+#include "pipeline/icp_measurement.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/registration_config.hpp"
 #include "pipeline/stage.hpp"
@@ -75,6 +76,8 @@ struct RegistrationResult {
     // the epoch and of the reference; absent: not corrected.
     std::optional<double> epoch_range_scale, reference_range_scale;
     std::string atmosphere;  // what was done about the air, in words
+    // The ICP on stable regions, when it ran (pipeline/icp_registration.hpp).
+    std::optional<IcpMeasurement> icp;
     bool accepted() const { return tested.accepted() && gate.empty(); }
 };
 

@@ -1,0 +1,230 @@
+#include "algorithms/registration/point_to_plane.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace tlsmon::registration {
+
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// exp([θ]×), Rodrigues.
+Eigen::Matrix3d exp_so3(const Eigen::Vector3d& theta) {
+    const double a = theta.norm();
+    if (a < 1e-300) return Eigen::Matrix3d::Identity();
+    return Eigen::AngleAxisd(a, theta / a).toRotationMatrix();
+}
+
+// The cell of a reference point, as one 64-bit key (21 bits per axis, ±1e6 cells).
+std::uint64_t cell_key(const Eigen::Vector3d& p, double size) {
+    std::uint64_t key = 0;
+    for (int k = 0; k < 3; ++k) {
+        const auto c = static_cast<std::int64_t>(std::floor(p(k) / size)) + (1 << 20);
+        key = (key << 21) | (static_cast<std::uint64_t>(c) & 0x1FFFFF);
+    }
+    return key;
+}
+
+// The larger of two covariances in the matrix sense: in the frame where `floor` is the
+// identity (whitened by its Cholesky factor L), the eigenvalues of `other` clamped below at 1.
+Covariance6 larger_of(const Covariance6& floor, const Covariance6& other) {
+    const Eigen::LLT<Covariance6> llt(floor);
+    if (llt.info() != Eigen::Success) return other;
+    const Covariance6 L = llt.matrixL();
+    const Covariance6 Linv = L.inverse();
+    const Covariance6 W = Linv * other * Linv.transpose();
+    const Eigen::SelfAdjointEigenSolver<Covariance6> es(0.5 * (W + W.transpose()));
+    const Vector6 d = es.eigenvalues().cwiseMax(1.0);
+    return L * es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose() * L.transpose();
+}
+
+}  // namespace
+
+RigidTransform rigid_transform_from(const Eigen::Matrix3d& rotation,
+                                    const Eigen::Vector3d& translation,
+                                    const Covariance6& small_rotation_covariance) {
+    RigidTransform T;
+    T.rotation = rotation;
+    T.translation = translation;
+    const Eigen::Vector3d e = euler_from_rotation(rotation);
+    T.omega = e(0);
+    T.phi = e(1);
+    T.kappa = e(2);
+    T.quaternion = Eigen::Quaterniond(rotation).normalized();
+    if (T.quaternion.w() < 0) T.quaternion.coeffs() *= -1.0;
+    T.small_rotation_covariance.setZero();
+    T.small_rotation_covariance.topLeftCorner<6, 6>() = small_rotation_covariance;
+    // θ = M·(dω, dφ, dκ), M = [R_z·R_y·e_x | R_z·e_y | e_z] (Förstner & Wrobel 2016, §8.1.3);
+    // Σ_euler = J·Σ_θ·Jᵀ with J = blockdiag(M⁻¹, I).
+    const Eigen::Matrix3d Rz = Eigen::AngleAxisd(T.kappa, Eigen::Vector3d::UnitZ()).matrix();
+    const Eigen::Matrix3d Ry = Eigen::AngleAxisd(T.phi, Eigen::Vector3d::UnitY()).matrix();
+    Eigen::Matrix3d M;
+    M.col(0) = Rz * Ry * Eigen::Vector3d::UnitX();
+    M.col(1) = Rz * Eigen::Vector3d::UnitY();
+    M.col(2) = Eigen::Vector3d::UnitZ();
+    ParameterCovariance J = ParameterCovariance::Identity();
+    J.topLeftCorner<3, 3>() = M.inverse();
+    T.covariance = J * T.small_rotation_covariance * J.transpose();
+    return T;
+}
+
+namespace {
+
+PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Matrix4d& start,
+                          const PointToPlaneParams& params);
+
+}  // namespace
+
+PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
+                                   const Eigen::Matrix4d& start, const PointToPlaneParams& params) {
+    PointToPlaneFit first = fit_pairs(pairs, start, params);
+    if (!(params.outlier_k > 0)) return first;
+    const Eigen::Matrix4d H = first.transform.matrix();
+    const Eigen::Matrix3d R = H.topLeftCorner<3, 3>();
+    const Eigen::Vector3d t = H.topRightCorner<3, 1>();
+    std::vector<double> v;
+    v.reserve(pairs.size());
+    for (const auto& p : pairs) v.push_back(p.normal.dot(R * p.epoch + t - p.reference));
+    std::vector<double> a(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) a[i] = std::fabs(v[i]);
+    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+    const double sigma = std::max(params.min_sigma, 1.4826 * a[a.size() / 2]);
+    std::vector<PointPlanePair> kept;
+    kept.reserve(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+        if (std::fabs(v[i]) <= params.outlier_k * sigma) kept.push_back(pairs[i]);
+    }
+    if (kept.size() == pairs.size()) return first;
+    PointToPlaneFit out = fit_pairs(kept, H, params);
+    out.outliers = pairs.size() - kept.size();
+    return out;
+}
+
+namespace {
+
+PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Matrix4d& start,
+                          const PointToPlaneParams& params) {
+    const std::size_t n = pairs.size();
+    if (n < 7) {
+        throw Error("point-to-plane fit: " + std::to_string(n) + " pairs (at least 7 needed)");
+    }
+    Eigen::Matrix3d R = start.topLeftCorner<3, 3>();
+    Eigen::Vector3d t = start.topRightCorner<3, 1>();
+    const auto row = [&](const PointPlanePair& p, double& v) {
+        const Eigen::Vector3d y = R * p.epoch;
+        v = p.normal.dot(y + t - p.reference);
+        Vector6 a;
+        a.head<3>() = y.cross(p.normal);
+        a.tail<3>() = p.normal;
+        return a;
+    };
+    Covariance6 N;
+    for (int it = 0; it <= std::max(0, params.iterations); ++it) {
+        N.setZero();
+        Vector6 b = Vector6::Zero();
+        for (const auto& p : pairs) {
+            double v = 0;
+            const Vector6 a = row(p, v);
+            N.selfadjointView<Eigen::Lower>().rankUpdate(a);
+            b += a * v;
+        }
+        N = N.selfadjointView<Eigen::Lower>();
+        if (it == params.iterations) break;  // N at the solution, for the covariance
+        const Eigen::LDLT<Covariance6> ldlt(N);
+        const Vector6 dx = -ldlt.solve(b);
+        if (ldlt.info() != Eigen::Success || !dx.allFinite()) {
+            throw Error("point-to-plane fit: singular normal matrix (the stable regions' "
+                        "surfaces do not hold every direction)");
+        }
+        R = exp_so3(dx.head<3>()) * R;
+        t += dx.tail<3>();
+    }
+    const Eigen::Matrix<double, 6, 1> scale = N.diagonal().cwiseSqrt().cwiseInverse();
+    const Covariance6 Ns = scale.asDiagonal() * N * scale.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Covariance6> es(Ns);
+    PointToPlaneFit out;
+    out.pairs = n;
+    out.condition = es.eigenvalues()(5) / std::max(es.eigenvalues()(0), 1e-300);
+    if (!(es.eigenvalues()(0) > 1e-12)) {
+        throw Error("point-to-plane fit: singular normal matrix (the stable regions' surfaces "
+                    "do not hold every direction)");
+    }
+    const Covariance6 Ninv = N.inverse();
+    // Residuals and the clusters' scores g_k = Σ a_i·v_i.
+    std::unordered_map<std::uint64_t, Vector6> scores;
+    double vv = 0;
+    for (const auto& p : pairs) {
+        double v = 0;
+        const Vector6 a = row(p, v);
+        vv += v * v;
+        auto [it, inserted] = scores.try_emplace(cell_key(p.reference, params.cluster_size),
+                                                 Vector6::Zero());
+        it->second += a * v;
+    }
+    out.rms = std::sqrt(vv / n);
+    out.variance_factor = vv / (n - 6);
+    out.independent = out.variance_factor * Ninv;
+    const std::size_t c = scores.size();
+    out.clusters = c;
+    Covariance6 meat = Covariance6::Zero();
+    for (const auto& [key, g] : scores) meat += g * g.transpose();
+    Covariance6 reported = out.independent;
+    if (c >= 2) {
+        const double small_sample = (double(c) / (c - 1)) * (double(n - 1) / (n - 6));
+        out.clustered = small_sample * Ninv * meat * Ninv;
+        out.clustered = 0.5 * (out.clustered + out.clustered.transpose());
+        reported = larger_of(out.independent, out.clustered);
+    } else {
+        out.clustered = out.independent;
+    }
+    double inflation = 1.0;
+    for (int k = 0; k < 6; ++k) {
+        inflation = std::max(inflation, std::sqrt(reported(k, k) / out.independent(k, k)));
+    }
+    out.inflation = inflation;
+    out.transform = rigid_transform_from(R, t, reported);
+    out.transform.variance_factor = out.variance_factor;
+    out.transform.redundancy = static_cast<int>(n) - 6;
+    out.transform.iterations = params.iterations;
+    return out;
+}
+
+}  // namespace
+
+RigidTransform combine_transforms(const RigidTransform& a, const RigidTransform& b) {
+    const Covariance6 Sa = a.small_rotation_covariance.topLeftCorner<6, 6>();
+    const Covariance6 Sb = b.small_rotation_covariance.topLeftCorner<6, 6>();
+    const Eigen::LDLT<Covariance6> la(Sa), lb(Sb);
+    const Covariance6 Pa = la.solve(Covariance6::Identity());
+    const Covariance6 Pb = lb.solve(Covariance6::Identity());
+    if (la.info() != Eigen::Success || lb.info() != Eigen::Success || !Pa.allFinite() ||
+        !Pb.allFinite()) {
+        throw Error("combining two registrations: a covariance is singular");
+    }
+    // b as a correction of a.
+    Vector6 d;
+    d.head<3>() = Eigen::AngleAxisd(b.rotation * a.rotation.transpose()).angle() *
+                  Eigen::AngleAxisd(b.rotation * a.rotation.transpose()).axis();
+    d.tail<3>() = b.translation - a.translation;
+    const Covariance6 P = Pa + Pb;
+    const Eigen::LDLT<Covariance6> lp(P);
+    const Covariance6 S = lp.solve(Covariance6::Identity());
+    const Vector6 dc = S * (Pb * d);
+    RigidTransform c = rigid_transform_from(exp_so3(dc.head<3>()) * a.rotation,
+                                            a.translation + dc.tail<3>(), 0.5 * (S + S.transpose()));
+    c.variance_factor = a.variance_factor;
+    c.redundancy = a.redundancy + b.redundancy;
+    c.residuals = a.residuals;
+    return c;
+}
+
+}  // namespace tlsmon::registration

@@ -1,0 +1,183 @@
+#include "pipeline/icp_adapter.hpp"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/error.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointNormal>;
+
+// A normal needs this many neighbours, spread in two directions: the second eigenvalue of
+// their covariance at least this share of the largest.
+constexpr int kMinNeighbours = 6;
+constexpr double kMinSpread = 0.05;
+
+// Points (and normals) about `origin`, in float.
+Cloud::Ptr to_cloud(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& origin,
+                    const std::vector<Eigen::Vector3d>* normals = nullptr) {
+    auto cloud = pcl::make_shared<Cloud>();
+    cloud->resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        auto& q = (*cloud)[i];
+        const Eigen::Vector3d p = points[i] - origin;
+        q.x = static_cast<float>(p.x());
+        q.y = static_cast<float>(p.y());
+        q.z = static_cast<float>(p.z());
+        const Eigen::Vector3d n = normals ? (*normals)[i] : Eigen::Vector3d::Zero();
+        q.normal_x = static_cast<float>(n.x());
+        q.normal_y = static_cast<float>(n.y());
+        q.normal_z = static_cast<float>(n.z());
+        q.curvature = 0.0f;
+    }
+    return cloud;
+}
+
+// The number of iterations PCL ran (kept protected in pcl::Registration).
+class CountingIcp : public pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> {
+  public:
+    int iterations() const { return nr_iterations_; }
+};
+
+Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : points) c += p;
+    return points.empty() ? c : Eigen::Vector3d(c / static_cast<double>(points.size()));
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points, double voxel) {
+    if (!(voxel > 0)) throw Error("voxel centroids: the voxel size must be positive");
+    struct Sum {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        std::uint32_t n = 0;
+    };
+    std::unordered_map<std::uint64_t, std::uint32_t> index;
+    std::vector<Sum> sums;
+    index.reserve(points.size() / 4 + 1);
+    for (const auto& p : points) {
+        std::uint64_t key = 0;
+        for (int k = 0; k < 3; ++k) {
+            const auto c = static_cast<std::int64_t>(std::floor(p(k) / voxel)) + (1 << 20);
+            key = (key << 21) | (static_cast<std::uint64_t>(c) & 0x1FFFFF);
+        }
+        const auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(sums.size()));
+        if (inserted) sums.emplace_back();
+        auto& s = sums[it->second];
+        s.sum += p;
+        ++s.n;
+    }
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(sums.size());
+    for (const auto& s : sums) out.push_back(s.sum / s.n);
+    return out;
+}
+
+SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
+                                   double max_curvature, const Eigen::Vector3d& viewpoint) {
+    SurfaceSample out;
+    if (points.empty()) return out;
+    const Eigen::Vector3d origin = centroid(points);
+    auto xyz = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    xyz->resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Eigen::Vector3d p = points[i] - origin;
+        (*xyz)[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                  static_cast<float>(p.z()));
+    }
+    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+    tree.setInputCloud(xyz);
+    std::vector<int> k;
+    std::vector<float> d2;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (tree.radiusSearch((*xyz)[i], radius, k, d2) < kMinNeighbours) continue;
+        // The neighbours' covariance in double, about their mean (Hoppe et al. 1992).
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (const int j : k) mean += points[static_cast<std::size_t>(j)];
+        mean /= static_cast<double>(k.size());
+        Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+        for (const int j : k) {
+            const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+            C += d * d.transpose();
+        }
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+        const Eigen::Vector3d l = es.eigenvalues().cwiseMax(0.0);  // ascending
+        const double total = l.sum();
+        // A plane spreads in two directions: neighbours along a line (one scan row on
+        // grazing ground, an edge) leave the normal undetermined about that line.
+        if (!(total > 0) || l(0) / total > max_curvature || l(1) < kMinSpread * l(2)) continue;
+        Eigen::Vector3d n = es.eigenvectors().col(0);
+        if (n.dot(viewpoint - points[i]) < 0) n = -n;
+        out.points.push_back(points[i]);
+        out.normals.push_back(n.normalized());
+    }
+    return out;
+}
+
+IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
+                                  const SurfaceSample& reference, const Eigen::Matrix4d& start,
+                                  const IcpParams& params) {
+    if (epoch.empty() || reference.points.empty()) {
+        throw Error("ICP: no points in the stable regions (epoch " + std::to_string(epoch.size()) +
+                    ", reference " + std::to_string(reference.points.size()) + ")");
+    }
+    // X = R·x + t becomes X' = R·x' + (R·o + t − o) about the origin o.
+    const Eigen::Vector3d o = centroid(reference.points);
+    const Eigen::Matrix3d R0 = start.topLeftCorner<3, 3>();
+    Eigen::Matrix4d local = start;
+    local.topRightCorner<3, 1>() = R0 * o + start.topRightCorner<3, 1>() - o;
+
+    const Cloud::Ptr source = to_cloud(epoch, o);
+    const Cloud::Ptr target = to_cloud(reference.points, o, &reference.normals);
+    CountingIcp icp;
+    icp.setInputSource(source);
+    icp.setInputTarget(target);
+    icp.setMaxCorrespondenceDistance(params.max_correspondence_distance);
+    icp.setMaximumIterations(params.max_iterations);
+    // A step's translation below the epsilon ends the iterations (PCL compares it squared);
+    // the rotation's cosine is always 1 in float at arc-second steps, so it does not decide.
+    icp.setTransformationEpsilon(params.translation_epsilon * params.translation_epsilon);
+    icp.setTransformationRotationEpsilon(1.0 - 1e-12);
+    Cloud aligned;
+    icp.align(aligned, local.cast<float>());
+
+    IcpAlignment out;
+    out.iterations = icp.iterations();
+    out.converged = icp.hasConverged();
+    const Eigen::Matrix4d L = icp.getFinalTransformation().cast<double>();
+    const Eigen::Matrix3d R = L.topLeftCorner<3, 3>();
+    out.transform = L;
+    out.transform.topRightCorner<3, 1>() = L.topRightCorner<3, 1>() + o - R * o;
+
+    // The final pairs, in double, under the final transformation.
+    pcl::KdTreeFLANN<pcl::PointNormal> tree;
+    tree.setInputCloud(target);
+    std::vector<int> k(1);
+    std::vector<float> d2(1);
+    const double max_d2 = params.max_correspondence_distance * params.max_correspondence_distance;
+    const Eigen::Vector3d t = out.transform.topRightCorner<3, 1>();
+    for (const auto& x : epoch) {
+        const Eigen::Vector3d X = R * x + t - o;
+        pcl::PointNormal q;
+        q.x = static_cast<float>(X.x());
+        q.y = static_cast<float>(X.y());
+        q.z = static_cast<float>(X.z());
+        if (tree.nearestKSearch(q, 1, k, d2) != 1 || d2[0] > max_d2) continue;
+        const auto j = static_cast<std::size_t>(k[0]);
+        out.pairs.push_back({x, reference.points[j], reference.normals[j]});
+    }
+    out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
+    return out;
+}
+
+}  // namespace tlsmon

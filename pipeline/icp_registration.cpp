@@ -1,0 +1,333 @@
+#include "pipeline/icp_registration.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "algorithms/registration/distribution_quantiles.hpp"
+#include "algorithms/registration/registration_error.hpp"
+#include "core/error.hpp"
+#include "core/payload.hpp"
+
+namespace tlsmon {
+
+namespace reg = registration;
+
+namespace {
+
+constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+// Normals from the neighbours within this many voxels; a surface variation above the limit
+// (edges, corners, leaves) leaves a point out of the reference surface.
+constexpr double kNormalRadiusVoxels = 3.0;
+constexpr double kMaxCurvature = 0.02;
+// Two estimates of the transformation disagree beyond χ²(6, 0.999).
+constexpr double kAgreementAlpha = 0.001;
+
+std::string region_parameters(const IcpConfig& c) {
+    std::string s = fmt::format("voxel={:.17g};normals={:.17g};curvature={:.17g}", c.voxel_size,
+                                kNormalRadiusVoxels, kMaxCurvature);
+    for (const auto& r : c.regions) {
+        s += fmt::format(";{}:{:.17g},{:.17g},{:.17g}:{:.17g},{:.17g},{:.17g}", r.name, r.min.x(),
+                         r.min.y(), r.min.z(), r.max.x(), r.max.y(), r.max.z());
+    }
+    return s;
+}
+
+bool in_regions(const IcpConfig& c, const Eigen::Vector3d& p) {
+    for (const auto& r : c.regions) {
+        if (r.contains(p)) return true;
+    }
+    return false;
+}
+
+// The σ part of the quality gate (registration.max_sigma_*) on a transformation.
+std::string sigma_gate(const RegistrationConfig& config, const reg::RigidTransform& T) {
+    const auto sig = T.sigmas();
+    const char* angles[] = {"ω", "φ", "κ"};
+    for (int k = 0; k < 3; ++k) {
+        if (sig(k) / kArcsec > config.max_sigma_angle_arcsec) {
+            return fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
+                               angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
+        }
+    }
+    const char* axes[] = {"tx", "ty", "tz"};
+    for (int k = 0; k < 3; ++k) {
+        if (sig(3 + k) > config.max_sigma_translation) {
+            return fmt::format(
+                "σ of {} {:.2f} mm above registration.max_sigma_translation = {:.2f} mm", axes[k],
+                1e3 * sig(3 + k), 1e3 * config.max_sigma_translation);
+        }
+    }
+    return "";
+}
+
+// The zones' σ under the epoch's final transformation (as register_epoch computes them).
+std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
+                                               const reg::RigidTransform& T) {
+    std::vector<ZoneRegistrationSigma> out;
+    for (const auto& z : config.zones) {
+        ZoneRegistrationSigma s{z.name, 0.0};
+        for (int c = 0; c < 8; ++c) {
+            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(),
+                                    (c & 2) ? z.max.y() : z.min.y(),
+                                    (c & 4) ? z.max.z() : z.min.z());
+            s.max_sigma_3d =
+                std::max(s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
+        }
+        out.push_back(s);
+    }
+    return out;
+}
+
+bool too_few_targets(const RegistrationResult& r) {
+    return r.tested.status == reg::RegistrationStatus::too_few_targets ||
+           r.tested.status == reg::RegistrationStatus::degenerate_geometry;
+}
+
+}  // namespace
+
+std::string StableSurface::encode() const {
+    PayloadWriter w;
+    std::vector<double> p, n;
+    p.reserve(3 * sample.points.size());
+    n.reserve(3 * sample.normals.size());
+    for (std::size_t i = 0; i < sample.points.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            p.push_back(sample.points[i](k));
+            n.push_back(sample.normals[i](k));
+        }
+    }
+    w.put_array(p);
+    w.put_array(n);
+    for (int k = 0; k < 3; ++k) w.put(viewpoint(k));
+    w.put<std::uint64_t>(cropped);
+    return w.take();
+}
+
+StableSurface StableSurface::decode(std::string_view payload) {
+    PayloadReader r(payload);
+    StableSurface s;
+    const auto p = r.get_array<double>();
+    const auto n = r.get_array<double>();
+    if (p.size() != n.size() || p.size() % 3 != 0) {
+        throw Error("reference cache payload: stable surface points and normals differ");
+    }
+    for (std::size_t i = 0; i < p.size(); i += 3) {
+        s.sample.points.emplace_back(p[i], p[i + 1], p[i + 2]);
+        s.sample.normals.emplace_back(n[i], n[i + 1], n[i + 2]);
+    }
+    for (int k = 0; k < 3; ++k) s.viewpoint(k) = r.get<double>();
+    s.cropped = r.get<std::uint64_t>();
+    r.finish();
+    return s;
+}
+
+StableSurface build_stable_surface(const IcpConfig& config, const std::vector<Scan>& scans) {
+    StableSurface s;
+    const std::vector<Eigen::Vector3d> inside =
+        points_in_stable_regions(config, scans, Eigen::Matrix4d::Identity());
+    s.cropped = inside.size();
+    if (!scans.empty()) s.viewpoint = scans.front().scanner_position();
+    const auto thinned = voxel_centroids(inside, config.voxel_size);
+    s.sample = surface_with_normals(thinned, kNormalRadiusVoxels * config.voxel_size,
+                                    kMaxCurvature, s.viewpoint);
+    return s;
+}
+
+std::vector<Eigen::Vector3d> points_in_stable_regions(const IcpConfig& config,
+                                                      const std::vector<Scan>& scans,
+                                                      const Eigen::Matrix4d& start,
+                                                      double range_scale) {
+    std::vector<Eigen::Vector3d> out;
+    if (config.regions.empty()) return out;
+    const Eigen::Matrix3d R = start.topLeftCorner<3, 3>();
+    const Eigen::Vector3d t = start.topRightCorner<3, 1>();
+    // The union of the boxes, pulled back into the epoch's frame with a margin for the
+    // rotation: a cheap first test before the boxes themselves.
+    Eigen::Vector3d lo = config.regions.front().min, hi = config.regions.front().max;
+    for (const auto& r : config.regions) {
+        lo = lo.cwiseMin(r.min);
+        hi = hi.cwiseMax(r.max);
+    }
+    for (const auto& scan : scans) {
+        const Eigen::Vector3d o = scan.scanner_position();
+        for (const auto& x : scan.xyz) {
+            const Eigen::Vector3d p = range_scale == 1.0 ? x : Eigen::Vector3d(o + (x - o) / range_scale);
+            const Eigen::Vector3d X = R * p + t;
+            if ((X.array() < lo.array()).any() || (X.array() > hi.array()).any()) continue;
+            if (in_regions(config, X)) out.push_back(p);
+        }
+    }
+    return out;
+}
+
+IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface& surface,
+                           const std::vector<Scan>& scans, const Eigen::Matrix4d& start,
+                           const RangeScales& scales) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const IcpConfig& c = config.icp;
+    IcpMeasurement m;
+    const bool correct = scales.epoch && scales.reference;
+    SurfaceSample reference = surface.sample;
+    if (correct) {
+        for (auto& p : reference.points) {
+            p = surface.viewpoint + (p - surface.viewpoint) / *scales.reference;
+        }
+    }
+    m.reference_points = reference.points.size();
+    const auto epoch = voxel_centroids(
+        points_in_stable_regions(c, scans, start, correct ? *scales.epoch : 1.0), c.voxel_size);
+    m.epoch_points = epoch.size();
+    const auto finish = [&] {
+        m.milliseconds = std::chrono::duration<double, std::milli>(
+                             std::chrono::steady_clock::now() - t0)
+                             .count();
+        return m;
+    };
+    if (epoch.empty() || reference.points.empty()) {
+        m.refused = fmt::format("no points in the stable regions (epoch {}, reference {})",
+                                epoch.size(), reference.points.size());
+        return finish();
+    }
+    IcpParams p;
+    p.max_correspondence_distance = c.max_correspondence_distance;
+    p.max_iterations = c.max_iterations;
+    const IcpAlignment a = align_point_to_plane(epoch, reference, start, p);
+    m.iterations = a.iterations;
+    m.converged = a.converged;
+    m.pairs = a.pairs.size();
+    m.overlap = a.overlap;
+    try {
+        reg::PointToPlaneParams fp;
+        fp.cluster_size = c.cluster_size;
+        const reg::PointToPlaneFit f = reg::fit_point_to_plane(a.pairs, a.transform, fp);
+        m.rms = f.rms;
+        m.pairs = f.pairs;
+        m.outliers = f.outliers;
+        m.clusters = f.clusters;
+        m.inflation = f.inflation;
+        m.transform = reg::rigid_transform_from(
+            f.transform.rotation, f.transform.translation,
+            c.sigma_factor * c.sigma_factor *
+                f.transform.small_rotation_covariance.topLeftCorner<6, 6>());
+        m.transform->variance_factor = f.variance_factor;
+        m.transform->redundancy = f.transform.redundancy;
+    } catch (const Error& e) {
+        m.refused = e.what();
+        return finish();
+    }
+    if (!m.converged) {
+        m.refused = fmt::format("not converged in registration.icp_max_iterations = {}",
+                                c.max_iterations);
+    } else if (static_cast<int>(m.pairs) < c.min_points) {
+        m.refused = fmt::format("{} pairs, fewer than registration.icp_min_points = {}", m.pairs,
+                                c.min_points);
+    } else if (m.overlap < c.min_overlap) {
+        m.refused = fmt::format("overlap {:.2f} below registration.icp_min_overlap = {}",
+                                m.overlap, c.min_overlap);
+    } else if (m.rms > c.max_rms) {
+        m.refused = fmt::format("RMS {:.2f} mm above registration.icp_max_rms = {:.2f} mm",
+                                1e3 * m.rms, 1e3 * c.max_rms);
+    }
+    return finish();
+}
+
+void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
+               const std::vector<Scan>& scans, const RangeScales& scales,
+               RegistrationResult& result) {
+    const IcpConfig& c = config.icp;
+    if (c.mode == IcpMode::off || c.regions.empty()) return;
+    // A σ refused by the gate may come within it once combined; a targets' RMS cannot.
+    const bool rms_gate = result.gate.rfind("RMS", 0) == 0;
+    const bool refine = c.refines() && result.tested.accepted() && result.tested.transform &&
+                        !rms_gate;
+    const bool fallback = c.falls_back() && too_few_targets(result);
+    if (!refine && !fallback) return;
+    const Eigen::Matrix4d start =
+        refine ? result.tested.transform->matrix() : Eigen::Matrix4d::Identity();
+    IcpMeasurement m = measure_icp(config, surface, scans, start, scales);
+    m.role = refine ? "refine" : "fallback";
+    if (refine) {
+        if (m.refused.empty()) {
+            const reg::RigidTransform& Tt = *result.tested.transform;
+            const reg::RigidTransform combined = reg::combine_transforms(Tt, *m.transform);
+            // The two estimates' difference against their summed covariance: χ²(6).
+            Eigen::Matrix<double, 6, 1> d;
+            const Eigen::AngleAxisd dr(m.transform->rotation * Tt.rotation.transpose());
+            d.head<3>() = dr.angle() * dr.axis();
+            d.tail<3>() = m.transform->translation - Tt.translation;
+            const Eigen::Matrix<double, 6, 6> S =
+                Tt.small_rotation_covariance.topLeftCorner<6, 6>() +
+                m.transform->small_rotation_covariance.topLeftCorner<6, 6>();
+            m.agreement = d.dot(S.ldlt().solve(d));
+            const double limit = reg::chi_square_quantile(1.0 - kAgreementAlpha, 6);
+            if (*m.agreement > limit) {
+                m.refused = fmt::format(
+                    "disagrees with the targets: χ² {:.1f} of the difference above {:.1f} "
+                    "(α {}); the targets' transformation is kept",
+                    *m.agreement, limit, kAgreementAlpha);
+            } else {
+                result.tested.transform = combined;
+                result.gate = sigma_gate(config, combined);
+                m.used = true;
+            }
+        }
+    } else {
+        m.targets_status = std::string(name_of(result.tested.status)) + ": " + result.tested.reason;
+        if (m.refused.empty()) m.refused = sigma_gate(config, *m.transform);
+        if (m.refused.empty()) {
+            result.tested.transform = *m.transform;
+            result.tested.status = reg::RegistrationStatus::accepted;
+            result.tested.reason = "targets refused (" + m.targets_status +
+                                   "); registered by ICP on the stable regions";
+            result.gate.clear();
+            m.used = true;
+        } else {
+            result.tested.reason += "; the ICP fallback was refused: " + m.refused;
+        }
+    }
+    if (m.used) result.zones = zone_sigmas(config, *result.tested.transform);
+    result.icp = std::move(m);
+}
+
+void apply_icp(const RegistrationConfig& config, const EpochInput& input,
+               ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
+               RegistrationResult& result) {
+    if (config.icp.mode == IcpMode::off || config.icp.regions.empty()) return;
+    const auto surface = cache.get<StableSurface>(
+        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 1},
+        [&](const std::vector<Scan>& scans) { return build_stable_surface(config.icp, scans); });
+    apply_icp(config, *surface, *input.scans, scales, result);
+}
+
+std::string registration_method(const RegistrationResult& r) {
+    std::string m = "targets";
+    if (r.icp && r.icp->used) m = r.icp->role == "fallback" ? "icp" : "targets+icp";
+    if (r.epoch_range_scale) m += "+atmosphere";
+    return m;
+}
+
+std::string icp_quality_json(const RegistrationResult& r) {
+    if (!r.icp) return "";
+    const IcpMeasurement& m = *r.icp;
+    const auto escaped = [](const std::string& s) {
+        std::string out;
+        for (const char ch : s) {
+            if (ch == '"' || ch == '\\') out += '\\';
+            if (static_cast<unsigned char>(ch) < 0x20) continue;
+            out += ch;
+        }
+        return out;
+    };
+    return fmt::format(
+        R"(,"icp":{{"role":"{}","used":{},"refused":"{}","fitness":{:.4f},"rms_m":{:.6g},)"
+        R"("iterations":{},"converged":{},"points":{},"reference_points":{},"pairs":{},"outliers":{},)"
+        R"("clusters":{},"sigma_inflation":{:.3f},"agreement_chi2":{},"milliseconds":{:.1f}}})",
+        m.role, m.used ? "true" : "false", escaped(m.refused), m.overlap, m.rms, m.iterations,
+        m.converged ? "true" : "false", m.epoch_points, m.reference_points, m.pairs, m.outliers,
+        m.clusters,
+        m.inflation, m.agreement ? fmt::format("{:.3f}", *m.agreement) : "null", m.milliseconds);
+}
+
+}  // namespace tlsmon
