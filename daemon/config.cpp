@@ -91,6 +91,10 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
     if (section == "modbus") check_modbus(t, c.modbus);
+    if (section == "registration" &&
+        c.registration.global_reject_alpha > c.registration.global_alpha) {
+        t.fail("global_reject_alpha", "must be <= registration.global_alpha");
+    }
 }
 
 ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {

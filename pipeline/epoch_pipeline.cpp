@@ -128,7 +128,11 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
         r.reference_range_scale ? fmt::format("{:.3f}", (*r.reference_range_scale - 1) * 1e6)
                                 : "null");
     row.status = name_of(r.tested.status);
-    row.reason = verdict.rejected;
+    // Accepted with a scaled covariance: the reason says by how much, and why.
+    row.reason = verdict.rejected.empty() &&
+                         r.tested.status == registration::RegistrationStatus::accepted_scaled
+                     ? r.tested.reason
+                     : verdict.rejected;
     row.target_count = r.used;
     row.rms_m = r.rms;
     row.max_residual_m = r.max_residual;

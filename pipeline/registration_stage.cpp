@@ -40,6 +40,8 @@ const char* name_of(reg::RegistrationStatus status) {
     switch (status) {
         case reg::RegistrationStatus::accepted:
             return "accepted";
+        case reg::RegistrationStatus::accepted_scaled:
+            return "accepted_scaled";
         case reg::RegistrationStatus::global_test_failed:
             return "global_test_failed";
         case reg::RegistrationStatus::too_few_targets:
@@ -269,6 +271,7 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     }
     reg::TargetTestParams params;
     params.global_alpha = config.global_alpha;
+    params.global_reject_alpha = std::min(config.global_reject_alpha, config.global_alpha);
     params.target_alpha = config.target_alpha;
     params.min_targets = static_cast<std::size_t>(config.min_targets);
     out.tested = reg::register_with_tests(pairs, params);
@@ -373,6 +376,10 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
     verdict.note = fmt::format(
         "{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm", result.used,
         1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
+    if (result.tested.status == reg::RegistrationStatus::accepted_scaled) {
+        verdict.note += fmt::format("; global test failed, covariance scaled by s0² {:.2f}",
+                                    result.tested.global.variance_factor);
+    }
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
     verdict.note += "; atmosphere " + result.atmosphere;
     return verdict;
