@@ -80,6 +80,9 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
         reg::SphereFitParams p;
         p.radius = target.radius;
         p.seed = std::hash<std::string>{}(target.name) | 1u;
+        // A known radius leaves three unknowns: 20 points on a far sphere's cap (a 0.15 m
+        // sphere at 98.5 m and 0.03° gives 27) still fix its centre to a fraction of a mm.
+        p.min_points = 20;
         const reg::SphereFit f = reg::fit_sphere(xyz, predicted, p);
         if (!f.found()) {
             m.status = f.status == reg::SphereFitStatus::bad_fit ? "bad_fit" : "not_found";
