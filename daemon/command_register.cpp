@@ -30,7 +30,10 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
     nlohmann::json j;
     j["status"] = name_of(r.tested.status);
     j["accepted"] = r.accepted();
-    j["reason"] = v.rejected;
+    // Accepted with a scaled covariance: why and by how much.
+    j["reason"] = v.rejected.empty() && r.tested.status == reg::RegistrationStatus::accepted_scaled
+                      ? r.tested.reason
+                      : v.rejected;
     j["method"] = "targets";
     j["targets_used"] = r.used;
     j["rms_mm"] = 1e3 * r.rms;

@@ -51,6 +51,20 @@ struct RegisterOptions {
 // 0: accepted; 3: registered but refused (the reason printed); 1: an error.
 int run_register(const RegisterOptions& options);
 
+// `tlsmon targets`: each reference target's status in the newest epoch, whether and since
+// when it is excluded as moved, and why.
+int run_targets(const ReadOptions& options);
+
+// `tlsmon targets resurvey NAME [--by WHO]`: clears the target's exclusion and records who.
+struct TargetResurveyOptions {
+    std::string db;
+    std::string config;
+    std::string target;
+    std::string by;  // empty: "cli:$USER"
+};
+// 0: cleared; 1: an error (the target is not excluded, no database, ...).
+int run_target_resurvey(const TargetResurveyOptions& options);
+
 // `tlsmon query series --zone Z --quantity Q`
 struct SeriesOptions {
     ReadOptions read;

@@ -102,6 +102,10 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "ingest") check_ingest(t, c.ingest);
     if (section == "modbus") check_modbus(t, c.modbus);
     if (section == "m3c2") check_m3c2(t, c.m3c2);
+    if (section == "registration" &&
+        c.registration.global_reject_alpha > c.registration.global_alpha) {
+        t.fail("global_reject_alpha", "must be <= registration.global_alpha");
+    }
 }
 
 // A [[zone]]: a box (min, max) or a prism (polygon, z).

@@ -407,7 +407,16 @@ std::vector<ConfigKey> declare_keys() {
                "registration.max_sigma_translation", 0, 1, "m",
                "Quality gate: σ of each of tx, ty, tz."),
         number(at(&C::registration, &RegistrationConfig::global_alpha), "registration.global_alpha",
-               1e-6, 0.5, "", "Significance level of the global test of the variance factor."),
+               1e-6, 0.5, "",
+               "Significance level of the global test of the variance factor. An epoch that "
+               "fails it while every target passes its outlier test is accepted with the "
+               "covariance scaled by s0² (`accepted_scaled`), unless the hard limit below is "
+               "exceeded (docs/registration.md, \"Global test policy\")."),
+        number(at(&C::registration, &RegistrationConfig::global_reject_alpha),
+               "registration.global_reject_alpha", 1e-9, 0.5, "",
+               "The variance factor's hard limit χ²(r, 1 − this)/r: above it an epoch that "
+               "fails the global test is rejected; at most `global_alpha` (equal: every failed "
+               "global test is rejected)."),
         number(at(&C::registration, &RegistrationConfig::target_alpha), "registration.target_alpha",
                1e-9, 0.5, "", "Significance level of each target's outlier test (Baarda's α0)."),
         choice(at(&C::registration, &RegistrationConfig::atmosphere), "registration.atmosphere",

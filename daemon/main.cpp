@@ -68,6 +68,8 @@ struct CommandLine {
     std::map<std::string, AlarmActionOptions> alarm_actions;
     ReportOptions report;
     DemoOptions demo;
+    ReadOptionsOnTheCommandLine targets;
+    TargetResurveyOptions resurvey;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -402,6 +404,25 @@ void add_demo(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_demo(o); });
 }
 
+void add_targets(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "targets",
+        "Reference targets: status in the newest epoch, excluded as moved since when and why; "
+        "`resurvey NAME` clears an exclusion (docs/registration.md)");
+    c.targets.add_to(cmd, false);
+    auto& o = c.resurvey;
+    auto* sub = cmd->add_subcommand(
+        "resurvey", "Mark target NAME re-surveyed: its exclusion is cleared and an event records who");
+    auto* db = sub->add_option("--db", o.db, "Epoch database (SQLite file)");
+    sub->add_option("--config", o.config, "Configuration file naming the database")->excludes(db);
+    sub->add_option("NAME", o.target, "Target name")->required();
+    sub->add_option("--by", o.by, "Who re-surveyed it (default: cli:$USER)");
+    sub->callback([&] { c.code = run_target_resurvey(o); });
+    cmd->callback([cmd, &c] {
+        if (cmd->get_subcommands().empty()) c.code = run_targets(c.targets.finish());
+    });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -424,6 +445,7 @@ int main(int argc, char** argv) {
     tlsmon::add_alarms(app, c);
     tlsmon::add_report(app, c);
     tlsmon::add_demo(app, c);
+    tlsmon::add_targets(app, c);
 
     try {
         app.parse(argc, argv);

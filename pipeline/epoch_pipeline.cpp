@@ -130,7 +130,11 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                                 : "null",
         icp_quality_json(r));
     row.status = name_of(r.tested.status);
-    row.reason = verdict.rejected;
+    // Accepted with a scaled covariance: the reason says by how much, and why.
+    row.reason = verdict.rejected.empty() &&
+                         r.tested.status == registration::RegistrationStatus::accepted_scaled
+                     ? r.tested.reason
+                     : verdict.rejected;
     row.target_count = r.used;
     row.rms_m = r.rms;
     row.max_residual_m = r.max_residual;

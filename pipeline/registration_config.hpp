@@ -45,6 +45,9 @@ struct RegistrationConfig {
     double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ
     double max_sigma_translation = 0.002;  // m, each of tx, ty, tz
     double global_alpha = 0.05;
+    // Ω between χ²(r, 1 − global_alpha) and χ²(r, 1 − global_reject_alpha), no target to
+    // blame: accepted with the covariance scaled by s0² (`accepted_scaled`); beyond: rejected.
+    double global_reject_alpha = 0.001;
     double target_alpha = 0.001;
     AtmosphereCorrection atmosphere = AtmosphereCorrection::measured_air;
     // The scanner's atmospheric setting: the air its ranges were converted with.

@@ -41,6 +41,8 @@ const char* name_of(reg::RegistrationStatus status) {
     switch (status) {
         case reg::RegistrationStatus::accepted:
             return "accepted";
+        case reg::RegistrationStatus::accepted_scaled:
+            return "accepted_scaled";
         case reg::RegistrationStatus::global_test_failed:
             return "global_test_failed";
         case reg::RegistrationStatus::too_few_targets:
@@ -79,6 +81,9 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
         reg::SphereFitParams p;
         p.radius = target.radius;
         p.seed = std::hash<std::string>{}(target.name) | 1u;
+        // A known radius leaves three unknowns: 20 points on a far sphere's cap (a 0.15 m
+        // sphere at 98.5 m and 0.03° gives 27) still fix its centre to a fraction of a mm.
+        p.min_points = 20;
         const reg::SphereFit f = reg::fit_sphere(xyz, predicted, p);
         if (!f.found()) {
             m.status = f.status == reg::SphereFitStatus::bad_fit ? "bad_fit" : "not_found";
@@ -270,6 +275,7 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     }
     reg::TargetTestParams params;
     params.global_alpha = config.global_alpha;
+    params.global_reject_alpha = std::min(config.global_reject_alpha, config.global_alpha);
     params.target_alpha = config.target_alpha;
     params.min_targets = static_cast<std::size_t>(config.min_targets);
     out.tested = reg::register_with_tests(pairs, params);
@@ -375,6 +381,10 @@ StageVerdict register_to_reference(const RegistrationConfig& config, const Epoch
     verdict.note = fmt::format(
         "{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm", result.used,
         1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
+    if (result.tested.status == reg::RegistrationStatus::accepted_scaled) {
+        verdict.note += fmt::format("; global test failed, covariance scaled by s0² {:.2f}",
+                                    result.tested.global.variance_factor);
+    }
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
     verdict.note += "; atmosphere " + result.atmosphere;
     if (result.icp) verdict.note += "; " + registration_method(result);

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "storage/connection.hpp"
+#include "storage/shared_rows.hpp"
 
 namespace tlsmon {
 
@@ -33,6 +34,58 @@ int RegistrationStore::mark_resurveyed(const std::string& target, std::int64_t u
         s.bind(1, unix_time);
         s.bind(2, target);
         return s.exec();
+    });
+}
+
+int RegistrationStore::resurvey(const std::string& target, std::int64_t unix_time,
+                                const std::string& actor) {
+    return guarded(*c_, "recording a target re-survey", [&] {
+        SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
+        SQLite::Statement s(c_->db,
+                            "UPDATE target_exclusions SET resurveyed = ? WHERE target = ? AND"
+                            " resurveyed IS NULL");
+        s.bind(1, unix_time);
+        s.bind(2, target);
+        const int cleared = s.exec();
+        if (cleared > 0) {
+            write_system_event(
+                *c_, SystemEvent{unix_time, "info", "target_resurveyed",
+                                 "target " + target + " re-surveyed by " + actor +
+                                     ": offered to the registration again",
+                                 std::nullopt});
+        }
+        tx.commit();
+        return cleared;
+    });
+}
+
+std::vector<TargetExclusion> RegistrationStore::exclusions() const {
+    return guarded(*c_, "reading target exclusions", [&] {
+        SQLite::Statement s(c_->db,
+                            "SELECT x.target, x.epoch_id, e.acquired, x.resurveyed FROM"
+                            " target_exclusions x JOIN epochs e ON e.id = x.epoch_id"
+                            " ORDER BY e.acquired, x.epoch_id, x.target");
+        std::vector<TargetExclusion> out;
+        while (s.executeStep()) {
+            TargetExclusion x;
+            x.target = s.getColumn(0).getString();
+            x.epoch = s.getColumn(1).getInt64();
+            x.excluded_acquired = s.getColumn(2).getInt64();
+            if (!s.getColumn(3).isNull()) x.resurveyed = s.getColumn(3).getInt64();
+            out.push_back(std::move(x));
+        }
+        return out;
+    });
+}
+
+std::optional<EpochId> RegistrationStore::last_epoch_with_targets() const {
+    return guarded(*c_, "reading target observations", [&]() -> std::optional<EpochId> {
+        SQLite::Statement s(c_->db,
+                            "SELECT o.epoch_id FROM target_observations o JOIN epochs e ON"
+                            " e.id = o.epoch_id ORDER BY e.acquired DESC, o.epoch_id DESC"
+                            " LIMIT 1");
+        if (!s.executeStep()) return std::nullopt;
+        return s.getColumn(0).getInt64();
     });
 }
 

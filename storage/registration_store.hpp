@@ -12,6 +12,15 @@ namespace tlsmon {
 
 struct Connection;
 
+// One exclusion of a target as moved: the epoch that excluded it (and when that epoch was
+// acquired), and when an operator re-surveyed it (absent: still excluded).
+struct TargetExclusion {
+    std::string target;
+    EpochId epoch = 0;
+    std::int64_t excluded_acquired = 0;  // unix time of the excluding epoch's acquisition
+    std::optional<std::int64_t> resurveyed;
+};
+
 class RegistrationStore {
   public:
     explicit RegistrationStore(Connection& connection) : c_(&connection) {}
@@ -22,6 +31,14 @@ class RegistrationStore {
     // reference centre is measured anew when the reference's parameters change).
     // Returns the number of exclusions cleared.
     int mark_resurveyed(const std::string& target, std::int64_t unix_time);
+    // The operator's re-survey: clears the target's open exclusions and records a
+    // `target_resurveyed` system event naming `actor`, in one immediate transaction (safe
+    // while the daemon commits epochs). Returns the exclusions cleared; 0 records nothing.
+    int resurvey(const std::string& target, std::int64_t unix_time, const std::string& actor);
+    // Every exclusion, oldest first.
+    std::vector<TargetExclusion> exclusions() const;
+    // The newest epoch with target observations, if any.
+    std::optional<EpochId> last_epoch_with_targets() const;
 
     std::optional<RegistrationRow> of_epoch(EpochId id) const;
     std::vector<TargetObservation> targets_of_epoch(EpochId id) const;

@@ -334,6 +334,18 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
     out.plane_points = plane.inliers.size();
     out.fit_points = pts.a.size();
     out.iterations = fit.iterations;
+    // Sampling: with the points farther apart than a few blur widths, most rows across an
+    // edge hold no mixed return, the centre is pinned only to within a fraction of the
+    // spacing, and the fit's cost is a staircase with local minima the covariance knows
+    // nothing of (the `hochmosel` boards at 0.03°: blur/spacing 0.04–0.21, centre errors up
+    // to 18 mm at up to 5.7σ). An edge of blur σ sampled at spacing s is resolved for σ ≳ s/4.
+    out.point_spacing = std::sqrt(std::numbers::pi * radius * radius / m);
+    if (out.blur_sigma < search.min_blur_to_spacing * out.point_spacing) {
+        throw Error("checkerboard centre: undersampled, the pattern's blur " +
+                    std::to_string(1e3 * out.blur_sigma).substr(0, 5) + " mm against a point spacing of " +
+                    std::to_string(1e3 * out.point_spacing).substr(0, 5) +
+                    " mm (the edges are not resolved; a finer scan step or a sphere is needed)");
+    }
     return out;
 }
 

@@ -42,6 +42,9 @@ struct CheckerboardSearch {
     // of the in-plane axis a (to the right seen from there) and so of the rotation θ.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
     int max_iterations = 100;
+    // Refused as undersampled when the fitted blur σ is below this times the point spacing
+    // (√(area / points) of the fitted window).
+    double min_blur_to_spacing = 0.25;
 };
 
 struct CheckerboardCentre {
@@ -56,10 +59,12 @@ struct CheckerboardCentre {
     std::size_t plane_points = 0;     // inliers of the plane
     std::size_t fit_points = 0;       // used in the intensity fit
     int iterations = 0;
+    double point_spacing = 0.0;  // m, √(area / points) of the intensity fit's window
 };
 
 // Throws tlsmon::Error when the points and intensities differ in number, the size is not
-// positive, fewer than 50 points lie on the board, or the fit does not converge.
+// positive, fewer than 50 points lie on the board, the fit does not converge, or the pattern
+// is undersampled (its blur below min_blur_to_spacing times the point spacing).
 CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
                                        const std::vector<float>& intensity,
                                        const CheckerboardSearch& search);

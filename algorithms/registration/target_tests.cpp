@@ -95,6 +95,8 @@ const char* describe(RegistrationStatus status) {
     switch (status) {
         case RegistrationStatus::accepted:
             return "accepted";
+        case RegistrationStatus::accepted_scaled:
+            return "accepted, covariance scaled by the variance factor";
         case RegistrationStatus::global_test_failed:
             return "global test failed";
         case RegistrationStatus::too_few_targets:
@@ -127,6 +129,8 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
     if (!(params.global_alpha > 0 && params.global_alpha < 1) ||
         !(params.target_alpha > 0 && params.target_alpha < 1))
         throw Error("registration tests: alpha must lie in (0, 1)");
+    if (!(params.global_reject_alpha > 0 && params.global_reject_alpha <= params.global_alpha))
+        throw Error("registration tests: global_reject_alpha must lie in (0, global_alpha]");
     if (!(params.power > 0 && params.power < 1))
         throw Error("registration tests: power must lie in (0, 1)");
     const std::size_t min_targets = std::max<std::size_t>(params.min_targets, 3);
@@ -255,10 +259,31 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
     out.global.variance_factor = T.variance_factor;
     out.global.critical = chi_square_quantile(1.0 - params.global_alpha, T.redundancy);
     out.global.passed = T.omega_sq <= out.global.critical;
+    out.global.hard_limit = chi_square_quantile(1.0 - params.global_reject_alpha, T.redundancy);
+    if (!out.global.passed && T.omega_sq <= out.global.hard_limit) {
+        // Every target passed its outlier test, so no single target is to blame: the
+        // centres' covariances are too small for this epoch as a whole (the air, a breeze on
+        // a mast). The a-posteriori variance factor is the estimate of by how much (Niemeier
+        // 2008, §4.5; Koch 1999, §4.2.3), so the covariance is scaled by s0² and the epoch
+        // accepted, flagged. The hard limit keeps a gross misfit a refusal.
+        RigidTransform& S = *out.transform;
+        if (S.covariance_factor < S.variance_factor) {
+            const double k = S.variance_factor / S.covariance_factor;
+            S.covariance *= k;
+            S.small_rotation_covariance *= k;
+            S.covariance_factor = S.variance_factor;
+        }
+        return finish(RegistrationStatus::accepted_scaled,
+                      text("Omega %.2f > chi2 critical %.2f: covariance scaled by the variance "
+                           "factor %.2f",
+                           T.omega_sq, out.global.critical, T.variance_factor) +
+                          text(" (hard limit %.2f)", out.global.hard_limit / T.redundancy));
+    }
     if (!out.global.passed)
         return finish(RegistrationStatus::global_test_failed,
-                      text("Omega %.2f > chi2 critical %.2f (variance factor %.2f)", T.omega_sq,
-                           out.global.critical, T.variance_factor));
+                      text("Omega %.2f > chi2 critical %.2f (variance factor %.2f, ", T.omega_sq,
+                           out.global.critical, T.variance_factor) +
+                          text("above its hard limit %.2f)", out.global.hard_limit / T.redundancy));
     return finish(RegistrationStatus::accepted, "");
 }
 

@@ -27,6 +27,12 @@ enum class OutlierStatistic {
 
 struct TargetTestParams {
     double global_alpha = 0.05;   // χ² test of the variance factor (one-sided: s0² too large)
+    // A failed global test with no target to blame is not a refusal while Ω stays within
+    // χ²(r, 1 − global_reject_alpha), the variance factor's hard limit: the covariance is
+    // scaled by s0² and the registration is `accepted_scaled`. Beyond it, or with
+    // global_reject_alpha = global_alpha, `global_test_failed`. (docs/registration.md,
+    // "Global test policy".)
+    double global_reject_alpha = 0.001;
     double target_alpha = 0.001;  // each outlier test (Baarda's α0 = 0.1 %)
     double power = 0.8;           // 1 − β for the minimal detectable bias (Baarda's β0 = 20 %)
     OutlierStatistic statistic = OutlierStatistic::target_quadratic_form;
@@ -70,6 +76,8 @@ struct TargetVerdict {
 
 enum class RegistrationStatus {
     accepted,                  // all tests passed
+    accepted_scaled,           // no outlier, the global test failed within its hard limit:
+                               // the covariance is scaled by s0² (larger_of or a posteriori)
     global_test_failed,        // no target to blame, but the residuals exceed the covariances
     too_few_targets,           // refused: fewer than min_targets usable
     degenerate_geometry,       // refused: the used targets are (nearly) on a line
@@ -85,6 +93,7 @@ struct GlobalTest {
     double variance_factor = 0.0;  // s0² = Ω / r
     double critical = 0.0;         // χ²(r, 1 − α)
     bool passed = false;
+    double hard_limit = 0.0;  // χ²(r, 1 − global_reject_alpha): Ω beyond it is refused
 };
 
 struct TestedRegistration {
@@ -96,7 +105,11 @@ struct TestedRegistration {
     int rounds = 0;       // adjustments made
     double spread = 0.0;  // m, geometry of the used targets (see min_spread)
 
-    bool accepted() const { return status == RegistrationStatus::accepted; }
+    // Accepted, or accepted with its covariance scaled by s0²: usable either way.
+    bool accepted() const {
+        return status == RegistrationStatus::accepted ||
+               status == RegistrationStatus::accepted_scaled;
+    }
 };
 
 // RMS distance (m) of the points from their best-fit line: √(λ₂ + λ₃) of their scatter.

@@ -146,6 +146,32 @@ TEST(CheckerboardCentre, SigmaIsHonestOverSeededTrials) {
     EXPECT_LT(worst, 2.5e-4);  // 0.25 mm, 1/30 of the point spacing
 }
 
+TEST(CheckerboardCentre, UndersampledPatternIsRefused) {
+    // A 1 m board 100 m away at 0.03°: points 52 mm apart, the beam's blur σ 8 mm (ratio
+    // 0.15): most rows across an edge hold no mixed return; refused, not guessed.
+    Board far;
+    far.size = 1.0;
+    far.blur = 0.008;
+    far.spacing = 0.052;
+    CheckerboardSearch q;
+    q.viewpoint = {0.0, 0.0, 1.5};
+    q.size = far.size;
+    q.approximate_centre = far.centre + Eigen::Vector3d(0.01, 0.0, -0.01);
+    const Scanned s = scan_board(far, 5);
+    try {
+        checkerboard_centre(s.xyz, s.intensity, q);
+        ADD_FAILURE() << "an undersampled board gave a centre";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("undersampled"), std::string::npos) << e.what();
+    }
+    // The same board with its points 24 mm apart (ratio 0.33): resolved.
+    far.spacing = 0.024;
+    const Scanned fine = scan_board(far, 6);
+    const CheckerboardCentre c = checkerboard_centre(fine.xyz, fine.intensity, q);
+    EXPECT_NEAR(c.point_spacing, 0.024, 0.004);
+    EXPECT_LT((c.centre - far.centre).norm(), 0.003);
+}
+
 TEST(CheckerboardCentre, TooFewPointsOrBadInputIsAnError) {
     Board b;
     const Scanned s = scan_board(b, 3);

@@ -37,6 +37,9 @@ double pier_error_in_sigma(const RigidTransform& T, const TrueTransform& truth) 
 TEST(TargetTests, StableTargetsAreAcceptedAtTheRatesTheAlphasPromise) {
     constexpr int trials = 1000;
     TargetTestParams p;
+    // The test alone: every failed global test counted (the default accepts most of them
+    // with a scaled covariance, test_global_test_policy.cpp).
+    p.global_reject_alpha = p.global_alpha;
     int global_failed = 0, any_excluded = 0, refused = 0;
     std::mt19937_64 rng(77);
     const auto truth_centres = target_centres(5);
@@ -81,12 +84,12 @@ KnockCase knock(const std::vector<Eigen::Vector3d>& layout, int moved, const Eig
 }
 
 // Excluded, the others used, its residual the knock, the transformation right at the pier.
-// The global test that follows may still fail at its α (5 % of stable epochs, above).
+// The global test that follows may still fail at its α (5 % of stable epochs, above): then
+// the epoch is accepted with a scaled covariance, or refused beyond the hard limit.
 void expect_knocked_target_excluded(const KnockCase& k, int moved, const Eigen::Vector3d& d,
                                     const std::string& what) {
     const TestedRegistration& r = k.result;
-    ASSERT_TRUE(r.status == RegistrationStatus::accepted ||
-                r.status == RegistrationStatus::global_test_failed)
+    ASSERT_TRUE(r.accepted() || r.status == RegistrationStatus::global_test_failed)
         << what << ": " << describe(r.status) << ", " << r.reason;
     for (std::size_t i = 0; i < r.targets.size(); ++i) {
         const TargetVerdict& v = r.targets[i];

@@ -166,6 +166,24 @@ TEST(AlarmEvaluation, RejectedAndDegradedEpochsAndInsignificantValuesDoNotRaise)
     EXPECT_EQ(site.state().state, "unack");
 }
 
+TEST(AlarmEvaluation, AnEpochAcceptedWithAScaledCovarianceRaises) {
+    // A failed global test within its hard limit: the registration is accepted with its
+    // covariance scaled by s0² (docs/registration.md, "Global test policy"). Its values are
+    // sound, so the rule sees them as any accepted epoch's.
+    Site site;
+    site.rules[0].on_delay = 0;
+    site.add(kT0, 0.0);
+    const Epoch scaled = site.insert(kT0 + 900);
+    EpochResults r;
+    r.registration = RegistrationRow{};
+    r.registration->accepted = true;
+    r.registration->status = "accepted_scaled";
+    r.registration->variance_factor = 2.1;
+    r.zone_results = {{kZone, kQuantity, 0.02, 0.001, 100, true}};
+    site.commit(scaled, r);
+    EXPECT_EQ(site.state().state, "unack");
+}
+
 TEST(AlarmEvaluation, RateRuleReadsTheStoredSeries) {
     Site site;
     AlarmRuleSpec rate;
