@@ -1,8 +1,8 @@
 // Per-epoch time budget by stage for full-size scans through a real daemon: for each preset
 // (default `pier` and `hochmosel`, the demo's scenes), two epochs rendered once (or taken from
 // --scans DIR/<preset>, where an earlier run left them), the first fed as the reference, then
-// the second. Prints, for each epoch, the times the daemon stored (read, register, analyse,
-// total, and each stage of epoch_stages), the wall time from the file's arrival to its commit
+// the second. Prints, for each epoch, the times the daemon stored (read, analyse, total, and
+// each stage of epoch_stages), the wall time from the file's arrival (rename) to its commit
 // (the watcher's stable wait, the commit and the alarm rules included), and the daemon's peak
 // resident memory (VmHWM). Targets (issue 14): a `pier` epoch within 60 s, peak RSS within
 // 2 GB. Nothing is asserted.
@@ -23,19 +23,19 @@ namespace {
 
 void print_epoch(SQLite::Database& d, long id, double arrival_to_commit_s) {
     SQLite::Statement e(d,
-                        "SELECT status, reason, point_count, read_ms, register_ms, analyse_ms, "
-                        "total_ms FROM epochs WHERE id = ?");
+                        "SELECT status, reason, point_count, read_ms, analyse_ms, total_ms "
+                        "FROM epochs WHERE id = ?");
     e.bind(1, static_cast<std::int64_t>(id));
     if (!e.executeStep()) return;
     const auto ms = [&](int col) {
         return e.getColumn(col).isNull() ? -1.0 : e.getColumn(col).getDouble();
     };
     std::printf(
-        "    epoch %ld %s, %lld points: read %.0f ms, register %.0f ms, analyse %.0f ms, "
+        "    epoch %ld %s, %lld points: read %.0f ms, analyse %.0f ms (the stages below), "
         "total %.0f ms; arrival to commit %.1f s%s%s\n",
         id, e.getColumn(0).getString().c_str(),
         static_cast<long long>(e.getColumn(2).isNull() ? 0 : e.getColumn(2).getInt64()), ms(3),
-        ms(4), ms(5), ms(6), arrival_to_commit_s, e.getColumn(1).getString().empty() ? "" : "; ",
+        ms(4), ms(5), arrival_to_commit_s, e.getColumn(1).getString().empty() ? "" : "; ",
         e.getColumn(1).getString().substr(0, 120).c_str());
     SQLite::Statement s(
         d,
