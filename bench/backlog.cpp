@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
                 if (scans.feed(k, dir / "ingest")) ++expected;
                 wait_for([&] { return db.processed() >= expected || !daemon.running(); }, 300,
                          "live epoch " + std::to_string(k));
+                require_running(daemon, log);
             }
             std::printf("  live epochs processed; daemon stopped, exit %d\n", daemon.stop());
         }
@@ -85,6 +86,7 @@ int main(int argc, char** argv) {
                 return n >= expected || !daemon.running();
             },
             60.0 * waiting, "the backlog");
+        require_running(daemon, log);
         const double catch_up = seconds_since(t0);
         const ProcSample proc = sample_process(daemon.pid());
         std::printf(

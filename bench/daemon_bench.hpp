@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "daemon/demo_daemon.hpp"
 #include "daemon/demo_scene.hpp"
 #include "daemon/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
@@ -213,6 +214,16 @@ void wait_for(Done&& done, double timeout, const std::string& what) {
         if (seconds_since(t0) > timeout) throw std::runtime_error("timed out waiting for " + what);
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
+}
+
+// After a wait: a daemon that stopped on its own ends the bench, with the end of its log
+// (the working folder is removed on the way out).
+inline void require_running(DaemonChild& daemon, const fs::path& log) {
+    if (daemon.running()) return;
+    const std::string text = read_text(log);
+    throw std::runtime_error("the daemon stopped (exit " + std::to_string(daemon.exit_code()) +
+                             "); the end of its log:\n" +
+                             text.substr(text.size() > 2000 ? text.size() - 2000 : 0));
 }
 
 // 2026-06-01T00:00:00Z: a fixed day, so that rendered scans can be reused between runs.

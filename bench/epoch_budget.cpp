@@ -71,6 +71,7 @@ int run(const std::string& preset, const fs::path& scans_dir) {
         const auto t0 = std::chrono::steady_clock::now();  // the scan has appeared (renamed)
         wait_for([&] { return db.processed() > k || !daemon.running(); }, 1800,
                  preset + " epoch " + std::to_string(k));
+        require_running(daemon, dir / "daemon.log");
         const double wall = seconds_since(t0);
         std::printf("  %s:\n", k == 0 ? "reference epoch" : "second epoch");
         SQLite::Database& d = db.open();

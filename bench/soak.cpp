@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
         const auto t0 = std::chrono::steady_clock::now();
         int fed = 0, scans_fed = 0, processed = 0, next_sample = every;
         while (fed < epochs || processed < scans_fed) {
-            if (!daemon.running()) throw std::runtime_error("the daemon stopped; see its log");
+            require_running(daemon, dir / "daemon.log");
             while (fed < epochs && scans_fed - processed < 2) {
                 if (scans.feed(fed, dir / "ingest")) ++scans_fed;  // false: no scan this epoch
                 ++fed;
