@@ -3,9 +3,9 @@
 // stopped, 48 scans (15 min apart) with their meteo sidecars written into the ingest folder,
 // the daemon started again. Prints how long it takes to catch up, and checks from the daemon's
 // log and database that the epochs were processed, and the alarm events written, in
-// acquisition order. The series ends in the current quarter hour, so its scans are rendered
-// afresh each time (--scans keeps them, for a rerun within the quarter hour). Nothing is
-// asserted; an order broken is printed as such (and the exit code is 1).
+// acquisition order. The series starts yesterday at 00:00 UTC, so its scans are rendered
+// afresh each day (--scans keeps them for reruns). Nothing is asserted; an order broken is
+// printed as such (and the exit code is 1).
 // Usage: bench_backlog [--waiting N] [--live N] [--scans DIR]   (defaults: 48, 4)
 #include <cstdio>
 #include <cstdlib>
@@ -44,10 +44,11 @@ int main(int argc, char** argv) {
     try {
         BenchDir tmp;
         const int total = live + waiting;
-        // The last waiting scan taken in the current quarter hour: after the catch-up the
-        // newest epoch is current, as on site (system.stale looks at the wall clock).
+        // Yesterday from 00:00 UTC: the reference at night, when the pier is near its rest (as
+        // in `tlsmon demo`); the daemon's system.stale then stays raised, the newest scan being
+        // hours old by the wall clock.
         const std::int64_t now = now_utc();
-        const std::int64_t start = now - now % 900 - 900 * static_cast<std::int64_t>(total - 1);
+        const std::int64_t start = now - now % 86400 - 86400;
         ScanSeries scans(scans_dir.empty() ? tmp / "scans" : fs::path(scans_dir), "small", total,
                          start);
         const double render_s = scans.render(0, total, 2);
