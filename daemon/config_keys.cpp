@@ -439,31 +439,6 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::registration, &RegistrationConfig::scanner_humidity_pct),
                "registration.scanner_humidity_pct", 0, 100, "%",
                "Relative humidity of the scanner's atmospheric setting."),
-        flag(at(&C::m3c2, &M3c2Config::enabled), "m3c2.enabled",
-             "Run M3C2 (docs/m3c2.md) for every epoch against the reference epoch, at core "
-             "points inside the zones; without any `[[zone]]` it does not run."),
-        number(at(&C::m3c2, &M3c2Config::core_spacing), "m3c2.core_spacing", 0.001, 100, "m",
-               "Core points: the reference's points inside the zones, one per cube of this edge "
-               "(the one nearest the cube's centre). Taken once, with the reference epoch."),
-        m3c2_radii(),
-        number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100, "m",
-               "Radius of the projection cylinder (d/2 of Lague 2013)."),
-        number(at(&C::m3c2, &M3c2Config::max_depth), "m3c2.max_depth", 0.001, 100, "m",
-               "Half-length of the cylinder along the normal: the largest change measured."),
-        integer(at(&C::m3c2, &M3c2Config::min_points), "m3c2.min_points", 2, 1000000, "",
-                "Points each cloud needs in a cylinder; fewer: no distance at that core point "
-                "(NaN, not counted in the zone's values)."),
-        m3c2_orientation(),
-        choice(at(&C::m3c2, &M3c2Config::statistic), "m3c2.statistic", kM3c2Statistics,
-               "Per cylinder: `mean` with the standard deviation, or `median` with the "
-               "interquartile range as the spread (robust to stray points)."),
-        number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1, "m",
-               "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
-               "registration (no `[[target]]`). With a registration it is not used: each core "
-               "point gets the registration's σ along its normal."),
-        integer(at(&C::m3c2, &M3c2Config::threads), "m3c2.threads", 0, 256, "",
-                "Threads of the stage; 0: every core."),
-
         choice(at(&C::icp, &IcpConfig::mode), "registration.icp", kIcpModes,
                "Point-to-plane ICP on the `[[stable_region]]` tables only, never on the "
                "structure (docs/registration.md). `refine`: after an accepted target "
@@ -495,6 +470,30 @@ std::vector<ConfigKey> declare_keys() {
                "The ICP's σ is multiplied by this for what no residual shows (the footprint on "
                "grazing ground, the grid's phase); 2 is honest on the simulator "
                "(docs/registration.md)."),
+        flag(at(&C::m3c2, &M3c2Config::enabled), "m3c2.enabled",
+             "Run M3C2 (docs/m3c2.md) for every epoch against the reference epoch, at core "
+             "points inside the zones; without any `[[zone]]` it does not run."),
+        number(at(&C::m3c2, &M3c2Config::core_spacing), "m3c2.core_spacing", 0.001, 100, "m",
+               "Core points: the reference's points inside the zones, one per cube of this edge "
+               "(the one nearest the cube's centre). Taken once, with the reference epoch."),
+        m3c2_radii(),
+        number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100, "m",
+               "Radius of the projection cylinder (d/2 of Lague 2013)."),
+        number(at(&C::m3c2, &M3c2Config::max_depth), "m3c2.max_depth", 0.001, 100, "m",
+               "Half-length of the cylinder along the normal: the largest change measured."),
+        integer(at(&C::m3c2, &M3c2Config::min_points), "m3c2.min_points", 2, 1000000, "",
+                "Points each cloud needs in a cylinder; fewer: no distance at that core point "
+                "(NaN, not counted in the zone's values)."),
+        m3c2_orientation(),
+        choice(at(&C::m3c2, &M3c2Config::statistic), "m3c2.statistic", kM3c2Statistics,
+               "Per cylinder: `mean` with the standard deviation, or `median` with the "
+               "interquartile range as the spread (robust to stray points)."),
+        number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1, "m",
+               "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
+               "registration (no `[[target]]`). With a registration it is not used: each core "
+               "point gets the registration's σ along its normal."),
+        integer(at(&C::m3c2, &M3c2Config::threads), "m3c2.threads", 0, 256, "",
+                "Threads of the stage; 0: every core."),
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",
