@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "daemon/demo_scene.hpp"
 #include "daemon/report_truth.hpp"
 #include "storage/epoch_database.hpp"
 #include "tests/daemon/daemon_harness.hpp"
@@ -161,6 +162,21 @@ TEST(DemoCommand, RunsTheDaemonOnASimulatedSeriesAndReportsAgainstTheTruth) {
             EXPECT_EQ(out, t.target == "T2" && i >= 2) << "epoch " << i << " " << t.target;
         }
     }
+    // The step (epoch 4) moves the band 25 mm: the rule with on_delay 1 raises at epoch 5,
+    // not before; the west face, which the step does not move, raises nothing.
+    std::map<EpochId, int> index_of;
+    for (std::size_t i = 0; i < epochs.size(); ++i) index_of[epochs[i].id] = static_cast<int>(i);
+    std::optional<int> raised_at;
+    for (const auto& e : db.alarms().events(std::nullopt)) {
+        if (e.rule.rfind("system.", 0) == 0) continue;
+        EXPECT_EQ(e.rule, std::string(kStepRule)) << e.kind << " " << e.message;
+        if (e.rule == kStepRule && e.kind == "raise" && e.epoch && !raised_at) {
+            raised_at = index_of.at(*e.epoch);
+        }
+    }
+    ASSERT_TRUE(raised_at.has_value()) << "the step alarm was not raised";
+    EXPECT_EQ(*raised_at, 5);
+
     std::ifstream md_in(work / "report" / "report.md");
     const std::string md((std::istreambuf_iterator<char>(md_in)), {});
     EXPECT_NE(md.find("The registration excluded it from epoch 2 on (0 epoch(s) after it moved)"),
