@@ -22,6 +22,7 @@
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "tests/support/simulated_targets.hpp"
 
 namespace {
 
@@ -44,20 +45,6 @@ long peak_mb() {
     return u.ru_maxrss / 1024;
 }
 
-RegistrationConfig targets_of(const sim::Site& site) {
-    RegistrationConfig c;
-    for (const auto& t : site.targets) {
-        TargetConfig g;
-        g.name = t.name;
-        g.kind =
-            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
-        g.radius = t.radius;
-        g.size = t.size;
-        g.approximate = t.centre + Eigen::Vector3d(0.02, -0.015, 0.01);
-        c.targets.push_back(g);
-    }
-    return c;
-}
 
 struct Score {
     double sum = 0, sum2 = 0, worst = 0;
@@ -78,7 +65,7 @@ int main(int argc, char** argv) {
     for (auto& b : bands_of(south, 2, 10.0, 0.0, p.height)) config.zones.push_back(b);
     config.zones.push_back(
         box_zone("west", {p.x0 - 0.5, p.y0 + 0.5, 1.0}, {p.x0 + 0.5, p.y1 - 0.5, p.height - 1.0}));
-    const RegistrationConfig targets = targets_of(site);
+    const RegistrationConfig targets = test::simulated_targets(site);
 
     auto t0 = std::chrono::steady_clock::now();
     const sim::EpochConditions c0 = sim::epoch_conditions(site, 0, 0.0);

@@ -14,6 +14,7 @@
 #include "pipeline/icp_registration.hpp"
 #include "simulator/render.hpp"
 #include "simulator/stable_ground.hpp"
+#include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon {
 namespace {
@@ -29,17 +30,7 @@ sim::Site drifting_pier(std::uint64_t seed = 1) {
 }
 
 RegistrationConfig site_config(const sim::Site& site, IcpMode mode) {
-    RegistrationConfig c;
-    for (const auto& t : site.targets) {
-        TargetConfig g;
-        g.name = t.name;
-        g.kind =
-            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
-        g.radius = t.radius;
-        g.size = t.size;
-        g.approximate = t.centre + Eigen::Vector3d(0.02, -0.015, 0.01);
-        c.targets.push_back(g);
-    }
+    RegistrationConfig c = test::simulated_targets(site);
     c.icp.mode = mode;
     for (const auto& b : sim::stable_ground(site)) c.icp.regions.push_back({b.name, b.min, b.max});
     return c;

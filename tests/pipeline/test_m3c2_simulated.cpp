@@ -22,24 +22,11 @@
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon {
 namespace {
 
-RegistrationConfig targets_of(const sim::Site& site) {
-    RegistrationConfig c;
-    for (const auto& t : site.targets) {
-        TargetConfig g;
-        g.name = t.name;
-        g.kind =
-            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
-        g.radius = t.radius;
-        g.size = t.size;
-        g.approximate = t.centre + Eigen::Vector3d(0.02, -0.015, 0.01);
-        c.targets.push_back(g);
-    }
-    return c;
-}
 
 // The pier's two visible faces, 0.5 m inside their edges (a cylinder at an edge takes the
 // other face's points), in 10 m bands of the south face.
@@ -102,7 +89,7 @@ struct Series {
 
 // Epochs 0..hours.size()-1 at those hours; epoch 0 is the reference.
 Series run_series(const sim::Site& site, const std::vector<double>& hours) {
-    const RegistrationConfig targets = targets_of(site);
+    const RegistrationConfig targets = test::simulated_targets(site);
     const M3c2Config config = m3c2_config(site);
     const Epoch e0 = render(site, 0, hours[0]);
     const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);

@@ -18,6 +18,7 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "simulator/weather.hpp"
+#include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon {
 namespace {
@@ -34,21 +35,6 @@ sim::Site drifting_pier() {
     return drifting(sim::preset_pier());
 }
 
-RegistrationConfig site_config(const sim::Site& site) {
-    RegistrationConfig c;
-    for (const auto& t : site.targets) {
-        TargetConfig g;
-        g.name = t.name;
-        g.kind =
-            t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
-        g.radius = t.radius;
-        g.size = t.size;
-        // A site's approximate positions are good to a few centimetres.
-        g.approximate = t.centre + Eigen::Vector3d(0.02, -0.015, 0.01);
-        c.targets.push_back(g);
-    }
-    return c;
-}
 
 struct RenderedEpoch {
     std::vector<Scan> scans;  // one window per target
@@ -123,7 +109,7 @@ TEST(RegistrationSimulated, PierSeriesMeetsTheBoundWithHonestSigma) {
     for (int k = 0; k < series; ++k) {
         sim::Site site = drifting_pier();
         site.noise.seed = 101 + k;
-        const RegistrationConfig config = site_config(site);
+        const RegistrationConfig config = test::simulated_targets(site);
         const auto pier = pier_points(site);
         const RenderedEpoch e0 = render_windows(site, 0, 0.0);
         const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
@@ -166,7 +152,7 @@ TEST(RegistrationSimulated, KnockedTargetIsExcludedAndTheEpochStillMeetsTheBound
     site.events.knocked_target = 0;  // T1, a sphere
     site.events.knocked_epoch = 3;
     site.events.knocked_displacement = {0.010, 0.0, 0.0};
-    const RegistrationConfig config = site_config(site);
+    const RegistrationConfig config = test::simulated_targets(site);
     const RenderedEpoch e0 = render_windows(site, 0, 0.0);
     const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
     const RenderedEpoch e3 = render_windows(site, 3, 4.5);
@@ -193,7 +179,7 @@ TEST(RegistrationSimulated, KnockedTargetIsExcludedAndTheEpochStillMeetsTheBound
 
 TEST(RegistrationSimulated, TwoUsableTargetsAreRefused) {
     const sim::Site site = drifting_pier();
-    const RegistrationConfig config = site_config(site);
+    const RegistrationConfig config = test::simulated_targets(site);
     const RenderedEpoch e0 = render_windows(site, 0, 0.0);
     const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
     const RenderedEpoch e1 = render_windows(site, 1, 1.5);
@@ -214,7 +200,7 @@ TEST(RegistrationSimulated, HochmoselFigures) {
     for (int k = 0; k < 3; ++k) {
         sim::Site site = drifting(sim::preset_hochmosel());
         site.noise.seed = 201 + k;
-        const RegistrationConfig config = site_config(site);
+        const RegistrationConfig config = test::simulated_targets(site);
         const auto pier = pier_points(site);
         const RenderedEpoch e0 = render_windows(site, 0, 0.0);
         const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
@@ -253,7 +239,7 @@ TEST(RegistrationSimulated, HochmoselFigures) {
 TEST(RegistrationSimulated, MeasuredAirCorrectsTheRangeScale) {
     sim::Site site = drifting_pier();
     site.atmosphere.enabled = true;
-    RegistrationConfig config = site_config(site);
+    RegistrationConfig config = test::simulated_targets(site);
     config.scanner_wavelength_nm = site.atmosphere.wavelength_nm;
     config.scanner_temperature_c = site.atmosphere.scanner_temperature_c;
     config.scanner_pressure_hpa = site.atmosphere.scanner_pressure_hpa;
