@@ -77,10 +77,34 @@ std::vector<Eigen::Vector3d> subsample(const std::vector<Eigen::Vector3d>& cloud
         }
         partial[part] = {};
     }
-    std::vector<std::size_t> chosen;
-    chosen.reserve(partial.empty() ? 0 : partial[0].size());
+    std::vector<Best> candidates;
+    candidates.reserve(partial.empty() ? 0 : partial[0].size());
     if (!partial.empty())
-        for (const auto& [cube, best] : partial[0]) chosen.push_back(best.index);
+        for (const auto& [cube, best] : partial[0]) candidates.push_back(best);
+    std::sort(candidates.begin(), candidates.end(), better);
+    // Thinning: a candidate within S/2 of a kept one is dropped. Kept points on a lattice of
+    // cubes of edge S: the neighbours to check lie in the 27 cubes around.
+    const double min_distance2 = 0.25 * spacing * spacing;
+    std::unordered_map<Cube, std::vector<std::size_t>, CubeHash> kept;
+    std::vector<std::size_t> chosen;
+    for (const Best& c : candidates) {
+        const Eigen::Vector3d& p = cloud[c.index];
+        const Eigen::Vector3d f = (p / spacing).array().floor();
+        const Cube cube{static_cast<std::int64_t>(f.x()), static_cast<std::int64_t>(f.y()),
+                        static_cast<std::int64_t>(f.z())};
+        bool near = false;
+        for (std::int64_t dx = -1; dx <= 1 && !near; ++dx)
+            for (std::int64_t dy = -1; dy <= 1 && !near; ++dy)
+                for (std::int64_t dz = -1; dz <= 1 && !near; ++dz) {
+                    const auto it = kept.find({cube[0] + dx, cube[1] + dy, cube[2] + dz});
+                    if (it == kept.end()) continue;
+                    for (std::size_t j : it->second)
+                        if ((cloud[j] - p).squaredNorm() < min_distance2) near = true;
+                }
+        if (near) continue;
+        kept[cube].push_back(c.index);
+        chosen.push_back(c.index);
+    }
     std::sort(chosen.begin(), chosen.end());
     std::vector<Eigen::Vector3d> core_points;
     core_points.reserve(chosen.size());
