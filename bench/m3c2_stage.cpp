@@ -3,8 +3,9 @@
 // the pulled-back cylinders, the epoch's side, the LoD's registration term and the zone
 // rows; and the accuracy against the simulator's truth, per zone (bias, RMS, max of the
 // zone median minus the true change along the normals) and the share of core points with
-// |d − truth| <= LoD95. Zones: the south face (seen head-on) 0.5 m inside its edges and its
-// 10 m bands, the west face (grazing); the [m3c2] defaults. Registration on the preset's
+// |d − truth| <= LoD95. Zones: tests/support/simulated_zones.hpp (the whole south face,
+// seen head-on, and its 10 m bands, the west face, grazing, with their design normals); the
+// [m3c2] defaults. Registration on the preset's
 // targets with the truth's range scales (as from a weather station).
 //
 //   bench_m3c2_stage [EPOCHS]   epochs after the reference, 3 h apart (default 2)
@@ -23,6 +24,7 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/support/simulated_targets.hpp"
+#include "tests/support/simulated_zones.hpp"
 
 namespace {
 
@@ -56,15 +58,9 @@ struct Score {
 int main(int argc, char** argv) {
     const int epochs = argc > 1 ? std::atoi(argv[1]) : 2;
     const sim::Site site = sim::preset_pier();
-    const auto& p = site.pier;
     M3c2Config config;
     config.threads = 2;
-    const ZoneShape south =
-        box_zone("south", {p.x0 + 0.5, p.y0 - 0.5, 1.0}, {p.x1 - 0.5, p.y0 + 0.5, p.height - 1.0});
-    config.zones.push_back(south);
-    for (auto& b : bands_of(south, 2, 10.0, 0.0, p.height)) config.zones.push_back(b);
-    config.zones.push_back(
-        box_zone("west", {p.x0 - 0.5, p.y0 + 0.5, 1.0}, {p.x0 + 0.5, p.y1 - 0.5, p.height - 1.0}));
+    config.zones = test::simulated_pier_zones(site);
     const RegistrationConfig targets = test::simulated_targets(site);
 
     auto t0 = std::chrono::steady_clock::now();

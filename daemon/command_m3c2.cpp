@@ -115,7 +115,8 @@ int run_m3c2(const M3c2Options& o) {
         const m3c2::CylinderParameters cylinders{
             o.cylinder_radius, o.max_depth,
             o.median ? m3c2::CylinderStatistic::median : m3c2::CylinderStatistic::mean};
-        const m3c2::DistanceParameters distance{o.min_points, o.registration_error};
+        m3c2::DistanceParameters distance{o.min_points, o.registration_error};
+        if (o.max_roughness) distance.max_reference_spread = *o.max_roughness;
         m3c2::validate(distance);  // before the work, not after it
 
         const m3c2::Reference prepared = m3c2::prepare_reference(

@@ -71,21 +71,23 @@ int run_query_corepoints(const CorePointsOptions& o) {
                 zones[k] += (zones[k].empty() ? "" : ";") + ref.zone_names[z];
             }
         }
-        Table t{{"core", "x", "y", "z", "nx", "ny", "nz", "normal_radius", "distance", "lod95",
-                 "n1", "n2", "significant", "zones"},
+        Table t{{"core", "x", "y", "z", "nx", "ny", "nz", "normal_radius", "spread1", "distance",
+                 "lod95", "n1", "n2", "significant", "zones"},
                 {}};
         for (std::size_t k = 0; k < ref.reference.size(); ++k) {
             const auto& c = ref.reference.core_points()[k];
             const auto& n = ref.reference.normals()[k];
             const bool defined = n.allFinite();
             const float d = distance->values[k];
+            // The reference's spread: beyond max_roughness, an edge and no distance.
+            const double spread1 = ref.reference.reference_side[k].spread;
             t.rows.push_back({static_cast<std::int64_t>(k), c.x(), c.y(), c.z(),
                               defined ? Cell(n.x()) : Cell(), defined ? Cell(n.y()) : Cell(),
                               defined ? Cell(n.z()) : Cell(),
                               std::isfinite(ref.reference.normal_radius[k])
                                   ? Cell(ref.reference.normal_radius[k])
                                   : Cell(),
-                              value_cell(d), value_cell(lod[k]), static_cast<std::int64_t>(n1[k]),
+                              std::isfinite(spread1) ? Cell(spread1) : Cell(), value_cell(d), value_cell(lod[k]), static_cast<std::int64_t>(n1[k]),
                               static_cast<std::int64_t>(n2[k]),
                               std::isfinite(d) && std::abs(d) > lod[k], zones[k]});
         }

@@ -156,6 +156,7 @@ struct M3c2Options {
     double registration_error = 0.0;
     bool median = false;
     std::size_t min_points = 5;
+    std::optional<double> max_roughness;  // m; none: every cylinder (the method as published)
     std::string out;
     unsigned threads = 0;
 };

@@ -108,13 +108,28 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     }
 }
 
-// A [[zone]]: a box (min, max) or a prism (polygon, z).
+// A zone's optional `normal`: three numbers, not all zero; stored with unit length.
+void read_zone_normal(TomlFields& t, ZoneConfig& z) {
+    if (!t.has("normal")) return;
+    std::vector<double> v;
+    t.get("normal", v);
+    const Eigen::Vector3d n = v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2])
+                                            : Eigen::Vector3d::Zero();
+    if (!(n.allFinite() && n.norm() > 0.0)) {
+        t.fail("normal", "expected three numbers [x, y, z], not all zero");
+    }
+    const Eigen::Vector3d u = n.normalized();
+    z.normal = std::array<double, 3>{u.x(), u.y(), u.z()};
+}
+
+// A [[zone]]: a box (min, max) or a prism (polygon, z), with an optional design normal.
 ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     ZoneConfig z;
     if (!t.has("name")) t.fail("name", "every [[zone]] needs a name");
     t.get("name", z.name);
     if (z.name.empty()) t.fail("name", "expected a non-empty zone name");
     if (taken.count(z.name)) t.fail("name", "zone '" + z.name + "' is defined twice");
+    read_zone_normal(t, z);
     if (t.has("polygon")) {
         if (t.has("min") || t.has("max")) {
             t.fail("polygon", "a [[zone]] is a box (min, max) or a prism (polygon, z), not both");
@@ -162,6 +177,27 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     }
     t.reject_unknown_keys();
     return z;
+}
+
+// Zones with different design normals must not share a volume: a core point there would
+// have two normals. Judged on the bounding boxes (a prism's bounds), which may refuse two
+// prisms that only come close; touching boxes are allowed.
+void check_normal_overlap(TomlFields& t, const std::vector<ZoneConfig>& earlier,
+                          const ZoneConfig& z) {
+    if (!z.normal) return;
+    const Eigen::Vector3d n(z.normal->data());
+    for (const auto& e : earlier) {
+        if (!e.normal || Eigen::Vector3d(e.normal->data()).dot(n) > 1.0 - 1e-12) continue;
+        bool overlap = true;
+        for (int i = 0; i < 3; ++i) {
+            overlap = overlap && std::max(z.min[i], e.min[i]) < std::min(z.max[i], e.max[i]);
+        }
+        if (overlap) {
+            t.fail("normal", "zone '" + z.name + "' overlaps zone '" + e.name +
+                                 "', whose normal differs: a core point cannot have two "
+                                 "normals (make the zones meet without overlapping)");
+        }
+    }
 }
 
 constexpr std::array<Named<int>, 3> kAxes{{{0, "x"}, {1, "y"}, {2, "z"}}};
@@ -272,8 +308,10 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
     // Zones first: the alarm rules name them.
     std::set<std::string> zone_names;
     for (auto& t : top.array_of_tables("zone")) {
-        c.zones.push_back(read_zone(t, zone_names));
-        zone_names.insert(c.zones.back().name);
+        ZoneConfig z = read_zone(t, zone_names);
+        check_normal_overlap(t, c.zones, z);
+        zone_names.insert(z.name);
+        c.zones.push_back(std::move(z));
     }
     for (auto& t : top.array_of_tables("zone_bands")) {
         for (auto& band : read_zone_bands(t, c.zones, zone_names)) {
@@ -349,6 +387,7 @@ std::vector<std::string> describe(const Config& c) {
             }
             line += "], z = [" + toml_number(z.min[2]) + ", " + toml_number(z.max[2]) + "]";
         }
+        if (z.normal) line += ", normal = " + triple(*z.normal);
         if (!z.band_of.empty()) {
             line += " (band of " + toml_string(z.band_of) + ", bounds min = " + triple(z.min) +
                     ", max = " + triple(z.max) + ")";
@@ -393,12 +432,17 @@ M3c2Config with_zone_shapes(const Config& config) {
 
 ZoneShape zone_shape(const ZoneConfig& z) {
     const Eigen::Vector3d min(z.min[0], z.min[1], z.min[2]), max(z.max[0], z.max[1], z.max[2]);
-    if (z.polygon.empty()) return box_zone(z.name, min, max);
-    std::vector<Eigen::Vector2d> polygon;
-    for (const auto& v : z.polygon) polygon.emplace_back(v[0], v[1]);
-    ZoneShape s = prism_zone(z.name, std::move(polygon), min.z(), max.z());
-    // A band of a prism: the polygon with the band's cut of the bounds.
-    s.box = Eigen::AlignedBox3d(min, max);
+    ZoneShape s;
+    if (z.polygon.empty()) {
+        s = box_zone(z.name, min, max);
+    } else {
+        std::vector<Eigen::Vector2d> polygon;
+        for (const auto& v : z.polygon) polygon.emplace_back(v[0], v[1]);
+        s = prism_zone(z.name, std::move(polygon), min.z(), max.z());
+        // A band of a prism: the polygon with the band's cut of the bounds.
+        s.box = Eigen::AlignedBox3d(min, max);
+    }
+    if (z.normal) s.normal = Eigen::Vector3d(z.normal->data());
     return s;
 }
 

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -73,6 +74,7 @@ struct ZoneConfig {
     std::array<double, 3> max{};
     std::vector<std::array<double, 2>> polygon;  // a prism's outline (x, y); empty: a box
     std::string band_of;  // the [[zone]] a [[zone_bands]] table cut it from; "" otherwise
+    std::optional<std::array<double, 3>> normal;  // the face's design normal, unit length
 };
 
 // The zone's geometry (algorithms/zones/zone_shape.hpp).

@@ -475,7 +475,8 @@ std::vector<ConfigKey> declare_keys() {
              "points inside the zones; without any `[[zone]]` it does not run."),
         number(at(&C::m3c2, &M3c2Config::core_spacing), "m3c2.core_spacing", 0.001, 100, "m",
                "Core points: the reference's points inside the zones, one per cube of this edge "
-               "(the one nearest the cube's centre). Taken once, with the reference epoch."),
+               "(the one nearest the cube's centre; none within half of it of another). Taken "
+               "once, with the reference epoch."),
         m3c2_radii(),
         number(at(&C::m3c2, &M3c2Config::cylinder_radius), "m3c2.cylinder_radius", 0.001, 100, "m",
                "Radius of the projection cylinder (d/2 of Lague 2013)."),
@@ -488,6 +489,10 @@ std::vector<ConfigKey> declare_keys() {
         choice(at(&C::m3c2, &M3c2Config::statistic), "m3c2.statistic", kM3c2Statistics,
                "Per cylinder: `mean` with the standard deviation, or `median` with the "
                "interquartile range as the spread (robust to stray points)."),
+        number(at(&C::m3c2, &M3c2Config::max_roughness), "m3c2.max_roughness", 0.0001, 100, "m",
+               "A core point whose reference cylinder spreads more than this along the normal "
+               "(the roughness σ1 of Lague 2013; the IQR with `median`) holds an edge or a "
+               "corner: no distance there (NaN, not counted in the zone's values)."),
         number(at(&C::m3c2, &M3c2Config::registration_error), "m3c2.registration_error", 0, 1, "m",
                "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
                "registration (no `[[target]]`). With a registration it is not used: each core "

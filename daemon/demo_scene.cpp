@@ -127,6 +127,7 @@ stale_seconds = "2d"
 name = "{}"
 min = {}
 max = {}
+normal = [0, -1, 0]
 
 # The step moves the band towards the scanner (+ in M3C2); the thermal bending moves it
 # away in the afternoon: a high limit only, two epochs in a row, beyond the LoD.

@@ -44,6 +44,7 @@ std::string zone_json(const ZoneConfig& z) {
     nlohmann::json j{{"type", z.polygon.empty() ? "box" : "prism"}, {"min", z.min}, {"max", z.max}};
     if (!z.polygon.empty()) j["polygon"] = z.polygon;
     if (!z.band_of.empty()) j["band_of"] = z.band_of;
+    if (z.normal) j["normal"] = *z.normal;
     return j.dump();
 }
 

@@ -304,6 +304,8 @@ void add_m3c2(CLI::App& app, CommandLine& c) {
     cmd->add_option("--min-points", o.min_points,
                     "Fewer points in either cylinder: no distance (NaN)")
         ->capture_default_str();
+    cmd->add_option("--max-roughness", o.max_roughness,
+                    "A reference cylinder spreading more than this (m) holds an edge: no distance");
     cmd->add_option("--threads", o.threads, "Threads (0: every core)")->capture_default_str();
     cmd->add_option("--out", o.out, "Result CSV file")->required();
     cmd->callback([&] { c.code = run_m3c2(o); });

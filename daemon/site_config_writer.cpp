@@ -37,16 +37,20 @@ std::string site_configuration(const sim::Site& site) {
         }
         out += "approximate = " + approximate(t.centre) + "\n";
     }
-    // The pier's south face (seen head-on) and west face (grazing), 0.5 m either side.
+    // The pier's south face (seen head-on) and west face (grazing), 0.5 m either side, with
+    // their design normals. The west face's box starts 0.5 m behind the corner, so that the
+    // boxes meet without overlapping (zones with different normals may not).
     const auto& p = site.pier;
     out += fmt::format(
-        "\n[[zone]]\nname = \"pier_south_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n",
+        "\n[[zone]]\nname = \"pier_south_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
+        "normal = [0, -1, 0]\n",
         toml_number(p.x0), toml_number(p.y0 - 0.5), toml_number(p.x1), toml_number(p.y0 + 0.5),
         toml_number(p.height));
     out += fmt::format(
-        "\n[[zone]]\nname = \"pier_west_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n",
-        toml_number(p.x0 - 0.5), toml_number(p.y0), toml_number(p.x0 + 0.5), toml_number(p.y1),
-        toml_number(p.height));
+        "\n[[zone]]\nname = \"pier_west_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
+        "normal = [-1, 0, 0]\n",
+        toml_number(p.x0 - 0.5), toml_number(p.y0 + 0.5), toml_number(p.x0 + 0.5),
+        toml_number(p.y1), toml_number(p.height));
     // Stable ground for the ICP (registration.icp): the foundation and the ground around the
     // pier's foot, the abutments; never the pier.
     const auto vec = [](const Eigen::Vector3d& v) {

@@ -20,6 +20,8 @@ struct M3c2Config {
     bool orient_to_scanner = true;               // else along `orientation`
     Eigen::Vector3d orientation = Eigen::Vector3d::UnitZ();
     M3c2Statistic statistic = M3c2Statistic::mean;  // per cylinder: mean/std or median/IQR
+    // m: a reference cylinder spread beyond this is an edge or clutter: no distance there
+    double max_roughness = 0.02;
     double registration_error = 0.0;                // m, the LoD's reg without a registration
     int threads = 0;                                // 0: every core
     std::vector<ZoneShape> zones;

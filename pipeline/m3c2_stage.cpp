@@ -85,6 +85,10 @@ std::string m3c2_reference_parameters(const M3c2Config& c) {
                          z.box.min().x(), z.box.min().y(), z.box.min().z(), z.box.max().x(),
                          z.box.max().y(), z.box.max().z());
         for (const auto& v : z.polygon) s += fmt::format(":{:.17g},{:.17g}", v.x(), v.y());
+        if (z.normal.allFinite()) {
+            s += fmt::format(":normal={:.17g},{:.17g},{:.17g}", z.normal.x(), z.normal.y(),
+                             z.normal.z());
+        }
     }
     return s;
 }
@@ -120,16 +124,22 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
     std::vector<Eigen::Vector3d> cores =
         m3c2::subsample(in_zones, config.core_spacing, threads_of(config));
     in_zones = {};
+    // A core point takes the design normal of the first zone (in the configuration's order)
+    // that holds it and has one; zones with different normals do not overlap
+    // (daemon/config.cpp), so only a point on two boundaries has a choice.
+    std::vector<Eigen::Vector3d> given(cores.size(), Eigen::Vector3d::Constant(kNaN));
     for (const auto& z : config.zones) {
         out.zone_names.push_back(z.name);
         auto& members = out.zone_cores.emplace_back();
         for (std::size_t k = 0; k < cores.size(); ++k) {
-            if (z.contains(cores[k])) members.push_back(static_cast<std::uint32_t>(k));
+            if (!z.contains(cores[k])) continue;
+            members.push_back(static_cast<std::uint32_t>(k));
+            if (!given[k].allFinite()) given[k] = z.normal;
         }
     }
-    out.reference =
-        m3c2::prepare_reference(points, std::move(cores), normal_parameters(config, out.scanner),
-                                cylinder_parameters(config), threads_of(config));
+    out.reference = m3c2::prepare_reference(points, std::move(cores),
+                                            normal_parameters(config, out.scanner),
+                                            cylinder_parameters(config), threads_of(config), given);
     return out;
 }
 
@@ -250,6 +260,7 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
     out.distances.resize(n);
     m3c2::DistanceParameters dp;
     dp.min_points = static_cast<std::size_t>(config.min_points);
+    dp.max_reference_spread = config.max_roughness;
     for (std::size_t k = 0; k < n; ++k) {
         dp.registration_error = out.registration_sigma[k];
         out.distances[k] = m3c2::distance_between(ref.reference_side[k], out.compared[k], dp);
@@ -320,9 +331,10 @@ StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, Referen
     const M3c2Epoch epoch = measure_m3c2(config, *product, *input.scans, outputs);
     auto rows = m3c2_zone_results(*product, epoch);
     auto arrays = m3c2_core_point_arrays(*product, epoch);
-    std::size_t valid = 0;
+    std::size_t valid = 0, rough = 0;
     double reg_max = 0;
     for (std::size_t k = 0; k < epoch.distances.size(); ++k) {
+        rough += product->reference.reference_side[k].spread > config.max_roughness;
         if (!std::isfinite(epoch.distances[k].distance)) continue;
         ++valid;
         reg_max = std::max(reg_max, epoch.registration_sigma[k]);
@@ -333,10 +345,13 @@ StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, Referen
                                      std::make_move_iterator(arrays.begin()),
                                      std::make_move_iterator(arrays.end()));
     StageVerdict verdict;
-    verdict.note = fmt::format(
-        "{} of {} core points with a distance; registration σ along the "
-        "normal up to {:.2f} mm",
-        valid, epoch.distances.size(), 1e3 * reg_max);
+    verdict.note = fmt::format("{} of {} core points with a distance", valid,
+                               epoch.distances.size());
+    if (rough > 0) {
+        verdict.note += fmt::format(" ({} rougher than {:g} mm: edges)", rough,
+                                    1e3 * config.max_roughness);
+    }
+    verdict.note += fmt::format("; registration σ along the normal up to {:.2f} mm", 1e3 * reg_max);
     return verdict;
 }
 

@@ -8,6 +8,7 @@ Distance distance_between(const CylinderSide& reference, const CylinderSide& com
                           const DistanceParameters& parameters) {
     Distance d;
     if (reference.count < parameters.min_points || compared.count < parameters.min_points) return d;
+    if (!(reference.spread <= parameters.max_reference_spread)) return d;
     const double n1 = reference.count, n2 = compared.count;
     const double s1 = reference.spread, s2 = compared.spread;
     d.distance = compared.centre - reference.centre;

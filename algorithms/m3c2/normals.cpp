@@ -9,6 +9,14 @@
 
 namespace tlsmon::m3c2 {
 
+Eigen::Vector3d oriented(const Eigen::Vector3d& normal, const Eigen::Vector3d& c,
+                         const Orientation& orientation) {
+    const Eigen::Vector3d v = orientation.kind == Orientation::Kind::vector
+                                  ? orientation.value
+                                  : Eigen::Vector3d(orientation.value - c);
+    return normal.dot(v) < 0.0 ? Eigen::Vector3d(-normal) : normal;
+}
+
 CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d>& cloud,
                      std::span<const std::uint32_t> neighbours,
                      const NormalParameters& parameters) {
@@ -49,12 +57,7 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
             best.radius = r;
         }
     }
-    if (best.defined()) {
-        const Eigen::Vector3d v = parameters.orientation.kind == Orientation::Kind::vector
-                                      ? parameters.orientation.value
-                                      : Eigen::Vector3d(parameters.orientation.value - c);
-        if (best.normal.dot(v) < 0.0) best.normal = -best.normal;
-    }
+    if (best.defined()) best.normal = oriented(best.normal, c, parameters.orientation);
     return best;
 }
 

@@ -23,6 +23,10 @@ struct CoreNormal {
     bool defined() const { return normal.allFinite(); }
 };
 
+// `normal` flipped, if need be, so that normal . v >= 0 for the orientation's v at c.
+Eigen::Vector3d oriented(const Eigen::Vector3d& normal, const Eigen::Vector3d& c,
+                         const Orientation& orientation);
+
 // At one core point from its neighbours: the indices into `cloud` of the points within the
 // largest radius of c, in ascending order.
 CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d>& cloud,

@@ -39,6 +39,9 @@ void validate(const DistanceParameters& p) {
     if (!(std::isfinite(p.registration_error) && p.registration_error >= 0.0))
         throw Error("m3c2: registration_error must be a length >= 0 in metres, not " +
                     std::to_string(p.registration_error));
+    if (!(p.max_reference_spread > 0.0))
+        throw Error("m3c2: max_reference_spread must be a positive length in metres, not " +
+                    std::to_string(p.max_reference_spread));
 }
 
 }  // namespace tlsmon::m3c2

@@ -5,6 +5,7 @@
 // docs/m3c2.md for the mapping). `validate` names the offending parameter.
 #include <Eigen/Core>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace tlsmon::m3c2 {
@@ -40,6 +41,11 @@ struct CylinderParameters {
 struct DistanceParameters {
     std::size_t min_points = 5;       // fewer in either cylinder: no distance (NaN)
     double registration_error = 0.0;  // m, "reg" of Lague 2013, eq. 1
+    // m: a reference cylinder whose spread s1 (the roughness σ1 along the normal) exceeds
+    // this holds more than one surface — an edge, a corner, clutter — and its mean depends
+    // on which of them each epoch's sampling happens to catch: no distance (NaN). The
+    // default (infinity) keeps the method as published.
+    double max_reference_spread = std::numeric_limits<double>::infinity();
 };
 
 // Throws Error naming the parameter when a value cannot give a meaningful result.

@@ -12,17 +12,40 @@ namespace tlsmon::m3c2 {
 Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
                             std::vector<Eigen::Vector3d> core_points,
                             const NormalParameters& normals, const CylinderParameters& cylinders,
-                            unsigned threads) {
+                            unsigned threads, std::span<const Eigen::Vector3d> given_normals) {
     validate(normals);
     validate(cylinders);
+    const std::size_t n = core_points.size();
+    if (!given_normals.empty() && given_normals.size() != n)
+        throw Error("m3c2: " + std::to_string(given_normals.size()) + " given normals for " +
+                    std::to_string(n) + " core points");
+    const auto given = [&](std::size_t k) {
+        return !given_normals.empty() && given_normals[k].allFinite() &&
+               given_normals[k].norm() > 0.0;
+    };
+    // Estimated only where no normal is given.
+    std::vector<std::size_t> estimated;
+    std::vector<Eigen::Vector3d> estimated_at;
+    for (std::size_t k = 0; k < n; ++k) {
+        if (given(k)) continue;
+        estimated.push_back(k);
+        estimated_at.push_back(core_points[k]);
+    }
     const std::vector<CoreNormal> found =
-        estimate_normals(reference, core_points, normals, threads);
-    std::vector<Eigen::Vector3d> axes(found.size());
+        estimated_at.empty() ? std::vector<CoreNormal>{}
+                             : estimate_normals(reference, estimated_at, normals, threads);
+    std::vector<Eigen::Vector3d> axes(n);
     Reference r;
-    r.normal_radius.resize(found.size());
-    for (std::size_t k = 0; k < found.size(); ++k) {
-        axes[k] = found[k].normal;
-        r.normal_radius[k] = found[k].radius;
+    r.normal_radius.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        if (given(k)) {
+            axes[k] = oriented(given_normals[k].normalized(), core_points[k], normals.orientation);
+            r.normal_radius[k] = 0.0;
+        }
+    }
+    for (std::size_t j = 0; j < estimated.size(); ++j) {
+        axes[estimated[j]] = found[j].normal;
+        r.normal_radius[estimated[j]] = found[j].radius;
     }
     r.cylinders = make_cylinders(std::move(core_points), std::move(axes), cylinders, threads);
     r.reference_side = cylinder_sides(r.cylinders, reference, threads);

@@ -7,6 +7,7 @@
 // encode()/decode() give the reference cache's payload (pipeline/reference_cache.hpp); the
 // cylinders' index is rebuilt from the stored core points and normals on decode.
 #include <Eigen/Core>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,7 +23,9 @@ struct Reference {
     static constexpr int kFormatVersion = 1;
 
     Cylinders cylinders;                // core points (centres), normals (axes), index
-    std::vector<double> normal_radius;  // per core point; NaN where the normal is undefined
+    // Per core point: the radius its normal was taken at; 0 where the normal was given
+    // (a zone's design normal); NaN where it is undefined.
+    std::vector<double> normal_radius;
     std::vector<CylinderSide> reference_side;
 
     std::size_t size() const { return cylinders.centres.size(); }
@@ -34,10 +37,15 @@ struct Reference {
 };
 
 // Normals at the core points, the cylinders and the reference's side of them.
+// `given_normals`: empty, or one per core point; a finite one is that core point's normal
+// (normalised and oriented like an estimated one) instead of the estimate — the design
+// normal of a planar face, which near an edge or at grazing incidence is closer to the truth
+// than any neighbourhood's (docs/m3c2.md, "Edges and grazing faces").
 Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
                             std::vector<Eigen::Vector3d> core_points,
                             const NormalParameters& normals, const CylinderParameters& cylinders,
-                            unsigned threads = 0);
+                            unsigned threads = 0,
+                            std::span<const Eigen::Vector3d> given_normals = {});
 
 // One compared epoch: its side of every cylinder, then the distance at every core point.
 std::vector<Distance> distances(const Reference& reference,

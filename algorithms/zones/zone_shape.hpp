@@ -6,6 +6,7 @@
 // (pipeline/registration_stage.hpp), which for a prism or a band bounds it from above.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct ZoneShape {
     // when it is inside the box (boundaries included) and, for a prism, inside the polygon.
     Eigen::AlignedBox3d box;
     std::vector<Eigen::Vector2d> polygon;  // empty: a box
+    // The design normal of the planar face the zone covers (unit length), used by M3C2 at
+    // the zone's core points instead of an estimate; NaN: estimated (docs/m3c2.md).
+    Eigen::Vector3d normal = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 
     bool contains(const Eigen::Vector3d& p) const;
     const Eigen::AlignedBox3d& bounds() const { return box; }

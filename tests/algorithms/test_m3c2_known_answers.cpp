@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <vector>
@@ -198,6 +199,61 @@ TEST(M3c2KnownAnswers, SignFollowsTheOrientedNormal) {
     EXPECT_NEAR(distances(r, cylinder_sides(r.cylinders, moved), {5, 0})[0].distance, 0.01, 1e-12);
 }
 
+// An edge: a floor z = 0 (x from 0 to 2 m) meets a wall x = 0, points every 2 cm, no noise.
+std::vector<Vector3d> floor_and_wall(double wall_x) {
+    std::vector<Vector3d> points;
+    for (int i = 0; i <= 100; ++i)
+        for (int j = -50; j <= 50; ++j) {
+            if (i > 0) points.emplace_back(0.02 * i, 0.02 * j, 0.0);  // the floor
+            points.emplace_back(wall_x, 0.02 * j, 0.02 * i);          // the wall
+        }
+    return points;
+}
+
+// Near the edge the neighbourhood's normal leans towards the wall; a given (design) normal is
+// taken as it is, oriented, at radius 0; a NaN one is estimated.
+TEST(M3c2KnownAnswers, GivenNormalsReplaceTheEstimateNearAnEdge) {
+    const auto cloud = floor_and_wall(0.0);
+    const std::vector<Vector3d> cores{{0.2, 0, 0}, {0.2, 0, 0}};
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<Vector3d> given{{0, 0, -2}, {nan, nan, nan}};
+    const Reference r = prepare_reference(cloud, cores, {{0.5}, Orientation::along({0, 0, 1})},
+                                          {0.3, 1.0, CylinderStatistic::mean}, 1, given);
+    EXPECT_EQ(r.normals()[0], Vector3d(0, 0, 1));  // normalised, flipped to n . v >= 0
+    EXPECT_EQ(r.normal_radius[0], 0.0);
+    EXPECT_DOUBLE_EQ(r.normal_radius[1], 0.5);
+    EXPECT_LT(r.normals()[1].z(), std::cos(5.0 * M_PI / 180));  // estimated: leans > 5°
+    EXPECT_THROW(prepare_reference(cloud, cores, {{0.5}, {}}, {0.3, 1.0}, 1,
+                                   std::vector<Vector3d>{given[0]}),
+                 Error);
+}
+
+// A cylinder that takes in the wall as well as the floor is not one surface: its spread is
+// far above the floor's (0 here), and with max_reference_spread it has no distance; a core
+// point away from the edge keeps its distance.
+TEST(M3c2KnownAnswers, ACylinderAcrossAnEdgeIsRefusedByItsSpread) {
+    const auto reference = floor_and_wall(0.0), compared = floor_and_wall(0.01);
+    const std::vector<Vector3d> cores{{0.2, 0, 0}, {1.5, 0, 0}};
+    const std::vector<Vector3d> up(2, Vector3d(0, 0, 1));
+    const Reference r = prepare_reference(reference, cores, {{0.5}, Orientation::along({0, 0, 1})},
+                                          {0.3, 1.0, CylinderStatistic::mean}, 1, up);
+    // Wall points at heights 0 … 1 m in the first cylinder, floor only in the second.
+    EXPECT_GT(r.reference_side[0].spread, 0.1);
+    EXPECT_EQ(r.reference_side[1].spread, 0.0);
+    const auto side = cylinder_sides(r.cylinders, compared);
+    DistanceParameters limited{5, 0.0};
+    limited.max_reference_spread = 0.02;
+    const auto open = distances(r, side, {5, 0.0});
+    const auto refused = distances(r, side, limited);
+    EXPECT_TRUE(std::isfinite(open[0].distance));
+    EXPECT_TRUE(std::isnan(refused[0].distance));
+    EXPECT_TRUE(std::isnan(refused[0].lod));
+    EXPECT_FALSE(refused[0].significant);
+    EXPECT_EQ(refused[1].distance, 0.0);  // the floor did not move
+    limited.max_reference_spread = 0.0;
+    EXPECT_THROW(distances(r, side, limited), Error);
+}
+
 TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
     std::vector<double> v{4, 1, 3, 2, 10};  // sorted 1 2 3 4 10
     const CylinderSide s = statistic_of(v, CylinderStatistic::median);
@@ -212,6 +268,20 @@ TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
     const CylinderSide m = statistic_of(u, CylinderStatistic::mean);
     EXPECT_DOUBLE_EQ(m.centre, 2.5);
     EXPECT_DOUBLE_EQ(m.spread, std::sqrt(5.0 / 3.0));  // sum of squares 5, n - 1 = 3
+}
+
+// A wall on a layer of cube faces (y = 0, noise ±1 mm) occupies the cubes on both sides;
+// one core point per 1 m × 1 m column of the wall, none closer than half the spacing.
+TEST(M3c2KnownAnswers, SubsamplingGivesOneCorePointWhereAWallLiesOnCubeFaces) {
+    std::vector<Vector3d> wall;
+    for (int i = 0; i < 80; ++i)
+        for (int k = 0; k < 80; ++k)
+            wall.emplace_back(0.025 + 0.05 * i, (i + k) % 2 ? 0.001 : -0.001, 0.025 + 0.05 * k);
+    const auto cores = subsample(wall, 1.0);
+    EXPECT_EQ(cores.size(), 16u);  // 4 × 4 columns, not 32 cubes
+    for (std::size_t a = 0; a < cores.size(); ++a)
+        for (std::size_t b = a + 1; b < cores.size(); ++b)
+            EXPECT_GE((cores[a] - cores[b]).norm(), 0.5) << a << " " << b;
 }
 
 TEST(M3c2KnownAnswers, SubsamplingKeepsThePointNearestEachCubeCentre) {

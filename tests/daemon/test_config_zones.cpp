@@ -77,6 +77,65 @@ to = 17
     EXPECT_EQ(c.zones[6].polygon.size(), 3u);  // a band of a prism keeps its outline
 }
 
+// A zone's design normal: unit length in the zone and its bands, on to the stage's shapes;
+// zones whose normals differ may meet but not overlap.
+TEST(ConfigZones, DesignNormalsReachTheStageAndMustNotOverlap) {
+    const Config c = parse(R"(
+[[zone]]
+name = "south"
+min = [2, 44.5, 0]
+max = [17, 45.5, 40]
+normal = [0, -2, 0]
+
+[[zone]]
+name = "west"
+min = [1.5, 45.5, 0]
+max = [2.5, 52, 40]
+normal = [-1, 0, 0]
+
+[[zone]]
+name = "top"
+min = [2, 44.5, 30]
+max = [17, 45.5, 40]
+
+[[zone_bands]]
+zone = "south"
+height = 20
+)");
+    ASSERT_EQ(c.zones.size(), 5u);
+    EXPECT_EQ(c.zones[0].normal, (std::array<double, 3>{0, -1, 0}));
+    EXPECT_FALSE(c.zones[2].normal.has_value());
+    EXPECT_EQ(c.zones[4].normal, (std::array<double, 3>{0, -1, 0}));  // "south 20–40 m"
+    const PipelineConfig p = pipeline_config(c);
+    EXPECT_EQ(p.m3c2.zones[1].normal, Eigen::Vector3d(-1, 0, 0));
+    EXPECT_FALSE(p.m3c2.zones[2].normal.allFinite());
+    EXPECT_EQ(p.m3c2.zones[3].normal, Eigen::Vector3d(0, -1, 0));
+    EXPECT_EQ(c.m3c2.max_roughness, 0.02);
+
+    const std::string overlap = error_of(R"(
+[[zone]]
+name = "south"
+min = [2, 44.5, 0]
+max = [17, 45.5, 40]
+normal = [0, -1, 0]
+
+[[zone]]
+name = "west"
+min = [1.5, 45, 0]
+max = [2.5, 52, 40]
+normal = [-1, 0, 0]
+)");
+    EXPECT_NE(overlap.find("site.toml:12:10: key 'zone[1].normal': zone 'west' overlaps zone "
+                           "'south', whose normal differs"),
+              std::string::npos)
+        << overlap;
+    EXPECT_NE(error_of("[[zone]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nnormal = [0, 0, 0]\n")
+                  .find("key 'zone[0].normal': expected three numbers [x, y, z], not all zero"),
+              std::string::npos);
+    EXPECT_NE(error_of("[m3c2]\nmax_roughness = 0\n").find("m3c2.max_roughness"),
+              std::string::npos);
+}
+
 TEST(ConfigZones, M3c2SectionDefaultsAndValues) {
     const Config d = parse("");
     EXPECT_TRUE(d.m3c2.enabled);

@@ -68,21 +68,23 @@ TEST(QueryCorePoints, WritesOneRowPerCorePointOfTheEpoch) {
     std::ifstream in(out);
     std::string line;
     std::getline(in, line);
-    EXPECT_EQ(line, "core,x,y,z,nx,ny,nz,normal_radius,distance,lod95,n1,n2,significant,zones");
+    EXPECT_EQ(line,
+              "core,x,y,z,nx,ny,nz,normal_radius,spread1,distance,lod95,n1,n2,significant,zones");
     int rows = 0, in_triangle = 0;
     while (std::getline(in, line)) {
         const auto f = fields(line);
-        ASSERT_EQ(f.size(), 14u) << line;
+        ASSERT_EQ(f.size(), 15u) << line;
         ++rows;
         const double x = std::stod(f[1]), y = std::stod(f[2]);
         EXPECT_NEAR(std::stod(f[6]), 1.0, 1e-9) << line;  // nz
         EXPECT_EQ(std::stod(f[7]), 1.5) << line;
-        EXPECT_NEAR(std::stod(f[8]), 0.004, 1e-6) << line;
-        EXPECT_NEAR(std::stod(f[9]), 1.96e-3, 1e-6) << line;
-        EXPECT_EQ(f[12], "true") << line;
+        EXPECT_NEAR(std::stod(f[8]), 0.0, 1e-9) << line;  // a flat plate: no spread
+        EXPECT_NEAR(std::stod(f[9]), 0.004, 1e-6) << line;
+        EXPECT_NEAR(std::stod(f[10]), 1.96e-3, 1e-6) << line;
+        EXPECT_EQ(f[13], "true") << line;
         const bool triangle = x + y <= 10.0;
         in_triangle += triangle;
-        EXPECT_EQ(f[13], triangle ? "plate;triangle" : "plate") << line;
+        EXPECT_EQ(f[14], triangle ? "plate;triangle" : "plate") << line;
     }
     EXPECT_EQ(rows, 36);
     EXPECT_EQ(in_triangle, 15);
