@@ -9,12 +9,11 @@
 #include "core/utc_time.hpp"
 #include "daemon/commands.hpp"
 #include "daemon/query_output.hpp"
+#include "daemon/transformation_columns.hpp"
 
 namespace tlsmon {
 
 namespace {
-
-constexpr double kArcsec = 180.0 * 3600.0 / 3.141592653589793;  // per rad
 
 // "T1 used 0.04 mm; T2 excluded_outlier 10.02 mm; ..." (residual lengths).
 std::string target_summary(const std::vector<TargetObservation>& targets) {
@@ -39,36 +38,13 @@ std::string zone_summary(const std::vector<RegistrationZoneSigma>& zones) {
 }
 
 Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epochs) {
-    Table t{{"epoch",
-             "acquired",
-             "status",
-             "registration",
-             "accepted",
-             "method",
-             "targets_used",
-             "rms_mm",
-             "omega_arcsec",
-             "phi_arcsec",
-             "kappa_arcsec",
-             "tx_mm",
-             "ty_mm",
-             "tz_mm",
-             "sigma_omega_arcsec",
-             "sigma_phi_arcsec",
-             "sigma_kappa_arcsec",
-             "sigma_tx_mm",
-             "sigma_ty_mm",
-             "sigma_tz_mm",
-             "qw",
-             "qx",
-             "qy",
-             "qz",
-             "variance_factor",
-             "redundancy",
-             "targets",
-             "zone_sigma_3d",
-             "reason"},
+    Table t{{"epoch", "acquired", "status", "registration", "accepted", "method", "targets_used",
+             "rms_mm"},
             {}};
+    t.columns.insert(t.columns.end(), kParameterColumns.begin(), kParameterColumns.end());
+    t.columns.insert(t.columns.end(), kSigmaColumns.begin(), kSigmaColumns.end());
+    t.columns.insert(t.columns.end(), {"qw", "qx", "qy", "qz", "variance_factor", "redundancy",
+                                       "targets", "zone_sigma_3d", "reason"});
     for (const auto& e : epochs) {
         const auto r = db.registrations().of_epoch(e.id);
         if (!r) continue;
@@ -80,7 +56,7 @@ Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epo
                               r->method,
                               r->target_count,
                               1e3 * r->rms_m};
-        const double unit[6] = {kArcsec, kArcsec, kArcsec, 1e3, 1e3, 1e3};
+        const auto& unit = kParameterUnits;
         for (int k = 0; k < 6; ++k) {
             row.push_back(optional_cell(r->parameters
                                             ? std::optional<double>((*r->parameters)[k] * unit[k])

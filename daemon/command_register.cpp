@@ -10,6 +10,7 @@
 
 #include "daemon/commands.hpp"
 #include "daemon/config.hpp"
+#include "daemon/transformation_columns.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
@@ -17,8 +18,6 @@
 namespace tlsmon {
 
 namespace {
-
-constexpr double kArcsec = 180.0 * 3600.0 / 3.141592653589793;  // per rad
 
 std::vector<Scan> read_scans(const std::string& file) {
     const HashedBytes content = read_file_hashed(file);
@@ -39,18 +38,12 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
     j["rms_mm"] = 1e3 * r.rms;
     if (const auto& T = r.tested.transform) {
         const auto s = T->sigmas();
-        j["omega_arcsec"] = T->omega * kArcsec;
-        j["phi_arcsec"] = T->phi * kArcsec;
-        j["kappa_arcsec"] = T->kappa * kArcsec;
-        j["tx_mm"] = 1e3 * T->translation.x();
-        j["ty_mm"] = 1e3 * T->translation.y();
-        j["tz_mm"] = 1e3 * T->translation.z();
-        j["sigma_omega_arcsec"] = s(0) * kArcsec;
-        j["sigma_phi_arcsec"] = s(1) * kArcsec;
-        j["sigma_kappa_arcsec"] = s(2) * kArcsec;
-        j["sigma_tx_mm"] = 1e3 * s(3);
-        j["sigma_ty_mm"] = 1e3 * s(4);
-        j["sigma_tz_mm"] = 1e3 * s(5);
+        const double parameters[6] = {
+            T->omega, T->phi, T->kappa, T->translation.x(), T->translation.y(), T->translation.z()};
+        for (int k = 0; k < 6; ++k) {
+            j[kParameterColumns[k]] = parameters[k] * kParameterUnits[k];
+            j[kSigmaColumns[k]] = s(k) * kParameterUnits[k];
+        }
         j["quaternion_wxyz"] = {T->quaternion.w(), T->quaternion.x(), T->quaternion.y(),
                                 T->quaternion.z()};
         j["variance_factor"] = T->variance_factor;
@@ -91,26 +84,12 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
 
 void print_table(const nlohmann::json& j) {
     std::vector<std::pair<std::string, Cell>> fields;
-    for (const char* key : {"status",
-                            "accepted",
-                            "reason",
-                            "method",
-                            "targets_used",
-                            "rms_mm",
-                            "omega_arcsec",
-                            "phi_arcsec",
-                            "kappa_arcsec",
-                            "tx_mm",
-                            "ty_mm",
-                            "tz_mm",
-                            "sigma_omega_arcsec",
-                            "sigma_phi_arcsec",
-                            "sigma_kappa_arcsec",
-                            "sigma_tx_mm",
-                            "sigma_ty_mm",
-                            "sigma_tz_mm",
-                            "variance_factor",
-                            "redundancy"}) {
+    std::vector<const char*> keys{"status", "accepted",     "reason",
+                                  "method", "targets_used", "rms_mm"};
+    keys.insert(keys.end(), kParameterColumns.begin(), kParameterColumns.end());
+    keys.insert(keys.end(), kSigmaColumns.begin(), kSigmaColumns.end());
+    keys.insert(keys.end(), {"variance_factor", "redundancy"});
+    for (const char* key : keys) {
         if (!j.contains(key)) continue;
         const auto& v = j[key];
         if (v.is_boolean()) {

@@ -1,37 +1,21 @@
 // `tlsmon status|query|events`: the built binary on a database filled through the storage
 // API, checking the printed values in table, CSV and JSON.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "storage/epoch_database.hpp"
+#include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
 
-struct Run {
-    int status = -1;
-    std::string out;  // stdout, or stdout+stderr when asked
-};
-
-Run run(const std::string& args, bool with_stderr = false) {
-    const std::string cmd =
-        std::string(TLSMON_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-    Run r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+// Standard output only, unless asked.
+test::CommandRun run(const std::string& args, bool with_stderr = false) {
+    return test::run_tlsmon(args, with_stderr);
 }
 
 std::vector<std::string> lines(const std::string& text) {

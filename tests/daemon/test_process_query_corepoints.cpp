@@ -2,35 +2,15 @@
 // lifted 4 mm (tests/pipeline/test_m3c2_stage.cpp's construction): one CSV row per core
 // point with its position, normal, distance, LoD and zones; clear errors otherwise.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "tests/pipeline/pipeline_site.hpp"
+#include "tests/support/run_tlsmon.hpp"
 
 namespace tlsmon::test {
 namespace {
-
-struct Finished {
-    int status = -1;
-    std::string out;
-};
-
-Finished run(const std::string& args) {
-    const std::string cmd = std::string(TLSMON_BINARY) + " " + args + " 2>&1";
-    Finished r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 std::vector<std::string> fields(const std::string& line) {
     std::vector<std::string> out;
@@ -62,8 +42,8 @@ TEST(QueryCorePoints, WritesOneRowPerCorePointOfTheEpoch) {
     }
     const auto db = site.dir / "tlsmon.sqlite";
     const auto out = site.dir / "e1.csv";
-    const Finished r = run("query corepoints --db " + db.string() + " --epoch " +
-                           std::to_string(e1.id) + " --out " + out.string());
+    const CommandRun r = run_tlsmon("query corepoints --db " + db.string() + " --epoch " +
+                                    std::to_string(e1.id) + " --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.out;
     std::ifstream in(out);
     std::string line;
@@ -89,7 +69,7 @@ TEST(QueryCorePoints, WritesOneRowPerCorePointOfTheEpoch) {
     EXPECT_EQ(rows, 36);
     EXPECT_EQ(in_triangle, 15);
 
-    const Finished none = run("query corepoints --db " + db.string() + " --epoch 99");
+    const CommandRun none = run_tlsmon("query corepoints --db " + db.string() + " --epoch 99");
     EXPECT_EQ(none.status, 1);
     EXPECT_NE(none.out.find("no epoch 99"), std::string::npos) << none.out;
 }

@@ -2,35 +2,16 @@
 // API — the stored coefficients, convergence and reasons printed back, by quantity and time,
 // and the residuals with --residuals.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <array>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "storage/epoch_database.hpp"
+#include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
-
-struct Run {
-    int status = -1;
-    std::string out;
-};
-
-Run run(const std::string& args) {
-    const std::string cmd = std::string(TLSMON_BINARY) + " " + args + " 2>&1";
-    Run r;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 constexpr UtcSeconds kT0 = 1772366400;  // 2026-03-01T12:00:00Z
 
@@ -78,7 +59,7 @@ class QueryKeypointModels : public ::testing::Test {
 };
 
 TEST_F(QueryKeypointModels, CoefficientsAndReasonsAsJson) {
-    const auto r = run("query keypoint-models --format json " + db());
+    const auto r = test::run_tlsmon("query keypoint-models --format json " + db());
     ASSERT_EQ(r.status, 0) << r.out;
     const auto rows = nlohmann::json::parse(r.out);
     ASSERT_EQ(rows.size(), 2u);
@@ -98,15 +79,15 @@ TEST_F(QueryKeypointModels, CoefficientsAndReasonsAsJson) {
 }
 
 TEST_F(QueryKeypointModels, ResidualsTimeRangeAndQuantity) {
-    auto r = run("query keypoint-models --residuals --format csv " + db());
+    auto r = test::run_tlsmon("query keypoint-models --residuals --format csv " + db());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_NE(r.out.find("epoch,acquired,quantity,zone,t,z,d,residual\n"), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find(",keypoint_band_5_10,0.25,6,0.0017,-0.0003"), std::string::npos) << r.out;
-    r = run("query keypoint-models --format json --from 2026-03-01T12:10:00Z " + db());
+    r = test::run_tlsmon("query keypoint-models --format json --from 2026-03-01T12:10:00Z " + db());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(nlohmann::json::parse(r.out).size(), 1u);
-    r = run("query keypoint-models --format json --quantity keypoint_dz_m " + db());
+    r = test::run_tlsmon("query keypoint-models --format json --quantity keypoint_dz_m " + db());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(nlohmann::json::parse(r.out).size(), 0u);
 }
