@@ -26,24 +26,14 @@
 #include "daemon/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
 #include "simulator/series.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace tlsmon::bench {
 
 namespace fs = std::filesystem;
 
-inline std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-inline void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f.write(text.data(), static_cast<std::streamsize>(text.size()));
-    f.close();
-    if (!f) throw std::runtime_error("cannot write " + path.string());
-}
+using test::read_text;
+using test::write_text;
 
 // Complete at once for the daemon's watcher: a hidden ".name.part", then a rename.
 inline void place(const fs::path& from, const fs::path& folder) {

@@ -16,21 +16,11 @@
 #include "core/utc_time.hpp"
 #include "daemon/demo_scene.hpp"
 #include "tests/daemon/daemon_harness.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace tlsmon::test::e2e {
 
 using nlohmann::json;
-
-inline std::string read_text(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-inline void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
 
 // A word for the shell: single-quoted.
 inline std::string quoted(const std::string& s) {

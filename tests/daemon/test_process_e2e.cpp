@@ -16,8 +16,6 @@
 // The truth comes from the truth files (docs/simulator.md), the database from sqlite3: the
 // test uses neither tlsmon's report nor its storage code for what it compares.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include <cstring>
 #include <iostream>
@@ -26,6 +24,7 @@
 #include <set>
 
 #include "tests/daemon/e2e_scenario.hpp"
+#include "tests/support/modbus_client.hpp"
 
 namespace tlsmon::test::e2e {
 namespace {
@@ -33,18 +32,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kEpochs = 24;
-
-int free_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
 
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -315,7 +302,7 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
         }
     }
 
-    const int port = free_port();
+    const int port = free_tcp_port();
     const fs::path run = tmp.path() / "run";
     const fs::path config = write_config(s, run, port);
     const fs::path db = run / "tlsmon.sqlite";

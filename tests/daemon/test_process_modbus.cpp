@@ -3,8 +3,6 @@
 // acknowledge coil that leaves an acknowledgement by SCADA in the database, and the
 // `tlsmon modbus-map` rows against the server's answers.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 
 #include <cmath>
 #include <regex>
@@ -19,19 +17,6 @@ using test::DaemonProcess;
 using test::shell;
 using test::wait_until;
 namespace fs = std::filesystem;
-
-// A TCP port nobody listens on now: the kernel's choice for port 0.
-int free_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
 
 std::string modbus_toml(int port, const std::string& word_order) {
     return "[modbus]\nenabled = true\nport = " + std::to_string(port) + "\nword_order = \"" +
@@ -85,7 +70,7 @@ void write_epoch(const test::Site& site, UtcSeconds acquired, std::vector<ZoneRe
 
 struct Running {
     explicit Running(const std::string& name, const std::string& word_order = "ABCD")
-        : port(free_port()), site(name, modbus_toml(port, word_order)) {
+        : port(test::free_tcp_port()), site(name, modbus_toml(port, word_order)) {
         // The database with its zones before the daemon starts, so the test's ids are known.
         fs::create_directories(site.database().parent_path());
         auto db = EpochDatabase::open(site.database(), EpochDatabase::Mode::read_write);
@@ -252,7 +237,7 @@ TEST(ModbusProcess, MapPrintedForTheIntegratorIsWhatTheServerAnswers) {
 }
 
 TEST(ModbusProcess, AllowlistMaxClientsAndUnitIdAreEnforced) {
-    const int port = free_port();
+    const int port = test::free_tcp_port();
     test::Site site("modbus_limits", "[modbus]\nenabled = true\nport = " + std::to_string(port) +
                                          "\nmax_clients = 2\nunit_id = 3\n");
     DaemonProcess daemon(site.config(), site.log());
@@ -270,7 +255,7 @@ TEST(ModbusProcess, AllowlistMaxClientsAndUnitIdAreEnforced) {
     daemon.signal(SIGTERM);
     ASSERT_EQ(daemon.wait(20), 0);
 
-    const int port2 = free_port();
+    const int port2 = test::free_tcp_port();
     test::Site listed("modbus_allowlist",
                       "[modbus]\nenabled = true\nport = " + std::to_string(port2) +
                           "\nallowlist = [\"10.9.9.9\"]\n");
