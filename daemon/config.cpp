@@ -6,8 +6,10 @@
 #include <cctype>
 #include <set>
 
+#include "algorithms/keypoints/opencv_features.hpp"
 #include "daemon/config_alarm_rules.hpp"
 #include "daemon/config_keys.hpp"
+#include "pipeline/keypoint_results.hpp"
 
 namespace tlsmon {
 
@@ -96,12 +98,42 @@ void check_m3c2(TomlFields& t, const M3c2Config& c) {
     }
 }
 
+void check_keypoints(TomlFields& t, const KeypointConfig& c) {
+    keypoints::FeatureParameters f;
+    f.detector = c.detector;
+    try {
+        keypoints::validate(f);  // the detector with the default descriptor
+    } catch (const Error& e) {
+        t.fail("detector", e.what());
+    }
+    f.descriptor = c.descriptor;
+    try {
+        keypoints::validate(f);
+    } catch (const Error& e) {
+        t.fail("descriptor", e.what());
+    }
+    static const std::set<std::string> modelled{
+        kKeypointDx,           kKeypointDy,           kKeypointDz, kKeypointAlongNormal,
+        kKeypointAlongSurfaceH, kKeypointAlongSurfaceV};
+    std::set<std::string> seen;
+    for (const auto& q : c.model_quantities) {
+        if (!modelled.count(q)) {
+            t.fail("model_quantities",
+                   "'" + q + "' is not a keypoint displacement quantity (keypoint_dx_m, "
+                   "keypoint_dy_m, keypoint_dz_m, keypoint_along_normal_m, "
+                   "keypoint_along_surface_h_m, keypoint_along_surface_v_m)");
+        }
+        if (!seen.insert(q).second) t.fail("model_quantities", "'" + q + "' is listed twice");
+    }
+}
+
 void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "station") check_station(t, c.station);
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
     if (section == "modbus") check_modbus(t, c.modbus);
     if (section == "m3c2") check_m3c2(t, c.m3c2);
+    if (section == "keypoints") check_keypoints(t, c.keypoints);
     if (section == "registration" &&
         c.registration.global_reject_alpha > c.registration.global_alpha) {
         t.fail("global_reject_alpha", "must be <= registration.global_alpha");
@@ -428,6 +460,13 @@ M3c2Config with_zone_shapes(const Config& config) {
     return m;
 }
 
+KeypointConfig keypoints_with_zone_shapes(const Config& config) {
+    KeypointConfig k = config.keypoints;
+    k.zones.clear();
+    for (const auto& z : config.zones) k.zones.push_back(zone_shape(z));
+    return k;
+}
+
 }  // namespace
 
 ZoneShape zone_shape(const ZoneConfig& z) {
@@ -455,6 +494,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .registration = with_zones(config),
                           .meteo = config.meteo,
                           .m3c2 = with_zone_shapes(config),
+                          .keypoints = keypoints_with_zone_shapes(config),
                           .alarm_rules = config.alarm.rules};
 }
 

@@ -99,6 +99,7 @@ struct Config {
     CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
+    KeypointConfig keypoints;         // likewise
     IcpConfig icp;  // [registration] icp_* keys; regions: the [[stable_region]] tables
     ModbusConfig modbus;
     AlarmConfig alarm;

@@ -21,6 +21,10 @@ constexpr std::array<Named<M3c2Statistic>, 2> kM3c2Statistics{{
     {M3c2Statistic::mean, "mean"},
     {M3c2Statistic::median, "median"},
 }};
+constexpr std::array<Named<KeypointSegments>, 2> kKeypointSegments{{
+    {KeypointSegments::zones, "zones"},
+    {KeypointSegments::bands, "bands"},
+}};
 constexpr std::array<Named<IcpMode>, 4> kIcpModes{{
     {IcpMode::off, "off"},
     {IcpMode::refine, "refine"},
@@ -499,6 +503,50 @@ std::vector<ConfigKey> declare_keys() {
                "point gets the registration's σ along its normal."),
         integer(at(&C::m3c2, &M3c2Config::threads), "m3c2.threads", 0, 256, "",
                 "Threads of the stage; 0: every core."),
+        flag(at(&C::keypoints, &KeypointConfig::enabled), "keypoints.enabled",
+             "Run the keypoint displacement method (docs/keypoints.md) for every epoch against "
+             "the reference epoch: movement along the surface, which M3C2 does not see. With "
+             "`segments = \"zones\"` it needs at least one `[[zone]]`; an epoch without a "
+             "structured scan (PTX, gridded E57) is not measured by it."),
+        text(at(&C::keypoints, &KeypointConfig::detector), "keypoints.detector",
+             "`akaze`, `kaze`, `sift`, `brisk`, `orb`",
+             "Keypoint detector in the intensity images. `akaze` keeps a pier epoch within 10 s "
+             "on 2 cores; `kaze` (the Hessian response of the case study's SURF) takes about "
+             "three times as long for the same accuracy (docs/keypoints.md)."),
+        text(at(&C::keypoints, &KeypointConfig::descriptor), "keypoints.descriptor",
+             "`brisk`, `sift`, `orb`; `kaze`/`akaze` on their own detector only",
+             "Keypoint descriptor; binary ones are matched by Hamming distance."),
+        flag(at(&C::keypoints, &KeypointConfig::clahe), "keypoints.clahe",
+             "Equalise the 8-bit intensity image (CLAHE) before detection and description."),
+        number(at(&C::keypoints, &KeypointConfig::window_deg), "keypoints.window_deg", 0.0001, 5,
+               "°",
+               "Matching window: an epoch keypoint is a candidate for a reference keypoint "
+               "within this angle of it; the nearest descriptor wins."),
+        number(at(&C::keypoints, &KeypointConfig::ratio), "keypoints.ratio", 0, 1, "",
+               "Lowe's ratio test among the candidates (best < ratio · second best); 0: off."),
+        flag(at(&C::keypoints, &KeypointConfig::mutual), "keypoints.mutual",
+             "Keep a match only when it is also the epoch keypoint's best in the reference."),
+        number(at(&C::keypoints, &KeypointConfig::mad_k), "keypoints.mad_k", 0.5, 10, "",
+               "Outlier filters: a match is removed when a quantity lies farther than "
+               "k · 1.4826 · MAD from the segment's median (the method's k = 2)."),
+        integer(at(&C::keypoints, &KeypointConfig::min_matches), "keypoints.min_matches", 3,
+                1000000, "", "Matches a segment needs after the filters; fewer: undefined."),
+        choice(at(&C::keypoints, &KeypointConfig::segments), "keypoints.segments",
+               kKeypointSegments,
+               "`zones`: one displacement per `[[zone]]` (the zones M3C2 uses), detection "
+               "confined to them. `bands`: per band of the vertical angle, zones named "
+               "`keypoint_band_<lo>_<hi>`, detection in the whole image."),
+        number(at(&C::keypoints, &KeypointConfig::band_width_deg), "keypoints.band_width_deg",
+               0.1, 180, "°", "Width of the vertical-angle bands (`segments = \"bands\"`)."),
+        number(at(&C::keypoints, &KeypointConfig::registration_error),
+               "keypoints.registration_error", 0, 1, "m",
+               "The LoD's registration term when there is no registration (no `[[target]]`). "
+               "With a registration each segment gets the registration's σ at its centroid in "
+               "the worst direction."),
+        names(at(&C::keypoints, &KeypointConfig::model_quantities), "keypoints.model_quantities",
+              "keypoint displacement quantities, no repeats",
+              "The zone quantities the displacement model d(t, z) is refitted for each epoch, "
+              "over every segment and epoch so far (`tlsmon query keypoint-models`)."),
         flag(at(&C::modbus, &ModbusConfig::enabled), "modbus.enabled",
              "Run the Modbus TCP server for SCADA (docs/modbus.md)."),
         text(at(&C::modbus, &ModbusConfig::address), "modbus.address", "an IPv4 address",

@@ -278,7 +278,21 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
             return v;
         }
     }
-    // Keypoints, zones and alarms follow here, in this order, with `outputs`.
+    const KeypointConfig& kp = ctx.config.keypoints;
+    if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty())) {
+        std::vector<std::pair<std::string, std::string>> band_zones;
+        if (auto v = timed("keypoints",
+                           [&] {
+                               return run_keypoints(kp, input, *reference, ctx.cache, outputs,
+                                                    ctx.db.series(), band_zones, results);
+                           });
+            !v.ran()) {
+            return v;
+        }
+        // The rows' band zones must exist before the commit (idempotent).
+        for (const auto& [name, definition] : band_zones) ctx.db.site().upsert_zone(name, definition);
+    }
+    // Zones and alarms follow here, in this order, with `outputs`.
     return {};
 }
 

@@ -13,6 +13,7 @@
 #include "alarms/alarm_rule.hpp"
 #include "pipeline/coverage_stage.hpp"
 #include "pipeline/epoch_meteo.hpp"
+#include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/registration_stage.hpp"
@@ -34,6 +35,7 @@ struct PipelineConfig {
     RegistrationConfig registration;  // no targets: no registration
     MeteoConfig meteo;
     M3c2Config m3c2;  // with the zones; none: the stage does not run
+    KeypointConfig keypoints;  // with the zones (segments = zones; none: it does not run)
     // Evaluated in each epoch's commit (pipeline/alarm_evaluation.hpp).
     std::vector<AlarmRuleSpec> alarm_rules;
 };

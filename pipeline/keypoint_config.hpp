@@ -1,0 +1,36 @@
+#pragma once
+// What the keypoint stage needs of the site: the keypoint parameters ([keypoints],
+// docs/configuration.md) and the zones it measures in (docs/keypoints.md).
+#include <string>
+#include <vector>
+
+#include "algorithms/zones/zone_shape.hpp"
+
+namespace tlsmon {
+
+// The segments a displacement is given for: the configured zones, or bands of the vertical
+// angle (the case study's).
+enum class KeypointSegments { zones, bands };
+
+struct KeypointConfig {
+    bool enabled = true;  // zones: runs when there is at least one zone; bands: always
+    // AKAZE, not KAZE: the one that keeps a pier epoch within 10 s on 2 cores
+    // (docs/keypoints.md, "The default detector").
+    std::string detector = "akaze";
+    std::string descriptor = "brisk";
+    bool clahe = false;
+    double window_deg = 0.05;  // angular radius of the matching window
+    double ratio = 0.0;        // Lowe's ratio test; 0: off
+    bool mutual = false;
+    double mad_k = 2.0;    // outlier filters: |x − median| > k · 1.4826 · MAD
+    int min_matches = 10;  // kept matches a segment needs
+    KeypointSegments segments = KeypointSegments::zones;
+    double band_width_deg = 5.0;
+    double registration_error = 0.0;  // m, the LoD's reg without a registration
+    // The zone quantities modelled by d(t, z) each epoch.
+    std::vector<std::string> model_quantities{"keypoint_along_surface_h_m",
+                                              "keypoint_along_surface_v_m"};
+    std::vector<ZoneShape> zones;
+};
+
+}  // namespace tlsmon
