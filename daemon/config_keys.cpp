@@ -522,6 +522,13 @@ std::vector<ConfigKey> declare_keys() {
                "°",
                "Matching window: an epoch keypoint is a candidate for a reference keypoint "
                "within this angle of it; the nearest descriptor wins."),
+        flag(at(&C::keypoints, &KeypointConfig::refine), "keypoints.refine",
+             "Refine each match by least-squares matching of the reference's intensity patch "
+             "around the keypoint's nearest pixel (docs/keypoints.md): the detector's sub-pixel "
+             "position follows the pixel lattice, which moves over the surface as the scanner "
+             "drifts."),
+        integer(at(&C::keypoints, &KeypointConfig::patch_radius), "keypoints.patch_radius", 2,
+                50, "px", "The refinement's patch: (2 · radius + 1)² pixels."),
         number(at(&C::keypoints, &KeypointConfig::ratio), "keypoints.ratio", 0, 1, "",
                "Lowe's ratio test among the candidates (best < ratio · second best); 0: off."),
         flag(at(&C::keypoints, &KeypointConfig::mutual), "keypoints.mutual",
@@ -531,6 +538,12 @@ std::vector<ConfigKey> declare_keys() {
                "k · 1.4826 · MAD from the segment's median (the method's k = 2)."),
         integer(at(&C::keypoints, &KeypointConfig::min_matches), "keypoints.min_matches", 3,
                 1000000, "", "Matches a segment needs after the filters; fewer: undefined."),
+        number(at(&C::keypoints, &KeypointConfig::max_incidence_deg),
+               "keypoints.max_incidence_deg", 0, 90, "°",
+               "`segments = \"zones\"`: a match whose beam meets the zone's wall (its plane "
+               "fitted to the reference's points) at a larger angle to the normal is not used: "
+               "a grazing wall's image is stretched along the beam and its keypoints do not "
+               "repeat (the simulated pier's west face, 87°). 90: every match."),
         choice(at(&C::keypoints, &KeypointConfig::segments), "keypoints.segments",
                kKeypointSegments,
                "`zones`: one displacement per `[[zone]]` (the zones M3C2 uses), detection "

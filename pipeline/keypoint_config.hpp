@@ -20,10 +20,18 @@ struct KeypointConfig {
     std::string descriptor = "brisk";
     bool clahe = false;
     double window_deg = 0.05;  // angular radius of the matching window
+    // Least-squares refinement of each match on a patch of (2·patch_radius + 1)² pixels
+    // (algorithms/keypoints/patch_refinement.hpp).
+    bool refine = true;
+    int patch_radius = 7;
     double ratio = 0.0;        // Lowe's ratio test; 0: off
     bool mutual = false;
     double mad_k = 2.0;    // outlier filters: |x − median| > k · 1.4826 · MAD
     int min_matches = 10;  // kept matches a segment needs
+    // Zones: a match whose beam meets the zone's wall at a larger angle to its normal is not
+    // used (a grazing surface's image is stretched along the beam; its keypoints do not
+    // repeat). 90: every match.
+    double max_incidence_deg = 75.0;
     KeypointSegments segments = KeypointSegments::zones;
     double band_width_deg = 5.0;
     double registration_error = 0.0;  // m, the LoD's reg without a registration

@@ -12,6 +12,7 @@
 
 #include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
+#include "algorithms/keypoints/patch_refinement.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
 #include "core/payload.hpp"
@@ -133,9 +134,10 @@ double registration_sigma_at(const registration::RigidTransform& T, const Eigen:
 }  // namespace
 
 std::string keypoint_reference_parameters(const KeypointConfig& c) {
-    std::string s = fmt::format("detector={};descriptor={};clahe={};segments={}", c.detector,
-                                c.descriptor, c.clahe ? 1 : 0,
-                                c.segments == KeypointSegments::zones ? "zones" : "bands");
+    std::string s = fmt::format("detector={};descriptor={};clahe={};segments={};patch={}",
+                                c.detector, c.descriptor, c.clahe ? 1 : 0,
+                                c.segments == KeypointSegments::zones ? "zones" : "bands",
+                                c.refine ? c.patch_radius : 0);
     if (c.segments == KeypointSegments::zones) {
         for (const auto& z : c.zones) {
             s += fmt::format(";zone={}:{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", z.name,
@@ -160,20 +162,36 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
     const auto& desc = d.features.descriptors;
     out.features.descriptors.binary = desc.binary;
     out.features.descriptors.length = desc.length;
+    out.patch_radius = config.refine ? config.patch_radius : 0;
     for (std::size_t i = 0; i < kp.size(); ++i) {
-        const PolarAt at = polar_at(d.images, kp[i].row, kp[i].column);
-        if (at.dropped != Dropped::no) continue;
+        double row = kp[i].row, column = kp[i].column;
+        PolarAt at;
+        if (config.refine) {
+            const int r = static_cast<int>(std::lround(row)), c = static_cast<int>(std::lround(column));
+            const auto patch = intensity_patch(d.images, r, c, config.patch_radius);
+            if (!patch) continue;
+            row = r;
+            column = c;
+            at = polar_at(d.images, row, column);
+            if (at.dropped != Dropped::no) continue;
+            out.patches.insert(out.patches.end(), patch->values.begin(), patch->values.end());
+        } else {
+            at = polar_at(d.images, row, column);
+            if (at.dropped != Dropped::no) continue;
+        }
         out.features.keypoints.push_back(kp[i]);
         if (desc.binary) {
-            const auto* row = desc.bits.data() + i * desc.length;
-            out.features.descriptors.bits.insert(out.features.descriptors.bits.end(), row,
-                                                 row + desc.length);
+            const auto* bits = desc.bits.data() + i * desc.length;
+            out.features.descriptors.bits.insert(out.features.descriptors.bits.end(), bits,
+                                                 bits + desc.length);
         } else {
-            const auto* row = desc.values.data() + i * desc.length;
-            out.features.descriptors.values.insert(out.features.descriptors.values.end(), row,
-                                                   row + desc.length);
+            const auto* values = desc.values.data() + i * desc.length;
+            out.features.descriptors.values.insert(out.features.descriptors.values.end(), values,
+                                                   values + desc.length);
         }
         out.positions.push_back(d.positions[i]);
+        out.anchor_rows.push_back(row);
+        out.anchor_columns.push_back(column);
         out.polar.push_back(at.polar);
         out.points.push_back(d.images.pose * cartesian_of(at.polar));
     }
@@ -202,6 +220,10 @@ std::string KeypointReference::encode() const {
     w.put_array(features.descriptors.bits);
     w.put_array(features.descriptors.values);
     w.put_array(positions);
+    w.put_array(anchor_rows);
+    w.put_array(anchor_columns);
+    w.put<std::int32_t>(patch_radius);
+    w.put_array(patches);
     w.put_array(polar);
     std::vector<double> flat;
     flat.reserve(3 * points.size());
@@ -239,14 +261,20 @@ KeypointReference KeypointReference::decode(std::string_view payload) {
     r.features.descriptors.bits = in.get_array<std::uint8_t>();
     r.features.descriptors.values = in.get_array<float>();
     r.positions = in.get_array<AngularPosition>();
+    r.anchor_rows = in.get_array<double>();
+    r.anchor_columns = in.get_array<double>();
+    r.patch_radius = in.get<std::int32_t>();
+    r.patches = in.get_array<float>();
     r.polar = in.get_array<Polar>();
     const auto flat = in.get_array<double>();
     if (flat.size() % 3 != 0) throw Error("keypoints stage payload: a point without 3 coordinates");
     for (std::size_t i = 0; i < flat.size(); i += 3)
         r.points.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
     const std::size_t n = r.features.keypoints.size();
+    const auto side = static_cast<std::size_t>(2 * std::max(0, r.patch_radius) + 1);
     if (r.features.descriptors.count() != n || r.positions.size() != n || r.polar.size() != n ||
-        r.points.size() != n) {
+        r.points.size() != n || r.anchor_rows.size() != n || r.anchor_columns.size() != n ||
+        r.patch_radius < 0 || r.patches.size() != (r.patch_radius > 0 ? n * side * side : 0)) {
         throw Error("keypoints stage payload: keypoints, descriptors and positions differ in number");
     }
     r.scanner = get_vector(in);
@@ -296,9 +324,31 @@ KeypointEpoch measure_keypoints(const KeypointConfig& config, const KeypointRefe
     // The epoch's point in the reference frame: its file's pose, then the range scale and
     // the registration (the map M3C2 uses, m3c2_stage.hpp).
     const EpochToReference map = epoch_to_reference(outputs, reference.scanner);
+    const int radius = reference.patch_radius;
+    const std::size_t patch_size = static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1));
+    IntensityPatch patch;
+    patch.radius = radius;
     for (const auto& pair : pairs) {
+        const Keypoint& a = reference.features.keypoints[pair.reference];
         const Keypoint& b = d.features.keypoints[pair.epoch];
-        const PolarAt pb = polar_at(d.images, b.row, b.column);
+        // The anchor's place in the epoch's image, first from the keypoints' offset.
+        double row = b.row + (reference.anchor_rows[pair.reference] - a.row);
+        double column = b.column + (reference.anchor_columns[pair.reference] - a.column);
+        if (radius > 0) {
+            patch.row = static_cast<int>(reference.anchor_rows[pair.reference]);
+            patch.column = static_cast<int>(reference.anchor_columns[pair.reference]);
+            const auto first = reference.patches.begin() +
+                               static_cast<std::ptrdiff_t>(pair.reference * patch_size);
+            patch.values.assign(first, first + static_cast<std::ptrdiff_t>(patch_size));
+            const auto found = match_patch(patch, d.images, row, column);
+            if (!found) {
+                ++out.dropped_patch;
+                continue;
+            }
+            row = found->row;
+            column = found->column;
+        }
+        const PolarAt pb = polar_at(d.images, row, column);
         switch (pb.dropped) {
             case Dropped::no:
                 break;
@@ -312,13 +362,12 @@ KeypointEpoch measure_keypoints(const KeypointConfig& config, const KeypointRefe
                 ++out.dropped_depth_edge;
                 continue;
         }
-        const Keypoint& a = reference.features.keypoints[pair.reference];
         const Polar& pa = reference.polar[pair.reference];
         KeypointMatch m;
-        m.reference_row = a.row;
-        m.reference_column = a.column;
-        m.row = b.row;
-        m.column = b.column;
+        m.reference_row = reference.anchor_rows[pair.reference];
+        m.reference_column = reference.anchor_columns[pair.reference];
+        m.row = row;
+        m.column = column;
         m.reference_range = pa.range;
         m.range = pb.polar.range;
         m.reference_azimuth = pa.azimuth;
@@ -365,9 +414,18 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
     };
     if (config.segments == KeypointSegments::zones) {
         for (std::size_t z = 0; z < reference.zone_names.size() && z < config.zones.size(); ++z) {
+            // The incidence cut (config.max_incidence_deg): |cos| of the angle between the
+            // beam and the wall's normal.
+            const WallFrame& wall = reference.walls[z];
+            const double min_cos = std::cos(config.max_incidence_deg * kDeg);
+            const auto grazing = [&](const KeypointMatch& m) {
+                if (!wall.defined() || config.max_incidence_deg >= 90.0) return false;
+                const Eigen::Vector3d beam = (m.reference_point - reference.scanner).normalized();
+                return std::abs(beam.dot(wall.normal)) < min_cos;
+            };
             std::vector<KeypointMatch> in;
             for (const auto& m : matches) {
-                if (config.zones[z].contains(m.reference_point)) {
+                if (config.zones[z].contains(m.reference_point) && !grazing(m)) {
                     in.push_back(m);
                     in.back().segment = 0;
                 }

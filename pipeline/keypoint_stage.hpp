@@ -45,8 +45,13 @@ struct KeypointReference {
 
     keypoints::Features features;  // kept keypoints, their descriptors row by row
     std::vector<keypoints::AngularPosition> positions;  // lattice angles, per keypoint
-    std::vector<keypoints::Polar> polar;                // scanner frame, per keypoint
-    std::vector<Eigen::Vector3d> points;                // project frame, per keypoint
+    // Where each keypoint is measured: its own sub-pixel position, or with `refine` the
+    // pixel nearest it (an exact return) whose intensity patch is sought in the epoch.
+    std::vector<double> anchor_rows, anchor_columns;
+    std::vector<keypoints::Polar> polar;  // scanner frame, at the anchor
+    std::vector<Eigen::Vector3d> points;  // project frame, at the anchor
+    int patch_radius = 0;                 // 0: no patches (no refinement)
+    std::vector<float> patches;           // (2·radius + 1)² intensities per keypoint
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
     std::size_t detected = 0;  // keypoints detected (before description and 3-D)
     std::vector<std::string> zone_names;        // zones mode, in the configuration's order
@@ -68,6 +73,7 @@ struct KeypointEpoch {
     std::vector<keypoints::KeypointMatch> matches;  // segment −1
     std::size_t detected = 0, described = 0, pairs = 0;
     std::size_t dropped_outside = 0, dropped_empty_neighbour = 0, dropped_depth_edge = 0;
+    std::size_t dropped_patch = 0;  // the refinement did not find the patch
     double images_s = 0, detection_s = 0, description_s = 0, matching_s = 0, to_3d_s = 0;
 };
 

@@ -1,0 +1,320 @@
+// The keypoint stage after registration on simulated series of the `pier` preset (issue 12's
+// acceptance), side by side with M3C2 in the same zones: per zone, the displacement along
+// the surface (horizontal and vertical in the wall) against the truth, with the mean number
+// of matches kept; and in a series without deformation, no zone beyond 3σ.
+//
+// Each epoch renders the targets' windows at the preset's step (what the registration
+// measures) and only the pier's south and west faces, at the preset's step (0.013°): the same
+// geometry, beam, texture, noise, scanner drift and air as a full epoch, in about 10 s of
+// rendering instead of 25. The atmosphere's range scales are the truth's (a site takes them
+// from its weather station's air). The west face is seen at 87°: its matches are grazing
+// (keypoints.max_incidence_deg) and it stays undefined.
+//
+// Truth: the pier's displacement u_i at a kept match's reference point p (sim::
+// pier_displacement; p stands for the material point, u varies by < 1e-5 over the
+// millimetres it moved), (u_i(p) − u_0(p)) along the zone's wall directions, averaged over
+// the matches the filters kept (the same filters, run again here on the zone's matches).
+// Epoch 0 is not undeformed (docs/simulator.md): only differences are scored.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "pipeline/keypoint_results.hpp"
+#include "pipeline/keypoint_stage.hpp"
+#include "pipeline/m3c2_stage.hpp"
+#include "simulator/deformation.hpp"
+#include "simulator/epoch_conditions.hpp"
+#include "simulator/render.hpp"
+#include "tests/simulator/narrow_window.hpp"
+#include "tests/support/simulated_targets.hpp"
+
+namespace tlsmon {
+namespace {
+
+// The preset's own step: at twice it (0.026°, 2.3 cm at 50 m, about the footprint's width)
+// the intensity image is aliased and its sub-pixel shifts are biased by up to 0.2 pixel
+// (5 mm) — a scanner for this method must sample the surface finer than its footprint.
+constexpr double kFaceStepDeg = 0.013;
+
+// The pier's two visible faces, 0.5 m inside their edges, in 10 m bands of the south face
+// (the zones of the M3C2 acceptance, tests/pipeline/test_m3c2_simulated.cpp).
+std::vector<ZoneShape> pier_zones(const sim::Site& site) {
+    const auto& p = site.pier;
+    std::vector<ZoneShape> zones;
+    const ZoneShape south =
+        box_zone("south", {p.x0 + 0.5, p.y0 - 0.5, 1.0}, {p.x1 - 0.5, p.y0 + 0.5, p.height - 1.0});
+    zones.push_back(south);
+    for (auto& b : bands_of(south, 2, 10.0, 0.0, p.height)) zones.push_back(b);
+    zones.push_back(
+        box_zone("west", {p.x0 - 0.5, p.y0 + 0.5, 1.0}, {p.x0 + 0.5, p.y1 - 0.5, p.height - 1.0}));
+    return zones;
+}
+
+KeypointConfig keypoint_config(const sim::Site& site) {
+    KeypointConfig c;
+    c.zones = pier_zones(site);
+    return c;
+}
+
+M3c2Config m3c2_config(const sim::Site& site) {
+    M3c2Config c;
+    c.core_spacing = 1.0;
+    c.normal_radii = {0.5, 1.0};
+    c.cylinder_radius = 0.5;
+    c.max_depth = 0.5;
+    c.zones = pier_zones(site);
+    return c;
+}
+
+struct Epoch {
+    std::vector<Scan> targets;  // one window per target
+    std::vector<Scan> pier;     // the faces' window
+    sim::EpochConditions conditions;
+};
+
+Epoch render(const sim::Site& site, int epoch, double hours) {
+    Epoch e;
+    e.conditions = sim::epoch_conditions(site, epoch, hours);
+    for (const auto& t : site.targets) {
+        sim::Site one = site;
+        sim::test::narrow_window(one.scanner, t.centre, 0.9);
+        e.targets.push_back(sim::render_epoch(one, e.conditions, 2).scan);
+    }
+    sim::Site faces = site;
+    auto& s = faces.scanner;
+    s.azimuth_min_deg = 68.0;
+    s.azimuth_max_deg = 89.0;
+    s.elevation_min_deg = -3.0;
+    s.elevation_max_deg = 42.0;
+    s.azimuth_step_deg = s.elevation_step_deg = kFaceStepDeg;
+    e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
+    return e;
+}
+
+// One zone's figures in one epoch, with the truth.
+struct ZoneFigure {
+    int epoch = 0;
+    std::string zone;
+    std::size_t kept = 0;
+    keypoints::SegmentDisplacement d;
+    double sigma = 0;                                         // reg σ of the segment
+    Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
+    double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
+};
+
+struct Series {
+    std::vector<ZoneFigure> figures;
+    double keypoint_s = 0, m3c2_s = 0;
+    std::size_t reference_keypoints = 0;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Series run_series(const sim::Site& site, const std::vector<double>& hours) {
+    const RegistrationConfig targets = test::simulated_targets(site);
+    const KeypointConfig config = keypoint_config(site);
+    const M3c2Config m3c2 = m3c2_config(site);
+    const Epoch e0 = render(site, 0, hours[0]);
+    const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);
+    Series out;
+    auto t0 = std::chrono::steady_clock::now();
+    const KeypointReference ref = prepare_keypoint_reference(config, e0.pier);
+    out.reference_keypoints = ref.features.keypoints.size();
+    const M3c2Reference m3c2_ref = prepare_m3c2_reference(m3c2, e0.pier);
+    const double k_r = e0.conditions.atmosphere.range_scale;
+    for (std::size_t i = 1; i < hours.size(); ++i) {
+        const int epoch = static_cast<int>(i);
+        const Epoch ei = render(site, epoch, hours[i]);
+        const double k_e = ei.conditions.atmosphere.range_scale;
+        const RegistrationResult r = register_epoch(targets, reference, ei.targets, {}, {k_e, k_r});
+        EXPECT_TRUE(r.accepted()) << "epoch " << i << ": " << r.tested.reason << " " << r.gate;
+        if (!r.accepted()) continue;
+        StageOutputs o;
+        o.to_reference = r.tested.transform;
+        o.range_scale = k_e;
+        o.scanner = ei.pier.front().scanner_position();
+        o.reference_range_scale = k_r;
+
+        t0 = std::chrono::steady_clock::now();
+        KeypointEpoch measured = measure_keypoints(config, ref, ei.pier, o);
+        const auto matches = measured.matches;
+        const KeypointSegmentsResult segments =
+            keypoint_segments(config, ref, std::move(measured.matches), o);
+        out.keypoint_s += seconds_since(t0);
+
+        t0 = std::chrono::steady_clock::now();
+        const M3c2Epoch m = measure_m3c2(m3c2, m3c2_ref, ei.pier, o);
+        out.m3c2_s += seconds_since(t0);
+        const auto true_change = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+            return sim::pier_displacement(site, p, epoch, ei.conditions.bending) -
+                   sim::pier_displacement(site, p, 0, e0.conditions.bending);
+        };
+        for (std::size_t z = 0; z < segments.segments.size(); ++z) {
+            const auto& s = segments.segments[z];
+            ZoneFigure f;
+            f.epoch = epoch;
+            f.zone = s.zone;
+            f.d = s.displacement;
+            f.kept = s.displacement.count;
+            f.sigma = s.registration_sigma;
+            // The kept matches of the zone, by the same filters.
+            std::vector<keypoints::KeypointMatch> in;
+            for (const auto& mt : matches) {
+                if (config.zones[z].contains(mt.reference_point)) {
+                    in.push_back(mt);
+                    in.back().segment = 0;
+                }
+            }
+            const auto filtered = keypoints::filter_outliers(in, {});
+            const auto& w = s.displacement.wall;
+            if (s.displacement.defined() && w.defined()) {
+                Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+                std::size_t n = 0;
+                for (std::size_t k = 0; k < in.size(); ++k) {
+                    if (filtered.removed_by[k] != keypoints::OutlierFilter::none) continue;
+                    const Eigen::Vector3d u = true_change(in[k].reference_point);
+                    sum += Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
+                    ++n;
+                }
+                EXPECT_EQ(n, f.kept) << s.zone;
+                f.truth = sum / double(n);
+            }
+            // M3C2 in the same zone: its median and the truth's median along the normals.
+            std::vector<double> d, t;
+            for (auto k : m3c2_ref.zone_cores[z]) {
+                const auto& dist = m.distances[k];
+                if (!std::isfinite(dist.distance)) continue;
+                const Eigen::Vector3d& c = m3c2_ref.reference.core_points()[k];
+                const Eigen::Vector3d& nrm = m3c2_ref.reference.normals()[k];
+                d.push_back(dist.distance);
+                t.push_back(true_change(c).dot(nrm));
+            }
+            for (const auto& row : m3c2_zone_results(m3c2_ref, m)) {
+                if (row.zone == s.zone && row.quantity == "m3c2_median_m") {
+                    f.m3c2_median = row.value;
+                    f.m3c2_lod = row.uncertainty.value_or(NAN);
+                }
+            }
+            if (!t.empty()) {
+                std::sort(t.begin(), t.end());
+                f.m3c2_truth = t.size() % 2 ? t[t.size() / 2]
+                                            : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+            }
+            out.figures.push_back(std::move(f));
+        }
+    }
+    return out;
+}
+
+struct Score {
+    double sum2 = 0, bias = 0, worst = 0;
+    int n = 0;
+    void add(double e) {
+        sum2 += e * e;
+        bias += e;
+        worst = std::max(worst, std::abs(e));
+        ++n;
+    }
+    double rms() const { return std::sqrt(sum2 / n); }
+};
+
+void print_score(const char* what, const Score& s) {
+    std::printf("%-34s bias %+.3f mm, RMS %.3f mm, max %.3f mm over %d zone epochs\n", what,
+                1e3 * s.bias / s.n, 1e3 * s.rms(), 1e3 * s.worst, s.n);
+}
+
+TEST(KeypointsSimulated, AlongTheSurfaceWithin1MmRmsOfTheTruthSideBySideWithM3c2) {
+    const sim::Site site = sim::preset_pier();
+    // Morning to afternoon: the sun on the south and west faces bends the pier by
+    // millimetres, along the south face too (ΔT between the west and east faces).
+    const Series s = run_series(site, {0.0, 3.0, 6.0, 9.0});
+    std::printf("reference: %zu keypoints; keypoint stage %.1f s, M3C2 %.1f s over %zu epochs\n",
+                s.reference_keypoints, s.keypoint_s, s.m3c2_s, std::size_t{3});
+    std::printf(
+        "epoch zone          kept | along h: kp  truth | along v: kp  truth | normal: kp  truth "
+        "  M3C2  truth | σ_h LoD95 (mm)\n");
+    Score h, v, normal, m3c2;
+    std::map<std::string, std::pair<double, int>> kept;
+    double largest = 0;
+    int lod_covers = 0, lod_rows = 0;
+    for (const auto& f : s.figures) {
+        const auto& d = f.d;
+        std::printf(
+            "%d  %-14s %4zu | %+6.2f %+6.2f | %+6.2f %+6.2f | %+6.2f %+6.2f  %+6.2f %+6.2f | "
+            "%.2f %.2f\n",
+            f.epoch, f.zone.c_str(), f.kept, 1e3 * d.along[1], 1e3 * f.truth[1], 1e3 * d.along[2],
+            1e3 * f.truth[2], 1e3 * d.along[0], 1e3 * f.truth[0], 1e3 * f.m3c2_median,
+            1e3 * f.m3c2_truth, 1e3 * d.along_standard_error[1],
+            1.96e3 * (d.along_standard_error[1] + f.sigma));
+        kept[f.zone].first += double(f.kept);
+        kept[f.zone].second += 1;
+        if (f.zone == "west") {
+            EXPECT_FALSE(d.defined()) << "the grazing west face gave a displacement";
+            continue;
+        }
+        EXPECT_TRUE(d.defined()) << f.zone << " epoch " << f.epoch << ": " << d.undefined_reason;
+        if (!d.defined()) continue;
+        ASSERT_TRUE(f.truth.allFinite()) << f.zone;
+        h.add(d.along[1] - f.truth[1]);
+        v.add(d.along[2] - f.truth[2]);
+        normal.add(d.along[0] - f.truth[0]);
+        m3c2.add(f.m3c2_median - f.m3c2_truth);
+        largest = std::max({largest, std::abs(f.truth[1]), std::abs(f.truth[2])});
+        for (int k = 1; k < 3; ++k) {
+            ++lod_rows;
+            lod_covers += std::abs(d.along[k] - f.truth[k]) <=
+                          1.96 * (d.along_standard_error[k] + f.sigma);
+        }
+    }
+    for (const auto& [zone, sum] : kept)
+        std::printf("mean matches kept, %-14s %.0f\n", zone.c_str(), sum.first / sum.second);
+    print_score("keypoints, along the surface h", h);
+    print_score("keypoints, along the surface v", v);
+    print_score("keypoints, along the normal", normal);
+    print_score("M3C2 median, along the normal", m3c2);
+    std::printf("south zones: LoD95 covers the error in %d of %d along-surface figures\n",
+                lod_covers, lod_rows);
+    ASSERT_EQ(h.n, 3 * 5);  // 3 epochs x (the face and its 4 bands)
+    EXPECT_LE(h.rms(), 0.001);
+    EXPECT_LE(v.rms(), 0.001);
+    // The truth moves by millimetres along the surface: the test measures something.
+    EXPECT_GT(largest, 0.001);
+}
+
+TEST(KeypointsSimulated, WithoutDeformationNoZoneExceeds3Sigma) {
+    sim::Site site = sim::preset_pier();
+    site.deformation.enabled = false;
+    site.noise.seed = 5;
+    const Series s = run_series(site, {0.0, 4.0, 8.0});
+    int rows = 0;
+    double worst = 0;
+    for (const auto& f : s.figures) {
+        EXPECT_EQ(f.d.defined(), f.zone != "west") << f.zone << ": " << f.d.undefined_reason;
+        std::printf("epoch %d %-14s kept %zu: h %+.2f v %+.2f n %+.2f mm (σ_h %.2f, reg %.2f)\n",
+                    f.epoch, f.zone.c_str(), f.kept, 1e3 * f.d.along[1], 1e3 * f.d.along[2],
+                    1e3 * f.d.along[0], 1e3 * f.d.along_standard_error[1], 1e3 * f.sigma);
+        // Every stored figure: the vector's components and along the wall; σ = the
+        // standard error plus the registration's (LoD95 / 1.96).
+        for (const auto& row : keypoint_zone_results(f.zone, f.d, f.sigma)) {
+            if (!row.uncertainty) continue;
+            const double sigma = *row.uncertainty / 1.96;
+            const double ratio = std::abs(row.value) / sigma;
+            worst = std::max(worst, ratio);
+            ++rows;
+            EXPECT_LE(ratio, 3.0) << "epoch " << f.epoch << " " << f.zone << " " << row.quantity
+                                  << " = " << 1e3 * row.value << " mm, σ " << 1e3 * sigma
+                                  << " mm";
+        }
+    }
+    std::printf("no deformation: %d figures, the largest |value| / σ = %.2f\n", rows, worst);
+    EXPECT_EQ(rows, 2 * 5 * 6);  // 2 epochs x the face and its 4 bands x 6 figures with a σ
+}
+
+}  // namespace
+}  // namespace tlsmon
