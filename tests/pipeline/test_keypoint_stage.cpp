@@ -77,7 +77,10 @@ TEST(KeypointStage, FaceMovementAlongTheWallIsStoredAndTheReferenceIsReusedAfter
 
     // The truth along the wall (+x: to the right seen from the scanner, h = up × n) at the
     // middle of the zone's height; the displacement grows as z² over the zone's 6 m, so the
-    // matches' mean lies within 0.2 mm of it for the millimetres the face moves.
+    // matches' mean lies within 0.05 mm of it for the millimetres the face moves. Without a
+    // registration the LoD is the standard error alone (0.1 mm), which does not carry the
+    // method's systematic part of up to 0.4 mm (docs/keypoints.md, "Acceptance"): 0.5 mm
+    // beyond the LoD.
     for (const Rendered* e : {&e1, &e2}) {
         const Eigen::Vector3d p(9.5, 45.0, 12.0);
         const int index = e == &e1 ? 1 : 2;
@@ -93,8 +96,8 @@ TEST(KeypointStage, FaceMovementAlongTheWallIsStoredAndTheReferenceIsReusedAfter
                     index, 1e3 * h->value, 1e3 * u.x(), 1e3 * *h->uncertainty, 1e3 * v->value,
                     1e3 * u.z(), count->value);
         EXPECT_GE(count->value, 50);
-        EXPECT_NEAR(h->value, u.x(), *h->uncertainty + 0.0002);
-        EXPECT_NEAR(v->value, u.z(), *v->uncertainty + 0.0002);
+        EXPECT_NEAR(h->value, u.x(), *h->uncertainty + 0.0005);
+        EXPECT_NEAR(v->value, u.z(), *v->uncertainty + 0.0005);
     }
     // The reference against itself: every vector zero.
     const auto h0 = point_of(*site.db, kKeypointAlongSurfaceH, e0.epoch.id);
