@@ -82,6 +82,13 @@ struct KeypointModelsOptions {
 };
 int run_query_keypoint_models(const KeypointModelsOptions& options);
 
+// `tlsmon query keypoints [--zone Z]`: the keypoint stage's figures per zone and epoch
+struct KeypointsQueryOptions {
+    ReadOptions read;
+    std::string zone;  // "" = every zone with keypoint rows
+};
+int run_query_keypoints(const KeypointsQueryOptions& options);
+
 // `tlsmon query corepoints --epoch N [--out FILE]`: one epoch's M3C2 at every core point
 // (with --out: CSV, or JSON with --format json).
 struct CorePointsOptions {

@@ -55,6 +55,8 @@ struct CommandLine {
     SeriesOptions series;
     ReadOptionsOnTheCommandLine keypoint_models_read;
     KeypointModelsOptions keypoint_models;
+    ReadOptionsOnTheCommandLine keypoints_read;
+    KeypointsQueryOptions keypoints_query;
     ReadOptionsOnTheCommandLine corepoints_read;
     CorePointsOptions corepoints;
     ReadOptionsOnTheCommandLine events_read;
@@ -179,6 +181,19 @@ void add_query(CLI::App& app, CommandLine& c) {
     models->callback([&] {
         models_options.read = models_read.finish();
         c.code = run_query_keypoint_models(models_options);
+    });
+
+    auto& keypoints_read = c.keypoints_read;
+    auto& keypoints_options = c.keypoints_query;
+    auto* keypoints = query->add_subcommand(
+        "keypoints",
+        "Epochs in a time range with the keypoint displacement of each zone: matches kept, "
+        "mean vector, components along the wall, LoD95 (docs/keypoints.md)");
+    keypoints->add_option("--zone", keypoints_options.zone, "Only this zone");
+    keypoints_read.add_to(keypoints, true);
+    keypoints->callback([&] {
+        keypoints_options.read = keypoints_read.finish();
+        c.code = run_query_keypoints(keypoints_options);
     });
 
     auto& series_read = c.series_read;
