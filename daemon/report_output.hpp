@@ -27,6 +27,11 @@ void write_csv(const RunReport& report, const std::filesystem::path& out, Report
 // registration.png and zone_<name>.png, drawn by `gnuplot` (the plot data and scripts stay
 // beside them under plots/); a missing gnuplot or a failed plot is a note, not an error.
 void draw_plots(const RunReport& report, const std::filesystem::path& out, ReportFiles& files);
+// keypoint_model_<quantity>.png: the last defined fit of d(t, z) of each modelled quantity
+// in the database, with the segments' stored values (report_model_plot.cpp); a quantity never
+// defined is a note.
+void draw_keypoint_models(const std::filesystem::path& database,
+                          const std::filesystem::path& plot_dir, ReportFiles& files);
 // report.md
 std::string markdown(const RunReport& report, const ReportFiles& files,
                      const ReportContext& context);

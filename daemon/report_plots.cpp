@@ -236,6 +236,7 @@ void draw_plots(const RunReport& r, const fs::path& out, ReportFiles& files) {
     fs::create_directories(dir);
     plot_registration(r, dir, files);
     for (const ZoneCheck& z : r.zones) plot_zone(r, z, dir, files);
+    draw_keypoint_models(r.database, dir, files);
 }
 
 }  // namespace tlsmon::report
