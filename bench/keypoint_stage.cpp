@@ -9,6 +9,8 @@
 //
 // e.g. two epochs of `tlsmon simulate --preset pier --epochs 2 --out /tmp/pier`. No
 // registration: the epochs' drift shows in the vectors, not in the times.
+#include "pipeline/keypoint_stage.hpp"
+
 #include <time.h>
 
 #include <chrono>
@@ -17,7 +19,6 @@
 #include <string>
 
 #include "formats/scan_file.hpp"
-#include "pipeline/keypoint_stage.hpp"
 #include "simulator/scene.hpp"
 
 namespace {

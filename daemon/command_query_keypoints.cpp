@@ -18,9 +18,12 @@ int run_query_keypoints(const KeypointsQueryOptions& options) {
         const auto range = time_range(options.read);
         const auto db = open_for_reading(options.read);
         // The figures with a value and, where stored, their LoD95.
-        const std::vector<const char*> values{kKeypointDx,          kKeypointDy,
-                                              kKeypointDz,          kKeypointAlongNormal,
-                                              kKeypointAlongSurfaceH, kKeypointAlongSurfaceV};
+        const std::vector<const char*> values{kKeypointDx,
+                                              kKeypointDy,
+                                              kKeypointDz,
+                                              kKeypointAlongNormal,
+                                              kKeypointAlongSurfaceH,
+                                              kKeypointAlongSurfaceV};
         Table t{{"epoch", "acquired", "zone", "matches", "kept", "dx_m", "dy_m", "dz_m",
                  "along_normal_m", "along_surface_h_m", "along_surface_v_m", "lod95_h_m",
                  "lod95_v_m", "height_m"},
@@ -57,10 +60,10 @@ int run_query_keypoints(const KeypointsQueryOptions& options) {
                 std::vector<Cell> cells{epoch, format_utc(row.acquired), zone};
                 cells.push_back(optional_cell(counted ? std::optional<std::int64_t>(count->second.n)
                                                       : std::nullopt));
-                cells.push_back(optional_cell(
-                    counted ? std::optional<std::int64_t>(
-                                  static_cast<std::int64_t>(count->second.value))
-                            : std::nullopt));
+                cells.push_back(
+                    optional_cell(counted ? std::optional<std::int64_t>(
+                                                static_cast<std::int64_t>(count->second.value))
+                                          : std::nullopt));
                 for (const char* q : values) cells.push_back(optional_cell(value(q)));
                 cells.push_back(optional_cell(lod(kKeypointAlongSurfaceH)));
                 cells.push_back(optional_cell(lod(kKeypointAlongSurfaceV)));

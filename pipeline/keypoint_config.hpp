@@ -24,7 +24,7 @@ struct KeypointConfig {
     // (algorithms/keypoints/patch_refinement.hpp).
     bool refine = true;
     int patch_radius = 7;
-    double ratio = 0.0;        // Lowe's ratio test; 0: off
+    double ratio = 0.0;  // Lowe's ratio test; 0: off
     bool mutual = false;
     double mad_k = 2.0;    // outlier filters: |x − median| > k · 1.4826 · MAD
     int min_matches = 10;  // kept matches a segment needs

@@ -167,7 +167,8 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
         double row = kp[i].row, column = kp[i].column;
         PolarAt at;
         if (config.refine) {
-            const int r = static_cast<int>(std::lround(row)), c = static_cast<int>(std::lround(column));
+            const int r = static_cast<int>(std::lround(row)),
+                      c = static_cast<int>(std::lround(column));
             const auto patch = intensity_patch(d.images, r, c, config.patch_radius);
             if (!patch) continue;
             row = r;
@@ -275,7 +276,8 @@ KeypointReference KeypointReference::decode(std::string_view payload) {
     if (r.features.descriptors.count() != n || r.positions.size() != n || r.polar.size() != n ||
         r.points.size() != n || r.anchor_rows.size() != n || r.anchor_columns.size() != n ||
         r.patch_radius < 0 || r.patches.size() != (r.patch_radius > 0 ? n * side * side : 0)) {
-        throw Error("keypoints stage payload: keypoints, descriptors and positions differ in number");
+        throw Error(
+            "keypoints stage payload: keypoints, descriptors and positions differ in number");
     }
     r.scanner = get_vector(in);
     r.detected = in.get<std::uint64_t>();
@@ -533,12 +535,13 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
 
     StageVerdict verdict;
     verdict.note = fmt::format(
-        "reference {} keypoints; {} + {}: {} of {} keypoints described, {} matched, {} in 3-D, {} kept; {} of {} "
+        "reference {} keypoints; {} + {}: {} of {} keypoints described, {} matched, {} in 3-D, {} "
+        "kept; {} of {} "
         "segments defined; s: images {:.2f}, detection {:.2f}, description {:.2f}, matching "
         "{:.2f}, 3-D {:.2f}, filtering {:.2f}",
         product->features.keypoints.size(), config.detector, config.descriptor, epoch.described,
-        epoch.detected, epoch.pairs, in_3d, kept, defined, segments.segments.size(),
-        epoch.images_s, epoch.detection_s, epoch.description_s, epoch.matching_s, epoch.to_3d_s,
+        epoch.detected, epoch.pairs, in_3d, kept, defined, segments.segments.size(), epoch.images_s,
+        epoch.detection_s, epoch.description_s, epoch.matching_s, epoch.to_3d_s,
         segments.filtering_s);
     return verdict;
 }

@@ -53,10 +53,10 @@ struct KeypointReference {
     int patch_radius = 0;                 // 0: no patches (no refinement)
     std::vector<float> patches;           // (2·radius + 1)² intensities per keypoint
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
-    std::size_t detected = 0;  // keypoints detected (before description and 3-D)
-    std::vector<std::string> zone_names;        // zones mode, in the configuration's order
-    std::vector<keypoints::WallFrame> walls;    // per zone, from the reference's points
-    double seconds = 0;                         // time it took to build
+    std::size_t detected = 0;                 // keypoints detected (before description and 3-D)
+    std::vector<std::string> zone_names;      // zones mode, in the configuration's order
+    std::vector<keypoints::WallFrame> walls;  // per zone, from the reference's points
+    double seconds = 0;                       // time it took to build
 
     std::string encode() const;
     static KeypointReference decode(std::string_view payload);

@@ -35,8 +35,8 @@ std::optional<IntensityPatch> intensity_patch(const SphericalImages& images, int
 
 struct PatchMatchParameters {
     int max_iterations = 12;
-    double tolerance = 1e-3;     // px: the shift's update below this ends the iteration
-    double max_move = 2.0;       // px from the start: farther, the patch was not found
+    double tolerance = 1e-3;       // px: the shift's update below this ends the iteration
+    double max_move = 2.0;         // px from the start: farther, the patch was not found
     double min_correlation = 0.6;  // normalised cross-correlation at the solution
 };
 

@@ -7,7 +7,9 @@
 namespace tlsmon {
 namespace {
 
-Config parse(const std::string& text) { return parse_config(text, "site.toml", "/srv/tlsmon"); }
+Config parse(const std::string& text) {
+    return parse_config(text, "site.toml", "/srv/tlsmon");
+}
 
 std::string error_of(const std::string& text) {
     try {
@@ -46,8 +48,8 @@ model_quantities = ["keypoint_dz_m"]
 }
 
 TEST(ConfigKeypoints, MistakesNameFileLineAndKey) {
-    EXPECT_EQ(error_of("[keypoints]\ndetector = \"surf\"\n").rfind(
-                  "site.toml:2:12: key 'keypoints.detector': ", 0),
+    EXPECT_EQ(error_of("[keypoints]\ndetector = \"surf\"\n")
+                  .rfind("site.toml:2:12: key 'keypoints.detector': ", 0),
               0u)
         << error_of("[keypoints]\ndetector = \"surf\"\n");
     EXPECT_NE(error_of("[keypoints]\ndescriptor = \"kaze\"\n")
@@ -56,15 +58,17 @@ TEST(ConfigKeypoints, MistakesNameFileLineAndKey) {
         << error_of("[keypoints]\ndescriptor = \"kaze\"\n");
     EXPECT_NE(error_of("[keypoints]\nsegments = \"rows\"\n").find("key 'keypoints.segments'"),
               std::string::npos);
-    EXPECT_NE(error_of("[keypoints]\nwindow_deg = 0\n").find("site.toml:2:14: key 'keypoints.window_deg'"),
+    EXPECT_NE(error_of("[keypoints]\nwindow_deg = 0\n")
+                  .find("site.toml:2:14: key 'keypoints.window_deg'"),
               std::string::npos)
         << error_of("[keypoints]\nwindow_deg = 0\n");
     EXPECT_NE(error_of("[keypoints]\nmodel_quantities = [\"m3c2_mean_m\"]\n")
                   .find("key 'keypoints.model_quantities': 'm3c2_mean_m' is not a keypoint"),
               std::string::npos)
         << error_of("[keypoints]\nmodel_quantities = [\"m3c2_mean_m\"]\n");
-    EXPECT_NE(error_of("[keypoints]\nthreshold = 1\n").find("key 'keypoints.threshold': unknown key"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of("[keypoints]\nthreshold = 1\n").find("key 'keypoints.threshold': unknown key"),
+        std::string::npos);
 }
 
 }  // namespace

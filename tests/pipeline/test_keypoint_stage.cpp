@@ -28,7 +28,9 @@ sim::Site face_site() {
     return site;
 }
 
-ZoneShape face_zone() { return box_zone("face", {6.5, 44.5, 9.0}, {12.5, 45.5, 15.0}); }
+ZoneShape face_zone() {
+    return box_zone("face", {6.5, 44.5, 9.0}, {12.5, 45.5, 15.0});
+}
 
 struct Rendered {
     Epoch epoch;
@@ -91,10 +93,11 @@ TEST(KeypointStage, FaceMovementAlongTheWallIsStoredAndTheReferenceIsReusedAfter
         const auto count = point_of(*site.db, kKeypointCount, e->epoch.id);
         ASSERT_TRUE(h && v && count) << "epoch " << index;
         ASSERT_TRUE(h->uncertainty);
-        std::printf("epoch %d: h %+.3f mm (truth %+.3f, LoD95 %.3f), v %+.3f mm (truth %+.3f), "
-                    "%.0f matches kept\n",
-                    index, 1e3 * h->value, 1e3 * u.x(), 1e3 * *h->uncertainty, 1e3 * v->value,
-                    1e3 * u.z(), count->value);
+        std::printf(
+            "epoch %d: h %+.3f mm (truth %+.3f, LoD95 %.3f), v %+.3f mm (truth %+.3f), "
+            "%.0f matches kept\n",
+            index, 1e3 * h->value, 1e3 * u.x(), 1e3 * *h->uncertainty, 1e3 * v->value, 1e3 * u.z(),
+            count->value);
         EXPECT_GE(count->value, 50);
         EXPECT_NEAR(h->value, u.x(), *h->uncertainty + 0.0005);
         EXPECT_NEAR(v->value, u.z(), *v->uncertainty + 0.0005);

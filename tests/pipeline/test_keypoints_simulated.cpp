@@ -101,7 +101,7 @@ struct ZoneFigure {
     std::string zone;
     std::size_t kept = 0;
     keypoints::SegmentDisplacement d;
-    double sigma = 0;                                         // reg σ of the segment
+    double sigma = 0;                                        // reg σ of the segment
     Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
     double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
 };
@@ -203,8 +203,8 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
             }
             if (!t.empty()) {
                 std::sort(t.begin(), t.end());
-                f.m3c2_truth = t.size() % 2 ? t[t.size() / 2]
-                                            : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+                f.m3c2_truth =
+                    t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
             }
             out.figures.push_back(std::move(f));
         }
@@ -268,8 +268,8 @@ TEST(KeypointsSimulated, AlongTheSurfaceWithin1MmRmsOfTheTruthSideBySideWithM3c2
         largest = std::max({largest, std::abs(f.truth[1]), std::abs(f.truth[2])});
         for (int k = 1; k < 3; ++k) {
             ++lod_rows;
-            lod_covers += std::abs(d.along[k] - f.truth[k]) <=
-                          1.96 * (d.along_standard_error[k] + f.sigma);
+            lod_covers +=
+                std::abs(d.along[k] - f.truth[k]) <= 1.96 * (d.along_standard_error[k] + f.sigma);
         }
     }
     for (const auto& [zone, sum] : kept)
@@ -308,8 +308,7 @@ TEST(KeypointsSimulated, WithoutDeformationNoZoneExceeds3Sigma) {
             worst = std::max(worst, ratio);
             ++rows;
             EXPECT_LE(ratio, 3.0) << "epoch " << f.epoch << " " << f.zone << " " << row.quantity
-                                  << " = " << 1e3 * row.value << " mm, σ " << 1e3 * sigma
-                                  << " mm";
+                                  << " = " << 1e3 * row.value << " mm, σ " << 1e3 * sigma << " mm";
         }
     }
     std::printf("no deformation: %d figures, the largest |value| / σ = %.2f\n", rows, worst);
