@@ -112,16 +112,20 @@ void check_keypoints(TomlFields& t, const KeypointConfig& c) {
     } catch (const Error& e) {
         t.fail("descriptor", e.what());
     }
-    static const std::set<std::string> modelled{
-        kKeypointDx,           kKeypointDy,           kKeypointDz, kKeypointAlongNormal,
-        kKeypointAlongSurfaceH, kKeypointAlongSurfaceV};
+    static const std::set<std::string> modelled{kKeypointDx,
+                                                kKeypointDy,
+                                                kKeypointDz,
+                                                kKeypointAlongNormal,
+                                                kKeypointAlongSurfaceH,
+                                                kKeypointAlongSurfaceV};
     std::set<std::string> seen;
     for (const auto& q : c.model_quantities) {
         if (!modelled.count(q)) {
             t.fail("model_quantities",
-                   "'" + q + "' is not a keypoint displacement quantity (keypoint_dx_m, "
-                   "keypoint_dy_m, keypoint_dz_m, keypoint_along_normal_m, "
-                   "keypoint_along_surface_h_m, keypoint_along_surface_v_m)");
+                   "'" + q +
+                       "' is not a keypoint displacement quantity (keypoint_dx_m, "
+                       "keypoint_dy_m, keypoint_dz_m, keypoint_along_normal_m, "
+                       "keypoint_along_surface_h_m, keypoint_along_surface_v_m)");
         }
         if (!seen.insert(q).second) t.fail("model_quantities", "'" + q + "' is listed twice");
     }

@@ -290,7 +290,8 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
             return v;
         }
         // The rows' band zones must exist before the commit (idempotent).
-        for (const auto& [name, definition] : band_zones) ctx.db.site().upsert_zone(name, definition);
+        for (const auto& [name, definition] : band_zones)
+            ctx.db.site().upsert_zone(name, definition);
     }
     // Zones and alarms follow here, in this order, with `outputs`.
     return {};
