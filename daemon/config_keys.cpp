@@ -544,6 +544,12 @@ std::vector<ConfigKey> declare_keys() {
                "fitted to the reference's points) at a larger angle to the normal is not used: "
                "a grazing wall's image is stretched along the beam and its keypoints do not "
                "repeat (the simulated pier's west face, 87°). 90: every match."),
+        number(at(&C::keypoints, &KeypointConfig::max_sample_spacing),
+               "keypoints.max_sample_spacing", 0.0001, 1, "m",
+               "A segment the scan samples coarser than this (the median over its matches of "
+               "range × angular step) is undefined: its intensity image is aliased and the "
+               "sub-pixel positions follow the scan's lattice (docs/keypoints.md, "
+               "\"Sampling\"). About the beam's footprint at the structure's range."),
         choice(at(&C::keypoints, &KeypointConfig::segments), "keypoints.segments",
                kKeypointSegments,
                "`zones`: one displacement per `[[zone]]` (the zones M3C2 uses), detection "

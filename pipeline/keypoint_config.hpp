@@ -32,6 +32,10 @@ struct KeypointConfig {
     // used (a grazing surface's image is stretched along the beam; its keypoints do not
     // repeat). 90: every match.
     double max_incidence_deg = 75.0;
+    // m: a segment where the scan samples the surface coarser than this (the median over its
+    // matches of range × angular step) is undefined: its intensity image is aliased, the
+    // sub-pixel positions follow the lattice, not the surface (docs/keypoints.md, "Sampling").
+    double max_sample_spacing = 0.015;
     KeypointSegments segments = KeypointSegments::zones;
     double band_width_deg = 5.0;
     double registration_error = 0.0;  // m, the LoD's reg without a registration

@@ -157,6 +157,7 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
     KeypointReference out;
     out.detected = d.detected;
     out.scanner = scan.scanner_position();
+    out.angular_step = std::max(d.images.azimuth_step, d.images.elevation_step);
     // Only keypoints the range image can take to 3-D: the others can never give a vector.
     const auto& kp = d.features.keypoints;
     const auto& desc = d.features.descriptors;
@@ -231,6 +232,7 @@ std::string KeypointReference::encode() const {
     for (const auto& p : points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
     w.put_array(flat);
     put_vector(w, scanner);
+    w.put<double>(angular_step);
     w.put<std::uint64_t>(detected);
     w.put<double>(seconds);
     w.put<std::uint64_t>(zone_names.size());
@@ -280,6 +282,7 @@ KeypointReference KeypointReference::decode(std::string_view payload) {
             "keypoints stage payload: keypoints, descriptors and positions differ in number");
     }
     r.scanner = get_vector(in);
+    r.angular_step = in.get<double>();
     r.detected = in.get<std::uint64_t>();
     r.seconds = in.get<double>();
     const auto zones = in.get<std::uint64_t>();
@@ -414,6 +417,29 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
         }
         return registration_sigma_at(*outputs.to_reference, c);
     };
+    // The sampling (config.max_sample_spacing): the median of range × step over the
+    // segment's matches; a coarser one makes the segment undefined, whatever its vectors say.
+    const auto check_sampling = [&](SegmentDisplacement& d, std::span<const KeypointMatch> in,
+                                    int segment) {
+        std::vector<double> spacing;
+        for (const auto& m : in)
+            if (m.segment == segment) spacing.push_back(m.reference_range * reference.angular_step);
+        if (spacing.empty() || !d.defined()) return;
+        std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+        const double median = spacing[spacing.size() / 2];
+        if (median <= config.max_sample_spacing) return;
+        SegmentDisplacement undefined;  // figures NaN; the counts and the wall stay
+        undefined.segment = d.segment;
+        undefined.matches = d.matches;
+        undefined.count = d.count;
+        undefined.wall = d.wall;
+        d = std::move(undefined);
+        d.undefined_reason = fmt::format(
+            "undersampled: the scan samples this surface every {:.1f} mm (range × step), "
+            "coarser than keypoints.max_sample_spacing = {:.1f} mm; its intensity image is "
+            "aliased",
+            1e3 * median, 1e3 * config.max_sample_spacing);
+    };
     if (config.segments == KeypointSegments::zones) {
         for (std::size_t z = 0; z < reference.zone_names.size() && z < config.zones.size(); ++z) {
             // The incidence cut (config.max_incidence_deg): |cos| of the angle between the
@@ -439,6 +465,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                                                   reference.walls[z].defined()
                                                       ? std::optional<WallFrame>(reference.walls[z])
                                                       : std::nullopt);
+            check_sampling(r.displacement, in, 0);
             r.registration_sigma = sigma_at(r.displacement, in);
             out.segments.push_back(std::move(r));
         }
@@ -455,6 +482,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
             r.zone = keypoint_band_zone(band, width);
             r.band_definition = keypoint_band_zone_definition(band, width);
             r.displacement = segment_displacement(matches, filtered.removed_by, band, sp);
+            check_sampling(r.displacement, matches, band);
             r.registration_sigma = sigma_at(r.displacement, matches);
             out.segments.push_back(std::move(r));
         }
@@ -502,6 +530,7 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
     const double t_now =
         static_cast<double>(input.epoch.acquired - reference.epoch().acquired) / 3600.0;
     std::size_t defined = 0, kept = 0;
+    std::string first_undefined;  // the first undefined segment and why, for the note
     std::vector<ZoneResult> rows;
     for (const auto& s : segments.segments) {
         if (!s.band_definition.empty()) new_zones.emplace_back(s.zone, s.band_definition);
@@ -509,6 +538,8 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
         rows.insert(rows.end(), r.begin(), r.end());
         defined += s.displacement.defined();
         kept += s.displacement.count;
+        if (!s.displacement.defined() && first_undefined.empty())
+            first_undefined = s.zone + ": " + s.displacement.undefined_reason;
     }
     // The model d(t, z) over the stored epochs and this one (step 7), per quantity.
     const auto zones = keypoint_segment_zones(config);
@@ -543,6 +574,7 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
         epoch.detected, epoch.pairs, in_3d, kept, defined, segments.segments.size(), epoch.images_s,
         epoch.detection_s, epoch.description_s, epoch.matching_s, epoch.to_3d_s,
         segments.filtering_s);
+    if (!first_undefined.empty()) verdict.note += "; undefined e.g. " + first_undefined;
     return verdict;
 }
 

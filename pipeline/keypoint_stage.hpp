@@ -40,7 +40,7 @@ namespace tlsmon {
 
 // What the keypoint stage keeps of the reference epoch.
 struct KeypointReference {
-    static constexpr int kFormatVersion = 1;
+    static constexpr int kFormatVersion = 2;
     static constexpr const char* kStage = "keypoints";
 
     keypoints::Features features;  // kept keypoints, their descriptors row by row
@@ -53,6 +53,7 @@ struct KeypointReference {
     int patch_radius = 0;                 // 0: no patches (no refinement)
     std::vector<float> patches;           // (2·radius + 1)² intensities per keypoint
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
+    double angular_step = 0;  // rad, the larger of the images' horizontal and vertical steps
     std::size_t detected = 0;                 // keypoints detected (before description and 3-D)
     std::vector<std::string> zone_names;      // zones mode, in the configuration's order
     std::vector<keypoints::WallFrame> walls;  // per zone, from the reference's points

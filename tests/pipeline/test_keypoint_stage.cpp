@@ -119,6 +119,31 @@ TEST(KeypointStage, FaceMovementAlongTheWallIsStoredAndTheReferenceIsReusedAfter
     }
 }
 
+// The same face scanned at 0.05° (40 mm at 46 m, coarser than the footprint): the zone is
+// undefined as undersampled — its matches counted, no displacement stored — unless
+// max_sample_spacing allows that spacing.
+TEST(KeypointStage, AFaceSampledCoarserThanMaxSampleSpacingIsUndefined) {
+    sim::Site scene = face_site();
+    scene.scanner.azimuth_step_deg = scene.scanner.elevation_step_deg = 0.05;
+    for (const double limit : {0.015, 0.1}) {
+        SCOPED_TRACE(limit);
+        test::PipelineSite site;
+        site.config.keypoints.zones = {face_zone()};
+        site.config.keypoints.max_sample_spacing = limit;
+        site.db->site().upsert_zone("face", "{}");
+        const Rendered e0 = add_scan(site, scene, 0, 0.0);
+        const Rendered e1 = add_scan(site, scene, 1, 6.0);
+        ReferenceCache cache(*site.db);
+        ASSERT_EQ(site.process(e0.epoch, cache), EpochOutcome::done);
+        ASSERT_EQ(site.process(e1.epoch, cache), EpochOutcome::done);
+        const auto count = point_of(*site.db, kKeypointCount, e1.epoch.id);
+        ASSERT_TRUE(count);
+        EXPECT_GE(count->value, 10);  // enough matches: only the sampling decides
+        const auto h = point_of(*site.db, kKeypointAlongSurfaceH, e1.epoch.id);
+        EXPECT_EQ(h.has_value(), limit > 0.04);
+    }
+}
+
 TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     KeypointReference r;
     r.features.keypoints.resize(2);
@@ -132,6 +157,7 @@ TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     r.patches.assign(18, 0.5f);
     r.polar.resize(2);
     r.points = {Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6)};
+    r.angular_step = 2.2689e-4;
     r.zone_names = {"face"};
     r.walls.resize(1);
     r.walls[0].normal = Eigen::Vector3d(0, -1, 0);
@@ -143,6 +169,7 @@ TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     EXPECT_EQ(back.points[1], Eigen::Vector3d(4, 5, 6));
     EXPECT_EQ(back.patches.size(), 18u);
     EXPECT_EQ(back.walls[0].normal, Eigen::Vector3d(0, -1, 0));
+    EXPECT_EQ(back.angular_step, 2.2689e-4);
     EXPECT_THROW(KeypointReference::decode(payload.substr(0, payload.size() - 3)), Error);
 }
 

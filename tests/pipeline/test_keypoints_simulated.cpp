@@ -40,8 +40,8 @@ namespace {
 // (5 mm) — a scanner for this method must sample the surface finer than its footprint.
 constexpr double kFaceStepDeg = 0.013;
 
-// The pier's two visible faces, 0.5 m inside their edges, in 10 m bands of the south face
-// (the zones of the M3C2 acceptance, tests/pipeline/test_m3c2_simulated.cpp).
+// The pier's two visible faces, 0.5 m inside their edges, in 10 m bands of the south face;
+// M3C2 is scored side by side in the same zones with its estimated normals.
 std::vector<ZoneShape> pier_zones(const sim::Site& site) {
     const auto& p = site.pier;
     std::vector<ZoneShape> zones;
