@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "daemon/demo_daemon.hpp"
+#include "bench/bench_support.hpp"
 #include "daemon/demo_scene.hpp"
 #include "daemon/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
@@ -191,10 +192,6 @@ class DatabaseView {
     fs::path path_;
     std::optional<SQLite::Database> db_;
 };
-
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Polls until `done()` or `timeout` s; throws naming `what` on the timeout.
 template <class Done>

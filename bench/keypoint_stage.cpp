@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "bench/bench_support.hpp"
 #include "formats/scan_file.hpp"
 #include "simulator/scene.hpp"
 
@@ -26,16 +27,8 @@ namespace {
 using namespace tlsmon;
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// CPU seconds of the whole process (every thread, OpenCV's included).
-double process_cpu() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
+double since(Clock::time_point t0) { return bench::seconds_since(t0); }
+double process_cpu() { return bench::process_cpu_seconds(); }
 
 }  // namespace
 

@@ -25,6 +25,7 @@
 #include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
+#include "bench/bench_support.hpp"
 #include "formats/scan_file.hpp"
 
 namespace {
@@ -33,17 +34,8 @@ using namespace tlsmon;
 using namespace tlsmon::keypoints;
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// CPU seconds of the whole process (every thread, OpenCV's included): on a shared machine
-// the wall time depends on the load, this does not.
-double process_cpu() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
+double since(Clock::time_point t0) { return bench::seconds_since(t0); }
+double process_cpu() { return bench::process_cpu_seconds(); }
 
 Scan read_structured(const char* path) {
     auto scans = read_scans(path);

@@ -6,11 +6,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
-#include <fstream>
 #include <map>
 
 #include "core/error.hpp"
+#include "daemon/report_gnuplot.hpp"
 #include "daemon/report_output.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "storage/epoch_database.hpp"
@@ -20,19 +19,6 @@ namespace tlsmon::report {
 namespace {
 
 namespace fs = std::filesystem;
-
-void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) throw Error("cannot write " + path.string());
-}
-
-std::string shell_quoted(const std::string& s) {
-    std::string q = "'";
-    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
 
 bool plot_model(const EpochDatabase& db, const StoredKeypointModel& fit, const fs::path& dir,
                 ReportFiles& files) {
@@ -84,12 +70,7 @@ bool plot_model(const EpochDatabase& db, const StoredKeypointModel& fit, const f
     const fs::path script = dir / (base + ".gp");
     write_text(script, gp);
     const fs::path log = dir / (base + ".log");
-    std::error_code ec;
-    fs::remove(png, ec);
-    const std::string cmd = "cd " + shell_quoted(dir.string()) + " && gnuplot " +
-                            shell_quoted(script.filename().string()) + " >" +
-                            shell_quoted(log.string()) + " 2>&1";
-    if (std::system(cmd.c_str()) != 0 || !fs::exists(png) || fs::file_size(png) == 0) {
+    if (!run_gnuplot(script, png, log)) {
         files.notes.push_back(png.filename().string() + " not drawn: see " + log.string());
         return false;
     }

@@ -5,12 +5,11 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <map>
 #include <set>
 
 #include "core/error.hpp"
+#include "daemon/report_gnuplot.hpp"
 #include "daemon/report_output.hpp"
 
 namespace tlsmon::report {
@@ -19,46 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) throw Error("cannot write " + path.string());
-}
-
-// A gnuplot string literal (single quotes; a quote doubled).
-std::string quoted(const std::string& s) {
-    std::string q = "'";
-    for (const char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
-    return q + "'";
-}
-
-// A shell word in single quotes.
-std::string shell_quoted(const std::string& s) {
-    std::string q = "'";
-    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 std::string safe_name(const std::string& s) {
     std::string out;
     for (const char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
     return out;
-}
-
-bool have_gnuplot() {
-    return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
-}
-
-// Runs gnuplot on `script`; its messages go to `log`. True when the PNG was written.
-bool run_gnuplot(const fs::path& script, const fs::path& png, const fs::path& log) {
-    std::error_code ec;
-    fs::remove(png, ec);
-    // The script reads its data files from its own folder.
-    const std::string cmd = "cd " + shell_quoted(script.parent_path().string()) + " && gnuplot " +
-                            shell_quoted(script.filename().string()) + " >" +
-                            shell_quoted(log.string()) + " 2>&1";
-    return std::system(cmd.c_str()) == 0 && fs::exists(png) && fs::file_size(png) > 0;
 }
 
 // Vertical dashed lines at the truth's events.
@@ -131,14 +94,14 @@ bool plot_registration(const RunReport& r, const fs::path& dir, ReportFiles& fil
         target_plot += fmt::format(
             "{}'registration_targets.dat' index {} with linespoints pt 7 "
             "ps 0.5 title {}",
-            index ? ", " : "", index, quoted("target " + name));
+            index ? ", " : "", index, gnuplot_quoted("target " + name));
         ++index;
     }
     write_text(dir / "registration_targets.dat", targets_dat);
     write_text(dir / "registration_errors.dat", errors);
     write_text(dir / "registration_rejected.dat", rejected);
     const fs::path png = dir.parent_path() / "registration.png";
-    std::string gp = fmt::format(fmt::runtime(kHeader), 900, quoted(png.string()));
+    std::string gp = fmt::format(fmt::runtime(kHeader), 900, gnuplot_quoted(png.string()));
     // The same plot area in both panels, so the epochs line up.
     gp += "set lmargin at screen 0.07\nset rmargin at screen 0.76\n";
     gp +=
@@ -200,16 +163,16 @@ bool plot_zone(const RunReport& r, const ZoneCheck& z, const fs::path& dir, Repo
         const std::string file = base + "_" + safe_name(q.quantity) + ".dat";
         write_text(dir / file, rows);
         plot += fmt::format(", '{}' using 1:2:3 with yerrorbars pt 7 ps 0.5 lc rgb '{}' title {}",
-                            file, colours[k % 6], quoted(q.quantity + " (bar: LoD95)"));
+                            file, colours[k % 6], gnuplot_quoted(q.quantity + " (bar: LoD95)"));
         ++k;
     }
     const fs::path png = dir.parent_path() / (base + ".png");
-    std::string gp = fmt::format(fmt::runtime(kHeader), 520, quoted(png.string()));
+    std::string gp = fmt::format(fmt::runtime(kHeader), 520, gnuplot_quoted(png.string()));
     gp += epoch_range(r) + event_marks(r);
     gp += fmt::format(
         "set title {}\nset ylabel 'change since the reference epoch (mm, + towards the "
         "scanner)'\n",
-        quoted(fmt::format("Zone {} ({} face, z {:g}-{:g} m){}", z.zone, z.face->face,
+        gnuplot_quoted(fmt::format("Zone {} ({} face, z {:g}-{:g} m){}", z.zone, z.face->face,
                            z.face->z_min, z.face->z_max,
                            k == 0 ? ": truth only, no M3C2 or keypoint rows in this run" : "")));
     gp += "plot " + plot + "\n";

@@ -3,22 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "daemon/config.hpp"
+#include "tests/daemon/config_text.hpp"
 
 namespace tlsmon {
 namespace {
 
-Config parse(const std::string& text) {
-    return parse_config(text, "site.toml", "/srv/tlsmon");
-}
-
-std::string error_of(const std::string& text) {
-    try {
-        parse(text);
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "";
-}
+using test::error_of;
+using test::parse;
 
 const char* kFace = R"(
 [[zone]]
