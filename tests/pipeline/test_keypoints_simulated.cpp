@@ -29,7 +29,7 @@
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
-#include "tests/simulator/narrow_window.hpp"
+#include "tests/pipeline/simulated_windows.hpp"
 #include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon {
@@ -70,29 +70,10 @@ M3c2Config m3c2_config(const sim::Site& site) {
     return c;
 }
 
-struct Epoch {
-    std::vector<Scan> targets;  // one window per target
-    std::vector<Scan> pier;     // the faces' window
-    sim::EpochConditions conditions;
-};
+using Epoch = test::WindowedEpoch;
 
 Epoch render(const sim::Site& site, int epoch, double hours) {
-    Epoch e;
-    e.conditions = sim::epoch_conditions(site, epoch, hours);
-    for (const auto& t : site.targets) {
-        sim::Site one = site;
-        sim::test::narrow_window(one.scanner, t.centre, 0.9);
-        e.targets.push_back(sim::render_epoch(one, e.conditions, 2).scan);
-    }
-    sim::Site faces = site;
-    auto& s = faces.scanner;
-    s.azimuth_min_deg = 68.0;
-    s.azimuth_max_deg = 89.0;
-    s.elevation_min_deg = -3.0;
-    s.elevation_max_deg = 42.0;
-    s.azimuth_step_deg = s.elevation_step_deg = kFaceStepDeg;
-    e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
-    return e;
+    return test::render_windows(site, epoch, hours, kFaceStepDeg);
 }
 
 // One zone's figures in one epoch, with the truth.

@@ -1,9 +1,7 @@
 // M3C2 after registration on simulated series of the `pier` preset (issue 11's acceptance):
 // per-zone medians and means against the truth on whole faces, and the honesty of the LoD in
-// a series without deformation. Each epoch renders the targets' windows at the preset's step (what the
-// registration measures) and the pier's south and west faces at a coarser 0.05° (4–5 cm at
-// 45–60 m): the same geometry, beam, noise model, scanner drift and air, in a fraction of a
-// full epoch's time. The atmosphere's range scales are the truth's (a site takes them from
+// a series without deformation. Each epoch renders the targets' windows and the pier's faces
+// at a coarser 0.05° (4–5 cm at 45–60 m; tests/pipeline/simulated_windows.hpp). The atmosphere's range scales are the truth's (a site takes them from
 // its weather station's air, docs/registration.md).
 //
 // Truth: the pier's displacement u_i at a core point c (sim::pier_displacement; c stands for
@@ -17,11 +15,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "../simulator/narrow_window.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "tests/pipeline/simulated_windows.hpp"
 #include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 
@@ -42,29 +40,10 @@ M3c2Config m3c2_config(const sim::Site& site) {
     return c;
 }
 
-struct Epoch {
-    std::vector<Scan> targets;  // one window per target
-    std::vector<Scan> pier;     // the faces' window
-    sim::EpochConditions conditions;
-};
+using Epoch = test::WindowedEpoch;
 
 Epoch render(const sim::Site& site, int epoch, double hours) {
-    Epoch e;
-    e.conditions = sim::epoch_conditions(site, epoch, hours);
-    for (const auto& t : site.targets) {
-        sim::Site one = site;
-        sim::test::narrow_window(one.scanner, t.centre, 0.9);
-        e.targets.push_back(sim::render_epoch(one, e.conditions, 2).scan);
-    }
-    sim::Site faces = site;
-    auto& s = faces.scanner;
-    s.azimuth_min_deg = 68.0;
-    s.azimuth_max_deg = 89.0;
-    s.elevation_min_deg = -3.0;
-    s.elevation_max_deg = 42.0;
-    s.azimuth_step_deg = s.elevation_step_deg = 0.05;
-    e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
-    return e;
+    return test::render_windows(site, epoch, hours, 0.05);
 }
 
 double median(std::vector<double> v) {

@@ -1,0 +1,41 @@
+#pragma once
+// One epoch of the `pier` preset rendered as the pipeline tests need it, in a fraction of a
+// full epoch's time: each target's window at the preset's step (what the registration
+// measures) and the window of the pier's south and west faces at `face_step_deg` — the same
+// geometry, beam, noise, scanner drift and air as a full epoch.
+#include <vector>
+
+#include "core/scan.hpp"
+#include "simulator/epoch_conditions.hpp"
+#include "simulator/render.hpp"
+#include "tests/simulator/narrow_window.hpp"
+
+namespace tlsmon::test {
+
+struct WindowedEpoch {
+    std::vector<Scan> targets;  // one window per target
+    std::vector<Scan> pier;     // the faces' window
+    sim::EpochConditions conditions;
+};
+
+inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours,
+                                    double face_step_deg) {
+    WindowedEpoch e;
+    e.conditions = sim::epoch_conditions(site, epoch, hours);
+    for (const auto& t : site.targets) {
+        sim::Site one = site;
+        sim::test::narrow_window(one.scanner, t.centre, 0.9);
+        e.targets.push_back(sim::render_epoch(one, e.conditions, 2).scan);
+    }
+    sim::Site faces = site;
+    auto& s = faces.scanner;
+    s.azimuth_min_deg = 68.0;
+    s.azimuth_max_deg = 89.0;
+    s.elevation_min_deg = -3.0;
+    s.elevation_max_deg = 42.0;
+    s.azimuth_step_deg = s.elevation_step_deg = face_step_deg;
+    e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
+    return e;
+}
+
+}  // namespace tlsmon::test
