@@ -354,31 +354,14 @@ KeypointEpoch measure_keypoints(const KeypointConfig& config, const KeypointRefe
             column = found->column;
         }
         const PolarAt pb = polar_at(d.images, row, column);
-        switch (pb.dropped) {
-            case Dropped::no:
-                break;
-            case Dropped::outside:
-                ++out.dropped_outside;
-                continue;
-            case Dropped::empty_neighbour:
-                ++out.dropped_empty_neighbour;
-                continue;
-            case Dropped::depth_edge:
-                ++out.dropped_depth_edge;
-                continue;
-        }
+        if (out.count(pb.dropped)) continue;
         const Polar& pa = reference.polar[pair.reference];
         KeypointMatch m;
         m.reference_row = reference.anchor_rows[pair.reference];
         m.reference_column = reference.anchor_columns[pair.reference];
         m.row = row;
         m.column = column;
-        m.reference_range = pa.range;
-        m.range = pb.polar.range;
-        m.reference_azimuth = pa.azimuth;
-        m.azimuth = pa.azimuth + wrapped_difference(pb.polar.azimuth, pa.azimuth);
-        m.reference_elevation = pa.elevation;
-        m.elevation = pb.polar.elevation;
+        set_polar(m, pa, pb.polar);
         m.reference_point = reference.points[pair.reference];
         m.point = map.apply(d.images.pose * cartesian_of(pb.polar));
         m.descriptor_distance = pair.distance;

@@ -27,6 +27,7 @@
 #include "algorithms/keypoints/features.hpp"
 #include "algorithms/keypoints/keypoint_match.hpp"
 #include "algorithms/keypoints/keypoint_matching.hpp"
+#include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/outlier_filters.hpp"
 #include "algorithms/keypoints/segment_displacement.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
@@ -53,8 +54,8 @@ struct KeypointReference {
     int patch_radius = 0;                 // 0: no patches (no refinement)
     std::vector<float> patches;           // (2·radius + 1)² intensities per keypoint
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
-    double angular_step = 0;  // rad, the larger of the images' horizontal and vertical steps
-    std::size_t detected = 0;                 // keypoints detected (before description and 3-D)
+    double angular_step = 0;   // rad, the larger of the images' horizontal and vertical steps
+    std::size_t detected = 0;  // keypoints detected (before description and 3-D)
     std::vector<std::string> zone_names;      // zones mode, in the configuration's order
     std::vector<keypoints::WallFrame> walls;  // per zone, from the reference's points
     double seconds = 0;                       // time it took to build
@@ -70,10 +71,9 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
                                              const std::vector<Scan>& scans);
 
 // One epoch's matches in the reference frame, with each step's wall time.
-struct KeypointEpoch {
+struct KeypointEpoch : keypoints::DroppedCounts {
     std::vector<keypoints::KeypointMatch> matches;  // segment −1
     std::size_t detected = 0, described = 0, pairs = 0;
-    std::size_t dropped_outside = 0, dropped_empty_neighbour = 0, dropped_depth_edge = 0;
     std::size_t dropped_patch = 0;  // the refinement did not find the patch
     double images_s = 0, detection_s = 0, description_s = 0, matching_s = 0, to_3d_s = 0;
 };

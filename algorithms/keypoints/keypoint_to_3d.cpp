@@ -52,6 +52,32 @@ PolarAt polar_at(const SphericalImages& im, double row, double column, const Dep
     return out;
 }
 
+bool DroppedCounts::count(Dropped d) {
+    switch (d) {
+        case Dropped::no:
+            return false;
+        case Dropped::outside:
+            ++dropped_outside;
+            break;
+        case Dropped::empty_neighbour:
+            ++dropped_empty_neighbour;
+            break;
+        case Dropped::depth_edge:
+            ++dropped_depth_edge;
+            break;
+    }
+    return true;
+}
+
+void set_polar(KeypointMatch& m, const Polar& reference, const Polar& epoch) {
+    m.reference_range = reference.range;
+    m.range = epoch.range;
+    m.reference_azimuth = reference.azimuth;
+    m.azimuth = reference.azimuth + wrapped_difference(epoch.azimuth, reference.azimuth);
+    m.reference_elevation = reference.elevation;
+    m.elevation = epoch.elevation;
+}
+
 MatchesIn3d matches_to_3d(const SphericalImages& reference_images,
                           const std::vector<Keypoint>& reference_keypoints,
                           const Eigen::Affine3d& reference_to_project,
@@ -69,31 +95,13 @@ MatchesIn3d matches_to_3d(const SphericalImages& reference_images,
         const PolarAt pa = polar_at(reference_images, a.row, a.column, edge);
         const PolarAt pb =
             pa.dropped == Dropped::no ? polar_at(epoch_images, b.row, b.column, edge) : pa;
-        switch (pb.dropped) {
-            case Dropped::no:
-                break;
-            case Dropped::outside:
-                ++out.dropped_outside;
-                continue;
-            case Dropped::empty_neighbour:
-                ++out.dropped_empty_neighbour;
-                continue;
-            case Dropped::depth_edge:
-                ++out.dropped_depth_edge;
-                continue;
-        }
+        if (out.count(pb.dropped)) continue;
         KeypointMatch m;
         m.reference_row = a.row;
         m.reference_column = a.column;
         m.row = b.row;
         m.column = b.column;
-        m.reference_range = pa.polar.range;
-        m.range = pb.polar.range;
-        m.reference_azimuth = pa.polar.azimuth;
-        // Within π of the reference's: the two images may unwrap azimuths differently.
-        m.azimuth = pa.polar.azimuth + wrapped_difference(pb.polar.azimuth, pa.polar.azimuth);
-        m.reference_elevation = pa.polar.elevation;
-        m.elevation = pb.polar.elevation;
+        set_polar(m, pa.polar, pb.polar);
         m.reference_point = reference_to_project * cartesian_of(pa.polar);
         m.point = epoch_to_project * cartesian_of(pb.polar);
         m.descriptor_distance = pair.distance;

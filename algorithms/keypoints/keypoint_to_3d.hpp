@@ -36,10 +36,20 @@ struct PolarAt {
 PolarAt polar_at(const SphericalImages& images, double row, double column,
                  const DepthEdge& edge = {});
 
-struct MatchesIn3d {
-    std::vector<KeypointMatch> matches;  // segment −1: assigned later
+// How many pairs went no further, and why.
+struct DroppedCounts {
     std::size_t dropped_outside = 0, dropped_empty_neighbour = 0, dropped_depth_edge = 0;
+    // Counts `d` under its reason; false when nothing was dropped (Dropped::no).
+    bool count(Dropped d);
 };
+
+struct MatchesIn3d : DroppedCounts {
+    std::vector<KeypointMatch> matches;  // segment −1: assigned later
+};
+
+// The polar part of a match: both epochs' ranges and angles, the epoch's azimuth brought
+// within π of the reference's (two images may unwrap azimuths differently).
+void set_polar(KeypointMatch& m, const Polar& reference, const Polar& epoch);
 
 // One KeypointMatch per pair that both images can take to 3-D. `*_to_project`: the
 // scanner -> project transform of each scan (for a scan read with pose P and registered
