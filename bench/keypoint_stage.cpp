@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
     double cpu0 = process_cpu();
     const KeypointReference reference = prepare_keypoint_reference(config, reference_scans);
     std::printf("reference: %zu keypoints detected, %zu kept: %.2f s wall, %.2f s CPU (cached)\n",
-                reference.detected, reference.features.keypoints.size(), since(t0),
+                reference.detected(), reference.keypoints(), since(t0),
                 process_cpu() - cpu0);
 
     t0 = Clock::now();

@@ -39,9 +39,15 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-Scan read_structured(const std::string& path) {
+// The k-th structured scan of the file (from 1).
+Scan read_structured(const std::string& path, int k) {
+    int found = 0;
     for (auto& scan : read_scans(path))
-        if (scan.grid) return std::move(scan);
+        if (scan.grid && ++found == k) return std::move(scan);
+    if (found > 0) {
+        throw Error(path + ": holds " + std::to_string(found) + " structured scan(s), not " +
+                    std::to_string(k) + " (--scan)");
+    }
     throw Error(path +
                 ": no structured scan (a grid of rows and columns, as PTX or a gridded "
                 "E57 has): keypoints need the scanner's spherical images");
@@ -183,8 +189,8 @@ int run_keypoints(const KeypointsOptions& o) {
         matching.ratio = o.ratio;
         matching.mutual = o.mutual;
 
-        const Prepared reference = prepare(read_structured(o.reference), features);
-        const Prepared epoch = prepare(read_structured(o.epoch), features);
+        const Prepared reference = prepare(read_structured(o.reference, o.scan), features);
+        const Prepared epoch = prepare(read_structured(o.epoch, o.scan), features);
         auto t0 = Clock::now();
         const auto pairs = match_keypoints(reference.positions, reference.features.descriptors,
                                            epoch.positions, epoch.features.descriptors, matching);

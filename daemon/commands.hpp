@@ -211,6 +211,7 @@ struct KeypointsOptions {
     std::string out;
     std::string images;  // folder for the pictures; "": none
     double vector_scale = 20.0;
+    int scan = 1;  // the k-th structured scan of each file, from 1
 };
 // 0, or 1 with the error on stderr.
 int run_keypoints(const KeypointsOptions& options);

@@ -10,8 +10,9 @@ namespace tlsmon {
 
 // The scene: `preset` with a knocked target at epochs/4 and a step of one band of the
 // pier's south face at epochs/2 (docs/simulator.md, "Events"). For `small` the grid is
-// refined to 0.05° and the targets are five spheres, which the registration finds at that
-// resolution; `pier` and `hochmosel` keep their own grids and targets.
+// refined to 0.05°, the targets are five spheres, which the registration finds at that
+// resolution, and a detail scan of a strip of the south face at 0.012° serves the keypoint
+// method; `pier` and `hochmosel` keep their own grids, detail scans and targets.
 struct DemoScene {
     std::string preset = "small";
     int epochs = 96;

@@ -360,6 +360,11 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
     cmd->add_option("--vector-scale", o.vector_scale, "Vectors drawn this many times their length")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_option("--scan", o.scan,
+                    "Which structured scan of each file, 1 = the first (a file may hold an "
+                    "overview and its detail scans; `tlsmon info` lists them)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->callback([&] { c.code = run_keypoints(o); });
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <span>
@@ -15,7 +16,6 @@
 #include "algorithms/keypoints/patch_refinement.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
-#include "core/payload.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/m3c2_stage.hpp"
 
@@ -45,12 +45,17 @@ FeatureParameters feature_parameters(const KeypointConfig& c) {
     return f;
 }
 
-const Scan& structured_scan(const std::vector<Scan>& scans, const char* which) {
+// The structured scans of an epoch, in file order.
+std::vector<const Scan*> structured_scans(const std::vector<Scan>& scans, const char* which) {
+    std::vector<const Scan*> out;
     for (const auto& s : scans)
-        if (s.grid) return s;
-    throw Error(std::string("keypoints: the ") + which +
-                " holds no structured scan (a grid of rows and columns, as PTX or a gridded "
-                "E57 has): the method needs the scanner's spherical images");
+        if (s.grid) out.push_back(&s);
+    if (out.empty()) {
+        throw Error(std::string("keypoints: the ") + which +
+                    " holds no structured scan (a grid of rows and columns, as PTX or a gridded "
+                    "E57 has): the method needs the scanner's spherical images");
+    }
+    return out;
 }
 
 // The detection mask: valid pixels away from holes, inside the zones when they are the
@@ -98,29 +103,6 @@ Described describe_scan(const KeypointConfig& c, const Scan& scan) {
     return d;
 }
 
-void put_vector(PayloadWriter& w, const Eigen::Vector3d& v) {
-    w.put<double>(v.x());
-    w.put<double>(v.y());
-    w.put<double>(v.z());
-}
-
-Eigen::Vector3d get_vector(PayloadReader& r) {
-    Eigen::Vector3d v;
-    v.x() = r.get<double>();
-    v.y() = r.get<double>();
-    v.z() = r.get<double>();
-    return v;
-}
-
-void put_text(PayloadWriter& w, const std::string& s) {
-    w.put_array(std::vector<char>(s.begin(), s.end()));
-}
-
-std::string get_text(PayloadReader& r) {
-    const auto v = r.get_array<char>();
-    return std::string(v.begin(), v.end());
-}
-
 // The registration's σ at a project-frame point in its worst direction: √ of the largest
 // eigenvalue of Σ_p = J·Σ·Jᵀ (registration_error.hpp; Niemeier 2008, §2.4). A segment's
 // components lie along three directions; one σ bounds each of them.
@@ -129,6 +111,101 @@ double registration_sigma_at(const registration::RigidTransform& T, const Eigen:
     const Eigen::Matrix3d S = registration::registration_covariance_at(T, x);
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(S, Eigen::EigenvaluesOnly);
     return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+}
+
+// Scan `k` of the epoch against the reference's scan `k`: images, keypoints, matching in the
+// angular window, refinement, 3-D; its matches and times added to `out`.
+void measure_scan(const KeypointConfig& config, const KeypointReference& reference, int k,
+                  const Scan& scan, const EpochToReference& map, KeypointEpoch& out) {
+    const KeypointScanReference& ref = reference.scans[static_cast<std::size_t>(k)];
+    Described d = describe_scan(config, scan);
+    out.detected += d.detected;
+    out.described += d.features.keypoints.size();
+    out.images_s += d.images_s;
+    out.detection_s += d.detection_s;
+    out.description_s += d.description_s;
+
+    auto t0 = Clock::now();
+    MatchingParameters mp;
+    mp.window_radius = config.window_deg * kDeg;
+    mp.ratio = config.ratio;
+    mp.mutual = config.mutual;
+    const auto pairs = match_keypoints(ref.positions, ref.features.descriptors, d.positions,
+                                       d.features.descriptors, mp);
+    out.pairs += pairs.size();
+    out.matching_s += since(t0);
+
+    t0 = Clock::now();
+    const int radius = reference.patch_radius;
+    const std::size_t patch_size = static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1));
+    IntensityPatch patch;
+    patch.radius = radius;
+    for (const auto& pair : pairs) {
+        const Keypoint& a = ref.features.keypoints[pair.reference];
+        const Keypoint& b = d.features.keypoints[pair.epoch];
+        // The anchor's place in the epoch's image, first from the keypoints' offset.
+        double row = b.row + (ref.anchor_rows[pair.reference] - a.row);
+        double column = b.column + (ref.anchor_columns[pair.reference] - a.column);
+        if (radius > 0) {
+            patch.row = static_cast<int>(ref.anchor_rows[pair.reference]);
+            patch.column = static_cast<int>(ref.anchor_columns[pair.reference]);
+            const auto first =
+                ref.patches.begin() + static_cast<std::ptrdiff_t>(pair.reference * patch_size);
+            patch.values.assign(first, first + static_cast<std::ptrdiff_t>(patch_size));
+            const auto found = match_patch(patch, d.images, row, column);
+            if (!found) {
+                ++out.dropped_patch;
+                continue;
+            }
+            row = found->row;
+            column = found->column;
+        }
+        const PolarAt pb = polar_at(d.images, row, column);
+        if (out.count(pb.dropped)) continue;
+        KeypointMatch m;
+        m.reference_row = ref.anchor_rows[pair.reference];
+        m.reference_column = ref.anchor_columns[pair.reference];
+        m.row = row;
+        m.column = column;
+        set_polar(m, ref.polar[pair.reference], pb.polar);
+        m.reference_point = ref.points[pair.reference];
+        m.point = map.apply(d.images.pose * cartesian_of(pb.polar));
+        m.descriptor_distance = pair.distance;
+        m.scan = k;
+        out.matches.push_back(m);
+    }
+    out.to_3d_s += since(t0);
+}
+
+// The sample spacing of a match: its reference range × its scan's angular step.
+double sample_spacing(const KeypointReference& reference, const KeypointMatch& m) {
+    return m.reference_range * reference.scans[static_cast<std::size_t>(m.scan)].angular_step;
+}
+
+double median_of(std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+// Of one segment's matches, those of the scan that samples it finest (the smallest median
+// range × step): a detail scan over part of a zone measures it, not the overview's coarser
+// pixels there, and two scans' vectors are never mixed in one mean.
+std::vector<KeypointMatch> finest_scan_matches(std::vector<KeypointMatch> in,
+                                               const KeypointReference& reference) {
+    std::map<int, std::vector<double>> spacing;
+    for (const auto& m : in) spacing[m.scan].push_back(sample_spacing(reference, m));
+    if (spacing.size() < 2) return in;
+    int finest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [scan, values] : spacing) {
+        const double median = median_of(values);
+        if (median < best) {
+            best = median;
+            finest = scan;
+        }
+    }
+    std::erase_if(in, [&](const KeypointMatch& m) { return m.scan != finest; });
+    return in;
 }
 
 }  // namespace
@@ -149,21 +226,17 @@ std::string keypoint_reference_parameters(const KeypointConfig& c) {
     return s;
 }
 
-KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
-                                             const std::vector<Scan>& scans) {
-    const auto t0 = Clock::now();
-    const Scan& scan = structured_scan(scans, "reference epoch");
+// One structured scan's part of the reference product.
+KeypointScanReference scan_reference(const KeypointConfig& config, const Scan& scan) {
     Described d = describe_scan(config, scan);
-    KeypointReference out;
+    KeypointScanReference out;
     out.detected = d.detected;
-    out.scanner = scan.scanner_position();
     out.angular_step = std::max(d.images.azimuth_step, d.images.elevation_step);
     // Only keypoints the range image can take to 3-D: the others can never give a vector.
     const auto& kp = d.features.keypoints;
     const auto& desc = d.features.descriptors;
     out.features.descriptors.binary = desc.binary;
     out.features.descriptors.length = desc.length;
-    out.patch_radius = config.refine ? config.patch_radius : 0;
     for (std::size_t i = 0; i < kp.size(); ++i) {
         double row = kp[i].row, column = kp[i].column;
         PolarAt at;
@@ -197,14 +270,26 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
         out.polar.push_back(at.polar);
         out.points.push_back(d.images.pose * cartesian_of(at.polar));
     }
+    return out;
+}
+
+KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
+                                             const std::vector<Scan>& scans) {
+    const auto t0 = Clock::now();
+    const auto structured = structured_scans(scans, "reference epoch");
+    KeypointReference out;
+    out.scanner = structured.front()->scanner_position();
+    out.patch_radius = config.refine ? config.patch_radius : 0;
+    for (const Scan* scan : structured) out.scans.push_back(scan_reference(config, *scan));
     if (config.segments == KeypointSegments::zones) {
-        // Each zone's wall: a plane fitted to the reference's points in it (issue 12: "from a
-        // plane fit to the reference points, not a constant").
+        // Each zone's wall: a plane fitted to the reference's points in it, of every scan
+        // (issue 12: "from a plane fit to the reference points, not a constant").
         const auto towards = m3c2::Orientation::towards(out.scanner);
         for (const auto& z : config.zones) {
             std::vector<Eigen::Vector3d> inside;
-            for (const auto& p : scan.xyz)
-                if (p.allFinite() && z.contains(p)) inside.push_back(p);
+            for (const auto& scan : scans)
+                for (const auto& p : scan.xyz)
+                    if (p.allFinite() && z.contains(p)) inside.push_back(p);
             out.zone_names.push_back(z.name);
             out.walls.push_back(fit_wall_frame(inside, towards));
         }
@@ -213,161 +298,16 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
     return out;
 }
 
-std::string KeypointReference::encode() const {
-    PayloadWriter w;
-    w.put<std::uint32_t>(kFormatVersion);
-    w.put_array(features.keypoints);
-    w.put<std::uint8_t>(features.descriptors.binary ? 1 : 0);
-    w.put<std::uint64_t>(features.descriptors.length);
-    w.put_array(features.descriptors.bits);
-    w.put_array(features.descriptors.values);
-    w.put_array(positions);
-    w.put_array(anchor_rows);
-    w.put_array(anchor_columns);
-    w.put<std::int32_t>(patch_radius);
-    w.put_array(patches);
-    w.put_array(polar);
-    std::vector<double> flat;
-    flat.reserve(3 * points.size());
-    for (const auto& p : points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
-    w.put_array(flat);
-    put_vector(w, scanner);
-    w.put<double>(angular_step);
-    w.put<std::uint64_t>(detected);
-    w.put<double>(seconds);
-    w.put<std::uint64_t>(zone_names.size());
-    for (std::size_t z = 0; z < zone_names.size(); ++z) {
-        put_text(w, zone_names[z]);
-        const WallFrame& f = walls[z];
-        put_vector(w, f.centroid);
-        put_vector(w, f.normal);
-        put_vector(w, f.horizontal);
-        put_vector(w, f.vertical);
-        w.put<double>(f.rms);
-        w.put<std::uint64_t>(f.points);
-        w.put<std::uint8_t>(f.horizontal_surface ? 1 : 0);
-        put_text(w, f.undefined_reason);
-    }
-    return w.take();
-}
-
-KeypointReference KeypointReference::decode(std::string_view payload) {
-    PayloadReader in(payload);
-    if (const auto version = in.get<std::uint32_t>(); version != kFormatVersion) {
-        throw Error("keypoints stage payload: format " + std::to_string(version) + ", expected " +
-                    std::to_string(kFormatVersion));
-    }
-    KeypointReference r;
-    r.features.keypoints = in.get_array<Keypoint>();
-    r.features.descriptors.binary = in.get<std::uint8_t>() != 0;
-    r.features.descriptors.length = in.get<std::uint64_t>();
-    r.features.descriptors.bits = in.get_array<std::uint8_t>();
-    r.features.descriptors.values = in.get_array<float>();
-    r.positions = in.get_array<AngularPosition>();
-    r.anchor_rows = in.get_array<double>();
-    r.anchor_columns = in.get_array<double>();
-    r.patch_radius = in.get<std::int32_t>();
-    r.patches = in.get_array<float>();
-    r.polar = in.get_array<Polar>();
-    const auto flat = in.get_array<double>();
-    if (flat.size() % 3 != 0) throw Error("keypoints stage payload: a point without 3 coordinates");
-    for (std::size_t i = 0; i < flat.size(); i += 3)
-        r.points.emplace_back(flat[i], flat[i + 1], flat[i + 2]);
-    const std::size_t n = r.features.keypoints.size();
-    const auto side = static_cast<std::size_t>(2 * std::max(0, r.patch_radius) + 1);
-    if (r.features.descriptors.count() != n || r.positions.size() != n || r.polar.size() != n ||
-        r.points.size() != n || r.anchor_rows.size() != n || r.anchor_columns.size() != n ||
-        r.patch_radius < 0 || r.patches.size() != (r.patch_radius > 0 ? n * side * side : 0)) {
-        throw Error(
-            "keypoints stage payload: keypoints, descriptors and positions differ in number");
-    }
-    r.scanner = get_vector(in);
-    r.angular_step = in.get<double>();
-    r.detected = in.get<std::uint64_t>();
-    r.seconds = in.get<double>();
-    const auto zones = in.get<std::uint64_t>();
-    if (zones > payload.size()) throw Error("keypoints stage payload: too many zones");
-    for (std::uint64_t z = 0; z < zones; ++z) {
-        r.zone_names.push_back(get_text(in));
-        WallFrame f;
-        f.centroid = get_vector(in);
-        f.normal = get_vector(in);
-        f.horizontal = get_vector(in);
-        f.vertical = get_vector(in);
-        f.rms = in.get<double>();
-        f.points = in.get<std::uint64_t>();
-        f.horizontal_surface = in.get<std::uint8_t>() != 0;
-        f.undefined_reason = get_text(in);
-        r.walls.push_back(std::move(f));
-    }
-    in.finish();
-    return r;
-}
-
 KeypointEpoch measure_keypoints(const KeypointConfig& config, const KeypointReference& reference,
                                 const std::vector<Scan>& scans, const StageOutputs& outputs) {
-    const Scan& scan = structured_scan(scans, "epoch");
-    Described d = describe_scan(config, scan);
+    const auto structured = structured_scans(scans, "epoch");
     KeypointEpoch out;
-    out.detected = d.detected;
-    out.described = d.features.keypoints.size();
-    out.images_s = d.images_s;
-    out.detection_s = d.detection_s;
-    out.description_s = d.description_s;
-
-    auto t0 = Clock::now();
-    MatchingParameters mp;
-    mp.window_radius = config.window_deg * kDeg;
-    mp.ratio = config.ratio;
-    mp.mutual = config.mutual;
-    const auto pairs = match_keypoints(reference.positions, reference.features.descriptors,
-                                       d.positions, d.features.descriptors, mp);
-    out.pairs = pairs.size();
-    out.matching_s = since(t0);
-
-    t0 = Clock::now();
+    out.scans = std::min(structured.size(), reference.scans.size());
     // The epoch's point in the reference frame: its file's pose, then the range scale and
     // the registration (the map M3C2 uses, m3c2_stage.hpp).
     const EpochToReference map = epoch_to_reference(outputs, reference.scanner);
-    const int radius = reference.patch_radius;
-    const std::size_t patch_size = static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1));
-    IntensityPatch patch;
-    patch.radius = radius;
-    for (const auto& pair : pairs) {
-        const Keypoint& a = reference.features.keypoints[pair.reference];
-        const Keypoint& b = d.features.keypoints[pair.epoch];
-        // The anchor's place in the epoch's image, first from the keypoints' offset.
-        double row = b.row + (reference.anchor_rows[pair.reference] - a.row);
-        double column = b.column + (reference.anchor_columns[pair.reference] - a.column);
-        if (radius > 0) {
-            patch.row = static_cast<int>(reference.anchor_rows[pair.reference]);
-            patch.column = static_cast<int>(reference.anchor_columns[pair.reference]);
-            const auto first = reference.patches.begin() +
-                               static_cast<std::ptrdiff_t>(pair.reference * patch_size);
-            patch.values.assign(first, first + static_cast<std::ptrdiff_t>(patch_size));
-            const auto found = match_patch(patch, d.images, row, column);
-            if (!found) {
-                ++out.dropped_patch;
-                continue;
-            }
-            row = found->row;
-            column = found->column;
-        }
-        const PolarAt pb = polar_at(d.images, row, column);
-        if (out.count(pb.dropped)) continue;
-        const Polar& pa = reference.polar[pair.reference];
-        KeypointMatch m;
-        m.reference_row = reference.anchor_rows[pair.reference];
-        m.reference_column = reference.anchor_columns[pair.reference];
-        m.row = row;
-        m.column = column;
-        set_polar(m, pa, pb.polar);
-        m.reference_point = reference.points[pair.reference];
-        m.point = map.apply(d.images.pose * cartesian_of(pb.polar));
-        m.descriptor_distance = pair.distance;
-        out.matches.push_back(m);
-    }
-    out.to_3d_s = since(t0);
+    for (std::size_t k = 0; k < out.scans; ++k)
+        measure_scan(config, reference, static_cast<int>(k), *structured[k], map, out);
     return out;
 }
 
@@ -406,10 +346,9 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                                     int segment) {
         std::vector<double> spacing;
         for (const auto& m : in)
-            if (m.segment == segment) spacing.push_back(m.reference_range * reference.angular_step);
+            if (m.segment == segment) spacing.push_back(sample_spacing(reference, m));
         if (spacing.empty() || !d.defined()) return;
-        std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
-        const double median = spacing[spacing.size() / 2];
+        const double median = median_of(std::move(spacing));
         if (median <= config.max_sample_spacing) return;
         SegmentDisplacement undefined;  // figures NaN; the counts and the wall stay
         undefined.segment = d.segment;
@@ -441,6 +380,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                     in.back().segment = 0;
                 }
             }
+            in = finest_scan_matches(std::move(in), reference);
             const OutlierResult filtered = filter_outliers(in, op);
             KeypointSegmentResult r;
             r.zone = reference.zone_names[z];
@@ -454,13 +394,19 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
         }
     } else {
         const double width = config.band_width_deg * kDeg;
-        std::map<int, int> present;
+        std::map<int, std::vector<KeypointMatch>> bands;
         for (auto& m : matches) {
             m.segment = vertical_angle_band(m.reference_elevation, width);
-            ++present[m.segment];
+            bands[m.segment].push_back(m);
+        }
+        matches.clear();
+        for (auto& [band, in] : bands) {
+            const auto finest = finest_scan_matches(std::move(in), reference);
+            matches.insert(matches.end(), finest.begin(), finest.end());
         }
         const OutlierResult filtered = filter_outliers(matches, op);
-        for (const auto& [band, count] : present) {
+        for (const auto& entry : bands) {
+            const int band = entry.first;
             KeypointSegmentResult r;
             r.zone = keypoint_band_zone(band, width);
             r.band_definition = keypoint_band_zone_definition(band, width);
@@ -549,11 +495,11 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
 
     StageVerdict verdict;
     verdict.note = fmt::format(
-        "reference {} keypoints; {} + {}: {} of {} keypoints described, {} matched, {} in 3-D, {} "
+        "reference {} keypoints in {} scan(s); {} + {}: {} of {} keypoints described, {} matched, {} in 3-D, {} "
         "kept; {} of {} "
         "segments defined; s: images {:.2f}, detection {:.2f}, description {:.2f}, matching "
         "{:.2f}, 3-D {:.2f}, filtering {:.2f}",
-        product->features.keypoints.size(), config.detector, config.descriptor, epoch.described,
+        product->keypoints(), product->scans.size(), config.detector, config.descriptor, epoch.described,
         epoch.detected, epoch.pairs, in_3d, kept, defined, segments.segments.size(), epoch.images_s,
         epoch.detection_s, epoch.description_s, epoch.matching_s, epoch.to_3d_s,
         segments.filtering_s);

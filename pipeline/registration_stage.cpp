@@ -154,8 +154,9 @@ TargetMeasurement measure_target(const TargetConfig& target, const std::vector<S
     best.reason = "no scan in the file";
     for (const auto& scan : scans) {
         TargetMeasurement m = measure_in(target, scan, predicted, config);
-        if (m.found()) return m;
-        if (m.points >= best.points) best = std::move(m);
+        const bool better = m.found() ? !best.found() || m.points > best.points
+                                      : !best.found() && m.points >= best.points;
+        if (better) best = std::move(m);
     }
     return best;
 }

@@ -47,7 +47,9 @@ struct ReferenceTargets {
     static ReferenceTargets decode(std::string_view payload);
 };
 
-// Finds and fits one target in the scans near `predicted` (project frame).
+// Finds and fits one target in the scans near `predicted` (project frame). Where several
+// scans hold it (an overview and a target's detail scan), the fit on the most points wins:
+// the finest sampling.
 TargetMeasurement measure_target(const TargetConfig& target, const std::vector<Scan>& scans,
                                  const Eigen::Vector3d& predicted,
                                  const RegistrationConfig& config);

@@ -3,6 +3,8 @@
 // (along y) across a valley that runs east–west. Targets are set out as a surveyor would
 // for the distance: spread in azimuth, height and range, on masts, stands and the stable
 // blocks, left and right of the pier so it never hides them.
+#include <cmath>
+
 #include "core/error.hpp"
 #include "simulator/scene.hpp"
 #include "simulator/target_layout.hpp"
@@ -82,6 +84,25 @@ Block block(std::string name, Block::Kind kind, Eigen::Vector3d lo, Eigen::Vecto
     b.lo = lo;
     b.hi = hi;
     return b;
+}
+
+// A surveyor's fine scan of a target: a window over the target's angular size and
+// `margin_deg` more (the scanner's drift moves it by a few arc seconds), at `step_deg`.
+DetailScan target_scan(const Site& s, const Target& t, double step_deg, double margin_deg = 0.1) {
+    constexpr double deg = 180.0 / 3.14159265358979323846;
+    const Eigen::Vector3d d = t.centre - s.scanner.position;
+    const double azimuth = std::atan2(d.y(), d.x()) * deg - s.scanner.heading_deg;
+    const double elevation = std::atan2(d.z(), std::hypot(d.x(), d.y())) * deg;
+    const double extent = t.kind == Target::Kind::sphere ? t.radius : t.size / std::sqrt(2.0);
+    const double half = std::atan2(extent, d.norm()) * deg + margin_deg;
+    DetailScan scan;
+    scan.name = t.name;
+    scan.azimuth_min_deg = azimuth - half;
+    scan.azimuth_max_deg = azimuth + half;
+    scan.elevation_min_deg = elevation - half;
+    scan.elevation_max_deg = elevation + half;
+    scan.step_deg = step_deg;
+    return scan;
 }
 
 // `small` and `pier`: the station on the valley floor 45 m south of the pier; the floor is
@@ -167,6 +188,17 @@ Site preset_hochmosel() {
     s.scanner.azimuth_step_deg = 0.03;
     s.scanner.elevation_step_deg = 0.03;
     s.scanner.max_range = 400.0;
+    // A detail scan of a 3.5 m strip of the south face (x ≈ 4.4–7.9 m) over the pier's
+    // whole height at 0.005° (9–14 mm at 100–155 m): 401 columns x 12501 rows = 5.0 M
+    // cells, for the keypoint method (docs/keypoints.md, "Sampling").
+    DetailScan strip;
+    strip.name = "strip";
+    strip.azimuth_min_deg = 85.5;
+    strip.azimuth_max_deg = 87.5;
+    strip.elevation_min_deg = -12.5;
+    strip.elevation_max_deg = 50.0;
+    strip.step_deg = 0.005;
+    s.scanner.details = {strip};
     s.deck.enabled = true;
     s.deck.half_length = 60.0;
     s.deck.thickness = 6.0;
@@ -180,6 +212,12 @@ Site preset_hochmosel() {
                   board("H4", 99.9, 80.5, 0.8, M::abutment, 1.0),
                   sphere("H5", 66.3, 66.9, 0.5, M::abutment, 0.15),
                   board("H6", 170.0, 96.0, 2.0, M::mast, 1.0)});
+    // Fine scans of the far targets at 0.005° (their overview gives 9–89 mm between points):
+    // the registration's rotation rests on them, and at 150 m an arc second is 0.7 mm.
+    for (const Target& t : s.targets) {
+        if ((t.centre - s.scanner.position).norm() > 60.0)
+            s.scanner.details.push_back(target_scan(s, t, 0.005));
+    }
     s.events.step_z_min = 100.0;
     s.events.step_z_max = 140.0;
     s.occlusion.occluders = {

@@ -168,11 +168,23 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
     return render_epoch(site, epoch_conditions(site, epoch, hours), threads);
 }
 
-RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
-                          unsigned threads) {
+Scanner detail_scanner(const Scanner& overview, const DetailScan& d) {
+    Scanner s = overview;
+    s.azimuth_min_deg = d.azimuth_min_deg;
+    s.azimuth_max_deg = d.azimuth_max_deg;
+    s.elevation_min_deg = d.elevation_min_deg;
+    s.elevation_max_deg = d.elevation_max_deg;
+    s.azimuth_step_deg = s.elevation_step_deg = d.step_deg;
+    s.details.clear();
+    return s;
+}
+
+namespace {
+
+RenderedScan render_grid(const Site& site, const Scanner& sc, std::uint64_t noise_stream,
+                         const EpochConditions& conditions, unsigned threads) {
     const int epoch = conditions.epoch;
     const double hours = conditions.hours;
-    const Scanner& sc = site.scanner;
     const GridShape shape = grid_shape(sc);
     if (std::uint64_t{shape.rows} * shape.columns > max_scan_cells) {
         throw Error("scanner window gives " + std::to_string(shape.rows) + " x " +
@@ -205,9 +217,10 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
     std::vector<std::vector<CellPoint>> columns(shape.columns);
     std::vector<std::uint64_t> mixed(shape.columns, 0);
     auto render_column = [&](std::uint32_t c) {
-        Rng rng(hash_combine(
-            hash_combine(hash_combine(noise.seed, kNoiseStream), static_cast<std::uint64_t>(epoch)),
-            c));
+        // The overview keeps stream 0's seed; a detail scan draws from its own stream.
+        std::uint64_t seed = hash_combine(noise.seed, kNoiseStream);
+        if (noise_stream != 0) seed = hash_combine(seed, noise_stream);
+        Rng rng(hash_combine(hash_combine(seed, static_cast<std::uint64_t>(epoch)), c));
         const double sa = std::sin(cell_azimuth(sc, c)), ca = std::cos(cell_azimuth(sc, c));
         std::vector<CellPoint>& col = columns[c];
         for (std::uint32_t r = 0; r < shape.rows; ++r) {
@@ -280,6 +293,22 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
     }
     scan.grid = std::move(grid);
     for (const std::uint64_t m : mixed) out.mixed_pixels += m;
+    return out;
+}
+
+}  // namespace
+
+RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
+                          unsigned threads) {
+    return render_grid(site, site.scanner, 0, conditions, threads);
+}
+
+RenderedScan render_detail(const Site& site, std::size_t detail,
+                           const EpochConditions& conditions, unsigned threads) {
+    if (detail >= site.scanner.details.size()) throw Error("no detail scan " + std::to_string(detail));
+    RenderedScan out = render_grid(site, detail_scanner(site.scanner, site.scanner.details[detail]),
+                                   detail + 1, conditions, threads);
+    out.scan.name += "-" + site.scanner.details[detail].name;
     return out;
 }
 

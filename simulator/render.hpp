@@ -62,4 +62,13 @@ RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
 // Epoch `epoch`, `hours` after a first epoch at kDefaultStartUtc (epoch_conditions.hpp).
 RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned threads = 2);
 
+// The scanner as it runs detail scan `d`: the overview's station, pose and limits, the
+// detail's window and step.
+Scanner detail_scanner(const Scanner& overview, const DetailScan& d);
+
+// Detail scan `detail` (index into site.scanner.details) of the same epoch: the same pose
+// error, scene and air as the overview, its own noise stream; named "<station>-<name>".
+RenderedScan render_detail(const Site& site, std::size_t detail,
+                           const EpochConditions& conditions, unsigned threads = 2);
+
 }  // namespace tlsmon::sim

@@ -47,6 +47,18 @@ struct Target {
     double base_z = 0.0;  // z of the support's foot (ground or block top), m
 };
 
+// A detail scan: the station scanning a smaller window at a finer step right after its
+// overview (what a scanner's region or fine scan is), exported into the same file as a
+// further scan with its own grid. Far walls need it for the keypoint method: the sample
+// spacing (range × step) must stay below the texture the footprint resolves
+// (docs/keypoints.md, "Sampling").
+struct DetailScan {
+    std::string name = "detail";
+    double azimuth_min_deg = 0.0, azimuth_max_deg = 0.0;
+    double elevation_min_deg = 0.0, elevation_max_deg = 0.0;
+    double step_deg = 0.005;  // horizontal and vertical
+};
+
 struct Scanner {
     std::string station = "S1";
     Eigen::Vector3d position{0.0, 0.0, 1.5};  // tripod ~1.5 m above the ground
@@ -57,6 +69,7 @@ struct Scanner {
     double azimuth_step_deg = 0.12, elevation_step_deg = 0.12;
     double max_range = 300.0;   // no return beyond, m
     double min_return = 0.005;  // weaker returns (dark, far, grazing) give no point
+    std::vector<DetailScan> details;  // after the overview, in this order
 };
 
 // The laser beam: a Gaussian beam whose 1/e² diameter grows linearly from the exit

@@ -30,6 +30,44 @@ void get_seed(TomlFields& f, const std::string& key, std::uint64_t& seed) {
     seed = static_cast<std::uint64_t>(s);
 }
 
+// A grid over sim::max_scan_cells is refused here, naming `key`, rather than at rendering.
+void check_cells(TomlFields& f, const std::string& key, const sim::Scanner& s) {
+    const double cells =
+        (std::floor((s.azimuth_max_deg - s.azimuth_min_deg) / s.azimuth_step_deg) + 1) *
+        (std::floor((s.elevation_max_deg - s.elevation_min_deg) / s.elevation_step_deg) + 1);
+    if (cells > static_cast<double>(sim::max_scan_cells)) {
+        f.fail(key, "the window and steps give " + std::to_string(cells / 1e6) +
+                        " M cells, over the " + std::to_string(sim::max_scan_cells / 1000000) +
+                        " M allowed");
+    }
+}
+
+// [[scanner.detail]]: a window inside the scanner's reach at its own step.
+sim::DetailScan read_detail(TomlFields& f, const sim::Scanner& overview) {
+    sim::DetailScan d;
+    f.get("name", d.name);
+    if (d.name.empty() || d.name.find_first_of("/\\ _#") != std::string::npos) {
+        f.fail("name", "expected a non-empty name without '/', '\\', ' ', '_' or '#'");
+    }
+    for (const char* key :
+         {"azimuth_min_deg", "azimuth_max_deg", "elevation_min_deg", "elevation_max_deg"}) {
+        if (!f.has(key)) f.fail(key, "required: a detail scan has no default window");
+    }
+    f.get("azimuth_min_deg", d.azimuth_min_deg, -360.0, 360.0);
+    f.get("azimuth_max_deg", d.azimuth_max_deg, -360.0, 360.0);
+    f.get("elevation_min_deg", d.elevation_min_deg, -90.0, 90.0);
+    f.get("elevation_max_deg", d.elevation_max_deg, -90.0, 90.0);
+    f.get("step_deg", d.step_deg, 0.001, 10.0);
+    if (d.azimuth_max_deg <= d.azimuth_min_deg)
+        f.fail("azimuth_max_deg", "must exceed azimuth_min_deg");
+    if (d.elevation_max_deg <= d.elevation_min_deg) {
+        f.fail("elevation_max_deg", "must exceed elevation_min_deg");
+    }
+    check_cells(f, "step_deg", sim::detail_scanner(overview, d));
+    f.reject_unknown_keys();
+    return d;
+}
+
 void read_scanner(TomlFields& f, sim::Scanner& s) {
     f.get("station", s.station);
     if (s.station.empty() || s.station.find_first_of("/\\ _") != std::string::npos) {
@@ -50,13 +88,10 @@ void read_scanner(TomlFields& f, sim::Scanner& s) {
     if (s.elevation_max_deg <= s.elevation_min_deg) {
         f.fail("elevation_max_deg", "must exceed elevation_min_deg");
     }
-    const double cells =
-        (std::floor((s.azimuth_max_deg - s.azimuth_min_deg) / s.azimuth_step_deg) + 1) *
-        (std::floor((s.elevation_max_deg - s.elevation_min_deg) / s.elevation_step_deg) + 1);
-    if (cells > static_cast<double>(sim::max_scan_cells)) {
-        f.fail("azimuth_step_deg",
-               "the window and steps give " + std::to_string(cells / 1e6) + " M cells, over the " +
-                   std::to_string(sim::max_scan_cells / 1000000) + " M allowed");
+    check_cells(f, "azimuth_step_deg", s);
+    if (f.has("detail")) {
+        s.details.clear();
+        for (TomlFields& d : f.array_of_tables("detail")) s.details.push_back(read_detail(d, s));
     }
     f.reject_unknown_keys();
 }

@@ -76,11 +76,18 @@ EpochFiles simulate_epoch(const Site& site, int epoch, std::int64_t start_utc, u
         meteo_truth(f.truth);
         return f;
     }
-    RenderedScan rendered =
-        render_epoch(site, epoch_conditions(site, epoch, hours, f.acquired_utc), threads);
+    const EpochConditions rendered_conditions = epoch_conditions(site, epoch, hours, f.acquired_utc);
+    RenderedScan rendered = render_epoch(site, rendered_conditions, threads);
     rendered.scan.source = f.stem + ".ptx";
     rendered.scan.acquired_utc = static_cast<double>(f.acquired_utc);
     f.ptx = ptx_text(rendered.scan, ptx);
+    // Detail scans follow the overview in the same file, as further PTX scans.
+    nlohmann::json details = nlohmann::json::array();
+    for (std::size_t d = 0; d < site.scanner.details.size(); ++d) {
+        const RenderedScan detail = render_detail(site, d, rendered_conditions, threads);
+        f.ptx += ptx_text(detail.scan, ptx);
+        details.push_back(detail_truth(site.scanner.details[d], detail));
+    }
     f.cut_short = site.events.cut_short_epoch == epoch;
     if (f.cut_short) {
         // The export stops part-way (scanner or copy interrupted), at a line boundary.
@@ -94,6 +101,7 @@ EpochFiles simulate_epoch(const Site& site, int epoch, std::int64_t start_utc, u
     f.truth["scan"]["file"] = f.stem + ".ptx";
     f.truth["scan"]["cut_short"] = f.cut_short;
     f.truth["scan"]["bytes"] = f.ptx.size();
+    f.truth["scan"]["details"] = std::move(details);
     meteo_truth(f.truth);
     return f;
 }

@@ -233,9 +233,24 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
         scan["points"] = rendered->scan.size();
         scan["mixed_pixels"] = rendered->mixed_pixels;
     }
+    scan["details"] = nlohmann::json::array();  // filled by the series (detail_truth)
     // Terrain, target mounts, occluders and vegetation (scene_truth.hpp).
     add_scene_truth(j, site, epoch, hours, rendered);
     return j;
+}
+
+nlohmann::json detail_truth(const DetailScan& d, const RenderedScan& rendered) {
+    return {{"name", d.name},
+            {"scan", rendered.scan.name},
+            {"azimuth_min_deg", d.azimuth_min_deg},
+            {"azimuth_max_deg", d.azimuth_max_deg},
+            {"elevation_min_deg", d.elevation_min_deg},
+            {"elevation_max_deg", d.elevation_max_deg},
+            {"step_deg", d.step_deg},
+            {"rows", rendered.scan.grid->rows},
+            {"columns", rendered.scan.grid->columns},
+            {"points", rendered.scan.size()},
+            {"mixed_pixels", rendered.mixed_pixels}};
 }
 
 }  // namespace tlsmon::sim

@@ -24,4 +24,7 @@ std::vector<SamplePoint> sample_points(const Site& site);
 nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_t acquired_utc,
                           const RenderedScan* rendered);
 
+// One detail scan's entry in the truth's scan.details: its window, step and grid.
+nlohmann::json detail_truth(const DetailScan& d, const RenderedScan& rendered);
+
 }  // namespace tlsmon::sim

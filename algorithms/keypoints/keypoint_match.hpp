@@ -20,6 +20,7 @@ struct KeypointMatch {
     Eigen::Vector3d point = Eigen::Vector3d::Zero();            // project frame, m
     double descriptor_distance = 0;                             // Hamming or L2
     int segment = -1;  // the segment (zone or vertical-angle band) it falls in; -1: none
+    int scan = 0;      // which structured scan of the file measured it (0: the first)
 
     Eigen::Vector3d displacement() const { return point - reference_point; }
 };

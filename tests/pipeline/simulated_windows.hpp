@@ -1,8 +1,9 @@
 #pragma once
-// One epoch of the `pier` preset rendered as the pipeline tests need it, in a fraction of a
-// full epoch's time: each target's window at the preset's step (what the registration
-// measures) and the window of the pier's south and west faces at `face_step_deg` — the same
-// geometry, beam, noise, scanner drift and air as a full epoch.
+// One epoch of a preset rendered as the pipeline tests need it, in a fraction of a full
+// epoch's time: each target's window at the preset's step (what the registration measures)
+// and the window of the pier's south and west faces at `face_step_deg`, or the preset's
+// detail scans — the same geometry, beam, noise, scanner drift and air as a full epoch.
+#include <algorithm>
 #include <vector>
 
 #include "core/scan.hpp"
@@ -18,8 +19,8 @@ struct WindowedEpoch {
     sim::EpochConditions conditions;
 };
 
-inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours,
-                                    double face_step_deg) {
+// The targets' windows of an epoch, with its conditions.
+inline WindowedEpoch render_target_windows(const sim::Site& site, int epoch, double hours) {
     WindowedEpoch e;
     e.conditions = sim::epoch_conditions(site, epoch, hours);
     for (const auto& t : site.targets) {
@@ -27,6 +28,26 @@ inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hou
         sim::test::narrow_window(one.scanner, t.centre, 0.9);
         e.targets.push_back(sim::render_epoch(one, e.conditions, 2).scan);
     }
+    return e;
+}
+
+// The targets' windows and the site's detail scans: a detail scan named after a target (its
+// fine scan) goes with the targets, the others with the pier.
+inline WindowedEpoch render_detail_windows(const sim::Site& site, int epoch, double hours) {
+    WindowedEpoch e = render_target_windows(site, epoch, hours);
+    for (std::size_t d = 0; d < site.scanner.details.size(); ++d) {
+        const bool target_scan =
+            std::any_of(site.targets.begin(), site.targets.end(),
+                        [&](const auto& t) { return t.name == site.scanner.details[d].name; });
+        (target_scan ? e.targets : e.pier)
+            .push_back(sim::render_detail(site, d, e.conditions, 2).scan);
+    }
+    return e;
+}
+
+inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours,
+                                    double face_step_deg) {
+    WindowedEpoch e = render_target_windows(site, epoch, hours);
     sim::Site faces = site;
     auto& s = faces.scanner;
     s.azimuth_min_deg = 68.0;

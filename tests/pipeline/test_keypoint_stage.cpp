@@ -14,6 +14,7 @@
 #include "simulator/render.hpp"
 #include "tests/pipeline/pipeline_site.hpp"
 #include "tests/simulator/narrow_window.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace tlsmon {
 namespace {
@@ -40,9 +41,12 @@ struct Rendered {
 Rendered add_scan(test::PipelineSite& site, const sim::Site& scene, int index, double hours) {
     Rendered r;
     r.conditions = sim::epoch_conditions(scene, index, hours);
-    const Scan scan = sim::render_epoch(scene, r.conditions, 2).scan;
+    // The overview, then the detail scans, in one PTX file as the simulator writes them.
+    std::string text = ptx_text(sim::render_epoch(scene, r.conditions, 2).scan);
+    for (std::size_t d = 0; d < scene.scanner.details.size(); ++d)
+        text += ptx_text(sim::render_detail(scene, d, r.conditions, 2).scan);
     const auto file = site.dir / "ingest" / ("face_" + std::to_string(index) + ".ptx");
-    write_ptx(scan, file);
+    test::write_text(file, text);
     const EpochInsert ins = site.db->epochs().insert(
         NewEpoch{sha256_file(file), static_cast<UtcSeconds>(1'700'000'000 + hours * kHour), file,
                  static_cast<std::int64_t>(std::filesystem::file_size(file)), std::nullopt});
@@ -144,33 +148,79 @@ TEST(KeypointStage, AFaceSampledCoarserThanMaxSampleSpacingIsUndefined) {
     }
 }
 
+// The coarse overview of the last test and a detail scan of the face at 0.013° (10 mm) in
+// the same file: the zone is measured by the detail scan's matches alone, defined at the
+// default 15 mm, and equal to the truth within its LoD + 0.5 mm (as the first test).
+TEST(KeypointStage, ADetailScanMeasuresAZoneItsOverviewUndersamples) {
+    sim::Site scene = face_site();
+    sim::DetailScan detail;
+    detail.name = "face";
+    detail.azimuth_min_deg = scene.scanner.azimuth_min_deg;
+    detail.azimuth_max_deg = scene.scanner.azimuth_max_deg;
+    detail.elevation_min_deg = scene.scanner.elevation_min_deg;
+    detail.elevation_max_deg = scene.scanner.elevation_max_deg;
+    detail.step_deg = scene.scanner.azimuth_step_deg;
+    scene.scanner.details = {detail};
+    scene.scanner.azimuth_step_deg = scene.scanner.elevation_step_deg = 0.05;
+    test::PipelineSite site;
+    site.config.keypoints.zones = {face_zone()};
+    site.db->site().upsert_zone("face", "{}");
+    const Rendered e0 = add_scan(site, scene, 0, 0.0);
+    const Rendered e1 = add_scan(site, scene, 1, 6.0);
+    ReferenceCache cache(*site.db);
+    ASSERT_EQ(site.process(e0.epoch, cache), EpochOutcome::done);
+    ASSERT_EQ(site.process(e1.epoch, cache), EpochOutcome::done);
+    const Eigen::Vector3d p(9.5, 45.0, 12.0);
+    const Eigen::Vector3d u = sim::pier_displacement(scene, p, 1, e1.conditions.bending) -
+                              sim::pier_displacement(scene, p, 0, e0.conditions.bending);
+    const auto h = point_of(*site.db, kKeypointAlongSurfaceH, e1.epoch.id);
+    const auto count = point_of(*site.db, kKeypointCount, e1.epoch.id);
+    ASSERT_TRUE(h && count);
+    ASSERT_TRUE(h->uncertainty);
+    std::printf("h %+.3f mm (truth %+.3f, LoD95 %.3f), %.0f matches kept\n", 1e3 * h->value,
+                1e3 * u.x(), 1e3 * *h->uncertainty, count->value);
+    EXPECT_GE(count->value, 50);  // the overview alone keeps fewer than 20 here
+    EXPECT_NEAR(h->value, u.x(), *h->uncertainty + 0.0005);
+}
+
 TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     KeypointReference r;
-    r.features.keypoints.resize(2);
-    r.features.keypoints[1].row = 12.25;
-    r.features.descriptors.length = 4;
-    r.features.descriptors.bits = {1, 2, 3, 4, 5, 6, 7, 8};
-    r.positions.resize(2);
-    r.anchor_rows = {3, 12};
-    r.anchor_columns = {4, 5};
     r.patch_radius = 1;
-    r.patches.assign(18, 0.5f);
-    r.polar.resize(2);
-    r.points = {Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6)};
-    r.angular_step = 2.2689e-4;
+    r.scans.resize(2);  // an overview and a detail scan
+    for (int k = 0; k < 2; ++k) {
+        KeypointScanReference& s = r.scans[static_cast<std::size_t>(k)];
+        s.features.keypoints.resize(2);
+        s.features.keypoints[1].row = 12.25 + k;
+        s.features.descriptors.length = 4;
+        s.features.descriptors.bits = {1, 2, 3, 4, 5, 6, 7, static_cast<std::uint8_t>(8 + k)};
+        s.positions.resize(2);
+        s.anchor_rows = {3, 12};
+        s.anchor_columns = {4, 5};
+        s.patches.assign(18, 0.5f);
+        s.polar.resize(2);
+        s.points = {Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6 + k)};
+        s.angular_step = 2.2689e-4 / (k + 1);
+        s.detected = 7;
+    }
     r.zone_names = {"face"};
     r.walls.resize(1);
     r.walls[0].normal = Eigen::Vector3d(0, -1, 0);
     r.walls[0].undefined_reason = "";
     const std::string payload = r.encode();
     const KeypointReference back = KeypointReference::decode(payload);
-    EXPECT_EQ(back.features.keypoints[1].row, 12.25);
-    EXPECT_EQ(back.features.descriptors.bits, r.features.descriptors.bits);
-    EXPECT_EQ(back.points[1], Eigen::Vector3d(4, 5, 6));
-    EXPECT_EQ(back.patches.size(), 18u);
+    ASSERT_EQ(back.scans.size(), 2u);
+    EXPECT_EQ(back.keypoints(), 4u);
+    EXPECT_EQ(back.detected(), 14u);
+    EXPECT_EQ(back.scans[1].features.keypoints[1].row, 13.25);
+    EXPECT_EQ(back.scans[1].features.descriptors.bits, r.scans[1].features.descriptors.bits);
+    EXPECT_EQ(back.scans[1].points[1], Eigen::Vector3d(4, 5, 7));
+    EXPECT_EQ(back.scans[0].patches.size(), 18u);
     EXPECT_EQ(back.walls[0].normal, Eigen::Vector3d(0, -1, 0));
-    EXPECT_EQ(back.angular_step, 2.2689e-4);
+    EXPECT_EQ(back.scans[1].angular_step, 2.2689e-4 / 2);
     EXPECT_THROW(KeypointReference::decode(payload.substr(0, payload.size() - 3)), Error);
+    // Patches that do not fit the radius are refused, not read past.
+    r.patch_radius = 2;
+    EXPECT_THROW(KeypointReference::decode(r.encode()), Error);
 }
 
 }  // namespace
