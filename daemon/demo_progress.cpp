@@ -47,18 +47,23 @@ std::string DemoProgress::line(const EpochDatabase& db, const Epoch& e) {
     if (e.status != EpochStatus::done) {
         s += fmt::format("  {}: {}", to_string(e.status), e.reason.substr(0, 90));
     }
+    // Per zone: M3C2 along the normal, the keypoints along the surface (h, v), each labelled.
     for (const std::string& zone : zones_) {
-        for (const char* q : {"m3c2_median_m", "keypoint_dz_m"}) {
+        std::string values;
+        for (const auto& [q, label] : {std::pair{"m3c2_median_m", "M3C2"},
+                                       std::pair{"keypoint_along_surface_h_m", "kp h"},
+                                       std::pair{"keypoint_along_surface_v_m", "v"}}) {
             const auto points = db.series().points(zone, q, {e.acquired, e.acquired});
             for (const SeriesPoint& p : points) {
                 if (p.epoch != e.id) continue;
                 zone_values_seen_ = true;
-                s += fmt::format("  {} {:+.1f}", zone, 1e3 * p.value);
-                if (p.uncertainty) s += fmt::format(" ± {:.1f}", 1e3 * *p.uncertainty);
-                s += std::string(" mm") + (p.significant ? "*" : "");
+                values += fmt::format(" {} {:+.1f}", label, 1e3 * p.value);
+                if (p.uncertainty) values += fmt::format("±{:.1f}", 1e3 * *p.uncertainty);
+                if (p.significant) values += "*";
                 break;
             }
         }
+        if (!values.empty()) s += "  " + zone + values + " mm";
     }
     for (const AlarmEvent& a : db.alarms().events(e.acquired)) {
         if (a.epoch != e.id || a.rule.rfind("system.", 0) == 0) continue;

@@ -26,14 +26,14 @@ std::string scene_file_text(const DemoScene& s) {
         // not found; 0.05° gives each sphere 60-100 points at ≈ 1 s of CPU per epoch.
         t += "\n[scanner]\nazimuth_step_deg = 0.05\nelevation_step_deg = 0.05\n";
         // At 0.05° the pier's faces are sampled every 39–52 mm, coarser than the texture the
-        // keypoint method follows (docs/keypoints.md, "Sampling"): a detail scan of a 3.8 m
-        // strip of the south face (x ≈ 7.9–11.6 m) over its whole height at 0.012° (9–13 mm),
-        // 375 x 3459 cells.
+        // keypoint method follows (docs/keypoints.md, "Sampling"): a detail scan of a 2.5 m
+        // strip of the south face (x ≈ 8.4–10.9 m) over its whole height at 0.012° (9–13 mm),
+        // 251 x 3459 cells.
         t += R"(
 [[scanner.detail]]
 name = "strip"
-azimuth_min_deg = 75.5
-azimuth_max_deg = 80.0
+azimuth_min_deg = 76.5
+azimuth_max_deg = 79.5
 elevation_min_deg = -1.5
 elevation_max_deg = 40.0
 step_deg = 0.012

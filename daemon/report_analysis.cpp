@@ -26,22 +26,23 @@ Eigen::Affine3d stored_transform(const RegistrationRow& r) {
 }
 
 // What a zone quantity is scored against: the M3C2 distances along the zone's normal
-// (median / mean), the keypoint displacement components against the mean true vector.
+// (median / mean), the keypoints along the surface against the mean true vector in the wall's
+// directions (docs/keypoints.md: h = up × n, v = n × h, n the face's normal towards the
+// scanner).
 std::optional<std::string> truth_kind(const std::string& quantity) {
     if (quantity == "m3c2_median_m") return "median of the true change along the normal";
     if (quantity == "m3c2_mean_m") return "mean of the true change along the normal";
-    if (quantity == "keypoint_dx_m") return "mean true change, x";
-    if (quantity == "keypoint_dy_m") return "mean true change, y";
-    if (quantity == "keypoint_dz_m") return "mean true change, z";
+    if (quantity == "keypoint_along_surface_h_m") return "mean true change along the wall, h";
+    if (quantity == "keypoint_along_surface_v_m") return "mean true change along the wall, v";
     return std::nullopt;
 }
 
-double truth_value(const std::string& quantity, const ZoneTruth& z) {
+double truth_value(const std::string& quantity, const ZoneTruth& z, const ZoneFace& face) {
     if (quantity == "m3c2_median_m") return z.normal_median;
     if (quantity == "m3c2_mean_m") return z.normal_mean;
-    if (quantity == "keypoint_dx_m") return z.mean_vector.x();
-    if (quantity == "keypoint_dy_m") return z.mean_vector.y();
-    return z.mean_vector.z();
+    const Eigen::Vector3d h = Eigen::Vector3d::UnitZ().cross(face.normal).normalized();
+    if (quantity == "keypoint_along_surface_h_m") return z.mean_vector.dot(h);
+    return z.mean_vector.dot(face.normal.cross(h));
 }
 
 }  // namespace
@@ -202,7 +203,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                 const TruthEpoch* t = truth_at(truth, p.acquired);
                 if (t) row.truth_epoch = t->epoch;
                 if (t && !q.truth_kind.empty()) {
-                    row.truth = truth_value(quantity, zone_truth(*reference, *t, *zc.face));
+                    row.truth = truth_value(quantity, zone_truth(*reference, *t, *zc.face), *zc.face);
                     if (std::isfinite(p.value)) errors.push_back(p.value - *row.truth);
                 }
                 q.rows.push_back(row);

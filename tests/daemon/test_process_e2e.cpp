@@ -639,21 +639,53 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
         }
     }
 
-    // Keypoints (issue 12): the stage runs on every epoch, but the demo's 0.05° grid samples
-    // the pier every 39 mm, coarser than keypoints.max_sample_spacing (15 mm): every zone is
-    // undefined as undersampled — its matches counted, no displacement stored (a displacement
-    // there would be biased by millimetres beyond its LoD; docs/keypoints.md, "Sampling").
+    // Keypoints (issue 12): the overview's 0.05° samples the pier every 39 mm, coarser than
+    // keypoints.max_sample_spacing; the scene's detail strip at 0.012° (9–13 mm) measures the
+    // south face and its top band. Truth along the wall (h = +x, v = +z for the south face)
+    // at the zone's stored keypoint_height_m, the mean height of its kept matches: u_x grows
+    // as z², so over the face's 40 m the mean of u differs from u at the mean height by
+    // var(z)/H² of the top's (≈ 8 %, a fraction of a millimetre); over the top band's 10 m by
+    // 0.5 %. The grazing west face stays undefined. Bound: issue 12's 1.0 mm RMS.
     {
-        const json kp = sql(db,
-                            "SELECT q.name AS quantity, count(*) AS n FROM zone_results r JOIN "
-                            "quantities q ON q.id = r.quantity_id WHERE q.name LIKE 'keypoint%' "
-                            "GROUP BY q.name");
-        std::map<std::string, std::int64_t> rows;
-        for (const auto& r : kp)
-            rows[r.at("quantity").get<std::string>()] = r.at("n").get<std::int64_t>();
-        std::cout << "keypoint rows: " << kp.dump() << "\n";
-        EXPECT_EQ(rows["keypoint_count"], kEpochs * 3);  // three zones, every epoch
-        EXPECT_EQ(rows.size(), 1u) << "a keypoint displacement from an undersampled scan";
+        const auto series = [&](const std::string& zone, const std::string& quantity) {
+            std::map<int, double> out;
+            for (const auto& r : sql(db, "SELECT r.epoch_id, r.value FROM zone_results r WHERE "
+                                         "r.zone_id = (SELECT id FROM zones WHERE name = '" +
+                                             zone +
+                                             "') AND r.quantity_id = (SELECT id FROM quantities "
+                                             "WHERE name = '" +
+                                             quantity + "')")) {
+                out[index_of.at(r.at("epoch_id").get<std::int64_t>())] = r.at("value").get<double>();
+            }
+            return out;
+        };
+        for (const std::string& zone : {std::string("pier_south_face"), std::string(kStepZone)}) {
+            const auto height = series(zone, "keypoint_height_m");
+            const auto h = series(zone, "keypoint_along_surface_h_m");
+            const auto v = series(zone, "keypoint_along_surface_v_m");
+            EXPECT_EQ(h.size(), static_cast<std::size_t>(kEpochs)) << zone << ": undefined epochs";
+            double sum2_h = 0, sum2_v = 0, worst = 0;
+            for (const auto& [i, value] : h) {
+                const Eigen::Vector3d p(0.5 * (x0 + x1), y0, height.at(i));
+                const Eigen::Vector3d u = s.truth[static_cast<std::size_t>(i)].displacement(p) -
+                                          s.truth[0].displacement(p);
+                const double eh = value - u.x(), ev = v.at(i) - u.z();
+                sum2_h += eh * eh;
+                sum2_v += ev * ev;
+                worst = std::max({worst, std::abs(eh), std::abs(ev)});
+            }
+            const double n = std::max<double>(1, static_cast<double>(h.size()));
+            const double rms_h = std::sqrt(sum2_h / n), rms_v = std::sqrt(sum2_v / n);
+            std::cout << "keypoints " << zone << " - truth along the surface (mm): h RMS "
+                      << 1e3 * rms_h << ", v RMS " << 1e3 * rms_v << ", max " << 1e3 * worst
+                      << "\n";
+            EXPECT_LE(rms_h, 0.001) << zone;
+            EXPECT_LE(rms_v, 0.001) << zone;
+        }
+        EXPECT_TRUE(series("pier_west_face", "keypoint_along_surface_h_m").empty())
+            << "a keypoint displacement on the grazing west face";
+        EXPECT_EQ(series("pier_west_face", "keypoint_count").size(),
+                  static_cast<std::size_t>(kEpochs));
     }
 
     // Alarms: the step rule raises within on_delay + 1 epochs of the step, never before it;
