@@ -3,10 +3,15 @@
 // epoch's time: each target's window at the preset's step (what the registration measures)
 // and the window of the pier's south and west faces at `face_step_deg`, or the preset's
 // detail scans — the same geometry, beam, noise, scanner drift and air as a full epoch.
+#include <gtest/gtest.h>
+
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include "core/scan.hpp"
+#include "pipeline/registration_stage.hpp"
+#include "pipeline/stage.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/simulator/narrow_window.hpp"
@@ -57,6 +62,26 @@ inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hou
     s.azimuth_step_deg = s.elevation_step_deg = face_step_deg;
     e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
     return e;
+}
+
+// Epoch `ei` registered on its targets' windows against the reference's, as the stage
+// outputs the analyses take (the range scales are the truth's air, as a site takes them from
+// its weather station); nullopt, and a test failure, when the registration refuses it.
+inline std::optional<StageOutputs> registered_outputs(const RegistrationConfig& targets,
+                                                      const ReferenceTargets& reference,
+                                                      const WindowedEpoch& e0,
+                                                      const WindowedEpoch& ei, int epoch) {
+    const double k_r = e0.conditions.atmosphere.range_scale;
+    const double k_e = ei.conditions.atmosphere.range_scale;
+    const RegistrationResult r = register_epoch(targets, reference, ei.targets, {}, {k_e, k_r});
+    EXPECT_TRUE(r.accepted()) << "epoch " << epoch << ": " << r.tested.reason << " " << r.gate;
+    if (!r.accepted()) return std::nullopt;
+    StageOutputs o;
+    o.to_reference = r.tested.transform;
+    o.range_scale = k_e;
+    o.scanner = ei.pier.front().scanner_position();
+    o.reference_range_scale = k_r;
+    return o;
 }
 
 }  // namespace tlsmon::test

@@ -139,19 +139,12 @@ Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
     const KeypointReference ref = prepare_keypoint_reference(config, e0.pier);
     out.reference_keypoints = ref.keypoints();
     const M3c2Reference m3c2_ref = prepare_m3c2_reference(m3c2, e0.pier);
-    const double k_r = e0.conditions.atmosphere.range_scale;
     for (std::size_t i = 1; i < hours.size(); ++i) {
         const int epoch = static_cast<int>(i);
         const Epoch ei = scenario.render(site, epoch, hours[i]);
-        const double k_e = ei.conditions.atmosphere.range_scale;
-        const RegistrationResult r = register_epoch(targets, reference, ei.targets, {}, {k_e, k_r});
-        EXPECT_TRUE(r.accepted()) << "epoch " << i << ": " << r.tested.reason << " " << r.gate;
-        if (!r.accepted()) continue;
-        StageOutputs o;
-        o.to_reference = r.tested.transform;
-        o.range_scale = k_e;
-        o.scanner = ei.pier.front().scanner_position();
-        o.reference_range_scale = k_r;
+        const auto registered = test::registered_outputs(targets, reference, e0, ei, epoch);
+        if (!registered) continue;
+        const StageOutputs& o = *registered;
 
         t0 = std::chrono::steady_clock::now();
         KeypointEpoch measured = measure_keypoints(config, ref, ei.pier, o);

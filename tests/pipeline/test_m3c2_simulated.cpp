@@ -74,19 +74,13 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
     const Epoch e0 = render(site, 0, hours[0]);
     const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);
     const M3c2Reference ref = prepare_m3c2_reference(config, e0.pier);
-    const double k_r = e0.conditions.atmosphere.range_scale;
     Series out;
     for (std::size_t i = 1; i < hours.size(); ++i) {
         const Epoch ei = render(site, static_cast<int>(i), hours[i]);
-        const double k_e = ei.conditions.atmosphere.range_scale;
-        const RegistrationResult r = register_epoch(targets, reference, ei.targets, {}, {k_e, k_r});
-        EXPECT_TRUE(r.accepted()) << "epoch " << i << ": " << r.tested.reason << " " << r.gate;
-        if (!r.accepted()) continue;
-        StageOutputs o;
-        o.to_reference = r.tested.transform;
-        o.range_scale = k_e;
-        o.scanner = ei.pier.front().scanner_position();
-        o.reference_range_scale = k_r;
+        const auto registered =
+            test::registered_outputs(targets, reference, e0, ei, static_cast<int>(i));
+        if (!registered) continue;
+        const StageOutputs& o = *registered;
         const M3c2Epoch m = measure_m3c2(config, ref, ei.pier, o);
         // True change along each core point's normal.
         std::vector<double> truth(ref.reference.size(), std::nan(""));
