@@ -1,6 +1,7 @@
 #include "formats/ascii_reader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -23,6 +24,32 @@ constexpr std::uint64_t min_point_line_bytes = 6;
 // Leica PTS intensity scale.
 constexpr double pts_raw_min = -2048.0;
 constexpr double pts_raw_max = 2047.0;
+
+// "1,5 2,3 4,1": numbers written with a decimal comma, which the comma separator would read
+// as six values. A comma between two digits inside a field of a line whose fields are
+// separated by blanks ("1.5,2.3,4.1" is one comma-separated field list, not this).
+bool has_decimal_comma(std::string_view line, std::string_view& field) {
+    std::size_t begin = 0;
+    int fields = 0;
+    std::string_view with_comma;
+    while (begin < line.size()) {
+        begin = line.find_first_not_of(" \t\r", begin);
+        if (begin == std::string_view::npos) break;
+        std::size_t end = line.find_first_of(" \t\r", begin);
+        if (end == std::string_view::npos) end = line.size();
+        const std::string_view f = line.substr(begin, end - begin);
+        ++fields;
+        const std::size_t comma = f.find(',');
+        if (with_comma.empty() && comma != std::string_view::npos && comma > 0 &&
+            comma + 1 < f.size() && std::isdigit(static_cast<unsigned char>(f[comma - 1])) &&
+            std::isdigit(static_cast<unsigned char>(f[comma + 1]))) {
+            with_comma = f;
+        }
+        begin = end;
+    }
+    field = with_comma;
+    return fields >= 2 && !with_comma.empty();
+}
 
 bool is_comment(std::string_view line) {
     const std::size_t k = line.find_first_not_of(" \t");
@@ -103,6 +130,14 @@ std::vector<Scan> parse_points(std::string_view text, const std::filesystem::pat
         }
         if (!block) block.emplace();
         Block& b = *block;
+        if (b.fields == 0) {
+            std::string_view field;
+            if (has_decimal_comma(line, field)) {
+                cur.fail("'" + quote_token(field) +
+                         "' is written with a decimal comma: write numbers with a decimal point "
+                         "(fields may be separated by blanks or commas)");
+            }
+        }
         const int n = parse_numbers(line, v, 7, cur);
         if (b.fields == 0) {
             if (n != 3 && n != 4 && n != 6 && n != 7) {
@@ -144,6 +179,19 @@ std::vector<Scan> parse_points(std::string_view text, const std::filesystem::pat
                 rgb[k] = static_cast<std::uint8_t>(std::lround(x));
             }
             b.scan.rgb.push_back(rgb);
+        }
+    }
+    // A file cut short (a copy or a write interrupted) usually ends inside a line, which
+    // may still hold as many values, the last one cut ("12.3 4.5 6" of "12.3 4.5 6.789").
+    // A point file ends its last line; one of a single line is taken as written.
+    const std::size_t last_end = text.rfind('\n');
+    if (last_end != std::string_view::npos) {
+        const std::string_view tail = text.substr(last_end + 1);
+        const std::size_t value = tail.find_last_of(" \t,");
+        if (tail.find_first_not_of(" \t\r") != std::string_view::npos && !is_comment(tail)) {
+            cur.fail("the file ends inside its last line (no end of line after '" +
+                     quote_token(value == std::string_view::npos ? tail : tail.substr(value + 1)) +
+                     "'): it was cut short while it was written or copied");
         }
     }
     if (block) {

@@ -8,6 +8,10 @@
 
 namespace tlsmon {
 
+// No coordinate on Earth, in any projected frame, lies beyond 1e8 m (UTM northings reach
+// 1e7 m, state-plane feet 2e7): the readers refuse what lies further as corrupt.
+inline constexpr double kMaxCoordinate = 1e8;
+
 class FormatError : public Error {
   public:
     using Error::Error;

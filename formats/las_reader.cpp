@@ -1,4 +1,3 @@
-#include "core/utc_time.hpp"
 #include "formats/las_reader.hpp"
 
 #include <algorithm>
@@ -6,11 +5,13 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
 #include <string_view>
 
+#include "core/utc_time.hpp"
 #include "formats/format_error.hpp"
 #include "formats/mapped_file.hpp"
 
@@ -154,6 +155,20 @@ class LasParser {
             if (!std::isfinite(v) || (k < 3 && v == 0.0)) {
                 fail(at, std::string(k < 3 ? "scale factor" : "offset") + " of " + "XYZ"[k % 3] +
                              " is " + std::to_string(v));
+            }
+            // A coordinate step above a metre cannot hold a laser scan (its points would lie
+            // on a grid of metres), nor an offset lie beyond any coordinate on Earth: the
+            // header is corrupt. (Its bounding box is not checked: writers fill it loosely,
+            // one of the shared samples in raw units.)
+            if (k < 3 && std::abs(v) > 1.0) {
+                fail(at, std::string("scale factor of ") + "XYZ"[k] + " is " + std::to_string(v) +
+                             " m per unit (at most 1): the header is corrupt");
+            }
+            if (k >= 3 && std::abs(v) > kMaxCoordinate) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%g", v);
+                fail(at, std::string("offset of ") + "XYZ"[k % 3] + " is " + text +
+                             ", beyond any coordinate on Earth (1e8): the header is corrupt");
             }
             (k < 3 ? scale_ : offset_)[k % 3] = v;
         }

@@ -26,6 +26,10 @@ bool is_meteo_sidecar_name(std::string_view file_name);
 // The sidecar that belongs to `scan`: the same folder and stem, ".meteo.csv".
 std::filesystem::path meteo_sidecar_of(const std::filesystem::path& scan);
 
+// A sidecar is a few hundred lines; a larger file (a 64 GiB sparse file under a sidecar's
+// name) is refused by its size, never read into memory or hashed.
+inline constexpr std::int64_t kMaxMeteoSidecarBytes = std::int64_t{16} << 20;
+
 // The rows of a sidecar, in file order; at least one. `file` names the file in errors.
 std::vector<MeteoRow> parse_meteo_csv(std::string_view text, const std::filesystem::path& file);
 

@@ -1,8 +1,10 @@
 #include "formats/ptx_reader.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -52,6 +54,16 @@ Eigen::Affine3d read_pose(TextCursor& cur) {
                 "the 4x4 matrix is not affine: the last column must be 0 0 0 1 (row-vector "
                 "form, translation on the last line)");
         }
+    }
+    // A rotation, possibly scaled (PDAL's test file scales z by 2): its singular values lie
+    // near 1, never at 0 (every point on a plane or a line) nor at 1e300.
+    const Eigen::Vector3d sv =
+        Eigen::JacobiSVD<Eigen::Matrix3d>(m.topLeftCorner<3, 3>()).singularValues();
+    if (!(sv.minCoeff() >= 1e-3 && sv.maxCoeff() <= 1e3)) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%g to %g", sv.minCoeff(), sv.maxCoeff());
+        cur.fail(std::string("the 4x4 matrix's rotation part scales by ") + text +
+                 " (a rotation scales by 1): the transformation is corrupt");
     }
     Eigen::Affine3d pose = Eigen::Affine3d::Identity();
     pose.linear() = m.topLeftCorner<3, 3>().transpose();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdio>
 #include <fstream>
 
 #include "formats/ascii_reader.hpp"
@@ -108,12 +109,39 @@ std::vector<Scan> read_scans(const std::filesystem::path& path) {
     return parse_scans(file.text(), path);
 }
 
+void check_coordinates(const std::vector<Scan>& scans, const std::filesystem::path& path) {
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+        const Scan& s = scans[k];
+        const auto at = [&](std::size_t i) {
+            return "scan " + std::to_string(k + 1) + ", point " + std::to_string(i + 1);
+        };
+        for (std::size_t i = 0; i < s.xyz.size(); ++i) {
+            const Eigen::Vector3d& p = s.xyz[i];
+            if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+                char where[96];
+                std::snprintf(where, sizeof where, "(%g, %g, %g)", p.x(), p.y(), p.z());
+                throw_format_error(path, at(i) + " lies at " + where +
+                                             ", beyond 1e8 m: the file's coordinates, scale, "
+                                             "offset or transformation are corrupt");
+            }
+        }
+        const Eigen::Vector3d o = s.scanner_position();
+        if (!o.allFinite() || o.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+            throw_format_error(path, "scan " + std::to_string(k + 1) +
+                                         ": the scanner's position is not finite or beyond "
+                                         "1e8 m: its pose is corrupt");
+        }
+    }
+}
+
 std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::path& path) {
     ScanFormat format = by_extension(path);
     if (format == ScanFormat::unknown) format = by_magic(bytes.substr(0, 8));
     const FormatEntry* e = entry(format);
     if (!e) throw_format_error(path, "no reader for format " + to_string(format));
-    return e->parse(bytes, path);
+    std::vector<Scan> scans = e->parse(bytes, path);
+    check_coordinates(scans, path);
+    return scans;
 }
 
 }  // namespace tlsmon

@@ -30,6 +30,13 @@ std::vector<Scan> read_scans(const std::filesystem::path& path);
 // chooses the format by extension): the daemon parses exactly the bytes whose sha256
 // identifies the epoch, and a file truncated by another process meanwhile cannot fault a
 // memory map under the reader.
+// Every reader's scans pass check_coordinates.
 std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::path& path);
+
+// A point or a scanner position beyond kMaxCoordinate (format_error.hpp), or one that is
+// not finite, comes from a corrupt file (a scale, an offset or a matrix of 1e300), which
+// would otherwise be analysed into nonsense. Throws FormatError naming the file, the scan and the
+// first such point.
+void check_coordinates(const std::vector<Scan>& scans, const std::filesystem::path& path);
 
 }  // namespace tlsmon

@@ -119,6 +119,14 @@ TEST_F(AsciiFiles, BrokenFilesAreRejectedAtTheirLine) {
     expect_rejected(write("colour.xyz", "1 2 3 0 0 -1\n"), 1, "colour");
     expect_rejected(write("binary.xyz", std::string("1 2 3\n\x7f\x45\x4c\x46\x02\x01", 12)), 2,
                     "not a number");
+    // A decimal comma reads as six values without this check.
+    expect_rejected(write("comma.xyz", "1,5 2,25 3,75\n4,5 5,5 6,5\n"), 1, "decimal comma");
+    expect_rejected(write("comma.pts", "1\n1,5 2,25 3,75 10\n"), 2, "'1,5' is written");
+    // Cut inside its last line, which still holds three values.
+    expect_rejected(write("cut.xyz", "1.25 2.5 3.75\n4.25 5.5 6"), 2, "cut short");
+    EXPECT_EQ(read_xyz(write("csv.xyz", "1.5,2.5,3.5\n4.5, 5.5, 6.5\n"))[0].xyz[1],
+              Eigen::Vector3d(4.5, 5.5, 6.5));
+    EXPECT_EQ(read_xyz(write("one.xyz", "1.5 2.5 3.5"))[0].size(), 1u);
     EXPECT_THROW(read_xyz(write("empty.xyz", "")), FormatError);
     EXPECT_THROW(read_xyz(write("comments.xyz", "# nothing\n")), FormatError);
     EXPECT_THROW(read_pts(write("zero.pts", "0\n")), FormatError);
@@ -130,14 +138,20 @@ TEST_F(AsciiFiles, EveryTruncationOfARealFileIsReadOrRejected) {
     for (int k = 0; k < 200; ++k) {
         const std::size_t n = rng() % full.size();
         const fs::path p = write("cut.xyz", full.substr(0, n));
-        // Cut inside a line, the last line has 1 to 3 values: read (3 values) or rejected.
-        try {
-            const auto scans = read_xyz(p);
-            const auto lines = std::count(full.begin(), full.begin() + n, '\n');
-            EXPECT_GE(scans[0].size(), static_cast<std::size_t>(lines));
-            EXPECT_LE(scans[0].size(), static_cast<std::size_t>(lines) + 1);
-        } catch (const FormatError& e) {
-            EXPECT_EQ(std::string(e.what()).rfind(p.string() + ":", 0), 0u) << e.what();
+        const auto lines = std::count(full.begin(), full.begin() + n, '\n');
+        // Cut at the end of a line: read, every whole line. Cut inside a line after the
+        // first: rejected, even where the cut line still holds three values ("1 2 3" of
+        // "1 2 3.504"), naming the cut.
+        const bool at_line_end = n == 0 || full[n - 1] == '\n';
+        if (at_line_end && n > 0) {
+            EXPECT_EQ(read_xyz(p)[0].size(), static_cast<std::size_t>(lines));
+        } else if (lines > 0) {
+            try {
+                read_xyz(p);
+                ADD_FAILURE() << "a file cut inside line " << lines + 1 << " was read";
+            } catch (const FormatError& e) {
+                EXPECT_EQ(std::string(e.what()).rfind(p.string() + ":", 0), 0u) << e.what();
+            }
         }
     }
 }

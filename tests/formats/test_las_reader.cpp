@@ -457,6 +457,13 @@ TEST(LasReader, HeaderFieldsPointingOutsideTheFileAreRejected) {
     edit(
         "zero scale", simple, [](std::string& b) { store<double>(b, 139, 0.0); },
         "at byte 139: scale factor of Y is 0");
+    // Corrupt, yet finite: the points would be read far from where they are.
+    edit(
+        "a scale of a kilometre", simple, [](std::string& b) { store<double>(b, 131, 1000.0); },
+        "at byte 131: scale factor of X is 1000");
+    edit(
+        "an offset of 1e300", simple, [](std::string& b) { store<double>(b, 163, 1e300); },
+        "at byte 163: offset of Y is 1e+300, beyond any coordinate on Earth");
     edit(
         "NaN offset", simple,
         [](std::string& b) { store<double>(b, 171, std::numeric_limits<double>::quiet_NaN()); },

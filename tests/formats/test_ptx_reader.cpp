@@ -185,6 +185,27 @@ TEST_F(PtxBroken, WrongCountsAreRejectedAtTheirLine) {
                     "earlier lines");
 }
 
+// A corrupt matrix was read into points at 1e300 m and rejected only later, by the
+// registration, as "too few targets": the reader refuses it, naming what is wrong.
+TEST_F(PtxBroken, CorruptTransformationsAreRefusedByTheReader) {
+    expect_rejected(write("huge-rotation.ptx", no_color_with_line(7, "1e300 0 0 0")), 10,
+                    "rotation part scales by 1 to 1e+300");
+    expect_rejected(write("flat.ptx", no_color_with_line(9, "0 0 0 0")), 10,
+                    "rotation part scales by 0");
+    // A translation of 1e300: every point beyond any coordinate on Earth.
+    const fs::path far = write("far.ptx", no_color_with_line(10, "1e300 0 0 1"));
+    try {
+        tlsmon::read_scans(far);
+        ADD_FAILURE() << "read";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("scan 1, point 1 lies at (1"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("beyond 1e8 m"), std::string::npos) << e.what();
+    }
+    // PDAL's file with a z scale of 2 is still read (a scaled rotation is allowed).
+    EXPECT_EQ(tlsmon::read_scans(data / "multiple-and-transform.ptx").size(), 2u);
+}
+
 // Operator defect 12: scan 1 has no previous header, so its error must not blame one; the
 // hint about too many point lines belongs to the second and later scans only.
 TEST_F(PtxBroken, FirstScanErrorDoesNotMentionAPreviousHeader) {
