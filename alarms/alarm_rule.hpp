@@ -37,6 +37,9 @@ struct AlarmRuleSpec {
     std::optional<double> rate_window_seconds;
     bool latching = false;
     bool enabled = true;
+    // Also evaluate epochs that no registration took to the reference's frame (a site that
+    // knows its scanner does not move); by default their values raise and clear nothing.
+    bool evaluate_unregistered = false;
 };
 
 // Checks the rule's own consistency: a level needs a limit, low < high, deadband >= 0 and
@@ -58,9 +61,9 @@ std::string to_text(const RuleMemory& m);
 RuleMemory rule_memory_from_text(const std::string& text);  // "" -> fresh; bad: Error
 
 // The quality of the epoch a value comes from. Only an accepted epoch is evaluated: a
-// rejected or degraded one leaves the rule untouched (it neither raises nor clears, and
-// does not count toward a delay).
-enum class EpochQuality { accepted, degraded, rejected };
+// rejected, degraded or unregistered one leaves the rule untouched (it neither raises nor
+// clears, and does not count toward a delay), unless the rule takes unregistered epochs.
+enum class EpochQuality { accepted, degraded, rejected, unregistered };
 
 struct RuleInput {
     double value = 0;  // the quantity (or, for a rate rule, the rate in mm/day)

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
     const RegisterMap map = build_register_map(inputs);
     ModbusSnapshot snapshot;
     snapshot.database_ok = true;
-    ModbusServer server(config, [](const std::string&) {});
+    ModbusServer server(config, [](const std::string&, const std::string&) {});
     server.publish(std::make_shared<const RegisterImage>(
         render_registers(map, inputs, snapshot, config.word_order)));
     std::this_thread::sleep_for(std::chrono::milliseconds(200));

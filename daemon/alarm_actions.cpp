@@ -32,7 +32,8 @@ using Action = std::function<AlarmStep(const AlarmMachineState&)>;
 
 // Applies `action` to the rule named (every rule when "*"); rules without a state row are
 // normal. Returns how many changed.
-int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
+int apply(EpochDatabase& db, const std::string& rule, const Action& action,
+          const std::string& who = "") {
     std::map<std::string, bool> known;
     for (const auto& r : db.alarms().rules()) known[r.name] = true;
     if (rule != "*" && !known.count(rule)) {
@@ -58,8 +59,13 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
             const auto value = row == rows.end() ? std::nullopt : row->second.value;
             const auto epoch = row == rows.end() ? std::nullopt : row->second.epoch;
             out.states.push_back(state_row(name, status, value, epoch));
-            for (const auto& t : step.events)
+            for (const auto& t : step.events) {
                 out.events.push_back(event_row(name, t, value, epoch));
+                if (!who.empty()) {  // the history names who, not only which side
+                    out.events.back().actor += " " + who;
+                    out.events.back().message += " (" + who + ")";
+                }
+            }
             ++changed;
         }
         return out;
@@ -69,23 +75,25 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action) {
 
 }  // namespace
 
-int acknowledge_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                      UtcSeconds now) {
-    return apply(db, rule, [&](const AlarmMachineState& s) {
-        return on_acknowledge(s, kind_of(actor), now);
-    });
+int acknowledge_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now,
+                      const std::string& who) {
+    return apply(
+        db, rule,
+        [&](const AlarmMachineState& s) { return on_acknowledge(s, kind_of(actor), now); }, who);
 }
 
 int shelve_alarm(EpochDatabase& db, const std::string& rule, UtcSeconds until, AlarmActor actor,
-                 UtcSeconds now) {
-    return apply(db, rule, [&](const AlarmMachineState& s) {
-        return on_shelve(s, until, kind_of(actor), now);
-    });
+                 UtcSeconds now, const std::string& who) {
+    return apply(
+        db, rule,
+        [&](const AlarmMachineState& s) { return on_shelve(s, until, kind_of(actor), now); }, who);
 }
 
-int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now) {
-    return apply(db, rule,
-                 [&](const AlarmMachineState& s) { return on_unshelve(s, kind_of(actor), now); });
+int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now,
+                   const std::string& who) {
+    return apply(
+        db, rule, [&](const AlarmMachineState& s) { return on_unshelve(s, kind_of(actor), now); },
+        who);
 }
 
 int expire_due_shelves(EpochDatabase& db, UtcSeconds now) {
@@ -93,17 +101,19 @@ int expire_due_shelves(EpochDatabase& db, UtcSeconds now) {
 }
 
 int remove_alarm_from_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                              UtcSeconds now) {
-    return apply(db, rule, [&](const AlarmMachineState& s) {
-        return on_remove_from_service(s, kind_of(actor), now);
-    });
+                              UtcSeconds now, const std::string& who) {
+    return apply(
+        db, rule,
+        [&](const AlarmMachineState& s) { return on_remove_from_service(s, kind_of(actor), now); },
+        who);
 }
 
 int return_alarm_to_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                            UtcSeconds now) {
-    return apply(db, rule, [&](const AlarmMachineState& s) {
-        return on_return_to_service(s, kind_of(actor), now);
-    });
+                            UtcSeconds now, const std::string& who) {
+    return apply(
+        db, rule,
+        [&](const AlarmMachineState& s) { return on_return_to_service(s, kind_of(actor), now); },
+        who);
 }
 
 }  // namespace tlsmon

@@ -1,8 +1,12 @@
-// `tlsmon alarms [history] | ack|shelve|unshelve|out-of-service|in-service RULE`: the alarms standing now and their
-// history (read-only, like `tlsmon query`), and the operator's actions, written through the
-// database in one immediate transaction each (daemon/alarm_actions.cpp): safe while the
-// daemon runs, which waits for the write through its busy timeout and sees it at its next
+// `tlsmon alarms [history] | ack|shelve|unshelve|out-of-service|in-service RULE`: the alarms
+// standing now and their history (read-only, like `tlsmon query`), and the operator's actions,
+// written through the database in one immediate transaction each (daemon/alarm_actions.cpp): safe
+// while the daemon runs, which waits for the write through its busy timeout and sees it at its next
 // epoch.
+#include <pwd.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <iostream>
 
 #include "core/utc_time.hpp"
@@ -59,22 +63,31 @@ int run_alarm_history(const AlarmHistoryOptions& o) {
     });
 }
 
+// The Unix user who runs the command (and, under sudo, who called sudo), for the history.
+std::string command_user() {
+    const passwd* pw = ::getpwuid(::getuid());
+    std::string who = "user " + (pw ? std::string(pw->pw_name) : std::to_string(::getuid()));
+    if (const char* sudo = std::getenv("SUDO_USER")) who += " (sudo by " + std::string(sudo) + ")";
+    return who;
+}
+
 int run_alarm_action(const AlarmActionOptions& o) {
     return run_reporting_errors("alarms " + o.action, [&] {
         auto db = open_for_writing(o);
         const UtcSeconds now = now_utc();
+        const std::string who = command_user();
         int changed = 0;
         if (o.action == "ack") {
-            changed = acknowledge_alarm(db, o.rule, AlarmActor::cli, now);
+            changed = acknowledge_alarm(db, o.rule, AlarmActor::cli, now, who);
         } else if (o.action == "shelve") {
             if (o.until.empty()) throw Error("shelve needs --until TIME (ISO-8601 UTC)");
-            changed = shelve_alarm(db, o.rule, parse_utc(o.until), AlarmActor::cli, now);
+            changed = shelve_alarm(db, o.rule, parse_utc(o.until), AlarmActor::cli, now, who);
         } else if (o.action == "unshelve") {
-            changed = unshelve_alarm(db, o.rule, AlarmActor::cli, now);
+            changed = unshelve_alarm(db, o.rule, AlarmActor::cli, now, who);
         } else if (o.action == "out-of-service") {
-            changed = remove_alarm_from_service(db, o.rule, AlarmActor::cli, now);
+            changed = remove_alarm_from_service(db, o.rule, AlarmActor::cli, now, who);
         } else if (o.action == "in-service") {
-            changed = return_alarm_to_service(db, o.rule, AlarmActor::cli, now);
+            changed = return_alarm_to_service(db, o.rule, AlarmActor::cli, now, who);
         } else {
             throw Error("unknown alarm action '" + o.action + "'");
         }

@@ -15,6 +15,9 @@ int run_check_config(const CheckConfigOptions& options) {
         const Config config = load_config(options.file);
         const std::vector<MissingFolder> missing = check_startup(config);
         for (const auto& line : describe(config)) std::cout << line << '\n';
+        if (!can_register(pipeline_config(config).registration)) {
+            std::cerr << "tlsmon check-config: warning: " << kNoRegistrationWarning << '\n';
+        }
         for (const auto& m : missing) {
             std::cerr << "tlsmon check-config: warning: " << m.key << ": " << m.path.string()
                       << " does not exist; tlsmon run will create it\n";

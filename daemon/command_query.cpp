@@ -38,12 +38,20 @@ Table epochs_table(const EpochDatabase& db, const std::vector<Epoch>& epochs) {
     return t;
 }
 
+// The value's quality follows its epoch's registration: an unregistered epoch's value mixes
+// the scanner's movement into the structure's (docs/registration.md).
+std::string quality_of(const SeriesPoint& p) {
+    if (p.datum == kUnregistered) return kUnregistered;
+    return p.registration_accepted ? "accepted" : "degraded";
+}
+
 Table series_table(const std::vector<SeriesPoint>& points) {
-    Table t{{"epoch", "acquired", "value", "uncertainty", "n", "significant"}, {}};
+    Table t{{"epoch", "acquired", "value", "uncertainty", "n", "significant", "quality", "datum"},
+            {}};
     t.rows.reserve(points.size());
     for (const auto& p : points) {
         t.rows.push_back({p.epoch, format_utc(p.acquired), p.value, optional_cell(p.uncertainty),
-                          p.n, p.significant});
+                          p.n, p.significant, quality_of(p), p.datum});
     }
     return t;
 }

@@ -12,6 +12,7 @@
 #include "daemon/config.hpp"
 #include "daemon/transformation_columns.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/icp_registration.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
 
@@ -33,7 +34,7 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
     j["reason"] = v.rejected.empty() && r.tested.status == reg::RegistrationStatus::accepted_scaled
                       ? r.tested.reason
                       : v.rejected;
-    j["method"] = "targets";
+    j["method"] = registration_method(r);
     j["targets_used"] = r.used;
     j["rms_mm"] = 1e3 * r.rms;
     if (const auto& T = r.tested.transform) {
@@ -133,14 +134,19 @@ int run_register(const RegisterOptions& o) {
     const int code = run_reporting_errors("register", [&] {
         const Config config = load_config(o.config);
         const RegistrationConfig rc = pipeline_config(config).registration;
-        if (rc.targets.empty()) {
-            throw ConfigError(o.config + ": no [[target]] tables: nothing to register with");
+        if (!can_register(rc)) {
+            throw ConfigError(o.config + ": " + kNoRegistrationWarning);
         }
         const auto reference_scans = read_scans(o.reference);
         const auto epoch_scans = read_scans(o.epoch);
         const ReferenceTargets reference = measure_reference_targets(rc, reference_scans);
         // Read alone, the files come without their air: no atmospheric correction.
-        const RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
+        RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
+        // The ICP on the stable regions as the stage runs it (refinement, or in place of
+        // targets that are too few or absent).
+        if (rc.icp.mode != IcpMode::off && !rc.icp.regions.empty()) {
+            apply_icp(rc, build_stable_surface(rc.icp, reference_scans), epoch_scans, {}, r);
+        }
         StageVerdict v;
         if (!r.tested.accepted()) {
             v.rejected =

@@ -9,7 +9,9 @@
 #include "algorithms/keypoints/opencv_features.hpp"
 #include "daemon/config_alarm_rules.hpp"
 #include "daemon/config_keys.hpp"
+#include "daemon/folder_overlap.hpp"
 #include "pipeline/keypoint_results.hpp"
+#include "pipeline/m3c2_stage.hpp"
 
 namespace tlsmon {
 
@@ -17,8 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Absolute, normal, without a trailing separator ("ingest/" is the folder "ingest").
 fs::path resolve(const fs::path& p, const fs::path& base) {
-    return (p.is_absolute() ? p : base / p).lexically_normal();
+    fs::path r = (p.is_absolute() ? p : base / p).lexically_normal();
+    if (!r.has_filename() && r != r.root_path()) r = r.parent_path();
+    return r;
 }
 
 bool is_sha256(const std::string& s) {
@@ -36,13 +41,10 @@ void check_station(TomlFields& t, StationConfig& c) {
     }
 }
 
+// As the paths are written (resolved, normal); daemon/startup_checks.cpp compares the
+// folders again by identity on disk (links, bind mounts).
 void check_paths(TomlFields& t, const PathsConfig& c) {
-    if (c.archive == c.ingest) t.fail("archive", "must differ from paths.ingest");
-    if (c.quarantine == c.ingest) t.fail("quarantine", "must differ from paths.ingest");
-    if (c.quarantine == c.archive) t.fail("quarantine", "must differ from paths.archive");
-    if (c.database.parent_path() == c.ingest) {
-        t.fail("database", "must not lie in the ingest folder");
-    }
+    if (const auto o = folders_overlap(c)) t.fail(o->key, o->what);
 }
 
 void check_ingest(TomlFields& t, IngestConfig& c) {
@@ -73,6 +75,22 @@ bool is_ipv4(const std::string& text) {
     return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
 }
 
+// The zone quantities of the stages: all of them, or those the configuration runs.
+std::set<std::string> stage_quantities(const Config* runs = nullptr) {
+    std::set<std::string> q;
+    if (!runs || runs->m3c2.enabled) q.insert(kM3c2Quantities.begin(), kM3c2Quantities.end());
+    if (!runs || runs->keypoints.enabled) {
+        q.insert(kKeypointQuantities.begin(), kKeypointQuantities.end());
+    }
+    return q;
+}
+
+std::string listed(const std::set<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s.empty() ? "none" : s;
+}
+
 void check_modbus(TomlFields& t, const ModbusConfig& c) {
     if (!is_ipv4(c.address)) t.fail("address", "'" + c.address + "' is not an IPv4 address");
     for (const auto& a : c.allowlist) {
@@ -85,6 +103,11 @@ void check_modbus(TomlFields& t, const ModbusConfig& c) {
     for (const auto& q : c.quantities) {
         if (q.empty()) t.fail("quantities", "expected non-empty quantity names");
         if (!seen.insert(q).second) t.fail("quantities", "'" + q + "' is listed twice");
+        // A misspelt name would show NaN for ever.
+        if (!stage_quantities().count(q)) {
+            t.fail("quantities", "no stage produces '" + q +
+                                     "' (quantities: " + listed(stage_quantities()) + ")");
+        }
     }
 }
 
@@ -149,8 +172,8 @@ void read_zone_normal(TomlFields& t, ZoneConfig& z) {
     if (!t.has("normal")) return;
     std::vector<double> v;
     t.get("normal", v);
-    const Eigen::Vector3d n = v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2])
-                                            : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d n =
+        v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
     if (!(n.allFinite() && n.norm() > 0.0)) {
         t.fail("normal", "expected three numbers [x, y, z], not all zero");
     }
@@ -363,7 +386,10 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         }
         if (section == "paths") resolve_paths(c, base);
         check_section(section, *t, c);
-        if (section == "alarm") c.alarm.rules = read_alarm_rules(*t, zone_names);
+        // [m3c2] and [keypoints] come before [alarm]: a rule names what their stages write.
+        if (section == "alarm") {
+            c.alarm.rules = read_alarm_rules(*t, zone_names, stage_quantities(&c));
+        }
         t->reject_unknown_keys();
     }
     resolve_paths(c, base);
@@ -437,8 +463,8 @@ std::vector<std::string> describe(const Config& c) {
                     (g.surveyed ? ", surveyed" : ""));
     }
     for (const auto& r : c.icp.regions) {
-        l.push_back("stable_region " + toml_string(r.name) + ": min = " +
-                    triple({r.min.x(), r.min.y(), r.min.z()}) +
+        l.push_back("stable_region " + toml_string(r.name) +
+                    ": min = " + triple({r.min.x(), r.min.y(), r.min.z()}) +
                     ", max = " + triple({r.max.x(), r.max.y(), r.max.z()}));
     }
     for (const auto& r : c.alarm.rules) l.push_back(describe_alarm_rule(r));

@@ -44,6 +44,11 @@ struct IngestConfig {
     // Where an epoch's acquisition time comes from, first available wins.
     std::vector<TimeSource> acquisition_time = {TimeSource::scan, TimeSource::file_name,
                                                 TimeSource::mtime};
+    // A scan acquired later than now + this is quarantined (a wrong clock or name): one
+    // future epoch would leave every later one "late" for the alarm rules.
+    double max_clock_ahead = 3600.0;
+    // A larger file is quarantined unread; so is one larger than the memory available.
+    std::int64_t max_file_size = std::int64_t{16} << 30;
     double retry_initial = 5.0;  // back-off after a database/disk failure, doubling ...
     double retry_max = 300.0;    // ... up to this
 };

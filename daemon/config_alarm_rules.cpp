@@ -22,6 +22,7 @@ LevelLimits read_level(TomlFields& t) {
 }
 
 AlarmRuleSpec read_rule(TomlFields& t, const std::set<std::string>& zones,
+                        const std::set<std::string>& quantities,
                         const std::set<std::string>& taken) {
     AlarmRuleSpec r;
     for (const char* key : {"name", "zone", "quantity"}) {
@@ -42,11 +43,18 @@ AlarmRuleSpec read_rule(TomlFields& t, const std::set<std::string>& zones,
     }
     t.get("quantity", r.quantity);
     if (r.quantity.empty()) t.fail("quantity", "expected a quantity name, e.g. m3c2_median_m");
+    if (!quantities.count(r.quantity)) {  // a misspelt quantity would never fire
+        std::string names;
+        for (const auto& q : quantities) names += (names.empty() ? "" : ", ") + q;
+        t.fail("quantity", "no configured stage produces '" + r.quantity +
+                               "' (quantities: " + (names.empty() ? "none" : names) + ")");
+    }
     t.get("on_delay", r.on_delay, 0, 1000);
     t.get("off_delay", r.off_delay, 0, 1000);
     t.get("significant_only", r.significant_only);
     t.get("latching", r.latching);
     t.get("enabled", r.enabled);
+    t.get("evaluate_unregistered", r.evaluate_unregistered);
     if (t.has("rate_window")) {
         double w = 0;
         t.get_seconds("rate_window", w, 60, 365 * 86400.0);
@@ -81,11 +89,12 @@ std::string limits_text(const LevelLimits& l) {
 
 }  // namespace
 
-std::vector<AlarmRuleSpec> read_alarm_rules(TomlFields& alarm, const std::set<std::string>& zones) {
+std::vector<AlarmRuleSpec> read_alarm_rules(TomlFields& alarm, const std::set<std::string>& zones,
+                                            const std::set<std::string>& quantities) {
     std::vector<AlarmRuleSpec> rules;
     std::set<std::string> names;
     for (auto& t : alarm.array_of_tables("rule")) {
-        rules.push_back(read_rule(t, zones, names));
+        rules.push_back(read_rule(t, zones, quantities, names));
         names.insert(rules.back().name);
     }
     return rules;
@@ -98,7 +107,8 @@ std::string describe_alarm_rule(const AlarmRuleSpec& r) {
                     ", off_delay = " + std::to_string(r.off_delay) +
                     ", significant_only = " + (r.significant_only ? "true" : "false") +
                     ", latching = " + (r.latching ? "true" : "false") +
-                    ", enabled = " + (r.enabled ? "true" : "false");
+                    ", enabled = " + (r.enabled ? "true" : "false") +
+                    ", evaluate_unregistered = " + (r.evaluate_unregistered ? "true" : "false");
     if (r.rate_window_seconds) s += ", rate_window = " + toml_number(*r.rate_window_seconds);
     for (int k = 0; k < 3; ++k) {
         if (r.levels[k]) s += std::string(", ") + kLevelKeys[k] + " = " + limits_text(*r.levels[k]);

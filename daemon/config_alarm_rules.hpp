@@ -24,8 +24,10 @@
 namespace tlsmon {
 
 // Reads every [[alarm.rule]] of the [alarm] table; each mistake is a ConfigError naming the
-// file, line and key ("alarm.rule.alert.deadband").
-std::vector<AlarmRuleSpec> read_alarm_rules(TomlFields& alarm, const std::set<std::string>& zones);
+// file, line and key ("alarm.rule.alert.deadband"). A rule names one of `zones` and one of
+// `quantities` (those the configured stages write).
+std::vector<AlarmRuleSpec> read_alarm_rules(TomlFields& alarm, const std::set<std::string>& zones,
+                                            const std::set<std::string>& quantities);
 
 // The rule as one line of the effective configuration.
 std::string describe_alarm_rule(const AlarmRuleSpec& rule);

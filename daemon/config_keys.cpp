@@ -302,13 +302,15 @@ std::vector<ConfigKey> declare_keys() {
 
         path(at(&C::paths, &PathsConfig::ingest), "paths.ingest", "",
              "Folder the scanner exports into; watched (not recursively)."),
-        path(at(&C::paths, &PathsConfig::archive), "paths.archive", "differs from `ingest`",
+        path(at(&C::paths, &PathsConfig::archive), "paths.archive",
+             "apart from `ingest`: neither inside the other",
              "Processed scans are moved here when `ingest.archive = \"move\"`. A name already "
              "taken gets the first 12 hex digits of the sha256 added."),
         path(at(&C::paths, &PathsConfig::quarantine), "paths.quarantine",
-             "differs from `ingest` and `archive`",
+             "apart from `ingest` and `archive`",
              "Files that could not be read, each with `<name>.reason.txt`."),
-        path(at(&C::paths, &PathsConfig::database), "paths.database", "not inside `ingest`",
+        path(at(&C::paths, &PathsConfig::database), "paths.database",
+             "not in `ingest`, `archive` or `quarantine`",
              "The SQLite epoch database (created and migrated at start)."),
 
         names(at(&C::ingest, &IngestConfig::extensions), "ingest.extensions",
@@ -341,6 +343,16 @@ std::vector<ConfigKey> declare_keys() {
                 "only), `file_name` = a `YYYYMMDDTHHMMSSZ` stamp in the name (UTC), `mtime` = "
                 "the file's modification time. If none is available, mtime is used. Pending "
                 "epochs are processed in acquisition-time order."),
+        seconds(at(&C::ingest, &IngestConfig::max_clock_ahead), "ingest.max_clock_ahead", 0,
+                30 * day, "",
+                "A scan whose acquisition time lies further ahead of the daemon's clock is "
+                "quarantined with the reason, never recorded as an epoch (a scanner clock or a "
+                "file name that is wrong would make every later scan look late to the alarm "
+                "rules)."),
+        integer(at(&C::ingest, &IngestConfig::max_file_size), "ingest.max_file_size", 1024,
+                std::int64_t{1} << 42, "bytes",
+                "A larger file is quarantined unread, with the reason; so is a file larger than "
+                "the memory available when it is taken (MemAvailable). Files are read whole."),
         seconds(at(&C::ingest, &IngestConfig::retry_initial), "ingest.retry_initial", 0.1, 3600, "",
                 "After a disk-full or database error, the epoch stays pending and processing "
                 "pauses this long, doubling after each further failure ..."),
@@ -454,16 +466,16 @@ std::vector<ConfigKey> declare_keys() {
         number(at(&C::icp, &IcpConfig::max_correspondence_distance),
                "registration.icp_max_correspondence_distance", 0.001, 1, "m",
                "ICP pairs an epoch point with the nearest reference point within this."),
-        integer(at(&C::icp, &IcpConfig::max_iterations), "registration.icp_max_iterations", 1,
-                1000, "", "ICP iterations at most; not converged by then: refused."),
+        integer(at(&C::icp, &IcpConfig::max_iterations), "registration.icp_max_iterations", 1, 1000,
+                "", "ICP iterations at most; not converged by then: refused."),
         number(at(&C::icp, &IcpConfig::voxel_size), "registration.icp_voxel_size", 0.01, 2, "m",
                "Both clouds are thinned to one centroid per voxel of this side; the reference's "
                "normals come from its centroids within three voxels."),
         number(at(&C::icp, &IcpConfig::min_overlap), "registration.icp_min_overlap", 0, 1, "",
                "Quality gate: share of the epoch's thinned stable points that found a pair "
                "(the fitness)."),
-        integer(at(&C::icp, &IcpConfig::min_points), "registration.icp_min_points", 7, 10000000,
-                "", "Quality gate: pairs at least."),
+        integer(at(&C::icp, &IcpConfig::min_points), "registration.icp_min_points", 7, 10000000, "",
+                "Quality gate: pairs at least."),
         number(at(&C::icp, &IcpConfig::max_rms), "registration.icp_max_rms", 0, 0.1, "m",
                "Quality gate: RMS of the point-to-plane distances."),
         number(at(&C::icp, &IcpConfig::cluster_size), "registration.icp_cluster_size", 0.1, 100,
@@ -527,8 +539,8 @@ std::vector<ConfigKey> declare_keys() {
              "around the keypoint's nearest pixel (docs/keypoints.md): the detector's sub-pixel "
              "position follows the pixel lattice, which moves over the surface as the scanner "
              "drifts."),
-        integer(at(&C::keypoints, &KeypointConfig::patch_radius), "keypoints.patch_radius", 2,
-                50, "px", "The refinement's patch: (2 · radius + 1)² pixels."),
+        integer(at(&C::keypoints, &KeypointConfig::patch_radius), "keypoints.patch_radius", 2, 50,
+                "px", "The refinement's patch: (2 · radius + 1)² pixels."),
         number(at(&C::keypoints, &KeypointConfig::ratio), "keypoints.ratio", 0, 1, "",
                "Lowe's ratio test among the candidates (best < ratio · second best); 0: off."),
         flag(at(&C::keypoints, &KeypointConfig::mutual), "keypoints.mutual",
@@ -538,8 +550,8 @@ std::vector<ConfigKey> declare_keys() {
                "k · 1.4826 · MAD from the segment's median (the method's k = 2)."),
         integer(at(&C::keypoints, &KeypointConfig::min_matches), "keypoints.min_matches", 3,
                 1000000, "", "Matches a segment needs after the filters; fewer: undefined."),
-        number(at(&C::keypoints, &KeypointConfig::max_incidence_deg),
-               "keypoints.max_incidence_deg", 0, 90, "°",
+        number(at(&C::keypoints, &KeypointConfig::max_incidence_deg), "keypoints.max_incidence_deg",
+               0, 90, "°",
                "`segments = \"zones\"`: a match whose beam meets the zone's wall (its plane "
                "fitted to the reference's points) at a larger angle to the normal is not used: "
                "a grazing wall's image is stretched along the beam and its keypoints do not "
@@ -555,8 +567,8 @@ std::vector<ConfigKey> declare_keys() {
                "`zones`: one displacement per `[[zone]]` (the zones M3C2 uses), detection "
                "confined to them. `bands`: per band of the vertical angle, zones named "
                "`keypoint_band_<lo>_<hi>`, detection in the whole image."),
-        number(at(&C::keypoints, &KeypointConfig::band_width_deg), "keypoints.band_width_deg",
-               0.1, 180, "°", "Width of the vertical-angle bands (`segments = \"bands\"`)."),
+        number(at(&C::keypoints, &KeypointConfig::band_width_deg), "keypoints.band_width_deg", 0.1,
+               180, "°", "Width of the vertical-angle bands (`segments = \"bands\"`)."),
         number(at(&C::keypoints, &KeypointConfig::registration_error),
                "keypoints.registration_error", 0, 1, "m",
                "The LoD's registration term when there is no registration (no `[[target]]`). "
@@ -588,7 +600,7 @@ std::vector<ConfigKey> declare_keys() {
              "Whether SCADA may acknowledge alarms by writing the acknowledge coils; `false`: "
              "every write is answered with an exception."),
         names(at(&C::modbus, &ModbusConfig::quantities), "modbus.quantities",
-              "1 to 8 quantity names, no repeats; append only",
+              "1 to 8 quantity names a stage writes, no repeats; append only",
               "The quantities of each zone shown in the input registers; the position in this "
               "list is the quantity's slot in the zone's block, so add new ones at the end."),
         seconds(at(&C::modbus, &ModbusConfig::stale_seconds), "modbus.stale_seconds", 1, 30 * day,

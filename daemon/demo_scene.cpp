@@ -120,6 +120,9 @@ database = "tlsmon.sqlite"
 # Scans appear by rename, complete at once; a short wait keeps the demo brisk.
 stable_seconds = "500ms"
 rescan_interval = 1
+# The demo replays a simulated day faster than real time: its scans are dated up to a day
+# ahead of the clock (a real site keeps the default of an hour).
+max_clock_ahead = "2d"
 
 [meteo]
 # The simulator writes each meteo sidecar before its scan.

@@ -1,11 +1,15 @@
 #include "daemon/ingest.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
 #include <cerrno>
 #include <chrono>
+#include <fstream>
+#include <new>
 
+#include "core/utc_time.hpp"
 #include "daemon/ingest_files.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "pipeline/sha256.hpp"
@@ -61,25 +65,61 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
     return IngestOutcome::unreadable;
 }
 
-// A file that is no duplicate to delete (empty, or a copy of an epoch that failed) goes to
-// quarantine with its reason; no new epoch (the content has one), a system event instead.
-IngestOutcome quarantine_copy(IngestContext& ctx, const fs::path& file, const Epoch& epoch,
-                              const std::string& reason) {
-    const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(),
-                                  epoch.sha256.substr(0, 12));
+// The file to quarantine with its reason (`tag` keeps names apart there) and a system
+// event; no new epoch.
+IngestOutcome quarantine(IngestContext& ctx, const fs::path& file, const std::string& tag,
+                         const std::string& reason, std::optional<EpochId> epoch) {
+    const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(), tag);
     write_reason_file(to, file.string(), reason);
     try {
         move_file(file, to);
         ctx.events.record(ctx.db, "error", "quarantine",
-                          file.string() + ": " + reason + "; moved to " + to.string(), epoch.id);
+                          file.string() + ": " + reason + "; moved to " + to.string(), epoch);
     } catch (const Error& e) {
         std::error_code ignored;
         fs::remove(to.string() + ".reason.txt", ignored);
         ctx.events.record(ctx.db, "error", "quarantine",
                           file.string() + ": " + reason + "; left in place (" + e.what() + ")",
-                          epoch.id);
+                          epoch);
     }
     return IngestOutcome::quarantined;
+}
+
+// A file that is no duplicate to delete (empty, or a copy of an epoch that failed) goes to
+// quarantine with its reason; no new epoch (the content has one), a system event instead.
+IngestOutcome quarantine_copy(IngestContext& ctx, const fs::path& file, const Epoch& epoch,
+                              const std::string& reason) {
+    return quarantine(ctx, file, epoch.sha256.substr(0, 12), reason, epoch.id);
+}
+
+// MemAvailable of /proc/meminfo in bytes; nullopt where it cannot be read.
+std::optional<std::int64_t> available_memory() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    std::int64_t kib = 0;
+    std::string unit;
+    while (in >> key >> kib >> unit) {
+        if (key == "MemAvailable:") return kib * 1024;
+    }
+    return std::nullopt;
+}
+
+std::string gib(std::int64_t bytes) {
+    return fmt::format("{:.2f} GiB", static_cast<double>(bytes) / (1 << 30));
+}
+
+// Why a file of `size` bytes is not read at all ("" when it may be): files are read whole.
+std::string too_large_to_read(std::int64_t size, const IngestConfig& config) {
+    if (size > config.max_file_size) {
+        return fmt::format("the file is {} ({} bytes), larger than ingest.max_file_size = {}",
+                           gib(size), size, gib(config.max_file_size));
+    }
+    if (const auto available = available_memory(); available && size > *available) {
+        return fmt::format(
+            "the file is {} ({} bytes), more than the memory available to read it ({})", gib(size),
+            size, gib(*available));
+    }
+    return "";
 }
 
 // The file has the content of an epoch that exists already.
@@ -142,8 +182,40 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
 
 }  // namespace
 
+namespace {
+
+// The epoch this very file was recorded as, known without reading it: the same path and
+// size, not modified since the epoch was recorded, and the epoch queued (or finished and
+// kept in place). After a restart the files waiting in the ingest folder are not hashed
+// again; the pipeline checks their sha256 when it reads them anyway. Anything else is
+// hashed: a file is never removed as a duplicate on its name alone.
+std::optional<Epoch> recorded_unchanged(IngestContext& ctx, const fs::path& file) {
+    const auto epoch = ctx.db.epochs().find_by_file(file);
+    if (!epoch || epoch->file_size != size_of(file)) return std::nullopt;
+    const auto mtime = file_mtime(file);
+    if (!mtime || *mtime >= epoch->discovered) return std::nullopt;  // same second: hash
+    const bool queued =
+        epoch->status == EpochStatus::pending || epoch->status == EpochStatus::processing;
+    const bool kept =
+        (epoch->status == EpochStatus::done || epoch->status == EpochStatus::rejected) &&
+        ctx.config.ingest.archive == ArchiveMode::keep;
+    if (!queued && !kept) return std::nullopt;
+    return epoch;
+}
+
+}  // namespace
+
 IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* matched) {
     try {
+        if (const auto epoch = recorded_unchanged(ctx, file)) {
+            if (matched) *matched = epoch->id;
+            return IngestOutcome::known;
+        }
+        const std::string refused = too_large_to_read(size_of(file), ctx.config.ingest);
+        if (!refused.empty()) {
+            return quarantine(ctx, file, unreadable_identity(file).substr(0, 12),
+                              refused + "; not read", std::nullopt);
+        }
         HashedBytes content;
         try {
             content = read_file_hashed(file);
@@ -165,6 +237,18 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* mat
         std::string used;
         const UtcSeconds acquired =
             acquisition_time(file, ctx.config.ingest.acquisition_time, used);
+        const UtcSeconds now = now_utc();
+        if (static_cast<double>(acquired - now) > ctx.config.ingest.max_clock_ahead) {
+            return quarantine(
+                ctx, file, sha.substr(0, 12),
+                fmt::format("acquired {} (from {}), {} s after the daemon's clock ({}), more "
+                            "than ingest.max_clock_ahead = {} s: a wrong scanner clock or file "
+                            "name; not recorded as an epoch (correct the time and copy the file "
+                            "back into the ingest folder)",
+                            format_utc(acquired), used, acquired - now, format_utc(now),
+                            ctx.config.ingest.max_clock_ahead),
+                std::nullopt);
+        }
         const EpochInsert ins =
             ctx.db.epochs().insert(NewEpoch{sha, acquired, file, size_of(file), ctx.station});
         if (matched) *matched = ins.id;
@@ -181,6 +265,11 @@ IngestOutcome ingest_file(IngestContext& ctx, const fs::path& file, EpochId* mat
             ctx.db, "error", e.disk_full() ? "disk_full" : "database_error",
             file.string() + ": the database refused the new epoch, will retry: " + e.what());
         return IngestOutcome::retry_later;
+    } catch (const std::bad_alloc&) {  // the size check passed, the memory went meanwhile
+        return quarantine(
+            ctx, file, unreadable_identity(file).substr(0, 12),
+            fmt::format("not enough memory to read the file ({} bytes)", size_of(file)),
+            std::nullopt);
     } catch (const std::exception& e) {  // e.g. the folder became unreadable
         spdlog::error("{}: {}; will retry", file.string(), e.what());
         return IngestOutcome::retry_later;

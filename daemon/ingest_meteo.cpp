@@ -30,6 +30,13 @@ bool finished(EpochStatus s) {
 // The sidecar's content hash, or for a file that cannot be read one of its name, as for an
 // unreadable scan. nullopt when it is gone or is no regular file.
 std::optional<std::string> identity(const fs::path& sidecar) {
+    std::error_code size_error;
+    const auto size = fs::file_size(sidecar, size_error);
+    if (!size_error && size > static_cast<std::uintmax_t>(kMaxMeteoSidecarBytes)) {
+        // Not hashed (minutes for a large sparse file): as read_epoch_meteo names it.
+        return sha256_text("too large\n" + sidecar.filename().string() + "\n" +
+                           std::to_string(size));
+    }
     try {
         return sha256_file(sidecar);
     } catch (const FileAccessError& e) {

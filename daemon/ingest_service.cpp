@@ -13,6 +13,7 @@
 #include "daemon/alarm_actions.hpp"
 #include "daemon/alarm_shelving.hpp"
 #include "daemon/config.hpp"
+#include "daemon/config_reload.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/ingest_meteo.hpp"
@@ -48,6 +49,27 @@ std::string zone_json(const ZoneConfig& z) {
     return j.dump();
 }
 
+// Sleeps `seconds` (less when a stop is asked), keeping systemd's watchdog fed.
+void wait_alive(SystemdNotify& systemd, Shutdown& shutdown, double seconds) {
+    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(seconds));
+    while (Clock::now() < until && !shutdown.wait_for(std::chrono::milliseconds(200))) {
+        systemd.watchdog_if_due();
+    }
+}
+
+// The Modbus server as `config` asks (nullptr when disabled); Error when it cannot listen.
+std::unique_ptr<ModbusService> start_modbus_service(const Config& config) {
+    if (!config.modbus.enabled) return nullptr;
+    std::vector<std::string> zones;
+    for (const auto& z : config.zones) zones.push_back(z.name);
+    return std::make_unique<ModbusService>(
+        config.modbus, config.paths.database, std::move(zones),
+        [](EpochDatabase& db, const std::string& rule, const std::string& client, UtcSeconds now) {
+            return acknowledge_alarm(db, rule, AlarmActor::scada, now, "modbus client " + client);
+        });
+}
+
 void log_config(const Config& config) {
     spdlog::info("configuration {}:", config.file.string());
     for (const auto& line : describe(config)) spdlog::info("  {}", line);
@@ -55,13 +77,26 @@ void log_config(const Config& config) {
 
 class Daemon {
   public:
-    Daemon(Config config, bool once, Shutdown& shutdown)
+    // `modbus`: a server already serving SCADA while the database could not be opened,
+    // since `refused_since`; taken over once the database opens (left to the caller when
+    // it does not), else started here.
+    Daemon(Config config, bool once, Shutdown& shutdown, std::unique_ptr<ModbusService>& modbus,
+           std::optional<UtcSeconds> refused_since)
         : config_(std::move(config)),
           once_(once),
           shutdown_(shutdown),
           db_(EpochDatabase::open(config_.paths.database, EpochDatabase::Mode::read_write)),
           watcher_(config_.paths.ingest, config_.ingest),
-          pipeline_config_(pipeline_config(config_)) {}
+          pipeline_config_(pipeline_config(config_)) {
+        modbus_ = std::move(modbus);
+        if (refused_since) {    // the system alarm of that time, stored with the rows to come
+            disk_full_ = true;  // as Modbus shows it, until a write goes through
+            SystemObservation seen;
+            seen.now = *refused_since;
+            seen.database_error = true;
+            unstored_.push_back(seen);
+        }
+    }
 
     void run();
 
@@ -70,7 +105,10 @@ class Daemon {
     PipelineContext pipeline() {
         return PipelineContext{db_, pipeline_config_, events_, reference_cache_};
     }
-    void start();
+    bool start();         // false: stopped before the database took the start's rows
+    void store_site();    // station, zones, rules, the start event, the reference epoch
+    void note_disk();     // disk_full_ from the last write, shown on Modbus at once
+    void start_modbus();  // (again) as config_.modbus says; the old server stops first
     void reload();
     void ingest_complete_files(Clock::time_point now);
     // Copies of epochs that were not processed yet, once those epochs are.
@@ -112,11 +150,42 @@ class Daemon {
     std::optional<Clock::time_point> meteo_wait_;
     Clock::time_point next_status_{};
     std::int64_t done_ = 0, rejected_ = 0, failed_ = 0;
+    bool disk_full_ = false;  // the last write failed for lack of space
+    static constexpr std::size_t kMaxUnstored = 64;
+    std::vector<SystemObservation> unstored_;  // system alarm observations not stored yet
     // Last member: stopped first, before the database it reads is closed.
     std::unique_ptr<ModbusService> modbus_;
 };
 
-void Daemon::start() {
+// Modbus first: SCADA sees the daemon (and a full disk) while the database refuses writes;
+// the rows a start writes are retried with the back-off until the database takes them.
+bool Daemon::start() {
+    if (!modbus_) start_modbus();
+    systemd_.ready();
+    while (!shutdown_.stop_requested()) {
+        try {
+            store_site();
+            break;
+        } catch (const StorageError& e) {
+            events_.write_failed(e);
+            note_disk();
+            backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
+                                     : std::min(backoff_ * 2, config_.ingest.retry_max);
+            spdlog::error("cannot start processing: {}; retry in {:.1f} s", e.what(), backoff_);
+            SystemObservation seen;
+            seen.database_error = true;
+            observe(seen);
+            wait_alive(systemd_, shutdown_, backoff_);
+        }
+    }
+    if (shutdown_.stop_requested()) return false;
+    backoff_ = 0;
+    watcher_.rescan(Clock::now());
+    next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
+    return true;
+}
+
+void Daemon::store_site() {
     station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
     for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
     // The rules' definitions; their states (and memories) stay as stored.
@@ -126,19 +195,31 @@ void Daemon::start() {
     events_.record(db_, "info", "start",
                    "tlsmon started (" + config_.file.string() + "); " + std::to_string(recovered) +
                        " interrupted epoch(s) back to pending");
+    if (!can_register(pipeline_config_.registration)) {
+        events_.record(db_, "warning", "no_registration", kNoRegistrationWarning);
+    }
     auto ctx = pipeline();
     ensure_reference(ctx);
-    if (config_.modbus.enabled) {
-        std::vector<std::string> zones;
-        for (const auto& z : config_.zones) zones.push_back(z.name);
-        modbus_ = std::make_unique<ModbusService>(
-            config_.modbus, config_.paths.database, std::move(zones),
-            [](EpochDatabase& db, const std::string& rule, UtcSeconds now) {
-                return acknowledge_alarm(db, rule, AlarmActor::scada, now);
-            });
+    events_.wrote();
+    note_disk();
+}
+
+void Daemon::note_disk() {
+    const bool full = events_.disk_full();
+    if (full == disk_full_) return;
+    disk_full_ = full;
+    if (full) {
+        spdlog::error("the database's disk is full: nothing is stored until space returns");
+    } else {
+        spdlog::info("the database takes writes again");
     }
-    watcher_.rescan(Clock::now());
-    next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
+    if (modbus_) modbus_->set_disk_full(full);
+}
+
+void Daemon::start_modbus() {
+    modbus_.reset();
+    modbus_ = start_modbus_service(config_);
+    if (modbus_) modbus_->set_disk_full(disk_full_);
 }
 
 void Daemon::reload() {
@@ -146,12 +227,23 @@ void Daemon::reload() {
         Config fresh = load_config(config_.file);
         if (fresh.paths.ingest != config_.paths.ingest ||
             fresh.paths.database != config_.paths.database) {
-            spdlog::warn("reload: paths.ingest and paths.database change only on restart");
+            events_.record(db_, "warning", "config_reload",
+                           "paths.ingest and paths.database change only on restart: kept " +
+                               config_.paths.ingest.string() + " and " +
+                               config_.paths.database.string());
             fresh.paths.ingest = config_.paths.ingest;
             fresh.paths.database = config_.paths.database;
         }
         create_missing_folders(check_startup(fresh));  // a new archive or quarantine folder
+        const ReloadChanges changes = compare_for_reload(config_, fresh);
+        if (!changes.refused.empty()) {
+            events_.record(db_, "error", "config_reload",
+                           "reload refused, the previous configuration stays: " + changes.refused +
+                               "; restart tlsmon to apply such a configuration on purpose");
+            return;
+        }
         setup_logging(fresh.logging);
+        const bool restart_modbus = changes.modbus;
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
@@ -159,6 +251,23 @@ void Daemon::reload() {
         for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
         store_alarm_rules(db_, config_.alarm.rules);
         log_config(config_);
+        for (const auto& removed : changes.removed) {
+            events_.record(db_, "warning", "config_reload", "reload removes " + removed);
+        }
+        if (restart_modbus) {
+            try {
+                start_modbus();
+                events_.record(db_, "info", "config_reload",
+                               config_.modbus.enabled
+                                   ? "Modbus server restarted on " + config_.modbus.address + ":" +
+                                         std::to_string(config_.modbus.port)
+                                   : std::string("Modbus server stopped (modbus.enabled = false)"));
+            } catch (const Error& e) {
+                events_.record(db_, "error", "config_reload",
+                               std::string("the Modbus server could not be restarted: ") +
+                                   e.what() + "; SCADA has no server until the next reload");
+            }
+        }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
         events_.record(db_, "error", "config_reload",
@@ -175,14 +284,20 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
                            std::to_string(static_cast<long>(g.seconds)) + " s (" +
                            std::to_string(g.size) + " bytes); not processed while it grows");
     }
-    for (const auto& link : watcher_.take_symlinks()) {
-        std::error_code ec;
-        const fs::path target = fs::read_symlink(link, ec);
-        events_.record(db_, "warning", "symlink",
-                       link.string() + " is a symbolic link" +
-                           (ec ? std::string() : " to " + target.string()) +
-                           "; links in the ingest folder are never followed: left in place, "
-                           "not ingested (copy or move the scan itself into the folder)");
+    for (const auto& entry : watcher_.take_not_files()) {
+        if (entry.kind == "symbolic link") {
+            std::error_code ec;
+            const fs::path target = fs::read_symlink(entry.path, ec);
+            events_.record(db_, "warning", "symlink",
+                           entry.path.string() + " is a symbolic link" +
+                               (ec ? std::string() : " to " + target.string()) +
+                               "; links in the ingest folder are never followed: left in place, "
+                               "not ingested (copy or move the scan itself into the folder)");
+        } else {
+            events_.record(db_, "warning", "not_a_file",
+                           entry.path.string() + " is a " + entry.kind +
+                               ", not a regular file: left in place, not ingested");
+        }
     }
     if (now >= retry_at_) {
         files.insert(files.begin(), retry_files_.begin(), retry_files_.end());
@@ -218,7 +333,10 @@ void Daemon::ingest(const fs::path& file) {
     // The newest epoch's bytes stay at hand (one file's worth of memory): at the usual
     // cadence it is the next epoch processed, which then reads nothing again.
     if (outcome == IngestOutcome::new_epoch) latest_bytes_ = {epoch, std::move(bytes)};
-    if (outcome == IngestOutcome::retry_later) retry_files_.push_back(file);
+    if (outcome == IngestOutcome::retry_later) {
+        retry_files_.push_back(file);
+        note_disk();
+    }
     if (outcome == IngestOutcome::wait_for_epoch) waiting_copies_.push_back({file, epoch});
 }
 
@@ -273,8 +391,13 @@ void Daemon::process_backlog() {
                                          : std::min(backoff_ * 2, config_.ingest.retry_max);
                 retry_at_ = Clock::now() + seconds(backoff_);
                 spdlog::warn("processing paused for {:.1f} s", backoff_);
+                SystemObservation seen;
+                seen.database_error = true;
+                observe(seen);
                 return;
             }
+            events_.wrote();  // the commit went through
+            note_disk();
             if (modbus_) modbus_->epoch_committed();
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
@@ -293,6 +416,9 @@ void Daemon::process_backlog() {
             if (shutdown_.take_reload()) reload();
         }
     } catch (const std::exception& e) {  // the database, or the file system under it
+        if (const auto* storage = dynamic_cast<const StorageError*>(&e)) {
+            events_.write_failed(*storage);
+        }
         backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
                                  : std::min(backoff_ * 2, config_.ingest.retry_max);
         retry_at_ = Clock::now() + seconds(backoff_);
@@ -307,18 +433,36 @@ void Daemon::observe(SystemObservation seen) {
     const SystemAlarmConfig config{.cadence_seconds = config_.alarm.cadence,
                                    .stale_factor = config_.alarm.stale_factor,
                                    .disk_free_min = config_.alarm.disk_free_min};
+    seen.now = now_utc();
     try {
-        seen.now = now_utc();
         if (!seen.last_epoch_acquired) seen.last_epoch_acquired = newest_epoch_acquired(db_);
-        if (!seen.disk_free_fraction) {
-            seen.disk_free_fraction = disk_free_share(config_.paths.database.parent_path());
+    } catch (const std::exception& e) {
+        spdlog::warn("system.stale not observed: {}", e.what());
+    }
+    if (!seen.disk_free_fraction) {
+        seen.disk_free_fraction = disk_free_share(config_.paths.database.parent_path());
+    }
+    // Kept in memory, in order, until the database takes them: an alarm raised while the
+    // disk is full is stored with the time it was raised (the first kept is never dropped).
+    unstored_.push_back(seen);
+    if (unstored_.size() > kMaxUnstored) unstored_.erase(unstored_.begin() + 1);
+    try {
+        while (!unstored_.empty()) {
+            observe_system_alarms(db_, config, unstored_.front());
+            unstored_.erase(unstored_.begin());
         }
-        observe_system_alarms(db_, config, seen);
+        events_.wrote();
         // A shelve ends at its expiry, not at its rule's next epoch (docs/alarms.md).
-        if (const int n = expire_due_shelves(db_, seen.now)) spdlog::info("{} shelve(s) expired", n);
+        if (const int n = expire_due_shelves(db_, seen.now))
+            spdlog::info("{} shelve(s) expired", n);
+    } catch (const StorageError& e) {
+        events_.write_failed(e);
+        spdlog::error("system alarms kept in memory ({}) until the database takes them: {}",
+                      unstored_.size(), e.what());
     } catch (const std::exception& e) {
         spdlog::error("system alarms not updated: {}", e.what());
     }
+    note_disk();
 }
 
 void Daemon::report_status() {
@@ -345,8 +489,10 @@ Clock::duration Daemon::next_wait(Clock::time_point now) const {
 }
 
 void Daemon::run() {
-    start();
-    systemd_.ready();
+    if (!start()) {
+        systemd_.stopping();
+        return;
+    }
     spdlog::info("watching {}", config_.paths.ingest.string());
     while (!shutdown_.stop_requested()) {
         const auto now = Clock::now();
@@ -385,11 +531,11 @@ void Daemon::run() {
 int run_daemon(const RunOptions& options) {
     SignalThread::block_signals();
     Config config;
-    std::vector<MissingFolder> missing;
     try {
         config = load_config(options.config_file);
-        missing = check_startup(config);  // the same checks as `tlsmon check-config`
-        setup_logging(config.logging);
+        const auto missing = check_startup(config);  // the same checks as `check-config`
+        setup_logging(config.logging);  // (makes the log file's folder, among `missing`)
+        create_missing_folders(missing);
     } catch (const Error& e) {
         std::cerr << "tlsmon run: " << e.what() << '\n';
         return 1;
@@ -400,9 +546,31 @@ int run_daemon(const RunOptions& options) {
     Shutdown shutdown;
     SignalThread signals(shutdown);
     try {
-        create_missing_folders(missing);
-        Daemon daemon(std::move(config), options.once, shutdown);
-        daemon.run();
+        // A database that cannot be opened for lack of space (a restart while the disk is
+        // full): Modbus serves SCADA meanwhile, with the disk-full bit, and the opening is
+        // retried with the back-off until space returns.
+        std::unique_ptr<ModbusService> modbus;
+        SystemdNotify systemd;
+        std::optional<UtcSeconds> refused_since;
+        double backoff = 0;
+        while (!shutdown.stop_requested()) {
+            try {
+                Daemon daemon(config, options.once, shutdown, modbus, refused_since);
+                daemon.run();
+                break;
+            } catch (const StorageError& e) {
+                if (!e.disk_full()) throw;
+                if (!refused_since) refused_since = now_utc();
+                backoff = backoff == 0 ? config.ingest.retry_initial
+                                       : std::min(backoff * 2, config.ingest.retry_max);
+                spdlog::error("{}; the disk is full: retry in {:.1f} s", e.what(), backoff);
+                if (!modbus && config.modbus.enabled) modbus = start_modbus_service(config);
+                if (modbus) modbus->set_disk_full(true);
+                systemd.ready();
+                systemd.status("the epoch database cannot be opened: the disk is full");
+                wait_alive(systemd, shutdown, backoff);
+            }
+        }
     } catch (const std::exception& e) {
         spdlog::critical("tlsmon run: {}", e.what());
         return 1;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "core/text_escape.hpp"
 #include "core/utc_time.hpp"
 #include "daemon/config.hpp"
 
@@ -52,10 +53,13 @@ std::string number_text(double v) {
     return std::string(buf.data(), r.ptr);
 }
 
+// Text for a terminal or a CSV file: a file name with a newline or ESC[31m can neither
+// start a row nor colour the analyst's terminal (escaped as in the log; JSON escapes its
+// own control characters).
 std::string cell_text(const Cell& c) {
     struct {
         std::string operator()(std::monostate) const { return ""; }
-        std::string operator()(const std::string& s) const { return s; }
+        std::string operator()(const std::string& s) const { return escape_control_characters(s); }
         std::string operator()(std::int64_t i) const { return std::to_string(i); }
         std::string operator()(double d) const { return number_text(d); }
         std::string operator()(bool b) const { return b ? "true" : "false"; }
@@ -192,7 +196,8 @@ void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Ce
         if (format == OutputFormat::csv) {
             print_csv_line(out, {key, cell_text(value)});
         } else {
-            out << key << std::string(width - key.size() + 2, ' ') << cell_text(value) << '\n';
+            out << escape_control_characters(key) << std::string(width - key.size() + 2, ' ')
+                << cell_text(value) << '\n';
         }
     }
 }

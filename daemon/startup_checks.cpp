@@ -5,8 +5,10 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 
 #include "core/error.hpp"
+#include "daemon/folder_overlap.hpp"
 
 namespace tlsmon {
 
@@ -73,10 +75,35 @@ void check_writable_file(const std::string& key, const fs::path& path) {
     require_access(key, path, R_OK | W_OK, "open the file for writing");
 }
 
+// The epoch database, when it exists: an SQLite file (not a log or a copy gone wrong), and
+// its -wal and -shm files as writable as itself (a run as root leaves them root's, and the
+// service's user then cannot open the database).
+void check_database(const fs::path& path) {
+    const fs::file_status st = status_of(path);
+    if (!fs::exists(st)) return;
+    std::ifstream in(path, std::ios::binary);
+    char magic[16] = {};
+    in.read(magic, sizeof magic);
+    if (in.gcount() > 0 && std::memcmp(magic, "SQLite format 3", 16) != 0) {
+        throw Error("paths.database: " + path.string() + " is not an SQLite database");
+    }
+    for (const char* suffix : {"-wal", "-shm"}) {
+        const fs::path side = path.string() + suffix;
+        if (fs::exists(status_of(side))) {
+            require_access("paths.database", side, R_OK | W_OK,
+                           "open the database's " + std::string(suffix + 1) + " file for writing");
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<MissingFolder> check_startup(const Config& c) {
     std::vector<MissingFolder> missing;
+    // Apart on disk too: a link or a bind mount can make two written paths one folder.
+    if (const auto o = folders_overlap_on_disk(c.paths)) {
+        throw Error("paths." + o->key + ": " + o->what);
+    }
     // Files leave the ingest folder when they are archived (or removed as copies).
     const int ingest_mode = c.ingest.archive == ArchiveMode::move ? R_OK | W_OK : R_OK;
     check_folder("paths.ingest", c.paths.ingest, ingest_mode, missing);
@@ -85,8 +112,16 @@ std::vector<MissingFolder> check_startup(const Config& c) {
     // SQLite creates its -wal and -shm files beside the database.
     const std::size_t before = missing.size();
     check_folder("paths.database", c.paths.database.parent_path(), W_OK, missing);
-    if (missing.size() == before) check_writable_file("paths.database", c.paths.database);
-    if (!c.logging.file.empty()) check_writable_file("logging.file", c.logging.file);
+    if (missing.size() == before) {
+        check_writable_file("paths.database", c.paths.database);
+        check_database(c.paths.database);
+    }
+    if (!c.logging.file.empty()) {
+        // Its folder like the others: a missing one is said, and created by `run`.
+        const std::size_t folders = missing.size();
+        check_folder("logging.file", c.logging.file.parent_path(), W_OK, missing);
+        if (missing.size() == folders) check_writable_file("logging.file", c.logging.file);
+    }
     return missing;
 }
 

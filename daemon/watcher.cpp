@@ -42,6 +42,7 @@ struct FileState {
     bool exists = false;
     bool regular = false;
     bool symlink = false;
+    const char* kind = "";  // what it is when not a regular file
     std::uint64_t inode = 0;
     std::int64_t size = -1;
     std::int64_t mtime_ns = -1;
@@ -55,6 +56,12 @@ FileState stat_file(const fs::path& p) {
     s.exists = true;
     s.regular = S_ISREG(st.st_mode);
     s.symlink = S_ISLNK(st.st_mode);
+    s.kind = s.symlink                                    ? "symbolic link"
+             : S_ISDIR(st.st_mode)                        ? "folder"
+             : S_ISFIFO(st.st_mode)                       ? "FIFO (named pipe)"
+             : S_ISSOCK(st.st_mode)                       ? "socket"
+             : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "device"
+                                                          : "special file";
     s.inode = st.st_ino;
     s.size = st.st_size;
     s.mtime_ns = std::int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec;
@@ -155,11 +162,11 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     if (!is_scan_name(name, config_.extensions) && !is_meteo_sidecar_name(name)) return;
     const fs::path path = folder_ / name;
     const FileState st = stat_file(path);
-    if (st.symlink) {
-        note_symlink(name, st.inode);
+    if (!st.exists) return;
+    if (!st.regular) {
+        note_not_a_file(name, st.inode, st.kind);
         return;
     }
-    if (!st.exists || !st.regular) return;
     if (auto h = handed_.find(name); h != handed_.end()) {
         if (h->second.size == st.size && h->second.mtime_ns == st.mtime_ns) return;
         handed_.erase(h);  // new content under a known name: a new candidate
@@ -176,17 +183,18 @@ void FolderWatcher::touch(const std::string& name, SteadyTime now, bool writing,
     if (closed) c.writing = false;
 }
 
-void FolderWatcher::note_symlink(const std::string& name, std::uint64_t inode) {
+void FolderWatcher::note_not_a_file(const std::string& name, std::uint64_t inode,
+                                    const char* kind) {
     candidates_.erase(name);
     handed_.erase(name);
-    auto [it, added] = symlinks_.try_emplace(name, inode);
+    auto [it, added] = not_files_.try_emplace(name, inode);
     if (!added && it->second == inode) return;  // reported already
     it->second = inode;
-    new_symlinks_.push_back(folder_ / name);
+    new_not_files_.push_back({folder_ / name, kind});
 }
 
-std::vector<fs::path> FolderWatcher::take_symlinks() {
-    return std::exchange(new_symlinks_, {});
+std::vector<NotAFile> FolderWatcher::take_not_files() {
+    return std::exchange(new_not_files_, {});
 }
 
 void FolderWatcher::read_events(SteadyTime now) {
@@ -218,7 +226,7 @@ void FolderWatcher::read_events(SteadyTime now) {
             if (ev->mask & (IN_DELETE | IN_MOVED_FROM)) {
                 candidates_.erase(name);
                 handed_.erase(name);
-                symlinks_.erase(name);
+                not_files_.erase(name);
             } else if (ev->mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) {
                 touch(name, now, false, true);
             } else if (ev->mask & (IN_CREATE | IN_MODIFY)) {
@@ -241,8 +249,9 @@ void FolderWatcher::rescan(SteadyTime now) {
     for (auto it = handed_.begin(); it != handed_.end();) {
         it = stat_file(folder_ / it->first).exists ? std::next(it) : handed_.erase(it);
     }
-    for (auto it = symlinks_.begin(); it != symlinks_.end();) {
-        it = stat_file(folder_ / it->first).symlink ? std::next(it) : symlinks_.erase(it);
+    for (auto it = not_files_.begin(); it != not_files_.end();) {
+        const FileState st = stat_file(folder_ / it->first);
+        it = st.exists && !st.regular ? std::next(it) : not_files_.erase(it);
     }
 }
 

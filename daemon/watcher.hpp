@@ -11,8 +11,9 @@
 //     after a restart while its writer pauses is waited for, not taken half-written.
 // Meteo sidecars (`<scan stem>.meteo.csv`) are watched the same way, never as scans.
 // Hidden and temporary names (".x.part", "x.tmp", "x~") and other extensions are ignored.
-// Only regular files are taken. A symbolic link with a scan's name is never followed nor
-// read nor tracked: it is reported once (take_symlinks) and left where it is.
+// Only regular files are taken. A symbolic link, a folder, a FIFO or any other entry that
+// is not a regular file, with a scan's name, is never followed nor read nor tracked: it is
+// reported once (take_not_files) and left where it is.
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -37,6 +38,11 @@ bool is_scan_name(const std::string& name, const std::vector<std::string>& exten
 bool held_open_for_writing(const std::filesystem::path& path);
 // The /proc part alone (tests).
 bool held_open_for_writing_by_proc(const std::filesystem::path& path);
+
+struct NotAFile {
+    std::filesystem::path path;
+    std::string kind;  // "symbolic link", "folder", "FIFO (named pipe)", "socket", "device"
+};
 
 struct GrowingFile {
     std::filesystem::path path;
@@ -63,9 +69,9 @@ class FolderWatcher {
     // after max_growing.
     std::vector<std::filesystem::path> take_complete(SteadyTime now,
                                                      std::vector<GrowingFile>& growing);
-    // Symbolic links with a scan's name seen since the last call, each once (again only
-    // after it was removed or replaced).
-    std::vector<std::filesystem::path> take_symlinks();
+    // Entries with a scan's name that are no regular file, seen since the last call, each
+    // once (again only after it was removed or replaced).
+    std::vector<NotAFile> take_not_files();
     // Hand the file out again at the next rescan (e.g. the database was full).
     void forget(const std::filesystem::path& path);
 
@@ -94,15 +100,15 @@ class FolderWatcher {
 
     bool add_watch();  // false (errno set) if the folder cannot be watched
     void touch(const std::string& name, SteadyTime now, bool writing, bool closed);
-    void note_symlink(const std::string& name, std::uint64_t inode);
+    void note_not_a_file(const std::string& name, std::uint64_t inode, const char* kind);
 
     std::filesystem::path folder_;
     IngestConfig config_;
     int inotify_fd_ = -1;
     std::map<std::string, Candidate> candidates_;
     std::map<std::string, Handed> handed_;
-    std::map<std::string, std::uint64_t> symlinks_;  // name -> inode of the link, reported
-    std::vector<std::filesystem::path> new_symlinks_;
+    std::map<std::string, std::uint64_t> not_files_;  // name -> inode of the entry, reported
+    std::vector<NotAFile> new_not_files_;
 };
 
 }  // namespace tlsmon

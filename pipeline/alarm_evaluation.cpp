@@ -6,6 +6,7 @@
 #include <set>
 
 #include "alarms/alarm_rate.hpp"
+#include "core/utc_time.hpp"
 #include "pipeline/alarm_rows.hpp"
 
 namespace tlsmon {
@@ -15,6 +16,8 @@ namespace {
 // Registration not accepted by the quality gate but the epoch analysed anyway: degraded.
 EpochQuality epoch_quality(const EpochResults& r) {
     if (r.outcome != EpochStatus::done) return EpochQuality::rejected;
+    if (r.registration && r.registration->method == kUnregistered)
+        return EpochQuality::unregistered;
     if (r.registration && !r.registration->accepted) return EpochQuality::degraded;
     return EpochQuality::accepted;
 }
@@ -22,6 +25,9 @@ EpochQuality epoch_quality(const EpochResults& r) {
 std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Epoch& epoch,
                                     const EpochResults& results, const SeriesReader& series,
                                     EpochQuality quality) {
+    if (quality == EpochQuality::unregistered && rule.evaluate_unregistered) {
+        quality = EpochQuality::accepted;
+    }
     if (quality != EpochQuality::accepted) return RuleInput{0, false, quality};
     const ZoneResult* own = nullptr;
     for (const auto& z : results.zone_results) {
@@ -58,6 +64,17 @@ AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const E
             row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
         const auto input = rule_input(rule, epoch, results, series, quality);
         const auto step = step_rule(rule, status, input, epoch.acquired);
+        if (step.late) {
+            // Never silently: the value is stored in the series, the rule keeps its time.
+            out.system_events.push_back(SystemEvent{
+                now_utc(), "warning", "alarm_rule_late_epoch",
+                fmt::format("rule {}: epoch {} was acquired {}, before the newest epoch the "
+                            "rule evaluated ({}); its values are stored, the rule does not "
+                            "step back in time",
+                            rule.name, epoch.id, format_utc(epoch.acquired),
+                            format_utc(*status.evaluated)),
+                epoch.id});
+        }
         if (!step.evaluated && step.events.empty()) continue;
         const std::optional<double> value =
             step.evaluated ? std::optional<double>(input->value) : std::nullopt;
@@ -88,9 +105,9 @@ std::string rule_definition_json(const AlarmRuleSpec& r) {
     }
     return fmt::format(
         "{{\"levels\":{{{}}},\"on_delay\":{},\"off_delay\":{},\"significant_only\":{},"
-        "\"rate_window_seconds\":{},\"latching\":{}}}",
+        "\"rate_window_seconds\":{},\"latching\":{},\"evaluate_unregistered\":{}}}",
         levels, r.on_delay, r.off_delay, r.significant_only, number(r.rate_window_seconds),
-        r.latching);
+        r.latching, r.evaluate_unregistered);
 }
 
 void store_alarm_rules(EpochDatabase& db, const std::vector<AlarmRuleSpec>& rules) {

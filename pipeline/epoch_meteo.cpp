@@ -15,6 +15,15 @@ std::optional<MeteoSidecar> read_epoch_meteo(const fs::path& sidecar, const Epoc
     MeteoSidecar m;
     m.epoch = epoch.id;
     m.file_name = sidecar.filename().string();
+    std::error_code size_error;
+    const auto size = fs::file_size(sidecar, size_error);
+    if (!size_error && size > static_cast<std::uintmax_t>(kMaxMeteoSidecarBytes)) {
+        m.outcome = MeteoOutcome::rejected;
+        m.sha256 = sha256_text("too large\n" + m.file_name + "\n" + std::to_string(size));
+        m.reason = sidecar.string() + ": " + std::to_string(size) +
+                   " bytes, more than a meteo sidecar holds (16 MiB): not read";
+        return m;
+    }
     HashedBytes content;
     try {
         content = read_file_hashed(sidecar);

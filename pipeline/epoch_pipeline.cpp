@@ -204,6 +204,30 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
     }
 }
 
+// The row of an epoch that no registration could take to the reference's frame: the
+// reference itself is its own datum (identity, accepted); any other epoch stays in the
+// scanner's frame, `unregistered`, and its values raise no alarm (docs/registration.md).
+RegistrationRow datum_without_registration(bool is_reference) {
+    RegistrationRow row;
+    const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = I(i, j);
+    if (is_reference) {
+        row.method = "reference";
+        row.status = "reference";
+        row.accepted = true;
+        row.reason = "the reference epoch: its own frame is the datum";
+    } else {
+        row.method = kUnregistered;
+        row.status = kUnregistered;
+        row.accepted = false;
+        row.reason =
+            "not registered: no [[target]] and no ICP fallback on [[stable_region]]s are "
+            "configured; the epoch stays in the scanner's frame, its values raise no alarm";
+    }
+    return row;
+}
+
 // The stages in order. Each gets the epoch, the reference and its own config section, and
 // records its time; the first that cannot run for this epoch decides its rejection.
 StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResults& results) {
@@ -238,7 +262,15 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
         return v;
     }
     StageOutputs outputs;
-    if (!ctx.config.registration.targets.empty()) {
+    const bool is_reference = reference->epoch().id == input.epoch.id;
+    if (!can_register(ctx.config.registration) ||
+        (is_reference && ctx.config.registration.targets.empty())) {
+        // Every epoch states its datum: the reference's own frame (never an ICP of the
+        // reference onto itself, which a sampled surface need not return as the identity),
+        // or none at all.
+        results.registration = datum_without_registration(is_reference);
+        results.stages.push_back(StageRun{"registration", 0.0, "", results.registration->reason});
+    } else {
         RegistrationResult registration;
         const auto excluded = ctx.db.registrations().excluded_targets();
         // The reference epoch's own air: its stored meteo (this epoch's when it is the

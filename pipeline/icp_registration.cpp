@@ -130,8 +130,8 @@ StableSurface build_stable_surface(const IcpConfig& config, const std::vector<Sc
     s.cropped = inside.size();
     if (!scans.empty()) s.viewpoint = scans.front().scanner_position();
     const auto thinned = voxel_centroids(inside, config.voxel_size);
-    s.sample = surface_with_normals(thinned, kNormalRadiusVoxels * config.voxel_size,
-                                    kMaxCurvature, s.viewpoint);
+    s.sample = surface_with_normals(thinned, kNormalRadiusVoxels * config.voxel_size, kMaxCurvature,
+                                    s.viewpoint);
     return s;
 }
 
@@ -153,7 +153,8 @@ std::vector<Eigen::Vector3d> points_in_stable_regions(const IcpConfig& config,
     for (const auto& scan : scans) {
         const Eigen::Vector3d o = scan.scanner_position();
         for (const auto& x : scan.xyz) {
-            const Eigen::Vector3d p = range_scale == 1.0 ? x : Eigen::Vector3d(o + (x - o) / range_scale);
+            const Eigen::Vector3d p =
+                range_scale == 1.0 ? x : Eigen::Vector3d(o + (x - o) / range_scale);
             const Eigen::Vector3d X = R * p + t;
             if ((X.array() < lo.array()).any() || (X.array() > hi.array()).any()) continue;
             if (in_regions(config, X)) out.push_back(p);
@@ -176,13 +177,22 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         }
     }
     m.reference_points = reference.points.size();
-    const auto epoch = voxel_centroids(
-        points_in_stable_regions(c, scans, start, correct ? *scales.epoch : 1.0), c.voxel_size);
+    // The epoch's centroids kept by the same test as the reference's: a centroid on an edge,
+    // a pipe or a corner has no plane, and paired with a neighbour's plane it pulls the
+    // adjustment off (the real pump room, moved rigidly, gave half its rotation back).
+    const Eigen::Vector3d viewpoint =
+        scans.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(scans.front().scanner_position());
+    const auto epoch =
+        surface_with_normals(voxel_centroids(points_in_stable_regions(
+                                                 c, scans, start, correct ? *scales.epoch : 1.0),
+                                             c.voxel_size),
+                             kNormalRadiusVoxels * c.voxel_size, kMaxCurvature, viewpoint)
+            .points;
     m.epoch_points = epoch.size();
     const auto finish = [&] {
-        m.milliseconds = std::chrono::duration<double, std::milli>(
-                             std::chrono::steady_clock::now() - t0)
-                             .count();
+        m.milliseconds =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
         return m;
     };
     if (epoch.empty() || reference.points.empty()) {
@@ -218,14 +228,14 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         return finish();
     }
     if (!m.converged) {
-        m.refused = fmt::format("not converged in registration.icp_max_iterations = {}",
-                                c.max_iterations);
+        m.refused =
+            fmt::format("not converged in registration.icp_max_iterations = {}", c.max_iterations);
     } else if (static_cast<int>(m.pairs) < c.min_points) {
         m.refused = fmt::format("{} pairs, fewer than registration.icp_min_points = {}", m.pairs,
                                 c.min_points);
     } else if (m.overlap < c.min_overlap) {
-        m.refused = fmt::format("overlap {:.2f} below registration.icp_min_overlap = {}",
-                                m.overlap, c.min_overlap);
+        m.refused = fmt::format("overlap {:.2f} below registration.icp_min_overlap = {}", m.overlap,
+                                c.min_overlap);
     } else if (m.rms > c.max_rms) {
         m.refused = fmt::format("RMS {:.2f} mm above registration.icp_max_rms = {:.2f} mm",
                                 1e3 * m.rms, 1e3 * c.max_rms);
@@ -240,8 +250,8 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
     if (c.mode == IcpMode::off || c.regions.empty()) return;
     // A σ refused by the gate may come within it once combined; a targets' RMS cannot.
     const bool rms_gate = result.gate.rfind("RMS", 0) == 0;
-    const bool refine = c.refines() && result.tested.accepted() && result.tested.transform &&
-                        !rms_gate;
+    const bool refine =
+        c.refines() && result.tested.accepted() && result.tested.transform && !rms_gate;
     const bool fallback = c.falls_back() && too_few_targets(result);
     if (!refine && !fallback) return;
     const Eigen::Matrix4d start =
@@ -291,10 +301,12 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
     result.icp = std::move(m);
 }
 
-void apply_icp(const RegistrationConfig& config, const EpochInput& input,
-               ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
-               RegistrationResult& result) {
+void apply_icp(const RegistrationConfig& config, const EpochInput& input, ReferenceEpoch& reference,
+               ReferenceCache& cache, const RangeScales& scales, RegistrationResult& result) {
     if (config.icp.mode == IcpMode::off || config.icp.regions.empty()) return;
+    // The reference's own frame is the datum: its targets register it onto itself exactly,
+    // and an ICP onto itself could only move it.
+    if (reference.epoch().id == input.epoch.id) return;
     const auto surface = cache.get<StableSurface>(
         reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 1},
         [&](const std::vector<Scan>& scans) { return build_stable_surface(config.icp, scans); });
@@ -326,8 +338,8 @@ std::string icp_quality_json(const RegistrationResult& r) {
         R"("clusters":{},"sigma_inflation":{:.3f},"agreement_chi2":{},"milliseconds":{:.1f}}})",
         m.role, m.used ? "true" : "false", escaped(m.refused), m.overlap, m.rms, m.iterations,
         m.converged ? "true" : "false", m.epoch_points, m.reference_points, m.pairs, m.outliers,
-        m.clusters,
-        m.inflation, m.agreement ? fmt::format("{:.3f}", *m.agreement) : "null", m.milliseconds);
+        m.clusters, m.inflation, m.agreement ? fmt::format("{:.3f}", *m.agreement) : "null",
+        m.milliseconds);
 }
 
 }  // namespace tlsmon

@@ -4,6 +4,7 @@
 // displacement model d(t, z) as a model row, with its observations gathered from the series.
 // Plain functions from the kernels' results to storage rows; the stage that runs the images,
 // matching and 3-D (OpenCV) calls them.
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -24,6 +25,15 @@ inline constexpr const char* kKeypointAlongSurfaceH = "keypoint_along_surface_h_
 inline constexpr const char* kKeypointAlongSurfaceV = "keypoint_along_surface_v_m";
 inline constexpr const char* kKeypointCount = "keypoint_count";
 inline constexpr const char* kKeypointHeight = "keypoint_height_m";
+// Every zone quantity the stage writes (the alarm rules name them).
+inline constexpr std::array<const char*, 8> kKeypointQuantities = {kKeypointDx,
+                                                                   kKeypointDy,
+                                                                   kKeypointDz,
+                                                                   kKeypointAlongNormal,
+                                                                   kKeypointAlongSurfaceH,
+                                                                   kKeypointAlongSurfaceV,
+                                                                   kKeypointCount,
+                                                                   kKeypointHeight};
 
 // A segment's rows (zone `zone`):
 // - keypoint_count: value = the matches the filters kept, n = the segment's matches; always.

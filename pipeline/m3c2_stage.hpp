@@ -15,6 +15,7 @@
 // normal, σ_n = √(nᵀ·Σ_p·n), Σ_p = J·Σ·Jᵀ (algorithms/registration/registration_error.hpp;
 // Niemeier 2008, §2.4), or `registration_error` without a registration.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -28,6 +29,11 @@
 #include "storage/epoch_results.hpp"
 
 namespace tlsmon {
+
+// The zone quantities the stage writes, per zone and epoch (the alarm rules name them).
+inline constexpr std::array<const char*, 6> kM3c2Quantities = {
+    "m3c2_valid_count", "m3c2_median_m",       "m3c2_mean_m",
+    "m3c2_spread_m",    "m3c2_lod95_median_m", "m3c2_significant_share"};
 
 // What the M3C2 stage keeps of the reference epoch.
 struct M3c2Reference {

@@ -60,4 +60,16 @@ struct RegistrationConfig {
     IcpConfig icp;
 };
 
+// Whether an epoch can be registered at all: on targets, or by the ICP fallback on the
+// stable regions (which also runs where no target is configured).
+inline bool can_register(const RegistrationConfig& c) {
+    return !c.targets.empty() || (c.icp.falls_back() && !c.icp.regions.empty());
+}
+
+// What a site that cannot register says (check-config, and the log and events at start).
+inline constexpr const char* kNoRegistrationWarning =
+    "no registration can run: no [[target]] tables and no ICP fallback on [[stable_region]] "
+    "tables (registration.icp = \"fallback\" or \"both\"); every epoch but the reference "
+    "is stored `unregistered` and its values raise no alarm";
+
 }  // namespace tlsmon

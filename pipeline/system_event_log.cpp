@@ -32,8 +32,10 @@ void SystemEventLog::flush(EpochDatabase& db) {
             db.events().record(waiting_.front());
         } catch (const StorageError& e) {
             spdlog::debug("system event kept for later: {}", e.what());
+            write_failed(e);
             return;
         }
+        wrote();
         waiting_.pop_front();
     }
 }

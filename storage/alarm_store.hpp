@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/utc_time.hpp"
+#include "storage/event_log.hpp"
 #include "storage/ids.hpp"
 
 namespace tlsmon {
@@ -51,6 +52,7 @@ struct AlarmEvent {
 struct AlarmRows {
     std::vector<AlarmState> states;
     std::vector<AlarmEvent> events;
+    std::vector<SystemEvent> system_events;  // what the rules did not take, and why
 };
 
 class AlarmStore {

@@ -16,6 +16,9 @@
 namespace tlsmon {
 
 // Registration of one epoch onto the reference targets (filled by the registration stage).
+// The method and status of an epoch that nothing registered (pipeline: no targets, no ICP).
+inline constexpr const char* kUnregistered = "unregistered";
+
 struct RegistrationRow {
     std::string method;                  // e.g. "targets-helmert"
     std::array<double, 16> transform{};  // 4x4 row-major, scan frame -> project frame
@@ -100,7 +103,7 @@ struct EpochResults {
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
     std::vector<KeypointModelRow> keypoint_models;  // d(t, z) refitted with this epoch
-    std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed
+    std::vector<AlarmState> alarm_states;           // new states of the rules this epoch changed
     std::vector<AlarmEvent> alarm_events;
     std::vector<SystemEvent> system_events;
     // The meteo sidecar the epoch was processed with (used or rejected), if it had one.

@@ -121,6 +121,17 @@ std::optional<Epoch> Epochs::find_by_sha256(const std::string& sha256) const {
     });
 }
 
+std::optional<Epoch> Epochs::find_by_file(const std::filesystem::path& file) const {
+    return guarded(*c_, "reading an epoch", [&]() -> std::optional<Epoch> {
+        SQLite::Statement s(c_->db,
+                            std::string("SELECT ") + kEpochColumns +
+                                " FROM epochs WHERE file_path = ? ORDER BY id DESC LIMIT 1");
+        s.bind(1, file.string());
+        if (!s.executeStep()) return std::nullopt;
+        return read_epoch(s);
+    });
+}
+
 std::vector<Epoch> Epochs::pending() const {
     return guarded(*c_, "listing pending epochs", [&] {
         SQLite::Statement s(c_->db, std::string("SELECT ") + kEpochColumns +

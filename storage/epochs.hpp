@@ -61,6 +61,8 @@ class Epochs {
     EpochInsert insert(const NewEpoch& epoch);
     std::optional<Epoch> find(EpochId id) const;
     std::optional<Epoch> find_by_sha256(const std::string& sha256) const;
+    // The newest epoch recorded from `file` (its path in the ingest folder), if any.
+    std::optional<Epoch> find_by_file(const std::filesystem::path& file) const;
     // Pending epochs, oldest acquisition first (ties by id): the processing order.
     std::vector<Epoch> pending() const;
     // pending -> processing. False if the epoch is not pending (someone else took it).

@@ -26,8 +26,7 @@ void check_results(Connection& c, EpochId id, const EpochResults& r) {
     }
     if (r.outcome == EpochStatus::rejected) {
         if (r.reason.empty()) throw_storage(c, epoch + "a rejected epoch needs a reason");
-        if (!r.zone_results.empty() || !r.core_point_arrays.empty() ||
-            !r.keypoint_models.empty()) {
+        if (!r.zone_results.empty() || !r.core_point_arrays.empty() || !r.keypoint_models.empty()) {
             throw_storage(c, epoch + "a rejected epoch has no analysis results");
         }
     }
@@ -259,6 +258,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results,
             const AlarmRows rows = evaluate(AlarmStore(*c_), SeriesReader(*c_));
             for (const auto& a : rows.states) write_alarm_state(*c_, a);
             for (const auto& e : rows.events) write_alarm_event(*c_, e);
+            for (const auto& e : rows.system_events) write_system_event(*c_, e);
         }
         for (const auto& e : results.system_events) write_system_event(*c_, e);
         if (results.meteo) write_meteo_sidecar(*c_, *results.meteo);

@@ -91,8 +91,10 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
         // Served by the key (zone_id, quantity_id, epoch_id) of zone_results and the epochs
         // key.
         SQLite::Statement s(c_->db,
-                            "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant"
+                            "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant,"
+                            " coalesce(g.method, 'unregistered'), coalesce(g.accepted, 0)"
                             " FROM zone_results r JOIN epochs e ON e.id = r.epoch_id"
+                            " LEFT JOIN registrations g ON g.epoch_id = e.id"
                             " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
                             " AND r.quantity_id = (SELECT id FROM quantities WHERE name = ?)"
                             " AND e.acquired BETWEEN ? AND ?"
@@ -105,7 +107,8 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
         while (s.executeStep()) {
             out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),
                            s.getColumn(2).getDouble(), optional_double(s.getColumn(3)),
-                           s.getColumn(4).getInt64(), s.getColumn(5).getInt() != 0});
+                           s.getColumn(4).getInt64(), s.getColumn(5).getInt() != 0,
+                           s.getColumn(6).getString(), s.getColumn(7).getInt() != 0});
         }
         return out;
     });

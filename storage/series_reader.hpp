@@ -27,6 +27,11 @@ struct SeriesPoint {
     std::optional<double> uncertainty;
     std::int64_t n = 0;
     bool significant = false;
+    // How the epoch was registered: its method ("targets", "icp", "reference", ...) or
+    // "unregistered" (also for an epoch with no registration row); and whether the quality
+    // gate accepted it.
+    std::string datum;
+    bool registration_accepted = false;
 };
 
 // A system or alarm event in one list (tlsmon events).

@@ -98,6 +98,9 @@ ModbusServer::ModbusServer(const ModbusConfig& config, AcknowledgeRequest acknow
         throw Error("modbus: cannot listen on " + where + ": " + why);
     }
     set_nonblocking(s.listen_fd);
+    // The requests are checked before modbus_reply (request_exception); should libmodbus
+    // still take an error path, its "sleep the response timeout, then flush" is 1 µs.
+    modbus_set_response_timeout(s.ctx, 0, 1);
     if (::pipe2(s.wake, O_NONBLOCK | O_CLOEXEC) != 0) {
         ::close(s.listen_fd);
         modbus_free(s.ctx);
@@ -173,9 +176,10 @@ void ModbusServer::State::accept_client() {
         if (fd < 0) return;  // EAGAIN: none left
         char text[INET_ADDRSTRLEN] = {};
         ::inet_ntop(AF_INET, &addr.sin_addr, text, sizeof text);
-        const std::string peer = text;
+        const std::string address = text;
+        const std::string peer = address + ":" + std::to_string(ntohs(addr.sin_port));
         const auto& allow = config.allowlist;
-        if (!allow.empty() && std::find(allow.begin(), allow.end(), peer) == allow.end()) {
+        if (!allow.empty() && std::find(allow.begin(), allow.end(), address) == allow.end()) {
             spdlog::warn("modbus: connection from {} refused: not in modbus.allowlist", peer);
             ::close(fd);
             continue;
@@ -205,45 +209,83 @@ bool ModbusServer::State::coil_write_allowed(const std::uint8_t* pdu) const {
     return true;
 }
 
-bool ModbusServer::State::answer(Client& c, const std::uint8_t* frame, std::size_t size) {
-    if (frame[6] != config.unit_id) return true;  // another unit's request: not ours to answer
-    const std::uint8_t* pdu = frame + kMbapBytes;
-    const std::size_t pdu_size = size - kMbapBytes;
+// An exception response built here, not by modbus_reply_exception, which adds 0x80 to a
+// function code in a byte: a request with a code of 0x80 or above (0x84) got a reply
+// with the code of another function (0x04) and a malformed body.
+static bool send_exception(int fd, const std::uint8_t* frame, std::uint8_t code) {
+    const std::uint8_t reply[9] = {
+        frame[0], frame[1], 0,        0,
+        0,        3,        frame[6], static_cast<std::uint8_t>(frame[kMbapBytes] | 0x80),
+        code};
+    return ::send(fd, reply, sizeof reply, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof reply);
+}
+
+// Why a request may not reach modbus_reply (the exception code), 0 when it may. libmodbus
+// answers a quantity or an address out of range itself, but first sleeps its response
+// timeout and flushes the socket, in this one server thread: every request is checked here
+// so that it never does (Modbus Application Protocol V1.1b3, 6.1-6.11: quantities 1..2000
+// bits, 1..125 registers, 1..1968 coils written).
+static std::uint8_t request_exception(const std::uint8_t* pdu, std::size_t pdu_size,
+                                      const modbus_mapping_t& mapping) {
     const int function = pdu[0];
-    modbus_set_socket(ctx, c.fd);
-    auto exception = [&](unsigned code) { return modbus_reply_exception(ctx, frame, code) >= 0; };
+    const auto within = [](int address, int count, int size) {
+        return address + count <= size ? 0 : MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
+    };
     switch (function) {
         case MODBUS_FC_READ_COILS:
         case MODBUS_FC_READ_DISCRETE_INPUTS:
-        case MODBUS_FC_READ_INPUT_REGISTERS:
-            if (pdu_size != 5) return exception(MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-            break;
+        case MODBUS_FC_READ_INPUT_REGISTERS: {
+            if (pdu_size != 5) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            const int address = be16(pdu + 1);
+            const int count = be16(pdu + 3);
+            const bool registers = function == MODBUS_FC_READ_INPUT_REGISTERS;
+            if (count < 1 || count > (registers ? MODBUS_MAX_READ_REGISTERS : MODBUS_MAX_READ_BITS))
+                return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            const int size = function == MODBUS_FC_READ_COILS ? mapping.nb_bits
+                             : registers                      ? mapping.nb_input_registers
+                                                              : mapping.nb_input_bits;
+            return static_cast<std::uint8_t>(within(address, count, size));
+        }
+        case MODBUS_FC_WRITE_SINGLE_COIL: {
+            if (pdu_size != 5) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            const int value = be16(pdu + 3);
+            if (value != 0xFF00 && value != 0x0000) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            return static_cast<std::uint8_t>(within(be16(pdu + 1), 1, mapping.nb_bits));
+        }
+        case MODBUS_FC_WRITE_MULTIPLE_COILS: {
+            if (pdu_size < 6 || pdu_size != 6u + pdu[5]) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            const int count = be16(pdu + 3);
+            if (count < 1 || count > MODBUS_MAX_WRITE_BITS || pdu[5] != (count + 7) / 8)
+                return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+            return static_cast<std::uint8_t>(within(be16(pdu + 1), count, mapping.nb_bits));
+        }
         case MODBUS_FC_READ_HOLDING_REGISTERS:
         case MODBUS_FC_WRITE_SINGLE_REGISTER:
         case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
         case MODBUS_FC_WRITE_AND_READ_REGISTERS:
         case MODBUS_FC_MASK_WRITE_REGISTER:
-            return exception(MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);  // no holding registers
-        case MODBUS_FC_WRITE_SINGLE_COIL:
-        case MODBUS_FC_WRITE_MULTIPLE_COILS: {
-            const bool single = function == MODBUS_FC_WRITE_SINGLE_COIL;
-            if (single ? pdu_size != 5 : (pdu_size < 6 || pdu_size != 6u + pdu[5])) {
-                return exception(MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-            }
-            if (!single && pdu[5] != (be16(pdu + 3) + 7) / 8) {
-                return exception(MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-            }
-            if (!config.writable_coils || !coil_write_allowed(pdu)) {
-                return exception(MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-            }
-            break;
-        }
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;  // no holding registers
         default:
-            return exception(MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+            return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
+    }
+}
+
+bool ModbusServer::State::answer(Client& c, const std::uint8_t* frame, std::size_t size) {
+    if (frame[6] != config.unit_id) return true;  // another unit's request: not ours to answer
+    const std::uint8_t* pdu = frame + kMbapBytes;
+    const int function = pdu[0];
+    if (const std::uint8_t code = request_exception(pdu, size - kMbapBytes, *mapping)) {
+        return send_exception(c.fd, frame, code);
+    }
+    const bool coil_write =
+        function == MODBUS_FC_WRITE_SINGLE_COIL || function == MODBUS_FC_WRITE_MULTIPLE_COILS;
+    if (coil_write && (!config.writable_coils || !coil_write_allowed(pdu))) {
+        return send_exception(c.fd, frame, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
     }
     set_heartbeat();
+    modbus_set_socket(ctx, c.fd);
     if (modbus_reply(ctx, frame, static_cast<int>(size), mapping) < 0) return false;
-    if (function == MODBUS_FC_WRITE_SINGLE_COIL || function == MODBUS_FC_WRITE_MULTIPLE_COILS) {
+    if (coil_write) {
         // Self-resetting: each coil written to 1 is one acknowledge request, then reads 0.
         for (int i = 0; i < mapping->nb_bits; ++i) {
             if (mapping->tab_bits[i]) {
@@ -252,7 +294,7 @@ bool ModbusServer::State::answer(Client& c, const std::uint8_t* frame, std::size
                 if (!rule.empty()) {
                     spdlog::info("modbus: {} acknowledges {}", c.peer,
                                  rule == "*" ? std::string("every alarm") : "rule " + rule);
-                    acknowledge(rule);
+                    acknowledge(rule, c.peer);
                 }
             }
         }

@@ -15,9 +15,11 @@ namespace tlsmon {
 
 class ModbusServer {
   public:
-    // Called on the server thread for each acknowledge coil written to 1 ("*" = all); it
-    // must only hand the request on (the acknowledgement itself writes the database).
-    using AcknowledgeRequest = std::function<void(const std::string& rule)>;
+    // Called on the server thread for each acknowledge coil written to 1 ("*" = all), with
+    // the client's address and port ("192.0.2.7:50122"); it must only hand the request on
+    // (the acknowledgement itself writes the database).
+    using AcknowledgeRequest =
+        std::function<void(const std::string& rule, const std::string& client)>;
 
     // Listens on config.address:port at once; Error naming the address when it cannot.
     ModbusServer(const ModbusConfig& config, AcknowledgeRequest acknowledge);

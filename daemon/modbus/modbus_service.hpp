@@ -18,8 +18,10 @@ class EpochDatabase;
 
 class ModbusService {
   public:
-    // Acknowledges `rule` ("*" = all) on behalf of SCADA; returns the rules changed.
-    using Acknowledge = std::function<int(EpochDatabase&, const std::string& rule, UtcSeconds now)>;
+    // Acknowledges `rule` ("*" = all) on behalf of the SCADA client at `client` (address and
+    // port); returns the rules changed.
+    using Acknowledge = std::function<int(EpochDatabase&, const std::string& rule,
+                                          const std::string& client, UtcSeconds now)>;
 
     // Starts listening at once (Error when it cannot).
     ModbusService(const ModbusConfig& config, const std::filesystem::path& database,
@@ -30,6 +32,9 @@ class ModbusService {
 
     // An epoch was committed: rebuild the registers now.
     void epoch_committed();
+    // The daemon's own view of the disk (kept here, in memory: with the disk full nothing
+    // about it can be stored): the status bit and the system fault follow it.
+    void set_disk_full(bool full);
 
   private:
     struct State;

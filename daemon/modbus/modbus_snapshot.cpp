@@ -103,7 +103,8 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
             }
             v.rate = slope_per_day(window);
             if (const auto reg = db.registrations().of_epoch(last.epoch)) {
-                v.registration_degraded = !reg->accepted;
+                v.unregistered = reg->method == kUnregistered;
+                v.registration_degraded = !reg->accepted && !v.unregistered;
             }
             s.values.push_back(v);
         }

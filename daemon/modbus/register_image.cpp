@@ -43,6 +43,7 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
     if (s.last_epoch_failed) status |= kStatusLastEpochFailed;
     if (s.stale) status |= kStatusStale;
     if (any_alarm) status |= kStatusAnyAlarm;
+    if (s.disk_full) status |= kStatusDiskFull;
     r.at(kRegMapVersion) = kModbusMapVersion;
     r.at(kRegStatus) = status;
     put(r, kRegLastEpochTime, u32_words(s.last_epoch_time, order));
@@ -69,6 +70,7 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
         if (v.stale) quality |= kQualityStale;
         if (v.value && !v.significant) quality |= kQualityBelowLod;
         if (v.registration_degraded) quality |= kQualityRegistrationDegraded;
+        if (v.unregistered) quality |= kQualityUnregistered;
         r.at(static_cast<std::size_t>(b + kOffQuality)) = quality;
     }
     // Each zone quantity shows the highest level among the rules watching it, and that rule's
@@ -100,7 +102,8 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
     }
     img.discrete_inputs.at(kBitAnyAlarm) = any_alarm ? 1 : 0;
     img.discrete_inputs.at(kBitAnyUnacknowledged) = any_unack ? 1 : 0;
-    img.discrete_inputs.at(kBitSystemFault) = (!s.database_ok || s.last_epoch_failed) ? 1 : 0;
+    img.discrete_inputs.at(kBitSystemFault) =
+        (!s.database_ok || s.last_epoch_failed || s.disk_full) ? 1 : 0;
     img.coil_rules.at(kCoilAcknowledgeAll) = "*";
     for (const auto& rule : inputs.rules) {
         const auto c = static_cast<std::size_t>(kCoilRuleBase + rule.slot);

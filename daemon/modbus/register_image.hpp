@@ -22,6 +22,7 @@ struct ZoneValue {
     bool stale = false;
     bool significant = false;
     bool registration_degraded = false;
+    bool unregistered = false;  // no registration took the epoch to the reference's frame
 };
 
 struct RuleStatus {
@@ -38,6 +39,7 @@ struct ModbusSnapshot {
     bool backlog = false;
     bool last_epoch_failed = false;
     bool stale = false;
+    bool disk_full = false;  // the daemon's own view (ModbusService::set_disk_full)
     std::uint32_t last_epoch_time = 0;
     std::uint32_t epochs_processed = 0;
     std::vector<ZoneValue> values;

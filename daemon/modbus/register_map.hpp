@@ -47,12 +47,16 @@ inline constexpr std::uint16_t kStatusBacklog = 1u << 2;
 inline constexpr std::uint16_t kStatusLastEpochFailed = 1u << 3;
 inline constexpr std::uint16_t kStatusStale = 1u << 4;
 inline constexpr std::uint16_t kStatusAnyAlarm = 1u << 5;
+inline constexpr std::uint16_t kStatusDiskFull = 1u << 6;  // writes fail: nothing is stored
 
 // Quality word bits of a zone value.
 inline constexpr std::uint16_t kQualityValid = 1u << 0;
 inline constexpr std::uint16_t kQualityStale = 1u << 1;
 inline constexpr std::uint16_t kQualityBelowLod = 1u << 2;
 inline constexpr std::uint16_t kQualityRegistrationDegraded = 1u << 3;
+// The epoch was not registered (no targets, no ICP): its value mixes the scanner's own
+// movement into the structure's, and alarm rules do not take it (docs/alarms.md).
+inline constexpr std::uint16_t kQualityUnregistered = 1u << 4;
 
 // ISA-18.2 state codes (register ".isa_state") and alarm level codes (".alarm_level").
 std::uint16_t isa_state_code(const std::string& state);    // "normal" 0 .. "out_of_service" 5

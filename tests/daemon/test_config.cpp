@@ -110,13 +110,33 @@ TEST(Config, StringListsAreChecked) {
 TEST(Config, CrossFieldRules) {
     std::string e = error_of("[paths]\ningest = \"/d/in\"\narchive = \"/d/in\"\n");
     EXPECT_NE(e.find("key 'paths.archive'"), std::string::npos) << e;
-    EXPECT_NE(e.find("must differ"), std::string::npos) << e;
+    EXPECT_NE(e.find("must be apart"), std::string::npos) << e;
     e = error_of("[ingest]\nstable_seconds = 60\nmax_growing = 30\n");
     EXPECT_NE(e.find("key 'ingest.max_growing'"), std::string::npos) << e;
     e = error_of("[ingest]\nretry_initial = 60\nretry_max = 30\n");
     EXPECT_NE(e.find("key 'ingest.retry_max'"), std::string::npos) << e;
     e = error_of("[ingest]\nreference_epoch = \"a/b.ptx\"\n");
     EXPECT_NE(e.find("key 'ingest.reference_epoch'"), std::string::npos) << e;
+}
+
+// The folders compared as folders, not as text: "ingest/" is "ingest", and a folder inside
+// another is refused (a scan archived into the ingest folder is taken again and removed as
+// a duplicate of itself).
+TEST(Config, FoldersMustBeApartWhateverTheirSpelling) {
+    std::string e = error_of("[paths]\ningest = \"ingest/\"\narchive = \"ingest\"\n");
+    EXPECT_NE(e.find("key 'paths.archive'"), std::string::npos) << e;
+    EXPECT_NE(e.find("/srv/tlsmon/ingest is the folder of paths.ingest"), std::string::npos) << e;
+    e = error_of("[paths]\ningest = \"./in/../ingest\"\narchive = \"ingest//done\"\n");
+    EXPECT_NE(e.find("lies inside paths.ingest"), std::string::npos) << e;
+    e = error_of("[paths]\ningest = \"data/ingest\"\nquarantine = \"data\"\n");
+    EXPECT_NE(e.find("key 'paths.quarantine'"), std::string::npos) << e;
+    EXPECT_NE(e.find("holds paths.ingest"), std::string::npos) << e;
+    e = error_of("[paths]\ndatabase = \"archive/db/t.sqlite\"\n");
+    EXPECT_NE(e.find("key 'paths.database'"), std::string::npos) << e;
+    EXPECT_NE(e.find("lies in paths.archive"), std::string::npos) << e;
+    // The default layout: the database's folder holds the three folders.
+    EXPECT_EQ(error_of("[paths]\ningest = \"ingest/\"\narchive = \"archive/\"\n"), "");
+    EXPECT_EQ(parse("[paths]\ningest = \"ingest/\"\n").paths.ingest, "/srv/tlsmon/ingest");
 }
 
 TEST(Config, ZonesAreValidated) {

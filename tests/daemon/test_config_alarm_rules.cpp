@@ -51,7 +51,7 @@ TEST(ConfigAlarmRules, ReadsEveryKey) {
 
 TEST(ConfigAlarmRules, MistakesNameTheKey) {
     const std::string head =
-        "[[alarm.rule]]\nname = \"r\"\nzone = \"pier P3 top\"\nquantity = \"q\"\n";
+        "[[alarm.rule]]\nname = \"r\"\nzone = \"pier P3 top\"\nquantity = \"m3c2_median_m\"\n";
     EXPECT_NE(error_of("[[alarm.rule]]\nname = \"r\"\n").find("key 'alarm.rule[0].zone'"),
               std::string::npos);
     EXPECT_NE(error_of(head + "alert = { high = 0.01, deadband = -1 }\n")
@@ -65,7 +65,8 @@ TEST(ConfigAlarmRules, MistakesNameTheKey) {
     EXPECT_NE(order.find("alert.high must be above warning.high"), std::string::npos) << order;
     EXPECT_NE(error_of(head).find("needs at least one of"), std::string::npos);
     const auto zone = error_of(
-        "[[alarm.rule]]\nname = \"r\"\nzone = \"P4\"\nquantity = \"q\"\nalarm = { high = 1 }\n");
+        "[[alarm.rule]]\nname = \"r\"\nzone = \"P4\"\nquantity = \"m3c2_median_m\"\n"
+        "alarm = { high = 1 }\n");
     EXPECT_NE(zone.find("no [[zone]] named 'P4' (zones: pier P3 top)"), std::string::npos) << zone;
     EXPECT_NE(error_of(head + "alarm = { high = 1 }\n" + head + "alarm = { high = 1 }\n")
                   .find("rule 'r' is defined twice"),
@@ -80,6 +81,38 @@ TEST(ConfigAlarmRules, MistakesNameTheKey) {
     // The line of the rule is named.
     EXPECT_NE(error_of(head + "alarm = { high = 1, low = 2 }\n").find("site.toml:"),
               std::string::npos);
+}
+
+// A misspelt quantity was accepted and the rule never fired: it must name what a configured
+// stage writes, and the error lists those.
+TEST(ConfigAlarmRules, QuantityMustBeOneAConfiguredStageWrites) {
+    const std::string rule =
+        "[[alarm.rule]]\nname = \"r\"\nzone = \"pier P3 top\"\nalarm = { high = 1 }\n";
+    auto e = error_of(rule + "quantity = \"m3c2_medain_m\"\n");
+    EXPECT_NE(e.find("key 'alarm.rule[0].quantity'"), std::string::npos) << e;
+    EXPECT_NE(e.find("no configured stage produces 'm3c2_medain_m'"), std::string::npos) << e;
+    EXPECT_NE(e.find("m3c2_median_m"), std::string::npos) << e;
+    EXPECT_NE(e.find("keypoint_along_surface_h_m"), std::string::npos) << e;
+    // A stage switched off produces nothing.
+    e = error_of("[keypoints]\nenabled = false\n" + rule + "quantity = \"keypoint_dz_m\"\n");
+    EXPECT_NE(e.find("no configured stage produces 'keypoint_dz_m'"), std::string::npos) << e;
+    EXPECT_EQ(e.find("keypoint_dx_m"), std::string::npos) << e;
+    EXPECT_EQ(parse(rule + "quantity = \"keypoint_dz_m\"\n").alarm.rules.at(0).quantity,
+              "keypoint_dz_m");
+    // The Modbus registers' quantities likewise (NaN for ever otherwise).
+    e = error_of("[modbus]\nquantities = [\"m3c2_median\"]\n");
+    EXPECT_NE(e.find("key 'modbus.quantities'"), std::string::npos) << e;
+    EXPECT_NE(e.find("no stage produces 'm3c2_median'"), std::string::npos) << e;
+}
+
+// A rule takes unregistered epochs only when it says so.
+TEST(ConfigAlarmRules, EvaluateUnregisteredIsOffUnlessSet) {
+    const std::string rule =
+        "[[alarm.rule]]\nname = \"r\"\nzone = \"pier P3 top\"\nquantity = \"m3c2_median_m\"\n"
+        "alarm = { high = 1 }\n";
+    EXPECT_FALSE(parse(rule).alarm.rules.at(0).evaluate_unregistered);
+    EXPECT_TRUE(
+        parse(rule + "evaluate_unregistered = true\n").alarm.rules.at(0).evaluate_unregistered);
 }
 
 }  // namespace

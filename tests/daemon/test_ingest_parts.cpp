@@ -1,6 +1,7 @@
 // The small pieces of ingest with known answers: scan names, acquisition time from a file
 // name, SHA-256 (FIPS 180-4 test vectors), free names in the archive.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -124,6 +125,13 @@ TEST(IngestParts, WatcherAfterQueueOverflowTakesAFileWhoseCloseWasLost) {
     EXPECT_EQ(complete[0], d / "scan.ptx");
 }
 
+std::vector<fs::path> paths_of(const std::vector<NotAFile>& entries) {
+    std::vector<fs::path> paths;
+    for (const auto& e : entries) paths.push_back(e.path);
+    std::sort(paths.begin(), paths.end());
+    return paths;
+}
+
 // A symbolic link is never a candidate (never polled, never handed out); it is reported
 // once, and again only when the link is replaced.
 TEST(IngestParts, WatcherReportsSymlinksOnceAndNeverTracksThem) {
@@ -141,16 +149,45 @@ TEST(IngestParts, WatcherReportsSymlinksOnceAndNeverTracksThem) {
     EXPECT_TRUE(watcher.take_complete(now + std::chrono::seconds(1), growing).empty());
     EXPECT_FALSE(watcher.has_candidates());
     EXPECT_EQ(watcher.until_next_check(now), std::chrono::hours(1));
-    auto links = watcher.take_symlinks();
-    std::sort(links.begin(), links.end());
-    EXPECT_EQ(links, (std::vector<fs::path>{d / "etc.ptx", d / "link.ptx"}));
+    EXPECT_EQ(paths_of(watcher.take_not_files()),
+              (std::vector<fs::path>{d / "etc.ptx", d / "link.ptx"}));
     watcher.rescan(now + std::chrono::seconds(2));
-    EXPECT_TRUE(watcher.take_symlinks().empty()) << "reported once";
+    EXPECT_TRUE(watcher.take_not_files().empty()) << "reported once";
     fs::remove(d / "link.ptx");
     fs::create_symlink("/etc/passwd", d / "link.ptx");
     watcher.read_events(now + std::chrono::seconds(3));
     watcher.rescan(now + std::chrono::seconds(3));
-    EXPECT_EQ(watcher.take_symlinks(), std::vector<fs::path>{d / "link.ptx"});
+    const auto again = watcher.take_not_files();
+    ASSERT_EQ(again.size(), 1u);
+    EXPECT_EQ(again[0].path, d / "link.ptx");
+    EXPECT_EQ(again[0].kind, "symbolic link");
+}
+
+// A FIFO or a folder with a scan's name was ignored without a word: each is reported once,
+// by what it is, and never tracked (reading a FIFO would block the daemon).
+TEST(IngestParts, WatcherReportsFifosAndFoldersOnceAndNeverTracksThem) {
+    const test::TempDir d;
+    IngestConfig config;
+    config.stable_seconds = 0;
+    FolderWatcher watcher(d.path(), config);
+    ASSERT_EQ(::mkfifo((d / "pipe.ptx").c_str(), 0600), 0);
+    fs::create_directory(d / "folder.ptx");
+    const auto now = std::chrono::steady_clock::now();
+    watcher.read_events(now);
+    watcher.rescan(now);
+    std::vector<GrowingFile> growing;
+    EXPECT_TRUE(watcher.take_complete(now + std::chrono::seconds(1), growing).empty());
+    EXPECT_FALSE(watcher.has_candidates());
+    auto entries = watcher.take_not_files();
+    std::sort(entries.begin(), entries.end(),
+              [](const NotAFile& a, const NotAFile& b) { return a.path < b.path; });
+    ASSERT_EQ(entries.size(), 2u);
+    EXPECT_EQ(entries[0].path, d / "folder.ptx");
+    EXPECT_EQ(entries[0].kind, "folder");
+    EXPECT_EQ(entries[1].path, d / "pipe.ptx");
+    EXPECT_EQ(entries[1].kind, "FIFO (named pipe)");
+    watcher.rescan(now + std::chrono::seconds(2));
+    EXPECT_TRUE(watcher.take_not_files().empty()) << "reported once";
 }
 
 // Files are opened without following a symbolic link: the hash never reads the target.

@@ -3,11 +3,17 @@
 // files and a real SQLite database.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <ctime>
+#include <fstream>
+
 #include "daemon/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon_harness.hpp"
+#include "pipeline/epoch_meteo.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace tlsmon::test {
 namespace {
@@ -91,6 +97,108 @@ TEST(PipelineFiles, FileReplacedUnderTheSameNameWhilePendingIsTwoEpochs) {
     EXPECT_EQ(b->point_count, 4) << "the second content's points, in its own epoch";
     ASSERT_TRUE(b->archive_path);
     EXPECT_EQ(read_file(*b->archive_path), read_file(second));
+}
+
+// After a restart the files still queued in the ingest folder are known by path, size and
+// modification time, not read and hashed again (20 files took 5-10 s before anything was
+// processed). Shown by changing the bytes behind the daemon's back, size and time kept: the
+// file is not read, so it stays the queued epoch; the pipeline's own sha256 check catches
+// such a change when it reads the file.
+TEST(PipelineFiles, QueuedFileUnchangedSinceItWasRecordedIsNotReadAgain) {
+    PipelineSite s;
+    const fs::path scan = s.site.ingest() / "small_20260601T060000Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", scan);
+    const auto written = fs::file_time_type::clock::now() - std::chrono::hours(1);
+    fs::last_write_time(scan, written);
+    EpochId first = 0;
+    ASSERT_EQ(ingest_file(s.ctx, scan, &first), IngestOutcome::new_epoch);
+    std::string bytes = read_file(scan);
+    bytes[bytes.size() - 2] = bytes[bytes.size() - 2] == '1' ? '2' : '1';
+    write_text(scan, bytes);
+    fs::last_write_time(scan, written);
+    EpochId again = 0;
+    EXPECT_EQ(ingest_file(s.ctx, scan, &again), IngestOutcome::known);
+    EXPECT_EQ(again, first);
+    EXPECT_EQ(s.db.epochs().pending().size(), 1u) << "not hashed: no epoch for the new bytes";
+    // Modified after it was recorded: read and hashed, a new epoch.
+    fs::last_write_time(scan, fs::file_time_type::clock::now() + std::chrono::seconds(5));
+    EXPECT_EQ(ingest_file(s.ctx, scan), IngestOutcome::new_epoch);
+    EXPECT_EQ(s.db.epochs().pending().size(), 2u);
+}
+
+// A scan dated in the future (a scanner clock or a name gone wrong) would leave every later
+// epoch "late" for the alarm rules: it is quarantined with the reason, never an epoch.
+TEST(PipelineFiles, ScanAcquiredBeyondTheClockToleranceIsQuarantined) {
+    PipelineSite s;
+    const fs::path future = s.site.ingest() / "pier_20300101T000000Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", future);
+    EXPECT_EQ(ingest_file(s.ctx, future), IngestOutcome::quarantined);
+    EXPECT_TRUE(s.db.series().epochs_in_range({}).empty());
+    EXPECT_FALSE(fs::exists(future));
+    std::string reason;
+    for (const auto& f : fs::directory_iterator(s.config.paths.quarantine)) {
+        if (f.path().string().ends_with(".reason.txt")) reason = read_file(f.path());
+    }
+    EXPECT_NE(reason.find("acquired 2030-01-01T00:00:00Z (from file_name)"), std::string::npos)
+        << reason;
+    EXPECT_NE(reason.find("ingest.max_clock_ahead = 3600 s"), std::string::npos) << reason;
+    // Within the tolerance: an epoch.
+    const auto soon = std::chrono::system_clock::now() + std::chrono::minutes(30);
+    const std::time_t t = std::chrono::system_clock::to_time_t(soon);
+    char name[64];
+    std::strftime(name, sizeof name, "pier_%Y%m%dT%H%M%SZ.ptx", std::gmtime(&t));
+    fs::copy_file(kData / "ptx/complex-transform.ptx", s.site.ingest() / name);
+    EXPECT_EQ(ingest_file(s.ctx, s.site.ingest() / name), IngestOutcome::new_epoch);
+}
+
+// A file larger than ingest.max_file_size (a 64 GiB sparse file renamed into the folder
+// gave std::bad_alloc and blocked the queue) is quarantined unread, with the reason.
+TEST(PipelineFiles, FileLargerThanTheLimitIsQuarantinedUnread) {
+    PipelineSite s;
+    const fs::path huge = s.site.ingest() / "huge.ptx";
+    { std::ofstream(huge).put('1'); }
+    fs::resize_file(huge, std::uint64_t{64} << 30);  // sparse: no disk taken
+    EXPECT_EQ(ingest_file(s.ctx, huge), IngestOutcome::quarantined);
+    EXPECT_FALSE(fs::exists(huge));
+    std::string reason;
+    for (const auto& f : fs::directory_iterator(s.config.paths.quarantine)) {
+        if (f.path().string().ends_with(".reason.txt")) reason = read_file(f.path());
+        if (f.path().filename() == "huge.ptx") fs::remove(f.path());
+    }
+    EXPECT_NE(reason.find("the file is 64.00 GiB (68719476736 bytes), larger than "
+                          "ingest.max_file_size = 16.00 GiB; not read"),
+              std::string::npos)
+        << reason;
+    bool event = false;
+    for (const auto& e : s.db.series().events({}, std::string("quarantine"))) {
+        event = event || e.message.find("huge.ptx: the file is 64.00 GiB") != std::string::npos;
+    }
+    EXPECT_TRUE(event);
+    EXPECT_TRUE(s.db.series().epochs_in_range({}).empty());
+}
+
+// The same for a file under a meteo sidecar's name: refused by its size, never read whole
+// (in the pipeline a std::bad_alloc was taken for a database error and retried for ever).
+TEST(PipelineFiles, HugeMeteoSidecarIsRejectedUnread) {
+    PipelineSite s;
+    const fs::path scan = s.site.ingest() / "small_20260601T060000Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", scan);
+    ASSERT_EQ(ingest_file(s.ctx, scan), IngestOutcome::new_epoch);
+    const fs::path sidecar = s.site.ingest() / "small_20260601T060000Z.meteo.csv";
+    { std::ofstream(sidecar).put('#'); }
+    fs::resize_file(sidecar, std::uint64_t{8} << 30);
+    const Epoch epoch = s.db.epochs().pending().at(0);
+    const auto m = read_epoch_meteo(sidecar, epoch, s.config.meteo);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->outcome, MeteoOutcome::rejected);
+    EXPECT_NE(m->reason.find("8589934592 bytes, more than a meteo sidecar holds"),
+              std::string::npos)
+        << m->reason;
+    EXPECT_EQ(process_epoch(s.pipeline_ctx, epoch, nullptr, sidecar), EpochOutcome::done);
+    EXPECT_FALSE(fs::exists(sidecar)) << "quarantined with its reason";
+    for (const auto& f : fs::directory_iterator(s.config.paths.quarantine)) {
+        if (f.path().extension() == ".csv") fs::remove(f.path());
+    }
 }
 
 TEST(PipelineFiles, FileRenamedWhilePendingKeepsItsEpoch) {

@@ -3,6 +3,8 @@
 // acknowledges it (event by "CLI"), shelving suppresses it and unshelving annunciates the
 // standing alarm afresh.
 #include <gtest/gtest.h>
+#include <pwd.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -100,8 +102,9 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(events[0]["actor"], "rule");
     EXPECT_EQ(events[0]["time"], "2026-03-01T12:00:00Z");
     EXPECT_EQ(events[1]["kind"], "ack");
-    EXPECT_EQ(events[1]["actor"], "CLI");
-    EXPECT_EQ(events[1]["message"], "unack -> ack by CLI");
+    const std::string user = "user " + std::string(::getpwuid(::getuid())->pw_name);
+    EXPECT_EQ(events[1]["actor"], "CLI " + user);
+    EXPECT_EQ(events[1]["message"], "unack -> ack by CLI (" + user + ")");
     EXPECT_EQ(events[2]["kind"], "shelve");
     EXPECT_EQ(events[3]["kind"], "unshelve");
 }
@@ -131,7 +134,8 @@ TEST(AlarmsCommand, DaemonEndsAShelveAtItsExpiryAndOutOfServiceHolds) {
     EXPECT_EQ(expired.state, "unack");  // the 12 mm condition still stands
     EXPECT_GE(expired.since, until);
     EXPECT_LE(noticed, until + 3);  // within the status interval (1 s) and the poll
-    const auto history = test::shell(tlsmon("alarms history --format csv --rule 'P3 settlement'" + db));
+    const auto history =
+        test::shell(tlsmon("alarms history --format csv --rule 'P3 settlement'" + db));
     EXPECT_NE(history.output.find(",shelve_expired,"), std::string::npos) << history.output;
     // The stale alarm stood while out of service but was not annunciated; in service: it is.
     EXPECT_EQ(state_of(site, "system.stale").state, "out_of_service");

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "daemon_harness.hpp"
+#include "tests/support/text_file.hpp"
 
 namespace tlsmon::test {
 namespace {
@@ -43,6 +44,35 @@ TEST(CheckConfigCommand, LogFileRotatesAndHonoursTheLevel) {
     EXPECT_NE((read_file(site.root / "log/tlsmon.1.log") + read_file(site.root / "log/tlsmon.log"))
                   .find("logging.level = \"debug\""),
               std::string::npos);
+}
+
+// Two paths that are one folder on disk (a symbolic link): refused by check-config and by
+// run before anything is read, moved or deleted.
+TEST(CheckConfigCommand, FoldersThatAreOneOnDiskAreRefusedBeforeAnyFileIsTouched) {
+    TempDir dir("folderalias");
+    fs::create_directories(dir.path() / "ingest");
+    fs::create_directory_symlink(dir.path() / "ingest", dir.path() / "done");
+    for (int i = 0; i < 3; ++i) {
+        write_text(dir.path() / "ingest" / ("scan" + std::to_string(i) + ".xyz"), "1 2 3\n");
+    }
+    const fs::path config = dir.path() / "site.toml";
+    write_text(config,
+               "[paths]\ningest = \"ingest/\"\narchive = \"done\"\n"
+               "quarantine = \"q\"\ndatabase = \"db/t.sqlite\"\n"
+               "[ingest]\nstable_seconds = \"100ms\"\n");
+    auto r = shell(std::string(TLSMON_BINARY) + " check-config " + config.string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("paths.archive: " + (dir.path() / "done").string() +
+                            " is the folder of paths.ingest"),
+              std::string::npos)
+        << r.output;
+    r = shell(std::string(TLSMON_BINARY) + " run --once --config " + config.string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("paths.archive"), std::string::npos) << r.output;
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(fs::exists(dir.path() / "ingest" / ("scan" + std::to_string(i) + ".xyz")));
+    }
+    EXPECT_FALSE(fs::exists(dir.path() / "db"));
 }
 
 // `tlsmon check-config` as user `nobody` when the tests run as root, who may read and
@@ -89,6 +119,50 @@ TEST(CheckConfigCommand, IngestPathThatIsAFileIsRejected) {
 TEST(CheckConfigCommand, LogFileThatCannotBeOpenedIsRejected) {
     Site site("logfolder", "[logging]\nfile = \"ingest\"\n");
     expect_both_reject(site, "logging.file: " + site.ingest().string() + " is a folder");
+}
+
+// A database that passed check-config and then failed `run`: a file that is no SQLite
+// database, and a database whose -wal and -shm files were left by a run as root, which
+// the service's user cannot open.
+TEST(CheckConfigCommand, DatabaseThatRunCannotOpenIsRejected) {
+    Site site("notadb");
+    fs::create_directories(site.database().parent_path());
+    std::ofstream(site.database()) << "notes of the last survey\n";
+    expect_both_reject(
+        site, "paths.database: " + site.database().string() + " is not an SQLite database");
+    fs::remove(site.database());
+    ASSERT_EQ(shell("sqlite3 " + site.database().string() + " 'CREATE TABLE t (x)'").status, 0);
+    std::ofstream(site.database().string() + "-shm") << std::string(32768, '\0');
+    if (::getuid() == 0) {
+        ASSERT_EQ(shell("chown -R 65534:65534 " + site.root.string()).status, 0);
+        ASSERT_EQ(::chown((site.database().string() + "-shm").c_str(), 0, 0), 0);
+    }
+    ::chmod((site.database().string() + "-shm").c_str(), 0644);
+    const auto r = check_config_as_nobody(site.config());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("paths.database: " + site.database().string() +
+                            "-shm: cannot open the database's shm file for writing: "
+                            "Permission denied"),
+              std::string::npos)
+        << r.output;
+}
+
+// A log file in a folder that does not exist is said like the other folders (check-config
+// warns, `run` creates it and logs there).
+TEST(CheckConfigCommand, LogFileInAMissingFolderIsSaidAndCreatedByRun) {
+    Site site("logmissing", "[logging]\nfile = \"logs/today/tlsmon.log\"\n");
+    const auto check =
+        shell(std::string(TLSMON_BINARY) + " check-config " + site.config().string());
+    EXPECT_EQ(check.status, 0) << check.output;
+    EXPECT_NE(check.output.find("warning: logging.file: " + (site.root / "logs/today").string() +
+                                " does not exist; tlsmon run will create it"),
+              std::string::npos)
+        << check.output;
+    EXPECT_FALSE(fs::exists(site.root / "logs"));
+    DaemonProcess run(site.config(), site.log(), true);
+    EXPECT_EQ(run.wait(30), 0) << read_file(site.log());
+    EXPECT_NE(read_file(site.root / "logs/today/tlsmon.log").find("tlsmon started"),
+              std::string::npos);
 }
 
 TEST(CheckConfigCommand, DatabaseFolderNotWritableIsRejected) {

@@ -268,6 +268,41 @@ TEST(DaemonIngest, SighupReloadsAndKeepsOldConfigWhenInvalid) {
     EXPECT_EQ(daemon.wait(5), 0);
 }
 
+// An empty file on SIGHUP was accepted and silently dropped every zone, rule and target.
+// A reload that removes some says so, one event each; one that removes every one of a
+// kind is refused (a restart applies it on purpose).
+TEST(DaemonIngest, SighupThatRemovesZonesSaysSoAndAnEmptyFileIsRefused) {
+    const std::string zones =
+        "[[zone]]\nname = \"pier\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+        "[[zone]]\nname = \"deck\"\nmin = [0, 0, 2]\nmax = [1, 1, 3]\n";
+    Site site("reloadzones", zones);
+    DaemonProcess daemon(site.config(), site.log());
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 10));
+    const std::string full = read_file(site.config());
+    std::ofstream(site.config()) << "";
+    daemon.signal(SIGHUP);
+    ASSERT_TRUE(wait_until([&] { return has_event(site, "config_reload", "reload refused"); }, 10))
+        << read_file(site.log());
+    EXPECT_TRUE(has_event(site, "config_reload",
+                          "it has no [[zone]] table, and the running "
+                          "configuration has 2"));
+    EXPECT_TRUE(has_event(site, "config_reload", "restart tlsmon to apply"));
+    EXPECT_FALSE(has_event(site, "config_reload", "configuration reloaded"));
+    // One zone fewer: applied, and said.
+    std::string one = full;
+    one.erase(one.find("[[zone]]\nname = \"deck\""));
+    std::ofstream(site.config()) << one << "\n[meteo]\nwait_seconds = 0\n";
+    daemon.signal(SIGHUP);
+    ASSERT_TRUE(
+        wait_until([&] { return has_event(site, "config_reload", "configuration reloaded"); }, 10))
+        << read_file(site.log());
+    EXPECT_TRUE(has_event(site, "config_reload", "reload removes zone 'deck'"));
+    EXPECT_FALSE(has_event(site, "config_reload", "reload removes zone 'pier'"));
+    EXPECT_TRUE(daemon.running());
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.wait(5), 0);
+}
+
 TEST(DaemonIngest, SighupToNewArchiveAndQuarantineFoldersCreatesThem) {
     Site site("newfolders");
     DaemonProcess daemon(site.config(), site.log());
@@ -366,6 +401,9 @@ TEST(DaemonIngest, SymlinksAreNeverFollowedAndReportedOnce) {
     fs::create_symlink(outside, in / "small_20260601T060000Z.ptx");  // there before the start
     fs::create_symlink("/etc", in / "etc.ptx");                      // a folder
     fs::create_symlink(site.root / "missing.ptx", in / "dangling.ptx");
+    // Neither a link nor a file: a FIFO (reading it would block) and a folder.
+    ASSERT_EQ(::mkfifo((in / "pipe_20260601T060000Z.ptx").c_str(), 0600), 0);
+    fs::create_directory(in / "folder.ptx");
 
     DaemonProcess daemon(site.config(), site.log());
     ASSERT_TRUE(wait_until([&] { return has_event(site, "start", "tlsmon started"); }, 20))
@@ -396,6 +434,11 @@ TEST(DaemonIngest, SymlinksAreNeverFollowedAndReportedOnce) {
         EXPECT_EQ(count_events(site, "symlink", (in / link).string()), 1) << link;
     }
     EXPECT_EQ(read_file(outside), read_file(kData / "ptx/no-color.ptx"));
+    EXPECT_EQ(count_events(site, "not_a_file",
+                           (in / "pipe_20260601T060000Z.ptx").string() + " is a FIFO (named pipe)"),
+              1);
+    EXPECT_EQ(count_events(site, "not_a_file", (in / "folder.ptx").string() + " is a folder"), 1);
+    EXPECT_TRUE(fs::is_fifo(in / "pipe_20260601T060000Z.ptx"));
     EXPECT_FALSE(fs::exists(site.root / "quarantine/small_20260601T060000Z.ptx.reason.txt"));
     EXPECT_TRUE(!fs::exists(site.root / "quarantine") || fs::is_empty(site.root / "quarantine"));
 }
@@ -561,6 +604,23 @@ TEST(DaemonIngest, ControlCharactersInFileNamesAreEscapedInLogsAndReasonFiles) {
     EXPECT_EQ(text.find('\x1b'), std::string::npos) << text;
     EXPECT_NE(text.find("file: " + (site.ingest() / escaped).string() + "\n"), std::string::npos)
         << text;
+    // What the analyst reads: `tlsmon events` and `tlsmon query epochs`, table and CSV,
+    // escape them as the log does (JSON escapes its own).
+    for (const std::string command : {"events", "query epochs"}) {
+        for (const std::string format : {"table", "csv"}) {
+            const auto r = shell(std::string(TLSMON_BINARY) + " " + command + " --db " +
+                                 site.database().string() + " --format " + format);
+            ASSERT_EQ(r.status, 0) << r.output;
+            EXPECT_NE(r.output.find(escaped), std::string::npos) << command << " " << format;
+            for (const char c : {'\r', '\t', '\x1b', '\x7f'}) {
+                EXPECT_EQ(r.output.find(c), std::string::npos)
+                    << command << " " << format << ": byte " << int(c);
+            }
+            EXPECT_EQ(r.output.find("\n2026-06-01T06:00:00.000+0000 critical forged"),
+                      std::string::npos)
+                << command << " " << format;
+        }
+    }
 }
 
 TEST(DaemonIngest, BadConfigurationExitsWithTheKey) {

@@ -351,7 +351,8 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
                            "WHERE r.name = '" +
                                std::string(kStepRule) +
                                "' AND s.state = 'ack' AND EXISTS (SELECT 1 FROM alarm_events e "
-                               "WHERE e.rule_id = r.id AND e.kind = 'ack' AND e.actor = 'SCADA')")
+                               "WHERE e.rule_id = r.id AND e.kind = 'ack' AND e.actor LIKE 'SCADA "
+                               "modbus client 127.0.0.1:%')")
                            .size() == 1;
             },
             10))
@@ -649,13 +650,15 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
     {
         const auto series = [&](const std::string& zone, const std::string& quantity) {
             std::map<int, double> out;
-            for (const auto& r : sql(db, "SELECT r.epoch_id, r.value FROM zone_results r WHERE "
-                                         "r.zone_id = (SELECT id FROM zones WHERE name = '" +
-                                             zone +
-                                             "') AND r.quantity_id = (SELECT id FROM quantities "
-                                             "WHERE name = '" +
-                                             quantity + "')")) {
-                out[index_of.at(r.at("epoch_id").get<std::int64_t>())] = r.at("value").get<double>();
+            for (const auto& r : sql(db,
+                                     "SELECT r.epoch_id, r.value FROM zone_results r WHERE "
+                                     "r.zone_id = (SELECT id FROM zones WHERE name = '" +
+                                         zone +
+                                         "') AND r.quantity_id = (SELECT id FROM quantities "
+                                         "WHERE name = '" +
+                                         quantity + "')")) {
+                out[index_of.at(r.at("epoch_id").get<std::int64_t>())] =
+                    r.at("value").get<double>();
             }
             return out;
         };
@@ -707,7 +710,10 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
             EXPECT_FALSE(raised_at.has_value()) << "raised twice: " << e.dump();
             raised_at = index_of.at(e.at("epoch_id").get<std::int64_t>());
         } else if (e.at("kind") == "ack") {
-            EXPECT_EQ(e.at("actor"), "SCADA");
+            // Who acknowledged: the Modbus client's address, not only "SCADA".
+            EXPECT_EQ(e.at("actor").get<std::string>().rfind("SCADA modbus client 127.0.0.1:", 0),
+                      0u)
+                << e.dump();
             ++acks;
         } else {
             ADD_FAILURE() << "unexpected event " << e.dump();

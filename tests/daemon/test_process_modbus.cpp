@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <regex>
 
 #include "tests/daemon/daemon_harness.hpp"
@@ -14,6 +15,7 @@ namespace tlsmon {
 namespace {
 
 using test::DaemonProcess;
+using test::read_file;
 using test::shell;
 using test::wait_until;
 namespace fs = std::filesystem;
@@ -107,6 +109,29 @@ TEST(ModbusProcess, HeartbeatCountsSecondsAndTestFloatReads123456) {
     EXPECT_EQ(mbpoll(r.port, "-t 3 -r 0 -c 1").values, std::vector<double>{1});
 }
 
+// A port changed by SIGHUP was logged as reloaded and not applied: SCADA polled a port
+// that the file no longer named. The server now moves to the new port at the reload.
+TEST(ModbusProcess, PortChangedBySighupIsServedAtOnce) {
+    Running r("modbus_reload");
+    r.start();
+    const int moved = test::free_tcp_port();
+    std::string text = read_file(r.site.config());
+    const std::string old_port = "port = " + std::to_string(r.port);
+    text.replace(text.find(old_port), old_port.size(), "port = " + std::to_string(moved));
+    std::ofstream(r.site.config()) << text;
+    r.daemon->signal(SIGHUP);
+    ASSERT_TRUE(wait_until([&] { return mbpoll(moved, "-t 3 -r 0 -c 1").status == 0; }, 10))
+        << read_file(r.site.log());
+    EXPECT_EQ(mbpoll(moved, "-t 3:float -B -r 7 -c 1").values, std::vector<double>{123456.0});
+    EXPECT_NE(mbpoll(r.port, "-t 3 -r 0 -c 1").status, 0) << "the old port is closed";
+    bool said = false;
+    for (const auto& e : r.site.open_db().series().events({}, std::string("config_reload"))) {
+        said = said || e.message.find("Modbus server restarted on 127.0.0.1:" +
+                                      std::to_string(moved)) != std::string::npos;
+    }
+    EXPECT_TRUE(said);
+}
+
 TEST(ModbusProcess, CdabWordOrderReadsWithMbpollsDefault) {
     Running r("modbus_cdab", "CDAB");
     r.start();
@@ -181,7 +206,9 @@ TEST(ModbusProcess, AcknowledgeCoilLeavesAnAcknowledgementBySCADA) {
         }
         for (const auto& e : db.series().events({})) {
             if (e.rule == "foot tilts" && e.kind == "ack") {
-                event_by_scada = e.message.find("SCADA") != std::string::npos;
+                // Who: the SCADA client's address and port, not only "SCADA".
+                event_by_scada =
+                    e.message.find("by SCADA (modbus client 127.0.0.1:") != std::string::npos;
             }
         }
         return state_ack && event_by_scada;

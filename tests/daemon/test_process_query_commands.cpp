@@ -58,6 +58,12 @@ class QueryCommands : public ::testing::Test {
                                    i == 0 ? std::optional<double>() : std::optional<double>(0.0018),
                                    812 + i, i == 1},
                                   {"segment 7", "m3c2_mean_m", 0.0001, 0.002, 40, false}};
+                if (i == 1) {  // registered on targets; epoch 1 has no registration row
+                    r.registration = RegistrationRow{};
+                    r.registration->method = "targets";
+                    r.registration->status = "accepted";
+                    r.registration->accepted = true;
+                }
             } else {
                 r.outcome = EpochStatus::rejected;
                 r.reason = "registration RMS 12.0 mm > 5.0 mm";
@@ -85,9 +91,10 @@ TEST_F(QueryCommands, SeriesAsCsv) {
         run("query series --zone 'pier P3 top' --quantity m3c2_mean_m --format csv " + db());
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(lines(r.out), (std::vector<std::string>{
-                                "epoch,acquired,value,uncertainty,n,significant",
-                                "1,2026-03-01T12:00:00Z,-0.0012,,812,false",
-                                "2,2026-03-01T12:15:00Z,-0.0042,0.0018,813,true",
+                                "epoch,acquired,value,uncertainty,n,significant,quality,datum",
+                                "1,2026-03-01T12:00:00Z,-0.0012,,812,false,unregistered,"
+                                "unregistered",
+                                "2,2026-03-01T12:15:00Z,-0.0042,0.0018,813,true,accepted,targets",
                             }));
 }
 
@@ -120,7 +127,10 @@ TEST_F(QueryCommands, SeriesAsTable) {
     EXPECT_EQ(l[0].rfind("epoch  acquired", 0), 0u) << l[0];
     EXPECT_NE(l[2].find("2026-03-01T12:15:00Z  0.0001"), std::string::npos) << l[2];
     EXPECT_NE(l[2].find("0.002"), std::string::npos) << l[2];
-    EXPECT_EQ(l[1].size(), l[2].size());  // aligned columns
+    // Aligned columns, the last one (datum) included; quality and datum per epoch.
+    EXPECT_EQ(l[1].rfind("unregistered  unregistered"), l[0].rfind("quality"));
+    EXPECT_EQ(l[2].rfind("accepted"), l[0].rfind("quality")) << l[2];
+    EXPECT_EQ(l[2].rfind("targets"), l[0].rfind("datum")) << l[2];
 }
 
 TEST_F(QueryCommands, EpochsInAllFormats) {

@@ -5,14 +5,17 @@
 // narrowed to the targets' band of elevations and sampled at 0.01° so that its spheres and
 // boards are resolved (the preset's 0.1° is too coarse for them), the air off (a file read
 // alone carries no meteo). Rendered once for the whole suite.
+#include <SQLiteCpp/Database.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
-#include <SQLiteCpp/Database.h>
 
+#include "formats/ptx_writer.hpp"
+#include "formats/scan_file.hpp"
 #include "tests/daemon/daemon_harness.hpp"
 
 namespace tlsmon {
@@ -44,9 +47,12 @@ Truth read_truth(const fs::path& ptx) {
 std::array<double, 6> true_parameters(const Truth& t0, const Truth& ti) {
     const Eigen::Matrix4d M = t0.header_to_true.inverse() * ti.header_to_true;
     const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-    return {std::atan2(R(2, 1), R(2, 2)) * kArcsec, -std::asin(R(2, 0)) * kArcsec,
-            std::atan2(R(1, 0), R(0, 0)) * kArcsec, 1e3 * M(0, 3),
-            1e3 * M(1, 3), 1e3 * M(2, 3)};
+    return {std::atan2(R(2, 1), R(2, 2)) * kArcsec,
+            -std::asin(R(2, 0)) * kArcsec,
+            std::atan2(R(1, 0), R(0, 0)) * kArcsec,
+            1e3 * M(0, 3),
+            1e3 * M(1, 3),
+            1e3 * M(2, 3)};
 }
 
 std::string log_of(const test::Site& site) {
@@ -127,7 +133,8 @@ TEST_F(RegistrationCommands, RegisterPrintsTheTrueTransformWithinItsSigma) {
         Eigen::Matrix4d M;
         for (int a = 0; a < 4; ++a)
             for (int b = 0; b < 4; ++b) M(a, b) = j["matrix"][a][b].get<double>();
-        const Eigen::Matrix4d exact = t0.header_to_true.inverse() * read_truth(files_[i]).header_to_true;
+        const Eigen::Matrix4d exact =
+            t0.header_to_true.inverse() * read_truth(files_[i]).header_to_true;
         const Eigen::Vector4d p(10.0, 60.0, 45.0, 1.0);
         EXPECT_LT((M * p - exact * p).head<3>().norm(), 0.003) << "epoch " << i;
     }
@@ -271,8 +278,7 @@ TEST_F(RegistrationCommands, DaemonQueryRegistrationsAndTargetsResurvey) {
     for (const auto& t : targets) EXPECT_EQ(t["excluded"], "no") << t.dump();
     r = shell(bin + " events" + db + " --format json");
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("target T2 re-surveyed by J. Surveyor"), std::string::npos)
-        << r.output;
+    EXPECT_NE(r.output.find("target T2 re-surveyed by J. Surveyor"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("target_resurveyed"), std::string::npos) << r.output;
     // Twice: nothing left to clear.
     r = shell(bin + " targets resurvey T2" + db + " 2>&1");
@@ -281,6 +287,49 @@ TEST_F(RegistrationCommands, DaemonQueryRegistrationsAndTargetsResurvey) {
     r = shell(bin + " targets resurvey T2 2>&1");
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_NE(r.output.find("--db PATH or --config FILE"), std::string::npos) << r.output;
+}
+
+// The one-shot command registers as the stage does: with the ICP fallback on a stable
+// region and no target at all (it refused without targets, and never ran the ICP). The real
+// pump-room scan onto itself keeps its datum (the identity); moved by (2, -3, +6) mm and
+// 0.02° about z, the ICP finds the movement back.
+TEST(RegisterCommand, IcpAloneRegistersTheRealPumpScan) {
+    test::TempDir dir("icponly");
+    const fs::path pump = fs::path(TLSMON_DATA_DIR) / "ptx/pumpA_from_e57.ptx";
+    Scan moved = read_scans(pump).at(0);
+    const Eigen::Affine3d T = Eigen::Translation3d(0.002, -0.003, 0.006) *
+                              Eigen::AngleAxisd(0.02 * M_PI / 180, Eigen::Vector3d::UnitZ());
+    moved.pose = T * moved.pose;
+    for (auto& p : moved.xyz) p = T * p;
+    write_ptx(moved, dir / "moved.ptx");
+    const fs::path site = dir / "site.toml";
+    std::ofstream(site)
+        << "[registration]\nicp = \"fallback\"\nicp_voxel_size = 0.05\nicp_min_overlap = 0.2\n"
+           "max_sigma_angle_arcsec = 120\n[[stable_region]]\n"
+           "name = \"room\"\nmin = [-3, -5.4, -1.6]\nmax = [1.8, -0.7, 1.9]\n";
+    const auto run = [&](const fs::path& epoch) {
+        const auto r = test::shell(std::string(TLSMON_BINARY) + " register " + pump.string() + " " +
+                                   epoch.string() + " --config " + site.string() +
+                                   " --format json 2>/dev/null");
+        EXPECT_EQ(r.status, 0) << r.output;
+        return nlohmann::json::parse(r.output);
+    };
+    const auto same = run(pump);
+    EXPECT_EQ(same["method"], "icp");
+    EXPECT_LT(std::abs(same["kappa_arcsec"].get<double>()), 0.1) << same.dump(2);
+    EXPECT_LT(std::abs(same["tx_mm"].get<double>()), 0.01) << same.dump(2);
+    const auto back = run(dir / "moved.ptx");
+    EXPECT_EQ(back["method"], "icp");
+    EXPECT_TRUE(back["accepted"].get<bool>()) << back.dump(2);
+    // Within 3σ of the ICP's own σ (a 5 m room fixes angles to tens of arc seconds), κ to 20″.
+    const std::pair<const char*, double> truth[] = {{"omega_arcsec", 0.0},   {"phi_arcsec", 0.0},
+                                                    {"kappa_arcsec", -72.0}, {"tx_mm", -2.0},
+                                                    {"ty_mm", 3.0},          {"tz_mm", -6.0}};
+    for (const auto& [name, value] : truth) {
+        const double sigma = back["sigma_" + std::string(name)].get<double>();
+        EXPECT_LT(std::abs(back[name].get<double>() - value), 3 * sigma) << name << back.dump(2);
+    }
+    EXPECT_LT(std::abs(back["kappa_arcsec"].get<double>() + 72.0), 20.0);
 }
 
 }  // namespace

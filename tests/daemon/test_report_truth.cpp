@@ -113,7 +113,8 @@ TEST(ReportAnalysis, RegistrationErrorAndStepLatencyAgainstTheTruth) {
     zone.box = ZoneBox{{2.0, 44.5, 30.0}, {17.0, 45.5, 40.0}};
     for (int i = 0; i < 4; ++i) {
         zone.series["m3c2_median_m"].push_back({i + 1, t[static_cast<std::size_t>(i)].time_unix,
-                                                i >= 2 ? 0.0205 : 0.0005, 0.002, 50, i >= 2});
+                                                i >= 2 ? 0.0205 : 0.0005, 0.002, 50, i >= 2,
+                                                "targets", true});
     }
     run.zones.push_back(zone);
     run.rules.push_back({1, "step", "top", "m3c2_median_m", "{}", true});

@@ -140,6 +140,37 @@ TEST(AlarmEvaluation, BacklogIsEvaluatedInAcquisitionOrder) {
     site.commit(late, r);
     EXPECT_EQ(site.state().state, "rtn_unack");
     EXPECT_EQ(site.db->alarms().events(std::nullopt).size(), 2u);
+    // ... but never silently: a system event names the rule, the epoch and both times.
+    const auto said = site.db->series().events({}, std::string("alarm_rule_late_epoch"));
+    ASSERT_EQ(said.size(), 1u);
+    EXPECT_EQ(said[0].epoch, late.id);
+    EXPECT_NE(said[0].message.find("rule P3 settlement: epoch " + std::to_string(late.id) +
+                                   " was acquired 2026-03-01T12:07:30Z, before the newest epoch "
+                                   "the rule evaluated (2026-03-01T12:30:00Z)"),
+              std::string::npos)
+        << said[0].message;
+}
+
+// An epoch that no registration took to the reference's frame (no targets, no ICP): its
+// values carry the scanner's own movement and raise nothing, unless the rule says so.
+TEST(AlarmEvaluation, UnregisteredEpochsRaiseOnlyWhereTheRuleTakesThem) {
+    Site site;
+    site.rules[0].on_delay = 0;
+    AlarmRuleSpec taking = settlement_rule();
+    taking.name = "P3 settlement, scanner on rock";
+    taking.on_delay = 0;
+    taking.evaluate_unregistered = true;
+    site.rules.push_back(taking);
+    store_alarm_rules(*site.db, site.rules);
+    const Epoch e = site.insert(kT0);
+    EpochResults r;
+    r.registration = RegistrationRow{};
+    r.registration->method = kUnregistered;
+    r.registration->accepted = false;
+    r.zone_results = {{kZone, kQuantity, 0.02, 0.001, 100, true}};
+    site.commit(e, r);
+    EXPECT_EQ(site.state().state, "normal");
+    EXPECT_EQ(site.state("P3 settlement, scanner on rock").state, "unack");
 }
 
 TEST(AlarmEvaluation, RejectedAndDegradedEpochsAndInsignificantValuesDoNotRaise) {

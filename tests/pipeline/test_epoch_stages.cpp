@@ -22,11 +22,17 @@ TEST(EpochStages, FirstEpochIsTheReferenceAndLaterEpochsReuseItsProducts) {
     EXPECT_EQ(cache.counters().from_memory, 1);
     EXPECT_EQ(site.db->epochs().find(e1.id)->status, EpochStatus::done);
     const auto stages = site.db->series().stages(e1.id);
-    ASSERT_EQ(stages.size(), 1u);
+    ASSERT_EQ(stages.size(), 2u);
     EXPECT_EQ(stages[0].stage, "coverage");
     EXPECT_GE(stages[0].ms, 0.0);
     EXPECT_EQ(stages[0].rejected, "");
     EXPECT_EQ(stages[0].note, "100.0 % of the points inside the reference extent");
+    // No target, no ICP: the epoch says that nothing registered it.
+    EXPECT_EQ(stages[1].stage, "registration");
+    EXPECT_EQ(stages[1].note.rfind("not registered: no [[target]] and no ICP fallback", 0), 0u)
+        << stages[1].note;
+    EXPECT_EQ(site.db->registrations().of_epoch(e1.id)->method, "unregistered");
+    EXPECT_EQ(site.db->registrations().of_epoch(e0.id)->method, "reference");
 }
 
 TEST(EpochStages, AnEpochOutsideTheReferenceExtentIsRejectedWithTheReason) {

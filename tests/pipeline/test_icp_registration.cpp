@@ -11,6 +11,7 @@
 
 #include "../simulator/narrow_window.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "formats/scan_file.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "simulator/render.hpp"
 #include "simulator/stable_ground.hpp"
@@ -102,11 +103,11 @@ Scored score(const registration::RigidTransform& T, const Eigen::Affine3d& H0,
 }
 
 void print(const char* what, const Scored& s) {
-    std::printf("%s: pier max %.3f mm, RMS %.3f mm; top corner error (%.3f, %.3f, %.3f) mm, "
-                "σ (%.3f, %.3f, %.3f) mm\n",
-                what, 1e3 * s.max_error, 1e3 * s.rms, 1e3 * s.top_error.x(), 1e3 * s.top_error.y(),
-                1e3 * s.top_error.z(), 1e3 * s.top_sigma.x(), 1e3 * s.top_sigma.y(),
-                1e3 * s.top_sigma.z());
+    std::printf(
+        "%s: pier max %.3f mm, RMS %.3f mm; top corner error (%.3f, %.3f, %.3f) mm, "
+        "σ (%.3f, %.3f, %.3f) mm\n",
+        what, 1e3 * s.max_error, 1e3 * s.rms, 1e3 * s.top_error.x(), 1e3 * s.top_error.y(),
+        1e3 * s.top_error.z(), 1e3 * s.top_sigma.x(), 1e3 * s.top_sigma.y(), 1e3 * s.top_sigma.z());
 }
 
 const std::vector<std::string> kTwoTargets = {"T1", "T6"};
@@ -119,8 +120,8 @@ TEST(IcpRegistration, FallbackRecoversThePoseWithTwoTargets) {
     const RenderedEpoch e0 = render(site, 0, 0.0, kTwoTargets);
     const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
     const StableSurface surface = build_stable_surface(config.icp, e0.scans);
-    std::printf("reference surface: %zu points in the regions, %zu with normals\n",
-                surface.cropped, surface.sample.points.size());
+    std::printf("reference surface: %zu points in the regions, %zu with normals\n", surface.cropped,
+                surface.sample.points.size());
     const RenderedEpoch e1 = render(site, 1, 6.5, kTwoTargets);
     RegistrationResult r = register_epoch(config, reference, e1.scans, {});
     ASSERT_EQ(r.tested.status, registration::RegistrationStatus::too_few_targets);
@@ -128,23 +129,23 @@ TEST(IcpRegistration, FallbackRecoversThePoseWithTwoTargets) {
     ASSERT_TRUE(r.icp);
     std::printf("%s\n", icp_quality_json(r).c_str());
     if (r.icp->transform) {
-        print("ICP alone", score(*r.icp->transform, e0.header_to_true, e1.header_to_true,
-                                 pier_points(site)));
+        print("ICP alone",
+              score(*r.icp->transform, e0.header_to_true, e1.header_to_true, pier_points(site)));
     }
     ASSERT_TRUE(r.accepted()) << r.tested.reason << " " << r.gate;
     EXPECT_EQ(registration_method(r), "icp");
     EXPECT_EQ(r.icp->role, "fallback");
     EXPECT_TRUE(r.icp->used);
     EXPECT_NE(r.icp->targets_status.find("too_few_targets"), std::string::npos);
-    const Scored s = score(*r.tested.transform, e0.header_to_true, e1.header_to_true,
-                           pier_points(site));
+    const Scored s =
+        score(*r.tested.transform, e0.header_to_true, e1.header_to_true, pier_points(site));
     print("fallback", s);
     EXPECT_LE(s.max_error, 0.002);
     // Within 2σ in 3-D (the share of components within 2σ over many epochs is the next test's).
     EXPECT_LE(s.top_error.norm(), 2.0 * s.top_sigma.norm());
     // The drift it removed was far larger than what is left.
-    const Scored none = score(registration::RigidTransform{}, e0.header_to_true,
-                              e1.header_to_true, pier_points(site));
+    const Scored none = score(registration::RigidTransform{}, e0.header_to_true, e1.header_to_true,
+                              pier_points(site));
     print("unregistered", none);
     EXPECT_GT(none.max_error, 5.0 * s.max_error);
 }
@@ -166,10 +167,10 @@ TEST(IcpRegistration, FallbackSigmaIsHonestOverSeveralEpochs) {
             const RenderedEpoch ei = render(site, i, 2.0 * k + 6.5 * i, kTwoTargets);
             RegistrationResult r = register_epoch(config, reference, ei.scans, {});
             apply_icp(config, surface, ei.scans, {}, r);
-            ASSERT_TRUE(r.accepted()) << "series " << k << " epoch " << i << ": "
-                                      << r.tested.reason << " " << r.gate;
-            const Scored s = score(*r.tested.transform, e0.header_to_true, ei.header_to_true,
-                                   pier_points(site));
+            ASSERT_TRUE(r.accepted())
+                << "series " << k << " epoch " << i << ": " << r.tested.reason << " " << r.gate;
+            const Scored s =
+                score(*r.tested.transform, e0.header_to_true, ei.header_to_true, pier_points(site));
             std::printf("series %d epoch %d: inflation %.2f, ", k, i, r.icp->inflation);
             print("fallback", s);
             worst = std::max(worst, s.max_error);
@@ -204,14 +205,14 @@ TEST(IcpRegistration, RefinementDoesNotMakeAGoodTargetRegistrationWorse) {
         const RenderedEpoch e1 = render(site, 1, 3.0 + 5.0 * k, all);
         RegistrationResult r = register_epoch(config, reference, e1.scans, {});
         ASSERT_TRUE(r.accepted()) << r.tested.reason << " " << r.gate;
-        const Scored targets = score(*r.tested.transform, e0.header_to_true, e1.header_to_true,
-                                     pier_points(site));
+        const Scored targets =
+            score(*r.tested.transform, e0.header_to_true, e1.header_to_true, pier_points(site));
         apply_icp(config, surface, e1.scans, {}, r);
         ASSERT_TRUE(r.icp);
         std::printf("%s\n", icp_quality_json(r).c_str());
         ASSERT_TRUE(r.accepted());
-        const Scored refined = score(*r.tested.transform, e0.header_to_true, e1.header_to_true,
-                                     pier_points(site));
+        const Scored refined =
+            score(*r.tested.transform, e0.header_to_true, e1.header_to_true, pier_points(site));
         print("targets", targets);
         print(registration_method(r).c_str(), refined);
         EXPECT_EQ(registration_method(r), r.icp->used ? "targets+icp" : "targets");
@@ -268,10 +269,32 @@ TEST(IcpRegistration, PointsOfTheStructureNeverEnterTheIcp) {
     const Eigen::Matrix4d a = run(careless, e1.scans);
     const Eigen::Matrix4d b = run(careless, moved);
     const Eigen::Vector3d top(p.x0, p.y0, p.height);
-    const double pulled = ((a - b).topLeftCorner<3, 3>() * top + (a - b).topRightCorner<3, 1>()).norm();
+    const double pulled =
+        ((a - b).topLeftCorner<3, 3>() * top + (a - b).topRightCorner<3, 1>()).norm();
     std::printf("a region over the pier's foot: the movement pulls the pier's top by %.2f mm\n",
                 1e3 * pulled);
     EXPECT_GT(pulled, 0.0005);
+}
+
+// An unchanged scan keeps its datum: the ICP of the real pump-room scan (shared data) onto
+// itself gave κ 12.4″ and tx -0.17 mm. Onto an identical copy it must give the identity.
+TEST(IcpRegistration, AnUnchangedScanKeepsItsDatum) {
+    const std::vector<Scan> scans =
+        read_scans(std::filesystem::path(TLSMON_DATA_DIR) / "ptx/pumpA_from_e57.ptx");
+    RegistrationConfig c;
+    c.icp.mode = IcpMode::fallback;
+    c.icp.voxel_size = 0.05;  // a small room
+    c.icp.regions.push_back({"room", {-3, -5.4, -1.6}, {1.8, -0.7, 1.9}});
+    const StableSurface surface = build_stable_surface(c.icp, scans);
+    const IcpMeasurement m = measure_icp(c, surface, scans, Eigen::Matrix4d::Identity());
+    ASSERT_TRUE(m.transform) << m.refused;
+    EXPECT_EQ(m.refused, "");
+    const auto& T = *m.transform;
+    constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+    EXPECT_LT(std::abs(T.omega) / kArcsec, 0.1);
+    EXPECT_LT(std::abs(T.phi) / kArcsec, 0.1);
+    EXPECT_LT(std::abs(T.kappa) / kArcsec, 0.1);
+    EXPECT_LT(T.translation.norm(), 1e-5);
 }
 
 }  // namespace

@@ -90,9 +90,10 @@ TEST(M3c2Stage, PlateLiftedFourMillimetresGivesZoneRowsAndArrays) {
     for (float v : n1->values) most = std::max(most, v);
     EXPECT_EQ(most, 13.0f);
     const auto stages = db.series().stages(e1.id);
-    ASSERT_EQ(stages.size(), 2u);
-    EXPECT_EQ(stages[1].stage, "m3c2");
-    EXPECT_EQ(stages[1].note,
+    ASSERT_EQ(stages.size(), 3u);  // coverage, registration (its datum), m3c2
+    EXPECT_EQ(stages[1].stage, "registration");
+    EXPECT_EQ(stages[2].stage, "m3c2");
+    EXPECT_EQ(stages[2].note,
               "36 of 36 core points with a distance; registration σ along the normal up to "
               "1.00 mm");
 }

@@ -30,7 +30,8 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << fs.error();
     const auto path = dir / "mnt" / "e.sqlite";
     const auto filler = dir / "mnt" / "filler";
-    test::write_file(filler, std::string(600 * 1024, '\0'));
+    // Each commit is far larger than an epoch's row, so that a commit meets the full disk.
+    test::write_file(filler, std::string(300 * 1024, '\0'));
     int done = 0;
     EpochId stuck = 0;
     {
@@ -44,7 +45,7 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
                     .id;
             ASSERT_TRUE(db.epochs().claim(id));
             auto r = one_zone(0.001 * i);
-            r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.001f * i)}};
+            r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(50000, 0.001f * i)}};
             try {
                 db.results().commit(id, r);
                 ++done;
@@ -66,7 +67,7 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     EXPECT_EQ(db.epochs().recover_interrupted(), 1);
     ASSERT_TRUE(db.epochs().claim(stuck));
     auto r = one_zone(0.5);
-    r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(10000, 0.5f)}};
+    r.core_point_arrays = {{"m3c2_distance_m", std::vector<float>(50000, 0.5f)}};
     db.results().commit(stuck, r);
     EXPECT_EQ(db.series().points("deck", "m3c2_mean_m", {}).size(),
               static_cast<std::size_t>(done + 1));
