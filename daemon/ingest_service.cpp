@@ -49,6 +49,11 @@ std::string zone_json(const ZoneConfig& z) {
     return j.dump();
 }
 
+// The pause after a database or disk failure: retry_initial, doubling up to retry_max.
+double next_backoff(double current, const IngestConfig& c) {
+    return current == 0 ? c.retry_initial : std::min(current * 2, c.retry_max);
+}
+
 // Sleeps `seconds` (less when a stop is asked), keeping systemd's watchdog fed.
 void wait_alive(SystemdNotify& systemd, Shutdown& shutdown, double seconds) {
     const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -169,8 +174,7 @@ bool Daemon::start() {
         } catch (const StorageError& e) {
             events_.write_failed(e);
             note_disk();
-            backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
-                                     : std::min(backoff_ * 2, config_.ingest.retry_max);
+            backoff_ = next_backoff(backoff_, config_.ingest);
             spdlog::error("cannot start processing: {}; retry in {:.1f} s", e.what(), backoff_);
             SystemObservation seen;
             seen.database_error = true;
@@ -314,8 +318,7 @@ void Daemon::ingest_complete_files(Clock::time_point now) {
     });
     for (const auto& f : files) ingest(f);
     if (!retry_files_.empty() && retry_at_ <= now) {
-        backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
-                                 : std::min(backoff_ * 2, config_.ingest.retry_max);
+        backoff_ = next_backoff(backoff_, config_.ingest);
         retry_at_ = now + seconds(backoff_);
     }
 }
@@ -387,8 +390,7 @@ void Daemon::process_backlog() {
                 meteo_.after_processing(ingest_ctx, *meteo.sidecar, Clock::now());
             }
             if (outcome == EpochOutcome::retry_later) {
-                backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
-                                         : std::min(backoff_ * 2, config_.ingest.retry_max);
+                backoff_ = next_backoff(backoff_, config_.ingest);
                 retry_at_ = Clock::now() + seconds(backoff_);
                 spdlog::warn("processing paused for {:.1f} s", backoff_);
                 SystemObservation seen;
@@ -419,8 +421,7 @@ void Daemon::process_backlog() {
         if (const auto* storage = dynamic_cast<const StorageError*>(&e)) {
             events_.write_failed(*storage);
         }
-        backoff_ = backoff_ == 0 ? config_.ingest.retry_initial
-                                 : std::min(backoff_ * 2, config_.ingest.retry_max);
+        backoff_ = next_backoff(backoff_, config_.ingest);
         retry_at_ = Clock::now() + seconds(backoff_);
         spdlog::error("{}; retry in {:.1f} s", e.what(), backoff_);
         SystemObservation seen;
@@ -561,8 +562,7 @@ int run_daemon(const RunOptions& options) {
             } catch (const StorageError& e) {
                 if (!e.disk_full()) throw;
                 if (!refused_since) refused_since = now_utc();
-                backoff = backoff == 0 ? config.ingest.retry_initial
-                                       : std::min(backoff * 2, config.ingest.retry_max);
+                backoff = next_backoff(backoff, config.ingest);
                 spdlog::error("{}; the disk is full: retry in {:.1f} s", e.what(), backoff);
                 if (!modbus && config.modbus.enabled) modbus = start_modbus_service(config);
                 if (modbus) modbus->set_disk_full(true);
