@@ -32,6 +32,10 @@ enum class AlarmActorKind { rule, scada, cli };
 std::string_view to_string(IsaState s);
 std::string_view to_string(AlarmLevel l);
 std::string_view to_string(AlarmActorKind a);
+// unack or rtn_unack: an annunciation no operator has acknowledged yet.
+inline bool unacknowledged(IsaState s) {
+    return s == IsaState::unack || s == IsaState::rtn_unack;
+}
 // Inverse of to_string; an unknown name is an Error naming it.
 IsaState parse_isa_state(std::string_view name);
 AlarmLevel parse_alarm_level(std::string_view name);

@@ -21,8 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "daemon/demo_daemon.hpp"
 #include "bench/bench_support.hpp"
+#include "daemon/demo_daemon.hpp"
 #include "daemon/demo_scene.hpp"
 #include "daemon/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"

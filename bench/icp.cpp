@@ -5,9 +5,9 @@
 // cropping the 6.8 M points to the stable regions, thinning, PCL's point-to-plane ICP, the
 // adjustment and its covariance. Printed with the error at the pier's top against the truth.
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 
 #include "bench/bench_support.hpp"
 #include "pipeline/icp_registration.hpp"
@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
                 r1.scan.size(), seconds_since(t));
     RegistrationConfig config;
     config.icp.mode = IcpMode::fallback;
-    for (const auto& b : sim::stable_ground(site)) config.icp.regions.push_back({b.name, b.min, b.max});
+    for (const auto& b : sim::stable_ground(site))
+        config.icp.regions.push_back({b.name, b.min, b.max});
     const std::vector<Scan> e0{r0.scan}, e1{r1.scan};
 
     t = std::chrono::steady_clock::now();
@@ -61,10 +62,11 @@ int main(int argc, char** argv) {
     const auto c = bench::spread_of(crop), s = bench::spread_of(total);
     std::printf("crop of %zu points to the regions: median %.3f s (min %.3f, max %.3f)\n",
                 r1.scan.size(), c.median, c.min, c.max);
-    std::printf("ICP of the epoch (crop, thin, ICP, adjustment): median %.3f s (min %.3f, max "
-                "%.3f) over %zu runs; %zu points, %zu pairs, %d iterations, RMS %.2f mm, %s\n",
-                s.median, s.min, s.max, s.runs, m.epoch_points, m.pairs, m.iterations,
-                1e3 * m.rms, m.refused.empty() ? "passed" : m.refused.c_str());
+    std::printf(
+        "ICP of the epoch (crop, thin, ICP, adjustment): median %.3f s (min %.3f, max "
+        "%.3f) over %zu runs; %zu points, %zu pairs, %d iterations, RMS %.2f mm, %s\n",
+        s.median, s.min, s.max, s.runs, m.epoch_points, m.pairs, m.iterations, 1e3 * m.rms,
+        m.refused.empty() ? "passed" : m.refused.c_str());
     if (m.transform) {
         const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
         const Eigen::Affine3d H0 = N * r0.pose_error.transform() * N.inverse();

@@ -27,8 +27,12 @@ namespace {
 using namespace tlsmon;
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) { return bench::seconds_since(t0); }
-double process_cpu() { return bench::process_cpu_seconds(); }
+double since(Clock::time_point t0) {
+    return bench::seconds_since(t0);
+}
+double process_cpu() {
+    return bench::process_cpu_seconds();
+}
 
 }  // namespace
 
@@ -59,8 +63,7 @@ int main(int argc, char** argv) {
     double cpu0 = process_cpu();
     const KeypointReference reference = prepare_keypoint_reference(config, reference_scans);
     std::printf("reference: %zu keypoints detected, %zu kept: %.2f s wall, %.2f s CPU (cached)\n",
-                reference.detected(), reference.keypoints(), since(t0),
-                process_cpu() - cpu0);
+                reference.detected(), reference.keypoints(), since(t0), process_cpu() - cpu0);
 
     t0 = Clock::now();
     cpu0 = process_cpu();

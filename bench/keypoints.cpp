@@ -34,8 +34,12 @@ using namespace tlsmon;
 using namespace tlsmon::keypoints;
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) { return bench::seconds_since(t0); }
-double process_cpu() { return bench::process_cpu_seconds(); }
+double since(Clock::time_point t0) {
+    return bench::seconds_since(t0);
+}
+double process_cpu() {
+    return bench::process_cpu_seconds();
+}
 
 Scan read_structured(const char* path) {
     auto scans = read_scans(path);

@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "pipeline/registration_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
@@ -46,7 +47,6 @@ long peak_mb() {
     getrusage(RUSAGE_SELF, &u);
     return u.ru_maxrss / 1024;
 }
-
 
 struct Score {
     double sum = 0, sum2 = 0, worst = 0;

@@ -70,8 +70,10 @@ int main() {
     const fs::path generated = dir / "generated_5M.ptx";
     std::printf("writing %s ...\n", generated.c_str());
     write_scan(generated);
-    tlsmon::bench::measure_reader(generated, 5, [](const fs::path& p) { return tlsmon::read_ptx(p); });
-    tlsmon::bench::measure_reader(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 9, [](const fs::path& p) { return tlsmon::read_ptx(p); });
+    tlsmon::bench::measure_reader(generated, 5,
+                                  [](const fs::path& p) { return tlsmon::read_ptx(p); });
+    tlsmon::bench::measure_reader(fs::path(TLSMON_DATA_DIR) / "ptx" / "pumpA_from_e57.ptx", 9,
+                                  [](const fs::path& p) { return tlsmon::read_ptx(p); });
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
     std::printf("peak RSS %.0f MB\n", static_cast<double>(u.ru_maxrss) / 1024.0);

@@ -9,13 +9,12 @@
 //     every 2.5 m, and at the top corner with the predicted 3-D σ there).
 // `--truth-air` scales every range back by the truth's own range scale, as exact meteo
 // would, to tell the atmosphere's share from the fits'.
-#include <nlohmann/json.hpp>
-
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "algorithms/registration/registration_error.hpp"
@@ -143,16 +142,15 @@ int main(int argc, char** argv) {
                 print_centre(m, t, scanner);
             }
             std::printf("  registration: %s%s%s, %d used, s0² %.2f, r %d\n",
-                        name_of(r.tested.status), r.gate.empty() ? "" : ", gate: ",
-                        r.gate.c_str(), r.used,
-                        r.tested.transform ? r.tested.transform->variance_factor : 0.0,
+                        name_of(r.tested.status), r.gate.empty() ? "" : ", gate: ", r.gate.c_str(),
+                        r.used, r.tested.transform ? r.tested.transform->variance_factor : 0.0,
                         r.tested.transform ? r.tested.transform->redundancy : 0);
             for (std::size_t k = 0; k < r.tested.targets.size(); ++k) {
                 const auto& v = r.tested.targets[k];
                 if (v.use == registration::TargetUse::not_usable) continue;
                 std::printf("    %-4s %-16s T %7.2f (crit %.2f)  residual %.3f mm\n",
-                            config.targets[k].name.c_str(), name_of(v.use), v.statistic,
-                            v.critical, 1e3 * v.residual.norm());
+                            config.targets[k].name.c_str(), name_of(v.use), v.statistic, v.critical,
+                            1e3 * v.residual.norm());
             }
             if (!r.tested.transform) continue;
             const auto& T = *r.tested.transform;
@@ -160,7 +158,8 @@ int main(int argc, char** argv) {
             const Eigen::Affine3d& Hi = t.header_to_true;
             const auto pier = pier_points(t);
             double rms = 0;
-            for (const auto& P : pier) rms += (T.apply(Hi.inverse() * P) - H0.inverse() * P).squaredNorm();
+            for (const auto& P : pier)
+                rms += (T.apply(Hi.inverse() * P) - H0.inverse() * P).squaredNorm();
             rms = std::sqrt(rms / pier.size());
             const Eigen::Vector3d top = Hi.inverse() * pier.back();
             const Eigen::Vector3d e = T.apply(top) - H0.inverse() * pier.back();

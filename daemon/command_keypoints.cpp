@@ -1,11 +1,13 @@
 // `tlsmon keypoints REFERENCE EPOCH ... --out VECTORS.csv`: the keypoint displacement
-// method (docs/keypoints.md) between two structured scans already in one frame, as an
-// analyst runs it by hand: spherical images, keypoints, matching in an angular window, 3-D,
-// outlier filters, one CSV row per match and a summary per segment (bands of the
-// reference's vertical angle).
-#include <algorithm>
+// method (docs/keypoints.md) between two structured scans, measured by the keypoint stage
+// itself (pipeline/keypoint_stage.hpp: its reference product, its measurement with the patch
+// refinement, its segments and outlier filters). The parameters start from a fresh site's
+// defaults (algorithms/keypoints/parameters.hpp) with bands of the vertical angle as
+// segments, or from the site's [keypoints] and zones with --config, which also registers
+// EPOCH onto REFERENCE as the daemon does (daemon/file_pair.hpp); each option given replaces
+// one. One CSV row per match of each segment, a summary per segment, and on request the
+// intensity images with the matches drawn.
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,80 +17,21 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/keypoints/keypoint_match.hpp"
-#include "algorithms/keypoints/keypoint_matching.hpp"
-#include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
-#include "algorithms/keypoints/outlier_filters.hpp"
-#include "algorithms/keypoints/segment_displacement.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
 #include "core/error.hpp"
 #include "daemon/commands.hpp"
-#include "formats/scan_file.hpp"
+#include "daemon/config.hpp"
+#include "daemon/file_pair.hpp"
+#include "formats/png_file.hpp"
+#include "pipeline/keypoint_stage.hpp"
 
 namespace tlsmon {
 
 namespace {
 
 using namespace keypoints;
-using Clock = std::chrono::steady_clock;
-constexpr double deg = std::numbers::pi / 180.0;
-constexpr int mask_margin = 2;  // pixels kept between a keypoint and an empty pixel
-
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// The k-th structured scan of the file (from 1).
-Scan read_structured(const std::string& path, int k) {
-    int found = 0;
-    for (auto& scan : read_scans(path))
-        if (scan.grid && ++found == k) return std::move(scan);
-    if (found > 0) {
-        throw Error(path + ": holds " + std::to_string(found) + " structured scan(s), not " +
-                    std::to_string(k) + " (--scan)");
-    }
-    throw Error(path +
-                ": no structured scan (a grid of rows and columns, as PTX or a gridded "
-                "E57 has): keypoints need the scanner's spherical images");
-}
-
-struct Prepared {
-    SphericalImages images;
-    Raster8 grey;
-    Features features;
-    std::vector<AngularPosition> positions;
-    std::size_t detected = 0;
-    double images_s = 0, detection_s = 0, description_s = 0;
-};
-
-Prepared prepare(const Scan& scan, const FeatureParameters& parameters) {
-    Prepared p;
-    auto t0 = Clock::now();
-    p.images = spherical_images_from_grid(scan);
-    p.grey = prepared_image(intensity_to_8bit(p.images), parameters);
-    const Raster8 mask = detection_mask(p.images, mask_margin);
-    p.images_s = since(t0);
-    t0 = Clock::now();
-    const auto keypoints = detect_keypoints(p.grey, mask, parameters);
-    p.detected = keypoints.size();
-    p.detection_s = since(t0);
-    t0 = Clock::now();
-    p.features = describe_keypoints(p.grey, keypoints, parameters);
-    p.description_s = since(t0);
-    p.positions = angular_positions(p.images, p.features.keypoints);
-    return p;
-}
-
-// Each match's `removed_by`: the outlier filter that removed it (Hochmoselbrücke method,
-// step 5: algorithms/keypoints/outlier_filters.hpp), empty when kept.
-std::vector<std::string> removed_by_names(const std::vector<OutlierFilter>& removed_by) {
-    std::vector<std::string> names;
-    names.reserve(removed_by.size());
-    for (const auto f : removed_by)
-        names.emplace_back(f == OutlierFilter::none ? std::string_view{} : outlier_filter_name(f));
-    return names;
-}
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 // "nan" for NaN, else the number with `decimals` decimals.
 std::string number(double v, int decimals) {
@@ -98,51 +41,87 @@ std::string number(double v, int decimals) {
     return buf;
 }
 
-void write_csv(const std::string& path, const std::vector<KeypointMatch>& matches,
-               const std::vector<std::string>& removed_by) {
+KeypointConfig parameters_of(const KeypointsOptions& o, const std::optional<Config>& site) {
+    KeypointConfig p;
+    if (site) {
+        p = pipeline_config(*site).keypoints;
+    } else {
+        p.segments = KeypointSegments::bands;  // no zones without a site
+    }
+    if (o.detector) p.detector = *o.detector;
+    if (o.descriptor) p.descriptor = *o.descriptor;
+    if (o.window_deg) p.window_deg = *o.window_deg;
+    if (o.ratio) p.ratio = *o.ratio;
+    if (o.mutual) p.mutual = true;
+    if (o.clahe) p.clahe = true;
+    if (o.no_refine) p.refine = false;
+    if (o.segments_deg) {
+        p.segments = KeypointSegments::bands;
+        p.band_width_deg = *o.segments_deg;
+    }
+    return p;
+}
+
+void require_structured(const std::vector<Scan>& scans, const std::string& path) {
+    for (const auto& scan : scans)
+        if (scan.grid) return;
+    throw Error(path +
+                ": no structured scan (a grid of rows and columns, as PTX or a gridded E57 "
+                "has): keypoints need the scanner's spherical images");
+}
+
+// Only the k-th structured scan of the file (from 1), when --scan asks for one.
+std::shared_ptr<const std::vector<Scan>> only_scan(std::shared_ptr<const std::vector<Scan>> scans,
+                                                   const std::optional<int>& k,
+                                                   const std::string& path) {
+    if (!k) return scans;
+    int found = 0;
+    for (const auto& scan : *scans)
+        if (scan.grid && ++found == *k) return std::make_shared<const std::vector<Scan>>(1, scan);
+    throw Error(path + ": holds " + std::to_string(found) + " structured scan(s), not " +
+                std::to_string(*k) + " (--scan)");
+}
+
+// `segment`: the band's index for bands, the zone's position in the configuration for zones.
+void write_csv(const std::string& path, const KeypointSegmentsResult& segments, bool bands) {
     std::FILE* f = std::fopen(path.c_str(), "w");
     if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
     std::fputs(
         "reference_row,reference_column,row,column,x,y,z,dx,dy,dz,descriptor_distance,segment,"
-        "removed_by\n",
+        "zone,removed_by\n",
         f);
-    for (std::size_t i = 0; i < matches.size(); ++i) {
-        const KeypointMatch& m = matches[i];
-        const Eigen::Vector3d d = m.displacement();
-        const std::string row =
-            number(m.reference_row, 3) + ',' + number(m.reference_column, 3) + ',' +
-            number(m.row, 3) + ',' + number(m.column, 3) + ',' + number(m.reference_point.x(), 6) +
-            ',' + number(m.reference_point.y(), 6) + ',' + number(m.reference_point.z(), 6) + ',' +
-            number(d.x(), 6) + ',' + number(d.y(), 6) + ',' + number(d.z(), 6) + ',' +
-            number(m.descriptor_distance, 3) + ',' + std::to_string(m.segment) + ',' +
-            removed_by[i] + '\n';
-        std::fputs(row.c_str(), f);
+    for (std::size_t s = 0; s < segments.segments.size(); ++s) {
+        const KeypointSegmentResult& seg = segments.segments[s];
+        for (std::size_t i = 0; i < seg.matches.size(); ++i) {
+            const KeypointMatch& m = seg.matches[i];
+            const Eigen::Vector3d d = m.displacement();
+            const OutlierFilter removed = seg.removed_by[i];
+            const std::string row =
+                number(m.reference_row, 3) + ',' + number(m.reference_column, 3) + ',' +
+                number(m.row, 3) + ',' + number(m.column, 3) + ',' +
+                number(m.reference_point.x(), 6) + ',' + number(m.reference_point.y(), 6) + ',' +
+                number(m.reference_point.z(), 6) + ',' + number(d.x(), 6) + ',' + number(d.y(), 6) +
+                ',' + number(d.z(), 6) + ',' + number(m.descriptor_distance, 3) + ',' +
+                std::to_string(bands ? seg.displacement.segment : int(s)) + ',' + seg.zone + ',' +
+                (removed == OutlierFilter::none ? std::string()
+                                                : std::string(outlier_filter_name(removed))) +
+                '\n';
+            std::fputs(row.c_str(), f);
+        }
     }
     const bool failed = std::ferror(f) != 0;
     if (std::fclose(f) != 0 || failed)
         throw Error(path + ": write failed: " + std::strerror(errno));
 }
 
-// Per segment (step 6: algorithms/keypoints/segment_displacement.hpp): the matches kept,
-// the mean vector and its spread, and the components along the wall's normal (fitted to the
-// kept reference points, oriented towards the scanner) and along the surface.
-void print_summary(const std::vector<KeypointMatch>& matches,
-                   const std::vector<OutlierFilter>& removed_by, double width,
-                   const Eigen::Vector3d& scanner) {
-    std::vector<int> segments;
-    for (const auto& m : matches) segments.push_back(m.segment);
-    std::sort(segments.begin(), segments.end());
-    segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
-    SegmentParameters parameters;
-    parameters.orientation = m3c2::Orientation::towards(scanner);
-    std::cout << "segment  elevation_deg  matches  kept  dx_mm  dy_mm  dz_mm  sx_mm  sy_mm  "
-                 "sz_mm  normal_mm  surface_h_mm  surface_v_mm  (or why undefined)\n";
-    for (const int segment : segments) {
-        const SegmentDisplacement d =
-            segment_displacement(matches, removed_by, segment, parameters);
-        const auto [lo, hi] = vertical_angle_band_bounds(segment, width);
-        std::cout << segment << "  " << number(lo / deg, 1) << ".." << number(hi / deg, 1) << "  "
-                  << d.matches << "  " << d.count;
+// Per segment (docs/keypoints.md, step 6): matches and kept, the mean vector and its spread,
+// the components along the wall's normal and along the surface, their LoD95.
+void print_summary(const KeypointSegmentsResult& segments) {
+    std::cout << "zone  matches  kept  dx_mm  dy_mm  dz_mm  sx_mm  sy_mm  sz_mm  normal_mm  "
+                 "surface_h_mm  surface_v_mm  (or why undefined)\n";
+    for (const auto& s : segments.segments) {
+        const SegmentDisplacement& d = s.displacement;
+        std::cout << s.zone << "  " << d.matches << "  " << d.count;
         if (!d.defined()) {
             std::cout << "  " << d.undefined_reason << "\n";
             continue;
@@ -155,74 +134,86 @@ void print_summary(const std::vector<KeypointMatch>& matches,
     }
 }
 
-void write_pictures(const std::string& folder, const Prepared& reference, const Prepared& epoch,
-                    const std::vector<KeypointMatch>& matches,
-                    const std::vector<std::string>& removed_by, double vector_scale) {
+// The first structured scan's intensity image as the detector saw it, with the matches of
+// that scan drawn (on the epoch's, each vector points back to where the keypoint was).
+void write_pictures(const std::string& folder, const KeypointConfig& p, const FilePair& pair,
+                    const KeypointSegmentsResult& segments, double vector_scale) {
     std::error_code ec;
     std::filesystem::create_directories(folder, ec);
     if (ec) throw Error(folder + ": cannot create the folder: " + ec.message());
+    FeatureParameters features;
+    features.detector = p.detector;
+    features.descriptor = p.descriptor;
+    features.clahe = p.clahe;
+    const auto grey = [&](const std::vector<Scan>& scans) {
+        for (const auto& s : scans)
+            if (s.grid)
+                return prepared_image(intensity_to_8bit(spherical_images_from_grid(s)), features);
+        throw Error("no structured scan to draw");
+    };
     std::vector<DrawnMatch> on_reference, on_epoch;
-    for (std::size_t i = 0; i < matches.size(); ++i) {
-        const KeypointMatch& m = matches[i];
-        const bool kept = removed_by[i].empty();
-        on_reference.push_back({m.reference_row, m.reference_column, m.row, m.column, kept});
-        // On the epoch's image, the vector points back to where the keypoint was.
-        on_epoch.push_back({m.row, m.column, m.reference_row, m.reference_column, kept});
+    for (const auto& s : segments.segments) {
+        for (std::size_t i = 0; i < s.matches.size(); ++i) {
+            const KeypointMatch& m = s.matches[i];
+            if (m.scan != 0) continue;
+            const bool kept = s.removed_by[i] == OutlierFilter::none;
+            on_reference.push_back({m.reference_row, m.reference_column, m.row, m.column, kept});
+            on_epoch.push_back({m.row, m.column, m.reference_row, m.reference_column, kept});
+        }
     }
-    write_match_picture((std::filesystem::path(folder) / "reference.png").string(), reference.grey,
-                        on_reference, vector_scale);
-    write_match_picture((std::filesystem::path(folder) / "epoch.png").string(), epoch.grey,
-                        on_epoch, vector_scale);
+    const auto write = [&](const char* name, const Raster8& image,
+                           const std::vector<DrawnMatch>& drawn) {
+        const RasterRgb picture = draw_matches(image, drawn, vector_scale);
+        write_png_rgb(std::filesystem::path(folder) / name, picture.rows, picture.columns,
+                      picture.pixels);
+    };
+    write("reference.png", grey(*pair.reference_scans), on_reference);
+    write("epoch.png", grey(*pair.epoch_scans), on_epoch);
 }
 
 }  // namespace
 
 int run_keypoints(const KeypointsOptions& o) {
     try {
+        const std::optional<Config> site = site_config(o.config);
+        const KeypointConfig p = parameters_of(o, site);
         FeatureParameters features;
-        features.detector = o.detector;
-        features.descriptor = o.descriptor;
-        features.clahe = o.clahe;
+        features.detector = p.detector;
+        features.descriptor = p.descriptor;
         validate(features);  // before reading two scans, not after
-        MatchingParameters matching;
-        matching.window_radius = o.window_deg * deg;
-        matching.ratio = o.ratio;
-        matching.mutual = o.mutual;
+        Config shown = site.value_or(Config{});
+        static_cast<keypoints::Parameters&>(shown.keypoints) = p;
+        shown.keypoints.segments = p.segments;
+        std::cout << effective_parameters(shown, "keypoints");
 
-        const Prepared reference = prepare(read_structured(o.reference, o.scan), features);
-        const Prepared epoch = prepare(read_structured(o.epoch, o.scan), features);
-        auto t0 = Clock::now();
-        const auto pairs = match_keypoints(reference.positions, reference.features.descriptors,
-                                           epoch.positions, epoch.features.descriptors, matching);
-        const double matching_s = since(t0);
-        t0 = Clock::now();
-        // Both scans in their own files' frame (scanner -> project: the pose as read).
-        MatchesIn3d in3d =
-            matches_to_3d(reference.images, reference.features.keypoints, reference.images.pose,
-                          epoch.images, epoch.features.keypoints, epoch.images.pose, pairs);
-        const double to_3d_s = since(t0);
-        const double width = o.segments_deg * deg;
-        for (auto& m : in3d.matches) m.segment = vertical_angle_band(m.reference_elevation, width);
-        const OutlierResult filtered = filter_outliers(in3d.matches);
-        const auto removed_by = removed_by_names(filtered.removed_by);
-        write_csv(o.out, in3d.matches, removed_by);
-        if (!o.images.empty())
-            write_pictures(o.images, reference, epoch, in3d.matches, removed_by, o.vector_scale);
+        FilePair pair = read_file_pair(o.reference, o.epoch, site);
+        require_structured(*pair.reference_scans, o.reference);
+        require_structured(*pair.epoch_scans, o.epoch);
+        pair.reference_scans = only_scan(pair.reference_scans, o.scan, o.reference);
+        pair.epoch_scans = only_scan(pair.epoch_scans, o.scan, o.epoch);
+        std::cout << "registration: " << pair.registration << "\n";
 
-        std::cout << features.detector << " + " << features.descriptor << ": reference "
-                  << reference.images.rows << " x " << reference.images.columns << " pixels, "
-                  << reference.features.keypoints.size() << " keypoints described; epoch "
-                  << epoch.features.keypoints.size() << "; " << pairs.size() << " matched within "
-                  << o.window_deg << " deg; " << in3d.matches.size()
-                  << " in 3-D (dropped: " << in3d.dropped_empty_neighbour << " empty neighbour, "
-                  << in3d.dropped_depth_edge << " depth edge, " << in3d.dropped_outside
-                  << " outside) -> " << o.out << "\n";
+        // The stage's two halves: its reference product, then the epoch measured against it.
+        const KeypointStage stage(p);
+        const KeypointReference reference = stage.prepare_reference(*pair.reference_scans);
+        KeypointEpoch epoch = measure_keypoints(p, reference, *pair.epoch_scans, pair.outputs);
+        const std::size_t in_3d = epoch.matches.size();
+        const KeypointSegmentsResult segments =
+            keypoint_segments(p, reference, std::move(epoch.matches), pair.outputs);
+        write_csv(o.out, segments, p.segments == KeypointSegments::bands);
+        if (!o.images.empty()) write_pictures(o.images, p, pair, segments, o.vector_scale);
+
+        std::cout << p.detector << " + " << p.descriptor << ": reference " << reference.keypoints()
+                  << " keypoints in " << reference.scans.size() << " scan(s); epoch "
+                  << epoch.described << " described, " << epoch.pairs << " matched within "
+                  << p.window_deg << " deg, " << epoch.dropped_patch << " without their patch, "
+                  << in_3d << " in 3-D -> " << o.out << "\n";
         std::cout << "epoch steps, s: images " << number(epoch.images_s, 2) << ", detection "
                   << number(epoch.detection_s, 2) << ", description "
-                  << number(epoch.description_s, 2) << ", matching " << number(matching_s, 2)
-                  << ", 3-D " << number(to_3d_s, 2) << "\n";
-        print_summary(in3d.matches, filtered.removed_by, width,
-                      reference.images.pose.translation());
+                  << number(epoch.description_s, 2) << ", matching " << number(epoch.matching_s, 2)
+                  << ", 3-D " << number(epoch.to_3d_s, 2) << ", filtering "
+                  << number(segments.filtering_s, 2) << "\n";
+        print_summary(segments);
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon keypoints: " << e.what() << "\n";

@@ -1,12 +1,17 @@
 // `tlsmon m3c2 REFERENCE COMPARED ... --out RESULT.csv`: M3C2 between two scan files as
-// analysts run CloudCompare's or PDAL's, with the same kernel the pipeline uses. Core points
-// from --core FILE, or REFERENCE subsampled at --core-spacing, or every point of REFERENCE.
-// Writes one CSV row per core point and prints a summary.
+// analysts run CloudCompare's or PDAL's. The parameters start from a fresh site's defaults
+// (algorithms/m3c2/parameters.hpp), or from the site's [m3c2] with --config; each option
+// given replaces one. With --config and zones, the stage itself measures (its core points in
+// the zones, the site's registration of COMPARED onto REFERENCE: daemon/file_pair.hpp), so
+// the numbers are those the daemon stored; otherwise core points from --core FILE, or
+// REFERENCE subsampled at core_spacing, in the files' own frame. Writes one CSV row per core
+// point, prints the parameters used and a summary.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,37 +20,27 @@
 #include "algorithms/m3c2/reference.hpp"
 #include "core/error.hpp"
 #include "daemon/commands.hpp"
+#include "daemon/config.hpp"
+#include "daemon/file_pair.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/m3c2_stage.hpp"
 
 namespace tlsmon {
 
 namespace {
 
-struct Cloud {
+std::vector<Eigen::Vector3d> points_of(const std::vector<Scan>& scans, const std::string& path) {
     std::vector<Eigen::Vector3d> points;
-    std::vector<Scan> scans;  // without their points
-};
-
-Cloud read_cloud(const std::string& path) {
-    Cloud cloud;
-    cloud.scans = read_scans(path);
-    for (auto& scan : cloud.scans) {
-        cloud.points.insert(cloud.points.end(), scan.xyz.begin(), scan.xyz.end());
-        std::vector<Eigen::Vector3d>().swap(scan.xyz);
-    }
-    if (cloud.points.empty()) throw Error(path + ": no points");
-    return cloud;
+    for (const auto& scan : scans) points.insert(points.end(), scan.xyz.begin(), scan.xyz.end());
+    if (points.empty()) throw Error(path + ": no points");
+    return points;
 }
 
-m3c2::Orientation orientation_of(const std::string& text, const Cloud& reference,
-                                 const std::string& reference_path) {
+// --orient: "scanner" (towards REFERENCE's scanner) or X,Y,Z, into the parameters.
+void set_orientation(const std::string& text, M3c2Config& p) {
     if (text == "scanner") {
-        const Eigen::Vector3d position = reference.scans.front().scanner_position();
-        for (const auto& scan : reference.scans)
-            if (scan.scanner_position() != position)
-                throw Error("--orient scanner: " + reference_path +
-                            " holds scans from several scanner positions");
-        return m3c2::Orientation::towards(position);
+        p.orient_to_scanner = true;
+        return;
     }
     std::vector<double> v;
     std::stringstream in(text);
@@ -61,7 +56,18 @@ m3c2::Orientation orientation_of(const std::string& text, const Cloud& reference
     if (v.size() != 3) throw Error("--orient: '" + text + "' is neither 'scanner' nor X,Y,Z");
     const Eigen::Vector3d vector(v[0], v[1], v[2]);
     if (vector.norm() == 0.0) throw Error("--orient: the vector must not be zero");
-    return m3c2::Orientation::along(vector);
+    p.orient_to_scanner = false;
+    p.orientation = vector;
+}
+
+// The scanner position the normals face: the reference scans' one position.
+Eigen::Vector3d scanner_of(const std::vector<Scan>& scans, const std::string& path) {
+    const Eigen::Vector3d position = scans.front().scanner_position();
+    for (const auto& scan : scans)
+        if (scan.scanner_position() != position)
+            throw Error("orientation \"scanner\": " + path +
+                        " holds scans from several scanner positions; give --orient X,Y,Z");
+    return position;
 }
 
 // "nan" for NaN whatever its sign bit, else the number with `decimals` decimals.
@@ -99,33 +105,57 @@ void write_csv(const std::string& path, const m3c2::Reference& reference,
 
 }  // namespace
 
+namespace {
+
+M3c2Config parameters_of(const M3c2Options& o, const std::optional<Config>& site) {
+    M3c2Config p = site ? pipeline_config(*site).m3c2 : M3c2Config{};
+    if (o.core_spacing) p.core_spacing = *o.core_spacing;
+    if (!o.normal_radii.empty()) p.normal_radii = o.normal_radii;
+    if (o.cylinder_radius) p.cylinder_radius = *o.cylinder_radius;
+    if (o.max_depth) p.max_depth = *o.max_depth;
+    if (o.orient) set_orientation(*o.orient, p);
+    if (o.registration_error) p.registration_error = *o.registration_error;
+    if (o.median) p.statistic = m3c2::CylinderStatistic::median;
+    if (o.min_points) p.min_points = *o.min_points;
+    if (o.max_roughness) p.max_roughness = *o.max_roughness;
+    if (o.threads) p.threads = *o.threads;
+    return p;
+}
+
+}  // namespace
+
 int run_m3c2(const M3c2Options& o) {
     try {
-        const Cloud reference = read_cloud(o.reference);
-        std::vector<Eigen::Vector3d> core_points;
-        if (!o.core_file.empty())
-            core_points = read_cloud(o.core_file).points;
-        else if (o.core_spacing)
-            core_points = m3c2::subsample(reference.points, *o.core_spacing, o.threads);
-        else
-            core_points = reference.points;
+        const std::optional<Config> site = site_config(o.config);
+        const M3c2Config p = parameters_of(o, site);
+        m3c2::validate(m3c2::distance_parameters(p));  // before the work, not after it
+        Config shown = site.value_or(Config{});
+        static_cast<m3c2::Parameters&>(shown.m3c2) = p;
+        std::cout << effective_parameters(shown, "m3c2");
 
-        const m3c2::NormalParameters normals{o.normal_radii,
-                                             orientation_of(o.orient, reference, o.reference)};
-        const m3c2::CylinderParameters cylinders{
-            o.cylinder_radius, o.max_depth,
-            o.median ? m3c2::CylinderStatistic::median : m3c2::CylinderStatistic::mean};
-        m3c2::DistanceParameters distance{o.min_points, o.registration_error};
-        if (o.max_roughness) distance.max_reference_spread = *o.max_roughness;
-        m3c2::validate(distance);  // before the work, not after it
-
-        const m3c2::Reference prepared = m3c2::prepare_reference(
-            reference.points, std::move(core_points), normals, cylinders, o.threads);
-        const Cloud compared = read_cloud(o.compared);
-        const auto side = m3c2::cylinder_sides(prepared.cylinders, compared.points, o.threads);
-        const auto d = m3c2::distances(prepared, side, distance);
-        write_csv(o.out, prepared, side, d);
-
+        const FilePair pair = read_file_pair(o.reference, o.compared, site);
+        std::cout << "registration: " << pair.registration << "\n";
+        M3c2Reference product;
+        if (!p.zones.empty() && o.core_file.empty()) {
+            // The stage's own reference product: core points in the zones.
+            product = M3c2Stage(p).prepare_reference(*pair.reference_scans);
+        } else {
+            const auto points = points_of(*pair.reference_scans, o.reference);
+            product.scanner = p.orient_to_scanner
+                                  ? scanner_of(*pair.reference_scans, o.reference)
+                                  : pair.reference_scans->front().scanner_position();
+            auto cores = o.core_file.empty()
+                             ? m3c2::subsample(points, p.core_spacing, unsigned(p.threads))
+                             : points_of(read_scans(o.core_file), o.core_file);
+            product.reference = m3c2::prepare_reference(
+                points, std::move(cores), m3c2::normal_parameters(p, product.scanner),
+                m3c2::cylinder_parameters(p), unsigned(p.threads));
+        }
+        // The stage's measurement of the epoch against it.
+        const M3c2Epoch epoch = measure_m3c2(p, product, *pair.epoch_scans, pair.outputs);
+        const m3c2::Reference& prepared = product.reference;
+        const auto& d = epoch.distances;
+        write_csv(o.out, prepared, epoch.compared, d);
         std::size_t valid = 0, significant = 0;
         std::vector<double> values;
         for (const auto& x : d)

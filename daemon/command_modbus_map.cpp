@@ -25,7 +25,22 @@ int run_modbus_map(const ModbusMapOptions& options) {
         for (const auto& z : config.zones) zones.push_back(z.name);
         const MapInputs inputs = modbus_map_inputs(db ? &*db : nullptr, zones, config.modbus);
         const RegisterMap map = build_register_map(inputs);
-        std::cout << (options.format == "csv" ? map_csv(map) : map_markdown(map));
+        if (options.format == "csv") {
+            std::cout << map_csv(map);
+            return 0;
+        }
+        // What an integrator sets up before reading the table.
+        const ModbusConfig& m = config.modbus;
+        std::cout << "Modbus TCP server " << m.address << ":" << m.port << ", unit id " << m.unit_id
+                  << (m.enabled ? "" : " (disabled: modbus.enabled = false)")
+                  << ". Addresses from 0 (PDU addresses; `mbpoll -0`). 32-bit values (float32, "
+                     "uint32) in two registers, word order "
+                  << (m.word_order == WordOrder::abcd ? "ABCD (high word first)"
+                                                      : "CDAB (low word first)")
+                  << ", bytes big-endian within a register; 123456.0 reads "
+                  << (m.word_order == WordOrder::abcd ? "0x47F1 0x2000" : "0x2000 0x47F1")
+                  << ".\n\n"
+                  << map_markdown(map);
     } catch (const std::exception& e) {
         std::cerr << "tlsmon modbus-map: " << e.what() << '\n';
         return 1;

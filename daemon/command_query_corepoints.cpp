@@ -81,15 +81,15 @@ int run_query_corepoints(const CorePointsOptions& o) {
             const float d = distance->values[k];
             // The reference's spread: beyond max_roughness, an edge and no distance.
             const double spread1 = ref.reference.reference_side[k].spread;
-            t.rows.push_back({static_cast<std::int64_t>(k), c.x(), c.y(), c.z(),
-                              defined ? Cell(n.x()) : Cell(), defined ? Cell(n.y()) : Cell(),
-                              defined ? Cell(n.z()) : Cell(),
-                              std::isfinite(ref.reference.normal_radius[k])
-                                  ? Cell(ref.reference.normal_radius[k])
-                                  : Cell(),
-                              std::isfinite(spread1) ? Cell(spread1) : Cell(), value_cell(d), value_cell(lod[k]), static_cast<std::int64_t>(n1[k]),
-                              static_cast<std::int64_t>(n2[k]),
-                              std::isfinite(d) && std::abs(d) > lod[k], zones[k]});
+            t.rows.push_back(
+                {static_cast<std::int64_t>(k), c.x(), c.y(), c.z(), defined ? Cell(n.x()) : Cell(),
+                 defined ? Cell(n.y()) : Cell(), defined ? Cell(n.z()) : Cell(),
+                 std::isfinite(ref.reference.normal_radius[k])
+                     ? Cell(ref.reference.normal_radius[k])
+                     : Cell(),
+                 std::isfinite(spread1) ? Cell(spread1) : Cell(), value_cell(d), value_cell(lod[k]),
+                 static_cast<std::int64_t>(n1[k]), static_cast<std::int64_t>(n2[k]),
+                 std::isfinite(d) && std::abs(d) > lod[k], zones[k]});
         }
         if (o.out.empty()) {
             print(std::cout, t, o.read.format);

@@ -10,20 +10,14 @@
 
 #include "daemon/commands.hpp"
 #include "daemon/config.hpp"
+#include "daemon/file_pair.hpp"
 #include "daemon/transformation_columns.hpp"
-#include "formats/scan_file.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/registration_stage.hpp"
-#include "pipeline/sha256.hpp"
 
 namespace tlsmon {
 
 namespace {
-
-std::vector<Scan> read_scans(const std::string& file) {
-    const HashedBytes content = read_file_hashed(file);
-    return parse_scans(content.bytes, file);
-}
 
 nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& v) {
     namespace reg = registration;
@@ -137,23 +131,11 @@ int run_register(const RegisterOptions& o) {
         if (!can_register(rc)) {
             throw ConfigError(o.config + ": " + kNoRegistrationWarning);
         }
-        const auto reference_scans = read_scans(o.reference);
-        const auto epoch_scans = read_scans(o.epoch);
-        const ReferenceTargets reference = measure_reference_targets(rc, reference_scans);
-        // Read alone, the files come without their air: no atmospheric correction.
-        RegistrationResult r = register_epoch(rc, reference, epoch_scans, {});
-        // The ICP on the stable regions as the stage runs it (refinement, or in place of
-        // targets that are too few or absent).
-        if (rc.icp.mode != IcpMode::off && !rc.icp.regions.empty()) {
-            apply_icp(rc, build_stable_surface(rc.icp, reference_scans), epoch_scans, {}, r);
-        }
-        StageVerdict v;
-        if (!r.tested.accepted()) {
-            v.rejected =
-                std::string(registration::describe(r.tested.status)) + ": " + r.tested.reason;
-        } else if (!r.gate.empty()) {
-            v.rejected = "quality gate: " + r.gate;
-        }
+        // The registration stage itself, with each file's meteo sidecar when it has one
+        // (daemon/file_pair.hpp).
+        const FilePair pair = read_files(o.reference, o.epoch, config);
+        RegistrationResult r;
+        const StageVerdict v = register_file_pair(pair, config, r);
         accepted = r.accepted();
         const nlohmann::json j = describe_result(r, v);
         if (o.format == OutputFormat::json) {

@@ -85,7 +85,8 @@ int run_targets(const ReadOptions& options) {
                 row.push_back(Cell(x->second.resurveyed ? "no" : "yes"));
                 row.push_back(Cell(format_utc(x->second.excluded_acquired)));
                 row.push_back(optional_cell(std::optional<std::int64_t>(x->second.epoch)));
-                row.push_back(Cell(exclusion_reason(store.targets_of_epoch(x->second.epoch), name)));
+                row.push_back(
+                    Cell(exclusion_reason(store.targets_of_epoch(x->second.epoch), name)));
                 row.push_back(x->second.resurveyed ? Cell(format_utc(*x->second.resurveyed))
                                                    : Cell());
             }

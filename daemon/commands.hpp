@@ -122,7 +122,8 @@ struct AlarmHistoryOptions {
 };
 int run_alarm_history(const AlarmHistoryOptions& options);
 
-// `tlsmon alarms ack|shelve|unshelve|out-of-service|in-service RULE` ("*" = every rule): 0, or 1 with the error.
+// `tlsmon alarms ack|shelve|unshelve|out-of-service|in-service RULE` ("*" = every rule): 0, or 1
+// with the error.
 struct AlarmActionOptions {
     std::string db;
     std::string config;
@@ -154,18 +155,20 @@ int run_simulate(const SimulateOptions& options);
 struct M3c2Options {
     std::string reference;
     std::string compared;
-    std::string core_file;               // core points from this file ...
-    std::optional<double> core_spacing;  // ... or subsampled from REFERENCE; neither: every point
-    std::vector<double> normal_radii{0.05, 0.10, 0.20};
-    double cylinder_radius = 0.05;
-    double max_depth = 0.30;
-    std::string orient = "0,0,1";  // "scanner" or "X,Y,Z"
-    double registration_error = 0.0;
-    bool median = false;
-    std::size_t min_points = 5;
-    std::optional<double> max_roughness;  // m; none: every cylinder (the method as published)
     std::string out;
-    unsigned threads = 0;
+    std::string config;     // a site's configuration: its [m3c2], zones and registration
+    std::string core_file;  // core points from this file (else subsampled at core_spacing)
+    // Each one given replaces the parameter (algorithms/m3c2/parameters.hpp).
+    std::optional<double> core_spacing;
+    std::vector<double> normal_radii;  // empty: not given
+    std::optional<double> cylinder_radius;
+    std::optional<double> max_depth;
+    std::optional<std::string> orient;  // "scanner" or "X,Y,Z"
+    std::optional<double> registration_error;
+    bool median = false;
+    std::optional<int> min_points;
+    std::optional<double> max_roughness;
+    std::optional<int> threads;
 };
 // 0, or 1 with the error on stderr.
 int run_m3c2(const M3c2Options& options);
@@ -201,17 +204,20 @@ int run_demo(const DemoOptions& options);
 struct KeypointsOptions {
     std::string reference;
     std::string epoch;
-    std::string detector = "kaze";
-    std::string descriptor = "brisk";
-    double window_deg = 0.05;
-    double ratio = 0.0;  // 0: no ratio test
+    std::string out;
+    std::string config;  // a site's configuration: its [keypoints], zones and registration
+    // Each one given replaces the parameter (algorithms/keypoints/parameters.hpp).
+    std::optional<std::string> detector;
+    std::optional<std::string> descriptor;
+    std::optional<double> window_deg;
+    std::optional<double> ratio;
     bool mutual = false;
     bool clahe = false;
-    double segments_deg = 5.0;  // vertical-angle bands
-    std::string out;
-    std::string images;  // folder for the pictures; "": none
+    bool no_refine = false;
+    std::optional<double> segments_deg;  // bands of the vertical angle this high
+    std::string images;                  // folder for the pictures; "": none
     double vector_scale = 20.0;
-    int scan = 1;  // the k-th structured scan of each file, from 1
+    std::optional<int> scan;  // only the k-th structured scan of each file, from 1
 };
 // 0, or 1 with the error on stderr.
 int run_keypoints(const KeypointsOptions& options);

@@ -525,6 +525,8 @@ PipelineConfig pipeline_config(const Config& config) {
                           .meteo = config.meteo,
                           .m3c2 = with_zone_shapes(config),
                           .keypoints = keypoints_with_zone_shapes(config),
+                          .zones = with_zone_shapes(config).zones,
+                          .stages = {},
                           .alarm_rules = config.alarm.rules};
 }
 

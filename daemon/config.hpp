@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/zones/zone_shape.hpp"
+#include "core/config_key.hpp"
 #include "core/toml_fields.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/modbus/modbus_config.hpp"
@@ -92,6 +93,14 @@ struct AlarmConfig {
     double disk_free_min = 0.05;  // system.disk_nearly_full below this free share
     std::vector<AlarmRuleSpec> rules;
 };
+
+// The keys of the daemon's own sections (daemon/config_sections.cpp; core/config_key.hpp).
+std::vector<SectionKey<StationConfig>> station_keys();
+std::vector<SectionKey<PathsConfig>> paths_keys();
+std::vector<SectionKey<IngestConfig>> ingest_keys();
+std::vector<SectionKey<LoggingConfig>> logging_keys();
+std::vector<SectionKey<DaemonConfig>> daemon_keys();
+std::vector<SectionKey<AlarmConfig>> alarm_keys();
 
 struct Config {
     std::filesystem::path file;  // the configuration file read ("" for built-in defaults)

@@ -50,9 +50,9 @@ std::string DemoProgress::line(const EpochDatabase& db, const Epoch& e) {
     // Per zone: M3C2 along the normal, the keypoints along the surface (h, v), each labelled.
     for (const std::string& zone : zones_) {
         std::string values;
-        for (const auto& [q, label] : {std::pair{"m3c2_median_m", "M3C2"},
-                                       std::pair{"keypoint_along_surface_h_m", "kp h"},
-                                       std::pair{"keypoint_along_surface_v_m", "v"}}) {
+        for (const auto& [q, label] :
+             {std::pair{"m3c2_median_m", "M3C2"}, std::pair{"keypoint_along_surface_h_m", "kp h"},
+              std::pair{"keypoint_along_surface_v_m", "v"}}) {
             const auto points = db.series().points(zone, q, {e.acquired, e.acquired});
             for (const SeriesPoint& p : points) {
                 if (p.epoch != e.id) continue;

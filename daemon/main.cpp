@@ -6,6 +6,9 @@
 #include <string>
 
 #include "daemon/commands.hpp"
+#include "daemon/config_keys.hpp"
+#include "pipeline/keypoint_config.hpp"
+#include "pipeline/m3c2_config.hpp"
 
 namespace tlsmon {
 namespace {
@@ -252,9 +255,10 @@ void add_events(CLI::App& app, CommandLine& c) {
 }
 
 void add_alarms(CLI::App& app, CommandLine& c) {
-    auto* cmd = app.add_subcommand("alarms",
-                                   "Alarms standing now (not normal); history; "
-                                   "acknowledge, shelve, unshelve, out-of-service, in-service (docs/alarms.md)");
+    auto* cmd = app.add_subcommand(
+        "alarms",
+        "Alarms standing now (not normal); history; "
+        "acknowledge, shelve, unshelve, out-of-service, in-service (docs/alarms.md)");
     c.alarms.add_to(cmd, false);
     auto* history = cmd->add_subcommand("history", "Alarm events by time");
     c.alarm_history_read.add_to(history, true);
@@ -287,41 +291,64 @@ void add_alarms(CLI::App& app, CommandLine& c) {
     });
 }
 
+// A one-shot command's parameter option: its default, the site's with --config, else a fresh
+// site's.
+std::string fallback(const std::string& key, const std::string& value) {
+    return " (default: the site's " + key + ", else " + value + ")";
+}
+
 void add_m3c2(CLI::App& app, CommandLine& c) {
     auto& o = c.m3c2;
     auto* cmd = app.add_subcommand(
         "m3c2",
         "M3C2 distances (Lague 2013) from REFERENCE to COMPARED at core points, with LoD95; "
-        "one CSV row per core point (docs/m3c2.md). Radii and half-lengths in metres");
+        "one CSV row per core point (docs/m3c2.md). Parameters: a fresh site's defaults, or "
+        "the site's with --config (its zones and registration too: the numbers the daemon "
+        "stores); each option replaces one. Radii and half-lengths in metres");
+    const M3c2Config defaults;
+    const auto listed = [](const std::vector<double>& values) {
+        std::string out;
+        for (double v : values) out += (out.empty() ? "" : ",") + toml_number(v);
+        return out;
+    };
     cmd->add_option("REFERENCE", o.reference, "Reference scan file (normals, core points)")
         ->required();
     cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [m3c2] parameters, [[zone]] core points and "
+                    "registration of COMPARED onto REFERENCE");
     auto* core = cmd->add_option("--core", o.core_file, "Core points: every point of this file");
     cmd->add_option("--core-spacing", o.core_spacing,
-                    "Core points: REFERENCE subsampled at this spacing (default: every point "
-                    "of REFERENCE)")
+                    "Core points: REFERENCE subsampled at this spacing" +
+                        fallback("m3c2.core_spacing", toml_number(defaults.core_spacing)))
         ->excludes(core);
     cmd->add_option("--normal-radii", o.normal_radii,
-                    "Normal radii R1,R2,...: the most planar scale is used")
-        ->delimiter(',')
-        ->capture_default_str();
-    cmd->add_option("--cylinder-radius", o.cylinder_radius, "Cylinder radius (projection scale)")
-        ->capture_default_str();
-    cmd->add_option("--max-depth", o.max_depth, "Cylinder half-length along the normal")
-        ->capture_default_str();
+                    "Normal radii R1,R2,...: the most planar scale is used" +
+                        fallback("m3c2.normal_radii", listed(defaults.normal_radii)))
+        ->delimiter(',');
+    cmd->add_option("--cylinder-radius", o.cylinder_radius,
+                    "Cylinder radius (projection scale)" +
+                        fallback("m3c2.cylinder_radius", toml_number(defaults.cylinder_radius)));
+    cmd->add_option("--max-depth", o.max_depth,
+                    "Cylinder half-length along the normal" +
+                        fallback("m3c2.max_depth", toml_number(defaults.max_depth)));
     cmd->add_option("--orient", o.orient,
-                    "Normal orientation: scanner (towards REFERENCE's scanner) or X,Y,Z")
-        ->capture_default_str();
-    cmd->add_option("--reg-error", o.registration_error,
-                    "Registration error added to the LoD (Lague 2013, eq. 1)")
-        ->capture_default_str();
+                    "Normal orientation: scanner (towards REFERENCE's scanner) or X,Y,Z" +
+                        fallback("m3c2.orientation", "scanner"));
+    cmd->add_option(
+        "--reg-error", o.registration_error,
+        "Registration error added to the LoD without a registration (Lague 2013, "
+        "eq. 1)" +
+            fallback("m3c2.registration_error", toml_number(defaults.registration_error)));
     cmd->add_flag("--median", o.median, "Median and interquartile range instead of mean and std");
     cmd->add_option("--min-points", o.min_points,
-                    "Fewer points in either cylinder: no distance (NaN)")
-        ->capture_default_str();
+                    "Fewer points in either cylinder: no distance (NaN)" +
+                        fallback("m3c2.min_points", std::to_string(defaults.min_points)));
     cmd->add_option("--max-roughness", o.max_roughness,
-                    "A reference cylinder spreading more than this (m) holds an edge: no distance");
-    cmd->add_option("--threads", o.threads, "Threads (0: every core)")->capture_default_str();
+                    "A reference cylinder spreading more than this (m) holds an edge: no "
+                    "distance" +
+                        fallback("m3c2.max_roughness", toml_number(defaults.max_roughness)));
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)");
     cmd->add_option("--out", o.out, "Result CSV file")->required();
     cmd->callback([&] { c.code = run_m3c2(o); });
 }
@@ -330,29 +357,39 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
     auto& o = c.keypoints;
     auto* cmd = app.add_subcommand(
         "keypoints",
-        "Keypoint displacement vectors between two structured scans in one frame: keypoints "
-        "in the spherical intensity images, matched in an angular window, taken to 3-D; one "
-        "CSV row per match and a summary per vertical-angle band");
+        "Keypoint displacement vectors between two structured scans, measured by the keypoint "
+        "stage (docs/keypoints.md): a fresh site's parameters with bands of the vertical angle, "
+        "or the site's with --config (its zones and registration too: the numbers the daemon "
+        "stores); each option replaces one. One CSV row per match, a summary per segment");
+    const KeypointConfig defaults;
     cmd->add_option("REFERENCE", o.reference, "Reference scan file (PTX or gridded E57)")
         ->required();
-    cmd->add_option("EPOCH", o.epoch, "Compared scan file, in the reference's frame")->required();
-    cmd->add_option("--detector", o.detector, "kaze, akaze, sift, brisk or orb")
-        ->capture_default_str();
+    cmd->add_option("EPOCH", o.epoch, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [keypoints] parameters, [[zone]] segments and "
+                    "registration of EPOCH onto REFERENCE");
+    cmd->add_option(
+        "--detector", o.detector,
+        "kaze, akaze, sift, brisk or orb" + fallback("keypoints.detector", defaults.detector));
     cmd->add_option("--descriptor", o.descriptor,
-                    "brisk, sift, orb, kaze or akaze (the last two on their own detector only)")
-        ->capture_default_str();
-    cmd->add_option("--window-deg", o.window_deg, "Angular radius of the matching window, degrees")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    cmd->add_option("--ratio", o.ratio, "Lowe's ratio test (0: off)")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
+                    "brisk, sift, orb, kaze or akaze (the last two on their own detector only)" +
+                        fallback("keypoints.descriptor", defaults.descriptor));
+    cmd->add_option("--window-deg", o.window_deg,
+                    "Angular radius of the matching window, degrees" +
+                        fallback("keypoints.window_deg", toml_number(defaults.window_deg)))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option(
+           "--ratio", o.ratio,
+           "Lowe's ratio test (0: off)" + fallback("keypoints.ratio", toml_number(defaults.ratio)))
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--mutual", o.mutual, "Keep only mutually nearest matches");
     cmd->add_flag("--clahe", o.clahe, "Equalise the intensity images (CLAHE) before detection");
+    cmd->add_flag("--no-refine", o.no_refine,
+                  "No least-squares refinement of the matches on their intensity patches");
     cmd->add_option("--segments", o.segments_deg,
-                    "Segments: bands of the reference's vertical angle this many degrees high")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+                    "Segments: bands of the reference's vertical angle this many degrees high" +
+                        fallback("keypoints.band_width_deg", toml_number(defaults.band_width_deg)))
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--out", o.out, "Result CSV file, one row per match")->required();
     cmd->add_option("--images", o.images,
                     "Folder for reference.png and epoch.png: the intensity images with the "
@@ -361,10 +398,10 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_option("--scan", o.scan,
-                    "Which structured scan of each file, 1 = the first (a file may hold an "
-                    "overview and its detail scans; `tlsmon info` lists them)")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+                    "Only this structured scan of each file, 1 = the first (a file may hold an "
+                    "overview and its detail scans; `tlsmon info` lists them); default: every "
+                    "scan, paired by their order, as the daemon")
+        ->check(CLI::PositiveNumber);
     cmd->callback([&] { c.code = run_keypoints(o); });
 }
 
@@ -434,7 +471,8 @@ void add_targets(CLI::App& app, CommandLine& c) {
     c.targets.add_to(cmd, false);
     auto& o = c.resurvey;
     auto* sub = cmd->add_subcommand(
-        "resurvey", "Mark target NAME re-surveyed: its exclusion is cleared and an event records who");
+        "resurvey",
+        "Mark target NAME re-surveyed: its exclusion is cleared and an event records who");
     auto* db = sub->add_option("--db", o.db, "Epoch database (SQLite file)");
     sub->add_option("--config", o.config, "Configuration file naming the database")->excludes(db);
     sub->add_option("NAME", o.target, "Target name")->required();

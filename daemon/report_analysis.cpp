@@ -203,7 +203,8 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                 const TruthEpoch* t = truth_at(truth, p.acquired);
                 if (t) row.truth_epoch = t->epoch;
                 if (t && !q.truth_kind.empty()) {
-                    row.truth = truth_value(quantity, zone_truth(*reference, *t, *zc.face), *zc.face);
+                    row.truth =
+                        truth_value(quantity, zone_truth(*reference, *t, *zc.face), *zc.face);
                     if (std::isfinite(p.value)) errors.push_back(p.value - *row.truth);
                 }
                 q.rows.push_back(row);

@@ -172,9 +172,9 @@ bool plot_zone(const RunReport& r, const ZoneCheck& z, const fs::path& dir, Repo
     gp += fmt::format(
         "set title {}\nset ylabel 'change since the reference epoch (mm, + towards the "
         "scanner)'\n",
-        gnuplot_quoted(fmt::format("Zone {} ({} face, z {:g}-{:g} m){}", z.zone, z.face->face,
-                           z.face->z_min, z.face->z_max,
-                           k == 0 ? ": truth only, no M3C2 or keypoint rows in this run" : "")));
+        gnuplot_quoted(fmt::format(
+            "Zone {} ({} face, z {:g}-{:g} m){}", z.zone, z.face->face, z.face->z_min,
+            z.face->z_max, k == 0 ? ": truth only, no M3C2 or keypoint rows in this run" : "")));
     gp += "plot " + plot + "\n";
     const fs::path script = dir / (base + ".gp");
     write_text(script, gp);

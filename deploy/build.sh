@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Configures and builds tlsmon in ./build (RelWithDebInfo) on every core. Extra arguments go
-# to CMake (e.g. -DTLSMON_WERROR=ON). CMake compiles through ccache when it is installed
+# to CMake (e.g. -DTLSMON_WERROR=ON). TLSMON_TARGETS="tlsmon" builds only those targets (the
+# demo needs the executable, not the tests and benchmarks); unset: everything. CMake compiles through ccache when it is installed
 # (deploy/install-deps.sh installs it); this script says so, with this build's hit rate.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,7 +17,9 @@ else
 fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"
-cmake --build build -j "$(nproc)"
+targets=()
+for t in ${TLSMON_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build build -j "$(nproc)" "${targets[@]}"
 
 if [ -n "${CCACHE_STATSLOG:-}" ] && [ -f "$CCACHE_STATSLOG" ]; then
   echo "build: ccache for this build:"

@@ -7,9 +7,9 @@ packages=(
   build-essential cmake pkg-config ccache git
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev sqlite3 libsqlitecpp-dev libssl-dev
   libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev
-  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev
+  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang libclang-rt-dev
+  clang libclang-rt-dev clang-format
   mbpoll gnuplot-nox
 )
 

@@ -4,9 +4,13 @@
 # suite a second build under AddressSanitizer + UndefinedBehaviorSanitizer runs the core,
 # formats and storage tests and replays the fuzz corpora (deploy/run-sanitizers.sh). A
 # user's build keeps warnings as warnings, so a newer compiler's new warning never stops it.
+# CI also checks that every C++ source is formatted as .clang-format says, before building.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
+if [ "${CI:-}" = true ]; then
+  git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
+fi
 cmake_args=()
 if [ "${CI:-}" = true ]; then cmake_args+=(-DTLSMON_WERROR=ON); fi
 bash deploy/build.sh "${cmake_args[@]}"

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string_view>
 
-#include "formats/e57_bitstream.hpp"
 #include "core/utc_time.hpp"
+#include "formats/e57_bitstream.hpp"
 #include "formats/e57_pages.hpp"
 #include "formats/e57_xml.hpp"
 #include "formats/mapped_file.hpp"

@@ -1,4 +1,3 @@
-#include "core/utc_time.hpp"
 #include "formats/e57_writer.hpp"
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "core/utc_time.hpp"
 #include "formats/e57_pages.hpp"
 #include "formats/e57_reader.hpp"
 #include "formats/format_error.hpp"

@@ -6,8 +6,8 @@
 #include <string_view>
 
 #include "formats/format_error.hpp"
-#include "fuzz/scan_invariants.hpp"
 #include "formats/ptx_reader.hpp"
+#include "fuzz/scan_invariants.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "alarms/alarm_rate.hpp"
@@ -92,22 +93,24 @@ AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const E
 
 std::string rule_definition_json(const AlarmRuleSpec& r) {
     static const char* names[3] = {"warning", "alert", "alarm"};
-    auto number = [](const std::optional<double>& v) {
-        return v ? fmt::format("{}", *v) : std::string("null");
+    const auto number = [](const std::optional<double>& v) {
+        return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
     };
-    std::string levels;
+    nlohmann::json levels = nlohmann::json::object();
     for (int k = 0; k < 3; ++k) {
         if (!r.levels[k]) continue;
         const auto& l = *r.levels[k];
-        levels += fmt::format("{}\"{}\":{{\"high\":{},\"low\":{},\"deadband\":{}}}",
-                              levels.empty() ? "" : ",", names[k], number(l.high), number(l.low),
-                              l.deadband);
+        levels[names[k]] = {
+            {"high", number(l.high)}, {"low", number(l.low)}, {"deadband", l.deadband}};
     }
-    return fmt::format(
-        "{{\"levels\":{{{}}},\"on_delay\":{},\"off_delay\":{},\"significant_only\":{},"
-        "\"rate_window_seconds\":{},\"latching\":{},\"evaluate_unregistered\":{}}}",
-        levels, r.on_delay, r.off_delay, r.significant_only, number(r.rate_window_seconds),
-        r.latching, r.evaluate_unregistered);
+    return nlohmann::json{{"levels", levels},
+                          {"on_delay", r.on_delay},
+                          {"off_delay", r.off_delay},
+                          {"significant_only", r.significant_only},
+                          {"rate_window_seconds", number(r.rate_window_seconds)},
+                          {"latching", r.latching},
+                          {"evaluate_unregistered", r.evaluate_unregistered}}
+        .dump();
 }
 
 void store_alarm_rules(EpochDatabase& db, const std::vector<AlarmRuleSpec>& rules) {

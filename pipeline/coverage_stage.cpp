@@ -46,31 +46,40 @@ ReferenceExtent ReferenceExtent::decode(std::string_view payload) {
     return e;
 }
 
-StageVerdict check_coverage(const CoverageConfig& config, const EpochInput& input,
-                            ReferenceEpoch& reference, ReferenceCache& cache,
-                            CoverageResult& result) {
-    // The extent depends on nothing but the reference's points.
-    const auto extent = cache.get<ReferenceExtent>(reference, ProductKey{"coverage.extent", "", 1},
-                                                   [](const std::vector<Scan>& scans) {
-                                                       ReferenceExtent e;
-                                                       for (const auto& s : scans) {
-                                                           for (const auto& p : s.xyz)
-                                                               e.box.extend(p);
-                                                       }
-                                                       e.points = point_count(scans);
-                                                       return e;
-                                                   });
-    result.inside_share = share_inside(*input.scans, extent->box, config.margin);
+ReferenceExtent CoverageStage::prepare_reference(const std::vector<Scan>& reference_scans) const {
+    ReferenceExtent e;
+    for (const auto& s : reference_scans) {
+        for (const auto& p : s.xyz) e.box.extend(p);
+    }
+    e.points = point_count(reference_scans);
+    return e;
+}
+
+StageVerdict CoverageStage::measure(StageContext& ctx, const ReferenceExtent& reference) const {
+    const double inside_share = share_inside(*ctx.input.scans, reference.box, config_.margin);
     StageVerdict verdict;
-    verdict.note = fmt::format("{:.1f} % of the points inside the reference extent",
-                               100 * result.inside_share);
-    if (!(result.inside_share >= config.min_inside_share)) {
+    verdict.note =
+        fmt::format("{:.1f} % of the points inside the reference extent", 100 * inside_share);
+    if (!(inside_share >= config_.min_inside_share)) {
         verdict.rejected = fmt::format(
             "only {:.1f} % of the points lie within the reference epoch's extent (grown by {} m; "
             "at least {:.1f} % required): the scanner may have turned, or the scan is cut short",
-            100 * result.inside_share, config.margin, 100 * config.min_inside_share);
+            100 * inside_share, config_.margin, 100 * config_.min_inside_share);
     }
     return verdict;
+}
+
+std::vector<SectionKey<CoverageConfig>> coverage_keys() {
+    using K = Keys<CoverageConfig>;
+    return {
+        K::number(&CoverageConfig::margin, "margin", 0, 1000, "m",
+                  "The reference epoch's bounding box is grown by this on every side before the "
+                  "share of an epoch's points inside it is counted."),
+        K::number(&CoverageConfig::min_inside_share, "min_inside_share", 0, 1, "",
+                  "An epoch with a smaller share of its points inside the grown box is rejected "
+                  "before any analysis (the scanner turned, the scan is cut short, a file of "
+                  "another station). 0: never rejected; the share is stored either way."),
+    };
 }
 
 }  // namespace tlsmon

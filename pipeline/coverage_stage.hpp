@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "algorithms/extent.hpp"
+#include "core/config_key.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/stage.hpp"
 
@@ -18,8 +19,14 @@ struct CoverageConfig {
     double min_inside_share = 0.0;  // 0..1: a smaller share inside -> rejected (0 = never)
 };
 
+// The keys of [coverage] (core/config_key.hpp).
+std::vector<SectionKey<CoverageConfig>> coverage_keys();
+
 // The reference's extent, as kept in the reference cache.
 struct ReferenceExtent {
+    static constexpr const char* kStage = "coverage.extent";
+    static constexpr int kFormatVersion = 1;
+
     BoundingBox box;
     std::uint64_t points = 0;
 
@@ -27,12 +34,17 @@ struct ReferenceExtent {
     static ReferenceExtent decode(std::string_view payload);
 };
 
-struct CoverageResult {
-    double inside_share = 0;  // of the epoch's points, inside the grown reference box
-};
+class CoverageStage final : public ReferenceStage<ReferenceExtent> {
+  public:
+    explicit CoverageStage(CoverageConfig config) : config_(config) {}
+    const char* name() const override { return "coverage"; }
+    // The extent depends on nothing but the reference's points.
+    std::string reference_parameters() const override { return ""; }
+    ReferenceExtent prepare_reference(const std::vector<Scan>& reference_scans) const override;
+    StageVerdict measure(StageContext& ctx, const ReferenceExtent& reference) const override;
 
-StageVerdict check_coverage(const CoverageConfig& config, const EpochInput& input,
-                            ReferenceEpoch& reference, ReferenceCache& cache,
-                            CoverageResult& result);
+  private:
+    CoverageConfig config_;
+};
 
 }  // namespace tlsmon

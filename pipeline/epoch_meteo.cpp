@@ -50,4 +50,27 @@ std::optional<MeteoSidecar> read_epoch_meteo(const fs::path& sidecar, const Epoc
     return m;
 }
 
+std::vector<SectionKey<MeteoConfig>> meteo_keys() {
+    using K = Keys<MeteoConfig>;
+    constexpr double day = 86400.0;
+    return {
+        K::seconds(&MeteoConfig::wait_seconds, "wait_seconds", 0, day, "",
+                   "How long a new scan waits for its meteo sidecar `<scan stem>.meteo.csv` "
+                   "(docs/formats.md), counted from when the scan was recorded (so also across a "
+                   "restart). Epochs are processed in acquisition order: later scans wait behind "
+                   "it; files keep being taken meanwhile. Without a sidecar by then the epoch is "
+                   "processed without meteo, with a warning and a `meteo_missing` system event. "
+                   "0: no waiting, and no event (a site without a weather station); a sidecar "
+                   "already there is still used."),
+        K::seconds(
+            &MeteoConfig::max_time_offset_seconds, "max_time_offset_seconds", 0, day, "",
+            "The sidecar's row nearest the acquisition time is used if it lies within this; "
+            "otherwise the sidecar is rejected (quarantined, `meteo_rejected` event) and the "
+            "epoch is processed without meteo."),
+        K::seconds(&MeteoConfig::orphan_seconds, "orphan_seconds", 1, 30 * day, "",
+                   "A complete sidecar whose scan has not arrived after this long is moved to "
+                   "`paths.quarantine` with its reason and a `meteo_orphan` system event."),
+    };
+}
+
 }  // namespace tlsmon

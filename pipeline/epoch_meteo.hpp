@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/config_key.hpp"
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon {
@@ -26,5 +27,8 @@ struct MeteoConfig {
 // is gone.
 std::optional<MeteoSidecar> read_epoch_meteo(const std::filesystem::path& sidecar,
                                              const Epoch& epoch, const MeteoConfig& config);
+
+// The keys of [meteo] (core/config_key.hpp).
+std::vector<SectionKey<MeteoConfig>> meteo_keys();
 
 }  // namespace tlsmon

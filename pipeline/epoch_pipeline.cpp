@@ -6,15 +6,14 @@
 
 #include <cerrno>
 #include <chrono>
-#include <cmath>
 
 #include "core/utc_time.hpp"
 #include "formats/meteo_csv.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_files.hpp"
-#include "pipeline/icp_registration.hpp"
 #include "pipeline/sha256.hpp"
+#include "pipeline/site_stages.hpp"
 
 namespace tlsmon {
 
@@ -116,216 +115,56 @@ std::optional<ReferenceEpoch> reference_for(PipelineContext& ctx, const Epoch& e
     return ReferenceEpoch(epoch, [scans] { return scans; });
 }
 
-// What the registration stage measured, as the commit stores it.
-void record_registration(const RegistrationResult& r, const StageVerdict& verdict, EpochId epoch,
-                         EpochResults& results) {
-    namespace reg = registration;
-    RegistrationRow row;
-    row.method = registration_method(r);
-    row.quality_json = fmt::format(
-        R"({{"atmosphere":"{}","epoch_ppm":{},"reference_ppm":{}{}}})",
-        r.epoch_range_scale ? "corrected" : "not_corrected",
-        r.epoch_range_scale ? fmt::format("{:.3f}", (*r.epoch_range_scale - 1) * 1e6) : "null",
-        r.reference_range_scale ? fmt::format("{:.3f}", (*r.reference_range_scale - 1) * 1e6)
-                                : "null",
-        icp_quality_json(r));
-    row.status = name_of(r.tested.status);
-    // Accepted with a scaled covariance: the reason says by how much, and why.
-    row.reason = verdict.rejected.empty() &&
-                         r.tested.status == registration::RegistrationStatus::accepted_scaled
-                     ? r.tested.reason
-                     : verdict.rejected;
-    row.target_count = r.used;
-    row.rms_m = r.rms;
-    row.max_residual_m = r.max_residual;
-    row.accepted = r.accepted();
-    Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
-    if (const auto& T = r.tested.transform) {
-        M = T->matrix();
-        row.sigma0 = std::sqrt(T->variance_factor);
-        row.variance_factor = T->variance_factor;
-        row.redundancy = T->redundancy;
-        row.parameters = std::array<double, 6>{
-            T->omega, T->phi, T->kappa, T->translation.x(), T->translation.y(), T->translation.z()};
-        const auto s = T->sigmas();
-        row.sigmas = std::array<double, 6>{s(0), s(1), s(2), s(3), s(4), s(5)};
-        row.quaternion = std::array<double, 4>{T->quaternion.w(), T->quaternion.x(),
-                                               T->quaternion.y(), T->quaternion.z()};
+// What the earlier epochs left for this one: the targets excluded as moved, the reference
+// epoch's air, the stored series.
+StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference) {
+    StageHistory history;
+    history.excluded_targets = ctx.db.registrations().excluded_targets();
+    for (const auto& m : ctx.db.meteo().of_epoch(reference.epoch().id)) {
+        if (m.outcome == MeteoOutcome::used && m.values) history.reference_meteo = m;
     }
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = M(i, j);
-    results.registration = row;
-    for (std::size_t i = 0; i < r.measured.size(); ++i) {
-        const auto& m = r.measured[i];
-        TargetObservation o;
-        o.target = m.name;
-        o.kind = to_string(m.kind);
-        o.status = m.status;
-        o.reason = m.reason;
-        for (int k = 0; k < 3; ++k)
-            o.measured[k] = m.found() || m.status == "excluded" ? m.centre[k] : 0.0;
-        if (m.found() || m.status == "excluded") {
-            const Eigen::Vector3d s = m.covariance.diagonal().cwiseSqrt();
-            o.sigma = std::array<double, 3>{s.x(), s.y(), s.z()};
-        }
-        if (i < r.tested.targets.size()) {
-            const auto& v = r.tested.targets[i];
-            o.use = name_of(v.use);
-            o.used = v.use == reg::TargetUse::used;
-            o.stable =
-                v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
-            for (int k = 0; k < 3; ++k)
-                o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;
-            if (v.statistic > 0 || v.critical > 0) {
-                o.statistic = v.statistic;
-                o.critical = v.critical;
-            }
-            if (std::isfinite(v.minimal_detectable_bias)) {
-                o.minimal_detectable_bias_m = v.minimal_detectable_bias;
-            }
-        } else {
-            o.used = false;
-        }
-        results.targets.push_back(std::move(o));
-    }
-    results.target_exclusions = r.newly_excluded;
-    for (const auto& name : r.newly_excluded) {
-        results.system_events.push_back(
-            SystemEvent{now_utc(), "warning", "target_excluded",
-                        "target " + name +
-                            " moved and is excluded from the registration until it is "
-                            "re-surveyed",
-                        epoch});
-    }
-    if (r.accepted()) {
-        for (const auto& z : r.zones) {
-            results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
-        }
-    }
+    history.series = &ctx.db.series();
+    return history;
 }
 
-// The row of an epoch that no registration could take to the reference's frame: the
-// reference itself is its own datum (identity, accepted); any other epoch stays in the
-// scanner's frame, `unregistered`, and its values raise no alarm (docs/registration.md).
-RegistrationRow datum_without_registration(bool is_reference) {
-    RegistrationRow row;
-    const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = I(i, j);
-    if (is_reference) {
-        row.method = "reference";
-        row.status = "reference";
-        row.accepted = true;
-        row.reason = "the reference epoch: its own frame is the datum";
-    } else {
-        row.method = kUnregistered;
-        row.status = kUnregistered;
-        row.accepted = false;
-        row.reason =
-            "not registered: no [[target]] and no ICP fallback on [[stable_region]]s are "
-            "configured; the epoch stays in the scanner's frame, its values raise no alarm";
+// One stage, timed and listed in the epoch's stages; an Error of the stage (e.g. the
+// reference's file is gone and a product is not cached) rejects the epoch with its reason.
+StageVerdict run_timed(const Stage& stage, StageContext& sc) {
+    const auto t0 = std::chrono::steady_clock::now();
+    StageVerdict verdict;
+    try {
+        verdict = stage.run(sc);
+    } catch (const StorageError&) {
+        throw;
+    } catch (const Error& e) {
+        verdict.rejected = std::string(stage.name()) + ": " + e.what();
     }
-    return row;
+    sc.results.stages.push_back(
+        StageRun{stage.name(), ms_since(t0), verdict.rejected, verdict.note});
+    return verdict;
 }
 
-// The stages in order. Each gets the epoch, the reference and its own config section, and
-// records its time; the first that cannot run for this epoch decides its rejection.
+// The epoch through the stages (the data flow of docs/pipeline.md); the first that cannot
+// analyse it rejects it.
 StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResults& results) {
+    // 1. Epoch 0 of every analysis.
     std::optional<ReferenceEpoch> reference = reference_for(ctx, input.epoch, input.scans);
     if (!reference) {
-        StageVerdict none;
-        none.rejected = "no reference epoch yet: ingest.reference_epoch = '" +
-                        ctx.config.reference_epoch + "' has not been processed";
-        return none;
+        return StageVerdict{"no reference epoch yet: ingest.reference_epoch = '" +
+                                ctx.config.reference_epoch + "' has not been processed",
+                            ""};
     }
-    const auto timed = [&](const char* stage, auto&& run) {
-        const auto t0 = std::chrono::steady_clock::now();
-        StageVerdict verdict;
-        try {
-            verdict = run();
-        } catch (const StorageError&) {
-            throw;
-        } catch (const Error& e) {  // e.g. the reference's file is gone and a product is not cached
-            verdict.rejected = std::string(stage) + ": " + e.what();
-        }
-        results.stages.push_back(StageRun{stage, ms_since(t0), verdict.rejected, verdict.note});
-        return verdict;
-    };
-
-    CoverageResult coverage;
-    if (auto v = timed("coverage",
-                       [&] {
-                           return check_coverage(ctx.config.coverage, input, *reference, ctx.cache,
-                                                 coverage);
-                       });
-        !v.ran()) {
-        return v;
-    }
+    // 2. What the stages may read of the epochs before.
+    const StageHistory history = history_for(ctx, *reference);
+    // 3. Coverage, registration, M3C2, keypoints (site_stages): each prepares its reference
+    //    product (cached) and measures the epoch into its own rows.
     StageOutputs outputs;
-    const bool is_reference = reference->epoch().id == input.epoch.id;
-    if (!can_register(ctx.config.registration) ||
-        (is_reference && ctx.config.registration.targets.empty())) {
-        // Every epoch states its datum: the reference's own frame (never an ICP of the
-        // reference onto itself, which a sampled surface need not return as the identity),
-        // or none at all.
-        results.registration = datum_without_registration(is_reference);
-        results.stages.push_back(StageRun{"registration", 0.0, "", results.registration->reason});
-    } else {
-        RegistrationResult registration;
-        const auto excluded = ctx.db.registrations().excluded_targets();
-        // The reference epoch's own air: its stored meteo (this epoch's when it is the
-        // reference itself).
-        std::optional<MeteoSidecar> reference_meteo;
-        if (reference->epoch().id == input.epoch.id) {
-            reference_meteo = input.meteo;
-        } else {
-            for (const auto& m : ctx.db.meteo().of_epoch(reference->epoch().id)) {
-                if (m.outcome == MeteoOutcome::used && m.values) reference_meteo = m;
-            }
-        }
-        bool measured = false;
-        auto v = timed("registration", [&] {
-            const auto verdict =
-                register_to_reference(ctx.config.registration, input, *reference, ctx.cache,
-                                      excluded, reference_meteo, registration);
-            measured = true;
-            return verdict;
-        });
-        if (measured) record_registration(registration, v, input.epoch.id, results);
-        if (!v.ran()) return v;
-        outputs.to_reference = registration.tested.transform;
-        if (registration.epoch_range_scale && !input.scans->empty()) {
-            outputs.range_scale = *registration.epoch_range_scale;
-            outputs.scanner = input.scans->front().scanner_position();
-            outputs.reference_range_scale = registration.reference_range_scale.value_or(1.0);
-        }
+    StageContext sc{input, *reference, ctx.cache, history, ctx.config.zones, outputs, results};
+    const StageList stages =
+        ctx.config.stages.empty() ? site_stages(ctx.config) : ctx.config.stages;
+    for (const auto& stage : stages) {
+        if (auto verdict = run_timed(*stage, sc); !verdict.ran()) return verdict;
     }
-    if (ctx.config.m3c2.enabled && !ctx.config.m3c2.zones.empty()) {
-        if (auto v = timed("m3c2",
-                           [&] {
-                               return run_m3c2(ctx.config.m3c2, input, *reference, ctx.cache,
-                                               outputs, results);
-                           });
-            !v.ran()) {
-            return v;
-        }
-    }
-    const KeypointConfig& kp = ctx.config.keypoints;
-    if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty())) {
-        std::vector<std::pair<std::string, std::string>> band_zones;
-        if (auto v = timed("keypoints",
-                           [&] {
-                               return run_keypoints(kp, input, *reference, ctx.cache, outputs,
-                                                    ctx.db.series(), band_zones, results);
-                           });
-            !v.ran()) {
-            return v;
-        }
-        // The rows' band zones must exist before the commit (idempotent).
-        for (const auto& [name, definition] : band_zones)
-            ctx.db.site().upsert_zone(name, definition);
-    }
-    // Zones and alarms follow here, in this order, with `outputs`.
     return {};
 }
 
@@ -476,12 +315,12 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
                 now_utc(), "warning", "epoch_rejected",
                 "epoch " + std::to_string(epoch.id) + " rejected: " + verdict.rejected, epoch.id});
         }
-        // The alarm rules run inside the commit, on the rows it writes (alarm_evaluation.hpp).
-        ctx.db.results().commit(epoch.id, results,
-                                [&](const AlarmStore& alarms, const SeriesReader& series) {
-                                    return evaluate_epoch_alarms(ctx.config.alarm_rules, epoch,
-                                                                 results, alarms, series);
-                                });
+        // The alarm rules: the step after the stages, inside the commit, on the rows it writes
+        // (alarm_evaluation.hpp).
+        const auto evaluate_alarms = [&](const AlarmStore& alarms, const SeriesReader& series) {
+            return evaluate_epoch_alarms(ctx.config.alarm_rules, epoch, results, alarms, series);
+        };
+        ctx.db.results().commit(epoch.id, results, evaluate_alarms);
         if (verdict.ran()) {
             spdlog::info("epoch {} done: {} points, read {:.0f} ms, analyses {:.0f} ms ({})",
                          epoch.id, *results.point_count, *results.timings.read_ms,

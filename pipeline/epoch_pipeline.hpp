@@ -1,7 +1,8 @@
 #pragma once
 // Processing one pending epoch: claim -> read the file once and check its sha256 -> parse ->
 // the stages in order against the reference epoch (run_stages in epoch_pipeline.cpp) ->
-// commit everything in one transaction -> archive the file.
+// the alarm rules on its rows, inside the commit of everything in one transaction ->
+// archive the file.
 // An unreadable file goes to quarantine and the epoch is `failed` with the reason; an epoch
 // a stage cannot analyse is `rejected` with the stage's reason; a disk or database failure
 // puts the epoch back to `pending` for a later retry.
@@ -34,8 +35,11 @@ struct PipelineConfig {
     CoverageConfig coverage;
     RegistrationConfig registration;  // no targets: no registration
     MeteoConfig meteo;
-    M3c2Config m3c2;  // with the zones; none: the stage does not run
-    KeypointConfig keypoints;  // with the zones (segments = zones; none: it does not run)
+    M3c2Config m3c2;               // with the zones; none: the stage does not run
+    KeypointConfig keypoints;      // with the zones (segments = zones; none: it does not run)
+    std::vector<ZoneShape> zones;  // the site's zones, in the configuration's order
+    // The stages in order; empty: the site's (site_stages, pipeline/site_stages.hpp).
+    StageList stages;
     // Evaluated in each epoch's commit (pipeline/alarm_evaluation.hpp).
     std::vector<AlarmRuleSpec> alarm_rules;
 };

@@ -43,7 +43,8 @@ Cloud::Ptr to_cloud(std::span<const Eigen::Vector3d> points, const Eigen::Vector
 }
 
 // The number of iterations PCL ran (kept protected in pcl::Registration).
-class CountingIcp : public pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> {
+class CountingIcp
+    : public pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> {
   public:
     int iterations() const { return nr_iterations_; }
 };
@@ -56,7 +57,8 @@ Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points, double voxel) {
+std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points,
+                                             double voxel) {
     if (!(voxel > 0)) throw Error("voxel centroids: the voxel size must be positive");
     struct Sum {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();

@@ -26,11 +26,11 @@ struct IcpConfig {
     IcpMode mode = IcpMode::off;
     double max_correspondence_distance = 0.05;  // m, pairs farther apart are not matched
     int max_iterations = 50;
-    double voxel_size = 0.10;    // m, both clouds are thinned to one centroid per voxel
-    double min_overlap = 0.3;    // share of the epoch's thinned points with a pair
-    int min_points = 500;        // pairs at least
-    double max_rms = 0.005;      // m, RMS of the point-to-plane distances
-    double cluster_size = 1.0;   // m, cells whose residuals may be correlated (covariance)
+    double voxel_size = 0.10;   // m, both clouds are thinned to one centroid per voxel
+    double min_overlap = 0.3;   // share of the epoch's thinned points with a pair
+    int min_points = 500;       // pairs at least
+    double max_rms = 0.005;     // m, RMS of the point-to-plane distances
+    double cluster_size = 1.0;  // m, cells whose residuals may be correlated (covariance)
     // The ICP's σ multiplied by this: what no residual shows (the beam's footprint on grazing
     // ground, the grid's phase, the reference's own surface), as centre_sigma_floor is for the
     // targets; 2 holds RMS(error/σ) near 1 on the simulator (docs/registration.md).

@@ -10,10 +10,10 @@
 namespace tlsmon {
 
 struct IcpMeasurement {
-    std::string role;     // "refine": after accepted targets; "fallback": in their place
-    bool used = false;    // entered the epoch's transformation
-    std::string refused;  // why it did not, in words ("" when used)
-    std::size_t epoch_points = 0;      // the epoch's thinned points in the stable regions
+    std::string role;              // "refine": after accepted targets; "fallback": in their place
+    bool used = false;             // entered the epoch's transformation
+    std::string refused;           // why it did not, in words ("" when used)
+    std::size_t epoch_points = 0;  // the epoch's thinned points in the stable regions
     std::size_t reference_points = 0;  // the reference surface's points with normals
     std::size_t pairs = 0;             // matched within the correspondence distance, used
     std::size_t outliers = 0;          // matched but left out as too far from their plane

@@ -320,26 +320,23 @@ std::string registration_method(const RegistrationResult& r) {
     return m;
 }
 
-std::string icp_quality_json(const RegistrationResult& r) {
-    if (!r.icp) return "";
-    const IcpMeasurement& m = *r.icp;
-    const auto escaped = [](const std::string& s) {
-        std::string out;
-        for (const char ch : s) {
-            if (ch == '"' || ch == '\\') out += '\\';
-            if (static_cast<unsigned char>(ch) < 0x20) continue;
-            out += ch;
-        }
-        return out;
-    };
-    return fmt::format(
-        R"(,"icp":{{"role":"{}","used":{},"refused":"{}","fitness":{:.4f},"rms_m":{:.6g},)"
-        R"("iterations":{},"converged":{},"points":{},"reference_points":{},"pairs":{},"outliers":{},)"
-        R"("clusters":{},"sigma_inflation":{:.3f},"agreement_chi2":{},"milliseconds":{:.1f}}})",
-        m.role, m.used ? "true" : "false", escaped(m.refused), m.overlap, m.rms, m.iterations,
-        m.converged ? "true" : "false", m.epoch_points, m.reference_points, m.pairs, m.outliers,
-        m.clusters, m.inflation, m.agreement ? fmt::format("{:.3f}", *m.agreement) : "null",
-        m.milliseconds);
+nlohmann::json icp_quality(const IcpMeasurement& m) {
+    return nlohmann::json{
+        {"role", m.role},
+        {"used", m.used},
+        {"refused", m.refused},
+        {"fitness", m.overlap},
+        {"rms_m", m.rms},
+        {"iterations", m.iterations},
+        {"converged", m.converged},
+        {"points", m.epoch_points},
+        {"reference_points", m.reference_points},
+        {"pairs", m.pairs},
+        {"outliers", m.outliers},
+        {"clusters", m.clusters},
+        {"sigma_inflation", m.inflation},
+        {"agreement_chi2", m.agreement ? nlohmann::json(*m.agreement) : nlohmann::json(nullptr)},
+        {"milliseconds", m.milliseconds}};
 }
 
 }  // namespace tlsmon

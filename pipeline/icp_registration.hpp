@@ -15,6 +15,7 @@
 //             (the drift is millimetres to centimetres); the ICP's transformation is the
 //             epoch's when it passes its own gate.
 // The method is recorded: "targets", "targets+icp" or "icp" (+ "+atmosphere").
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -56,15 +57,13 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
 
 // The stage's hook: the surface from the reference cache, then apply_icp. Nothing when the
 // mode is off or no region is configured.
-void apply_icp(const RegistrationConfig& config, const EpochInput& input,
-               ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
-               RegistrationResult& result);
+void apply_icp(const RegistrationConfig& config, const EpochInput& input, ReferenceEpoch& reference,
+               ReferenceCache& cache, const RangeScales& scales, RegistrationResult& result);
 
 // "targets", "targets+icp" or "icp", with "+atmosphere" when the ranges were corrected.
 std::string registration_method(const RegistrationResult& result);
 
-// The ICP's figures as a JSON member (`,"icp":{...}`) for the row's quality_json; "" when it
-// did not run.
-std::string icp_quality_json(const RegistrationResult& result);
+// The ICP's figures, the `icp` member of the registration row's quality_json (a NaN is null).
+nlohmann::json icp_quality(const IcpMeasurement& icp);
 
 }  // namespace tlsmon

@@ -40,12 +40,12 @@ struct KeypointReference {
     static constexpr int kFormatVersion = 3;
     static constexpr const char* kStage = "keypoints";
 
-    std::vector<KeypointScanReference> scans;  // the structured scans, in file order
-    int patch_radius = 0;                      // 0: no patches (no refinement)
+    std::vector<KeypointScanReference> scans;           // the structured scans, in file order
+    int patch_radius = 0;                               // 0: no patches (no refinement)
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
-    std::vector<std::string> zone_names;      // zones mode, in the configuration's order
-    std::vector<keypoints::WallFrame> walls;  // per zone, from the reference's points
-    double seconds = 0;                       // time it took to build
+    std::vector<std::string> zone_names;                // zones mode, in the configuration's order
+    std::vector<keypoints::WallFrame> walls;            // per zone, from the reference's points
+    double seconds = 0;                                 // time it took to build
 
     std::size_t keypoints() const;  // kept, over every scan
     std::size_t detected() const;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 
@@ -14,10 +15,14 @@ namespace {
 // 1.96: the two-sided 95 % quantile of the normal distribution (Lague 2013, eq. 1).
 constexpr double kLod95 = 1.96;
 
+// To 1e-6°, so that 5 and -2.5 print without rounding noise; + 0.0 turns −0 into 0.
+double degrees_of(double rad) {
+    return std::round(rad * 180 / std::numbers::pi * 1e6) / 1e6 + 0.0;
+}
+
 std::string degrees(double rad) {
     std::ostringstream out;
-    // To 1e-6°, so that 5 and -2.5 print without rounding noise; + 0.0 turns −0 into 0.
-    out << std::round(rad * 180 / std::numbers::pi * 1e6) / 1e6 + 0.0;
+    out << degrees_of(rad);
     return out.str();
 }
 
@@ -57,7 +62,7 @@ std::string keypoint_band_zone(int band, double width) {
 
 std::string keypoint_band_zone_definition(int band, double width) {
     const auto [lo, hi] = keypoints::vertical_angle_band_bounds(band, width);
-    return "{\"vertical_angle_deg\":[" + degrees(lo) + "," + degrees(hi) + "]}";
+    return nlohmann::json{{"vertical_angle_deg", {degrees_of(lo), degrees_of(hi)}}}.dump();
 }
 
 std::vector<KeypointModelInput> stored_model_inputs(const SeriesReader& series,

@@ -390,6 +390,8 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                                                       : std::nullopt);
             check_sampling(r.displacement, in, 0);
             r.registration_sigma = sigma_at(r.displacement, in);
+            r.removed_by = filtered.removed_by;
+            r.matches = std::move(in);
             out.segments.push_back(std::move(r));
         }
     } else {
@@ -413,6 +415,11 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
             r.displacement = segment_displacement(matches, filtered.removed_by, band, sp);
             check_sampling(r.displacement, matches, band);
             r.registration_sigma = sigma_at(r.displacement, matches);
+            for (std::size_t i = 0; i < matches.size(); ++i) {
+                if (matches[i].segment != band) continue;
+                r.matches.push_back(matches[i]);
+                r.removed_by.push_back(filtered.removed_by[i]);
+            }
             out.segments.push_back(std::move(r));
         }
     }
@@ -432,37 +439,41 @@ std::vector<std::string> keypoint_segment_zones(const KeypointConfig& config) {
     return zones;
 }
 
-StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input,
-                           ReferenceEpoch& reference, ReferenceCache& cache,
-                           const StageOutputs& outputs, const SeriesReader& series,
-                           std::vector<std::pair<std::string, std::string>>& new_zones,
-                           EpochResults& results) {
-    // An unstructured scan has no spherical images of its own: the method does not apply,
-    // and the epoch's other results stand.
-    if (std::none_of(input.scans->begin(), input.scans->end(),
-                     [](const Scan& s) { return s.grid.has_value(); })) {
-        StageVerdict skipped;
-        skipped.note = "not run: no structured scan in the epoch";
-        return skipped;
-    }
-    const auto product = cache.get<KeypointReference>(
-        reference,
-        ProductKey{KeypointReference::kStage, keypoint_reference_parameters(config),
-                   KeypointReference::kFormatVersion},
-        [&](const std::vector<Scan>& scans) { return prepare_keypoint_reference(config, scans); });
-    KeypointEpoch epoch = measure_keypoints(config, *product, *input.scans, outputs);
+std::string KeypointStage::reference_parameters() const {
+    return keypoint_reference_parameters(config_);
+}
+
+KeypointReference KeypointStage::prepare_reference(const std::vector<Scan>& reference_scans) const {
+    return prepare_keypoint_reference(config_, reference_scans);
+}
+
+// An unstructured scan has no spherical images of its own: the method does not apply, and
+// the epoch's other results stand.
+std::string KeypointStage::not_measured(const StageContext& ctx) const {
+    const auto& scans = *ctx.input.scans;
+    if (std::any_of(scans.begin(), scans.end(), [](const Scan& s) { return s.grid.has_value(); }))
+        return {};
+    return "not run: no structured scan in the epoch";
+}
+
+StageVerdict KeypointStage::measure(StageContext& ctx, const KeypointReference& reference) const {
+    const KeypointConfig& config = config_;
+    const EpochInput& input = ctx.input;
+    const StageOutputs& outputs = ctx.outputs;
+    EpochResults& results = ctx.results;
+    KeypointEpoch epoch = measure_keypoints(config, reference, *input.scans, outputs);
     const std::size_t in_3d = epoch.matches.size();
     const KeypointSegmentsResult segments =
-        keypoint_segments(config, *product, std::move(epoch.matches), outputs);
+        keypoint_segments(config, reference, std::move(epoch.matches), outputs);
 
     // Zone rows, and this epoch's observations of the model.
     const double t_now =
-        static_cast<double>(input.epoch.acquired - reference.epoch().acquired) / 3600.0;
+        static_cast<double>(input.epoch.acquired - ctx.reference.epoch().acquired) / 3600.0;
     std::size_t defined = 0, kept = 0;
     std::string first_undefined;  // the first undefined segment and why, for the note
     std::vector<ZoneResult> rows;
     for (const auto& s : segments.segments) {
-        if (!s.band_definition.empty()) new_zones.emplace_back(s.zone, s.band_definition);
+        if (!s.band_definition.empty()) results.new_zones.push_back({s.zone, s.band_definition});
         auto r = keypoint_zone_results(s.zone, s.displacement, s.registration_sigma);
         rows.insert(rows.end(), r.begin(), r.end());
         defined += s.displacement.defined();
@@ -473,7 +484,11 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
     // The model d(t, z) over the stored epochs and this one (step 7), per quantity.
     const auto zones = keypoint_segment_zones(config);
     for (const auto& quantity : config.model_quantities) {
-        auto inputs = stored_model_inputs(series, zones, quantity, reference.epoch().acquired);
+        std::vector<KeypointModelInput> inputs;
+        if (ctx.history.series) {
+            inputs = stored_model_inputs(*ctx.history.series, zones, quantity,
+                                         ctx.reference.epoch().acquired);
+        }
         std::map<std::string, double> height;
         for (const auto& row : rows)
             if (row.quantity == kKeypointHeight) height[row.zone] = row.value;
@@ -495,14 +510,15 @@ StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input
 
     StageVerdict verdict;
     verdict.note = fmt::format(
-        "reference {} keypoints in {} scan(s); {} + {}: {} of {} keypoints described, {} matched, {} in 3-D, {} "
+        "reference {} keypoints in {} scan(s); {} + {}: {} of {} keypoints described, {} matched, "
+        "{} in 3-D, {} "
         "kept; {} of {} "
         "segments defined; s: images {:.2f}, detection {:.2f}, description {:.2f}, matching "
         "{:.2f}, 3-D {:.2f}, filtering {:.2f}",
-        product->keypoints(), product->scans.size(), config.detector, config.descriptor, epoch.described,
-        epoch.detected, epoch.pairs, in_3d, kept, defined, segments.segments.size(), epoch.images_s,
-        epoch.detection_s, epoch.description_s, epoch.matching_s, epoch.to_3d_s,
-        segments.filtering_s);
+        reference.keypoints(), reference.scans.size(), config.detector, config.descriptor,
+        epoch.described, epoch.detected, epoch.pairs, in_3d, kept, defined,
+        segments.segments.size(), epoch.images_s, epoch.detection_s, epoch.description_s,
+        epoch.matching_s, epoch.to_3d_s, segments.filtering_s);
     if (!first_undefined.empty()) verdict.note += "; undefined e.g. " + first_undefined;
     return verdict;
 }

@@ -34,7 +34,6 @@
 #include "pipeline/keypoint_config.hpp"
 #include "pipeline/keypoint_reference.hpp"
 #include "pipeline/reference_cache.hpp"
-#include "pipeline/registration_stage.hpp"
 #include "pipeline/stage.hpp"
 #include "storage/epoch_results.hpp"
 
@@ -49,7 +48,7 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
 // One epoch's matches in the reference frame, with each step's wall time.
 struct KeypointEpoch : keypoints::DroppedCounts {
     std::vector<keypoints::KeypointMatch> matches;  // segment −1, every scan
-    std::size_t scans = 0;  // structured scans paired with the reference's
+    std::size_t scans = 0;                          // structured scans paired with the reference's
     std::size_t detected = 0, described = 0, pairs = 0;
     std::size_t dropped_patch = 0;  // the refinement did not find the patch
     double images_s = 0, detection_s = 0, description_s = 0, matching_s = 0, to_3d_s = 0;
@@ -64,6 +63,10 @@ struct KeypointSegmentResult {
     std::string band_definition;  // bands: the zone's definition JSON; zones: ""
     keypoints::SegmentDisplacement displacement;
     double registration_sigma = 0;  // m
+    // The matches the segment was computed from, each with the filter that removed it
+    // (OutlierFilter::none: kept).
+    std::vector<keypoints::KeypointMatch> matches;
+    std::vector<keypoints::OutlierFilter> removed_by;
 };
 
 struct KeypointSegmentsResult {
@@ -82,14 +85,21 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
 // The zone names the model gathers its stored observations from: the zones, or every band.
 std::vector<std::string> keypoint_segment_zones(const KeypointConfig& config);
 
-// The stage: the reference product from the cache, then the epoch, into `results` (zone rows
-// and one model row per config.model_quantities). `series`: the stored epochs, for the
-// model; `reference_acquired`: t = 0 of the model. `new_zones` receives the band zones
-// (name, definition) the rows name, which must exist before the commit.
-StageVerdict run_keypoints(const KeypointConfig& config, const EpochInput& input,
-                           ReferenceEpoch& reference, ReferenceCache& cache,
-                           const StageOutputs& outputs, const SeriesReader& series,
-                           std::vector<std::pair<std::string, std::string>>& new_zones,
-                           EpochResults& results);
+// The stage: zone rows per segment, one model row per config.model_quantities (over the
+// stored series, the history's, and this epoch), and the band zones the rows name
+// (EpochResults::new_zones). Runs when enabled with zones or bands (site_stages); an epoch
+// without a structured scan is not measured by it.
+class KeypointStage final : public ReferenceStage<KeypointReference> {
+  public:
+    explicit KeypointStage(KeypointConfig config) : config_(std::move(config)) {}
+    const char* name() const override { return "keypoints"; }
+    std::string reference_parameters() const override;
+    KeypointReference prepare_reference(const std::vector<Scan>& reference_scans) const override;
+    StageVerdict measure(StageContext& ctx, const KeypointReference& reference) const override;
+    std::string not_measured(const StageContext& ctx) const override;
+
+  private:
+    KeypointConfig config_;
+};
 
 }  // namespace tlsmon

@@ -18,23 +18,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-m3c2::NormalParameters normal_parameters(const M3c2Config& c, const Eigen::Vector3d& scanner) {
-    m3c2::NormalParameters p;
-    p.radii = c.normal_radii;
-    p.orientation = c.orient_to_scanner ? m3c2::Orientation::towards(scanner)
-                                        : m3c2::Orientation::along(c.orientation);
-    return p;
-}
-
-m3c2::CylinderParameters cylinder_parameters(const M3c2Config& c) {
-    m3c2::CylinderParameters p;
-    p.radius = c.cylinder_radius;
-    p.max_depth = c.max_depth;
-    p.statistic = c.statistic == M3c2Statistic::median ? m3c2::CylinderStatistic::median
-                                                       : m3c2::CylinderStatistic::mean;
-    return p;
-}
-
 // The points of several scans as one cloud: the first scan's own vector when there is one
 // (no copy), else a concatenation.
 struct Cloud {
@@ -73,7 +56,7 @@ std::string m3c2_reference_parameters(const M3c2Config& c) {
     for (double r : c.normal_radii) s += fmt::format("{:.17g},", r);
     s += fmt::format(
         ";cylinder_radius={:.17g};max_depth={:.17g};statistic={};orientation=", c.cylinder_radius,
-        c.max_depth, c.statistic == M3c2Statistic::median ? "median" : "mean");
+        c.max_depth, c.statistic == m3c2::CylinderStatistic::median ? "median" : "mean");
     if (c.orient_to_scanner) {
         s += "scanner";
     } else {
@@ -137,9 +120,9 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
             if (!given[k].allFinite()) given[k] = z.normal;
         }
     }
-    out.reference = m3c2::prepare_reference(points, std::move(cores),
-                                            normal_parameters(config, out.scanner),
-                                            cylinder_parameters(config), threads_of(config), given);
+    out.reference = m3c2::prepare_reference(
+        points, std::move(cores), m3c2::normal_parameters(config, out.scanner),
+        m3c2::cylinder_parameters(config), threads_of(config), given);
     return out;
 }
 
@@ -258,9 +241,7 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
             threads_of(config));
     }
     out.distances.resize(n);
-    m3c2::DistanceParameters dp;
-    dp.min_points = static_cast<std::size_t>(config.min_points);
-    dp.max_reference_spread = config.max_roughness;
+    m3c2::DistanceParameters dp = m3c2::distance_parameters(config);
     for (std::size_t k = 0; k < n; ++k) {
         dp.registration_error = out.registration_sigma[k];
         out.distances[k] = m3c2::distance_between(ref.reference_side[k], out.compared[k], dp);
@@ -321,20 +302,24 @@ std::vector<CorePointArray> m3c2_core_point_arrays(const M3c2Reference& product,
     return {std::move(distance), std::move(lod), std::move(n1), std::move(n2)};
 }
 
-StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, ReferenceEpoch& reference,
-                      ReferenceCache& cache, const StageOutputs& outputs, EpochResults& results) {
-    const auto product = cache.get<M3c2Reference>(
-        reference,
-        ProductKey{M3c2Reference::kStage, m3c2_reference_parameters(config),
-                   M3c2Reference::kFormatVersion},
-        [&](const std::vector<Scan>& scans) { return prepare_m3c2_reference(config, scans); });
-    const M3c2Epoch epoch = measure_m3c2(config, *product, *input.scans, outputs);
-    auto rows = m3c2_zone_results(*product, epoch);
-    auto arrays = m3c2_core_point_arrays(*product, epoch);
+std::string M3c2Stage::reference_parameters() const {
+    return m3c2_reference_parameters(config_);
+}
+
+M3c2Reference M3c2Stage::prepare_reference(const std::vector<Scan>& reference_scans) const {
+    return prepare_m3c2_reference(config_, reference_scans);
+}
+
+StageVerdict M3c2Stage::measure(StageContext& ctx, const M3c2Reference& reference) const {
+    const M3c2Config& config = config_;
+    EpochResults& results = ctx.results;
+    const M3c2Epoch epoch = measure_m3c2(config, reference, *ctx.input.scans, ctx.outputs);
+    auto rows = m3c2_zone_results(reference, epoch);
+    auto arrays = m3c2_core_point_arrays(reference, epoch);
     std::size_t valid = 0, rough = 0;
     double reg_max = 0;
     for (std::size_t k = 0; k < epoch.distances.size(); ++k) {
-        rough += product->reference.reference_side[k].spread > config.max_roughness;
+        rough += reference.reference.reference_side[k].spread > config.max_roughness;
         if (!std::isfinite(epoch.distances[k].distance)) continue;
         ++valid;
         reg_max = std::max(reg_max, epoch.registration_sigma[k]);
@@ -345,11 +330,11 @@ StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, Referen
                                      std::make_move_iterator(arrays.begin()),
                                      std::make_move_iterator(arrays.end()));
     StageVerdict verdict;
-    verdict.note = fmt::format("{} of {} core points with a distance", valid,
-                               epoch.distances.size());
+    verdict.note =
+        fmt::format("{} of {} core points with a distance", valid, epoch.distances.size());
     if (rough > 0) {
-        verdict.note += fmt::format(" ({} rougher than {:g} mm: edges)", rough,
-                                    1e3 * config.max_roughness);
+        verdict.note +=
+            fmt::format(" ({} rougher than {:g} mm: edges)", rough, 1e3 * config.max_roughness);
     }
     verdict.note += fmt::format("; registration σ along the normal up to {:.2f} mm", 1e3 * reg_max);
     return verdict;

@@ -24,7 +24,6 @@
 #include "algorithms/m3c2/reference.hpp"
 #include "pipeline/m3c2_config.hpp"
 #include "pipeline/reference_cache.hpp"
-#include "pipeline/registration_stage.hpp"
 #include "pipeline/stage.hpp"
 #include "storage/epoch_results.hpp"
 
@@ -93,8 +92,18 @@ std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& reference, const 
 std::vector<CorePointArray> m3c2_core_point_arrays(const M3c2Reference& reference,
                                                    const M3c2Epoch& epoch);
 
-// The stage: the reference product from the cache, then the epoch, into `results`.
-StageVerdict run_m3c2(const M3c2Config& config, const EpochInput& input, ReferenceEpoch& reference,
-                      ReferenceCache& cache, const StageOutputs& outputs, EpochResults& results);
+// The stage: runs when enabled with at least one zone (site_stages).
+class M3c2Stage final : public ReferenceStage<M3c2Reference> {
+  public:
+    explicit M3c2Stage(M3c2Config config) : config_(std::move(config)) {}
+    const char* name() const override { return "m3c2"; }
+    std::string reference_parameters() const override;
+    M3c2Reference prepare_reference(const std::vector<Scan>& reference_scans) const override;
+    // measure_m3c2, then its zone rows and core point arrays.
+    StageVerdict measure(StageContext& ctx, const M3c2Reference& reference) const override;
+
+  private:
+    M3c2Config config_;
+};
 
 }  // namespace tlsmon

@@ -22,7 +22,8 @@ std::string ReferenceCache::identity(const ReferenceEpoch& reference, const Prod
 
 std::optional<std::string> ReferenceCache::load(const ReferenceEpoch& reference,
                                                 const ProductKey& key) {
-    CachedPayload cached = db_.reference_cache().load(store_key(reference, key));
+    if (!db_) return std::nullopt;
+    CachedPayload cached = db_->reference_cache().load(store_key(reference, key));
     if (cached.status == CacheLookup::hit) return std::move(cached.payload);
     log_rebuild(reference, key, cached.reason);
     return std::nullopt;
@@ -30,7 +31,7 @@ std::optional<std::string> ReferenceCache::load(const ReferenceEpoch& reference,
 
 void ReferenceCache::store(const ReferenceEpoch& reference, const ProductKey& key,
                            const std::string& payload) {
-    db_.reference_cache().store(store_key(reference, key), payload);
+    db_->reference_cache().store(store_key(reference, key), payload);
 }
 
 void ReferenceCache::log_rebuild(const ReferenceEpoch& reference, const ProductKey& key,

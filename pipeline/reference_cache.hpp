@@ -52,7 +52,9 @@ struct ProductKey {
 // (throwing Error on a malformed payload).
 class ReferenceCache {
   public:
-    explicit ReferenceCache(EpochDatabase& db) : db_(db) {}
+    explicit ReferenceCache(EpochDatabase& db) : db_(&db) {}
+    // In memory only: a one-shot command's products, built for one run.
+    ReferenceCache() = default;
 
     template <class T, class Build>
     std::shared_ptr<const T> get(ReferenceEpoch& reference, const ProductKey& key, Build&& build) {
@@ -74,7 +76,7 @@ class ReferenceCache {
         if (!product) {
             product = std::make_shared<const T>(build(reference.scans()));
             ++counters_.built;
-            store(reference, key, product->encode());
+            if (db_) store(reference, key, product->encode());
         }
         slot = {id, product};
         return product;
@@ -98,7 +100,7 @@ class ReferenceCache {
     void log_rebuild(const ReferenceEpoch& reference, const ProductKey& key,
                      const std::string& why) const;
 
-    EpochDatabase& db_;
+    EpochDatabase* db_ = nullptr;  // none: memory only
     std::map<std::string, Slot> memory_;
     Counters counters_;
 };

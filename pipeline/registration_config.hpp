@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config_key.hpp"
 #include "pipeline/icp_config.hpp"
 
 namespace tlsmon {
@@ -71,5 +72,9 @@ inline constexpr const char* kNoRegistrationWarning =
     "no registration can run: no [[target]] tables and no ICP fallback on [[stable_region]] "
     "tables (registration.icp = \"fallback\" or \"both\"); every epoch but the reference "
     "is stored `unregistered` and its values raise no alarm";
+
+// The keys of [registration]: its own, then the ICP's (`icp`, `icp_*`; core/config_key.hpp).
+std::vector<SectionKey<RegistrationConfig>> registration_keys();
+std::vector<SectionKey<IcpConfig>> icp_keys();
 
 }  // namespace tlsmon

@@ -13,6 +13,7 @@
 #include "core/group_refractivity.hpp"
 #include "core/payload.hpp"
 #include "pipeline/icp_registration.hpp"
+#include "pipeline/registration_rows.hpp"
 #include "pipeline/target_window.hpp"
 
 namespace tlsmon {
@@ -346,18 +347,46 @@ std::optional<double> measured_range_scale(const RegistrationConfig& config,
     return range_scale(n_true, n_setting);
 }
 
-StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
-                                   ReferenceEpoch& reference, ReferenceCache& cache,
-                                   const std::set<std::string>& excluded,
-                                   const std::optional<MeteoSidecar>& reference_meteo,
-                                   RegistrationResult& result) {
-    const auto centres = cache.get<ReferenceTargets>(
-        reference, ProductKey{"registration.targets", reference_parameters(config), 2},
+StageVerdict RegistrationStage::run(StageContext& ctx) const {
+    const RegistrationConfig& config = config_;
+    if (!can_register(config) || (ctx.is_reference() && config.targets.empty())) {
+        ctx.results.registration = datum_without_registration(ctx.is_reference());
+        return StageVerdict{"", ctx.results.registration->reason};
+    }
+    RegistrationResult result;
+    const StageVerdict verdict = measure(ctx, result);
+    record_registration(result, verdict, ctx.input.epoch.id, ctx.results);
+    if (!verdict.ran()) return verdict;
+    ctx.outputs = outputs_of(result, ctx.input);
+    return verdict;
+}
+
+StageOutputs RegistrationStage::outputs_of(const RegistrationResult& result,
+                                           const EpochInput& input) {
+    StageOutputs outputs;
+    outputs.to_reference = result.tested.transform;
+    if (result.epoch_range_scale && !input.scans->empty()) {
+        outputs.range_scale = *result.epoch_range_scale;
+        outputs.scanner = input.scans->front().scanner_position();
+        outputs.reference_range_scale = result.reference_range_scale.value_or(1.0);
+    }
+    return outputs;
+}
+
+StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& result) const {
+    const RegistrationConfig& config = config_;
+    // The reference centres: measured once in the reference epoch (or surveyed), cached.
+    const auto centres = ctx.cache.get<ReferenceTargets>(
+        ctx.reference, ProductKey{"registration.targets", reference_parameters(config), 2},
         [&](const std::vector<Scan>& scans) { return measure_reference_targets(config, scans); });
-    const RangeScales scales{measured_range_scale(config, input.meteo),
+    // The air of both epochs, each range corrected from the scanner's setting.
+    const std::optional<MeteoSidecar>& reference_meteo =
+        ctx.is_reference() ? ctx.input.meteo : ctx.history.reference_meteo;
+    const RangeScales scales{measured_range_scale(config, ctx.input.meteo),
                              measured_range_scale(config, reference_meteo)};
-    result = register_epoch(config, *centres, *input.scans, excluded, scales);
-    apply_icp(config, input, reference, cache, scales, result);  // registration.icp
+    result =
+        register_epoch(config, *centres, *ctx.input.scans, ctx.history.excluded_targets, scales);
+    apply_icp(config, ctx.input, ctx.reference, ctx.cache, scales, result);  // registration.icp
     StageVerdict verdict;
     std::string not_found;
     for (const auto& m : result.measured) {

@@ -83,19 +83,6 @@ struct RegistrationResult {
     bool accepted() const { return tested.accepted() && gate.empty(); }
 };
 
-// What the stages hand to the later stages.
-struct StageOutputs {
-    // Maps the epoch's points into the reference frame; absent without registration.
-    std::optional<registration::RigidTransform> to_reference;
-    // The epoch's ranges are to be scaled by 1/range_scale about `scanner` before
-    // `to_reference` applies (1: no atmospheric correction).
-    double range_scale = 1.0;
-    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();
-    // The reference epoch's scale when the epoch's was applied (the registration corrects
-    // both or neither): `to_reference` maps into the reference's corrected ranges.
-    double reference_range_scale = 1.0;
-};
-
 // n_true/n_setting for the measured air of `meteo` (IAG 1999, core/group_refractivity.hpp);
 // absent without meteo values or with the correction off.
 std::optional<double> measured_range_scale(const RegistrationConfig& config,
@@ -113,12 +100,24 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
                                   const std::set<std::string>& excluded,
                                   const RangeScales& scales = {});
 
-// The stage: reference centres from the cache, then register_epoch; the verdict rejects an
-// epoch that fails a test or the gate.
-StageVerdict register_to_reference(const RegistrationConfig& config, const EpochInput& input,
-                                   ReferenceEpoch& reference, ReferenceCache& cache,
-                                   const std::set<std::string>& excluded,
-                                   const std::optional<MeteoSidecar>& reference_meteo,
-                                   RegistrationResult& result);
+// The stage: every epoch states its datum. With targets or the ICP fallback: the reference
+// centres from the cache (`registration.targets`), register_epoch, the ICP; the verdict
+// rejects an epoch that fails a test or the gate; the registration row, the targets' rows
+// and the exclusions written; the accepted map handed on (StageOutputs). Without: the
+// reference's own frame (never an ICP of the reference onto itself, which a sampled surface
+// need not return as the identity), or `unregistered` for every other epoch.
+class RegistrationStage final : public Stage {
+  public:
+    explicit RegistrationStage(RegistrationConfig config) : config_(std::move(config)) {}
+    const char* name() const override { return "registration"; }
+    StageVerdict run(StageContext& ctx) const override;
+    // The measurement alone, into `result` (the one-shot `tlsmon register` and the stage).
+    StageVerdict measure(StageContext& ctx, RegistrationResult& result) const;
+    // What an accepted registration hands to the later stages.
+    static StageOutputs outputs_of(const RegistrationResult& result, const EpochInput& input);
+
+  private:
+    RegistrationConfig config_;
+};
 
 }  // namespace tlsmon

@@ -13,7 +13,7 @@ namespace tlsmon::sim {
 namespace {
 
 constexpr double kSphereAlbedo = 0.85;  // white matte target sphere
-constexpr double kMastAlbedo = 0.55;  // painted steel or aluminium tube
+constexpr double kMastAlbedo = 0.55;    // painted steel or aluminium tube
 
 int pier_face(const BoxHit& h) {
     if (h.axis == 0) return h.low ? 0 : 1;

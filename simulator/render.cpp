@@ -298,14 +298,14 @@ RenderedScan render_grid(const Site& site, const Scanner& sc, std::uint64_t nois
 
 }  // namespace
 
-RenderedScan render_epoch(const Site& site, const EpochConditions& conditions,
-                          unsigned threads) {
+RenderedScan render_epoch(const Site& site, const EpochConditions& conditions, unsigned threads) {
     return render_grid(site, site.scanner, 0, conditions, threads);
 }
 
-RenderedScan render_detail(const Site& site, std::size_t detail,
-                           const EpochConditions& conditions, unsigned threads) {
-    if (detail >= site.scanner.details.size()) throw Error("no detail scan " + std::to_string(detail));
+RenderedScan render_detail(const Site& site, std::size_t detail, const EpochConditions& conditions,
+                           unsigned threads) {
+    if (detail >= site.scanner.details.size())
+        throw Error("no detail scan " + std::to_string(detail));
     RenderedScan out = render_grid(site, detail_scanner(site.scanner, site.scanner.details[detail]),
                                    detail + 1, conditions, threads);
     out.scan.name += "-" + site.scanner.details[detail].name;

@@ -68,7 +68,7 @@ Scanner detail_scanner(const Scanner& overview, const DetailScan& d);
 
 // Detail scan `detail` (index into site.scanner.details) of the same epoch: the same pose
 // error, scene and air as the overview, its own noise stream; named "<station>-<name>".
-RenderedScan render_detail(const Site& site, std::size_t detail,
-                           const EpochConditions& conditions, unsigned threads = 2);
+RenderedScan render_detail(const Site& site, std::size_t detail, const EpochConditions& conditions,
+                           unsigned threads = 2);
 
 }  // namespace tlsmon::sim

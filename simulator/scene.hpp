@@ -67,8 +67,8 @@ struct Scanner {
     double azimuth_min_deg = 55.0, azimuth_max_deg = 105.0;
     double elevation_min_deg = -10.0, elevation_max_deg = 50.0;
     double azimuth_step_deg = 0.12, elevation_step_deg = 0.12;
-    double max_range = 300.0;   // no return beyond, m
-    double min_return = 0.005;  // weaker returns (dark, far, grazing) give no point
+    double max_range = 300.0;         // no return beyond, m
+    double min_return = 0.005;        // weaker returns (dark, far, grazing) give no point
     std::vector<DetailScan> details;  // after the overview, in this order
 };
 

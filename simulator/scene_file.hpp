@@ -15,8 +15,8 @@ namespace tlsmon {
 // `preset`: the caller's choice (command line), or nullopt to use the file's `preset` key
 // (default "small"). A file naming a different preset than the caller is an error.
 sim::Site load_scene_file(const std::filesystem::path& path,
-                                const std::optional<std::string>& preset);
+                          const std::optional<std::string>& preset);
 sim::Site parse_scene_file(std::string_view text, const std::string& source_name,
-                                 const std::optional<std::string>& preset);
+                           const std::optional<std::string>& preset);
 
 }  // namespace tlsmon

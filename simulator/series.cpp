@@ -76,7 +76,8 @@ EpochFiles simulate_epoch(const Site& site, int epoch, std::int64_t start_utc, u
         meteo_truth(f.truth);
         return f;
     }
-    const EpochConditions rendered_conditions = epoch_conditions(site, epoch, hours, f.acquired_utc);
+    const EpochConditions rendered_conditions =
+        epoch_conditions(site, epoch, hours, f.acquired_utc);
     RenderedScan rendered = render_epoch(site, rendered_conditions, threads);
     rendered.scan.source = f.stem + ".ptx";
     rendered.scan.acquired_utc = static_cast<double>(f.acquired_utc);

@@ -20,8 +20,8 @@ std::vector<StableBox> stable_ground(const Site& site, const StableGroundLayout&
         const double z1 = b.hi.z() + layout.headroom;
         const Eigen::Vector3d lo(b.lo.x() - m, b.lo.y() - m, z0);
         const Eigen::Vector3d hi(b.hi.x() + m, b.hi.y() + m, z1);
-        const bool under_pier = b.lo.x() < p.x1 && b.hi.x() > p.x0 && b.lo.y() < p.y1 &&
-                                b.hi.y() > p.y0;
+        const bool under_pier =
+            b.lo.x() < p.x1 && b.hi.x() > p.x0 && b.lo.y() < p.y1 && b.hi.y() > p.y0;
         if (!under_pier) {
             out.push_back({b.name, lo, hi});
             continue;

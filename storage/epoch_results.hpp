@@ -88,6 +88,13 @@ struct StageRun {
     std::string note;      // what it measured, in a few words
 };
 
+// A zone a stage's rows name that the configuration does not list (keypoint bands):
+// created, or its definition updated, in the epoch's commit.
+struct NewZone {
+    std::string name;
+    std::string definition_json;
+};
+
 struct EpochResults {
     // done (analysed) or rejected (quality gate; reason required, zone results not allowed).
     EpochStatus outcome = EpochStatus::done;
@@ -100,6 +107,7 @@ struct EpochResults {
     std::vector<TargetObservation> targets;
     std::vector<std::string> target_exclusions;  // targets this epoch excluded as moved
     std::vector<RegistrationZoneSigma> registration_zone_sigmas;
+    std::vector<NewZone> new_zones;  // before zone_results, which may name them
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
     std::vector<KeypointModelRow> keypoint_models;  // d(t, z) refitted with this epoch

@@ -48,11 +48,10 @@ int RegistrationStore::resurvey(const std::string& target, std::int64_t unix_tim
         s.bind(2, target);
         const int cleared = s.exec();
         if (cleared > 0) {
-            write_system_event(
-                *c_, SystemEvent{unix_time, "info", "target_resurveyed",
-                                 "target " + target + " re-surveyed by " + actor +
-                                     ": offered to the registration again",
-                                 std::nullopt});
+            write_system_event(*c_, SystemEvent{unix_time, "info", "target_resurveyed",
+                                                "target " + target + " re-surveyed by " + actor +
+                                                    ": offered to the registration again",
+                                                std::nullopt});
         }
         tx.commit();
         return cleared;

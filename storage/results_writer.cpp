@@ -9,6 +9,7 @@
 
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
+#include "storage/site.hpp"
 
 namespace tlsmon {
 
@@ -249,6 +250,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results,
         write_targets(*c_, id, results.targets);
         write_exclusions(*c_, id, results.target_exclusions);
         write_zone_sigmas(*c_, id, results.registration_zone_sigmas);
+        for (const auto& z : results.new_zones) Site(*c_).upsert_zone(z.name, z.definition_json);
         write_zone_results(*c_, id, results.zone_results);
         write_core_point_arrays(*c_, id, results.core_point_arrays);
         write_keypoint_models(*c_, id, results.keypoint_models);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "algorithms/keypoints/features.hpp"
+#include "algorithms/keypoints/parameters.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
 
 namespace tlsmon::keypoints {
@@ -25,13 +26,13 @@ std::vector<AngularPosition> angular_positions(const SphericalImages& images,
                                                const std::vector<Keypoint>& keypoints);
 
 struct MatchingParameters {
-    double window_radius = 0.05 * 3.14159265358979323846 / 180.0;  // rad (0.05°)
+    double window_radius = Parameters{}.window_deg * 3.14159265358979323846 / 180.0;  // rad
     // Lowe's ratio test: kept only when best < ratio · second best among the candidates
     // (a single candidate passes); 0 switches it off.
-    double ratio = 0.0;
+    double ratio = Parameters{}.ratio;
     // Kept only when the reference keypoint is also the epoch keypoint's best among the
     // reference keypoints within the radius.
-    bool mutual = false;
+    bool mutual = Parameters{}.mutual;
 };
 
 struct KeypointPair {

@@ -5,7 +5,6 @@
 #include <cstring>
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.hpp"
@@ -179,10 +178,10 @@ Features describe_keypoints(const Raster8& image, const std::vector<Keypoint>& k
     return out;
 }
 
-void write_match_picture(const std::string& path, const Raster8& image,
-                         const std::vector<DrawnMatch>& matches, double vector_scale) {
+RasterRgb draw_matches(const Raster8& image, const std::vector<DrawnMatch>& matches,
+                       double vector_scale) {
     cv::Mat colour;
-    cv::cvtColor(view_of(image), colour, cv::COLOR_GRAY2BGR);
+    cv::cvtColor(view_of(image), colour, cv::COLOR_GRAY2RGB);
     constexpr int shift = 4;  // sub-pixel drawing: coordinates in 1/16 pixel
     auto point = [](double row, double column) {
         return cv::Point(static_cast<int>(std::lround(column * (1 << shift))),
@@ -191,7 +190,7 @@ void write_match_picture(const std::string& path, const Raster8& image,
     for (int pass = 0; pass < 2; ++pass) {  // the removed first, the kept drawn over them
         for (const auto& m : matches) {
             if (m.kept != (pass == 1)) continue;
-            const cv::Scalar colour_of = m.kept ? cv::Scalar(0, 200, 0) : cv::Scalar(0, 0, 255);
+            const cv::Scalar colour_of = m.kept ? cv::Scalar(0, 200, 0) : cv::Scalar(255, 0, 0);
             const cv::Point from = point(m.row, m.column);
             const cv::Point to = point(m.row + vector_scale * (m.to_row - m.row),
                                        m.column + vector_scale * (m.to_column - m.column));
@@ -199,13 +198,9 @@ void write_match_picture(const std::string& path, const Raster8& image,
             cv::line(colour, from, to, colour_of, 1, cv::LINE_AA, shift);
         }
     }
-    bool written = false;
-    try {
-        written = cv::imwrite(path, colour);
-    } catch (const cv::Exception& e) {
-        throw Error(path + ": cannot write the picture: " + e.what());
-    }
-    if (!written) throw Error(path + ": cannot write the picture");
+    RasterRgb out{colour.rows, colour.cols, {}};
+    out.pixels.assign(colour.datastart, colour.dataend);  // continuous, 3 bytes a pixel
+    return out;
 }
 
 }  // namespace tlsmon::keypoints

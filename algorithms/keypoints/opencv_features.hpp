@@ -9,17 +9,19 @@
 // "brisk", "orb". Descriptors: "brisk" (default; binary, Hamming distance), "sift", "orb",
 // "kaze" and "akaze" (the last two only on their own detector's keypoints, whose scale
 // level they need).
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "algorithms/keypoints/features.hpp"
+#include "algorithms/keypoints/parameters.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
 
 namespace tlsmon::keypoints {
 
 struct FeatureParameters {
-    std::string detector = "kaze";
-    std::string descriptor = "brisk";
+    std::string detector = Parameters{}.detector;
+    std::string descriptor = Parameters{}.descriptor;
     // Contrast-limited adaptive histogram equalisation of the 8-bit image before detection
     // and description (Zuiderveld 1994): clip limit and tiles per side.
     bool clahe = false;
@@ -55,13 +57,17 @@ Features describe_keypoints(const Raster8& image, const std::vector<Keypoint>& k
 
 // A picture for a person: the image in grey, each match as a circle at its position and a
 // line towards where it moved, drawn `vector_scale` times its length; green when kept, red
-// when removed. Written as PNG; throws tlsmon::Error naming the file when it cannot be.
+// when removed. (formats/png_file.hpp writes it.)
 struct DrawnMatch {
     double row = 0, column = 0;
     double to_row = 0, to_column = 0;
     bool kept = true;
 };
-void write_match_picture(const std::string& path, const Raster8& image,
-                         const std::vector<DrawnMatch>& matches, double vector_scale);
+struct RasterRgb {
+    int rows = 0, columns = 0;
+    std::vector<std::uint8_t> pixels;  // row by row, red, green, blue per pixel
+};
+RasterRgb draw_matches(const Raster8& image, const std::vector<DrawnMatch>& matches,
+                       double vector_scale);
 
 }  // namespace tlsmon::keypoints

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "algorithms/keypoints/keypoint_match.hpp"
+#include "algorithms/keypoints/parameters.hpp"
 
 namespace tlsmon::keypoints {
 
@@ -76,9 +77,9 @@ std::string_view outlier_filter_name(OutlierFilter filter);
 std::optional<OutlierFilter> outlier_filter_from_name(std::string_view name);
 
 struct OutlierParameters {
-    double k = 2.0;               // threshold in robust standard deviations
-    std::size_t min_matches = 3;  // fewer kept: the filter is skipped
-    double columns_per_turn = 0;  // image columns in 360° (0: the image does not wrap)
+    double k = Parameters{}.mad_k;  // threshold in robust standard deviations
+    std::size_t min_matches = 3;    // fewer kept: the filter is skipped
+    double columns_per_turn = 0;    // image columns in 360° (0: the image does not wrap)
 };
 
 // What one filter did in one segment.

@@ -29,6 +29,7 @@
 
 #include "algorithms/keypoints/keypoint_match.hpp"
 #include "algorithms/keypoints/outlier_filters.hpp"
+#include "algorithms/keypoints/parameters.hpp"
 #include "algorithms/m3c2/parameters.hpp"
 
 namespace tlsmon::keypoints {
@@ -56,9 +57,10 @@ WallFrame fit_wall_frame(std::span<const Eigen::Vector3d> points,
                          const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
 
 struct SegmentParameters {
-    std::size_t min_matches = 10;                   // fewer kept: undefined
-    m3c2::Orientation orientation;                  // of the wall's normal
-    Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // project frame's up
+    std::size_t min_matches =
+        static_cast<std::size_t>(Parameters{}.min_matches);  // fewer: undefined
+    m3c2::Orientation orientation;                           // of the wall's normal
+    Eigen::Vector3d up = Eigen::Vector3d::UnitZ();           // project frame's up
 };
 
 struct SegmentDisplacement {

@@ -17,6 +17,19 @@ void require_positive(double value, const char* name) {
 
 }  // namespace
 
+NormalParameters normal_parameters(const Parameters& p, const Eigen::Vector3d& scanner) {
+    return {p.normal_radii, p.orient_to_scanner ? Orientation::towards(scanner)
+                                                : Orientation::along(p.orientation)};
+}
+
+CylinderParameters cylinder_parameters(const Parameters& p) {
+    return {p.cylinder_radius, p.max_depth, p.statistic};
+}
+
+DistanceParameters distance_parameters(const Parameters& p) {
+    return {static_cast<std::size_t>(p.min_points), p.registration_error, p.max_roughness};
+}
+
 void validate(const NormalParameters& p) {
     if (p.radii.empty()) throw Error("m3c2: normal_radii needs at least one radius");
     for (double r : p.radii) require_positive(r, "normal_radii");

@@ -3,6 +3,10 @@
 // paper's terms: normal scale(s) D/2, projection scale d/2, max depth h, registration error.
 // Radii and half-lengths throughout (CloudCompare's dialog asks for diameters; see
 // docs/m3c2.md for the mapping). `validate` names the offending parameter.
+//
+// `Parameters` is what a user sets, with its defaults in this one place: the site's [m3c2]
+// section embeds it and `tlsmon m3c2` starts from it. The kernel's parts (normals,
+// cylinders, distance) are derived from it.
 #include <Eigen/Core>
 #include <cstddef>
 #include <limits>
@@ -23,30 +27,51 @@ struct Orientation {
     }
 };
 
-struct NormalParameters {
-    std::vector<double> radii{0.05, 0.10, 0.20};  // m, the scales D/2 tried at each core point
-    Orientation orientation;
-};
-
 // The statistic of the projections in a cylinder: mean with the sample standard deviation,
 // or median with the interquartile range (Lague 2013, section 4.2, robust variant).
 enum class CylinderStatistic { mean, median };
 
-struct CylinderParameters {
-    double radius = 0.05;     // m, the projection scale d/2
-    double max_depth = 0.30;  // m, the cylinder's half-length h along the normal
+struct Parameters {
+    double core_spacing = 0.5;                   // m, cubes of the core point subsampling
+    std::vector<double> normal_radii{0.5, 1.0};  // m, the scales D/2 tried at each core point
+    double cylinder_radius = 0.5;                // m, the projection scale d/2
+    double max_depth = 1.0;                      // m, the cylinder's half-length h
+    int min_points = 10;                         // per cylinder and cloud, else no distance
+    bool orient_to_scanner = true;               // else along `orientation`
+    Eigen::Vector3d orientation = Eigen::Vector3d::UnitZ();
     CylinderStatistic statistic = CylinderStatistic::mean;
+    // m: a reference cylinder whose spread s1 (the roughness σ1 along the normal) exceeds
+    // this holds more than one surface — an edge, a corner, clutter — and its mean depends
+    // on which of them each epoch's sampling happens to catch: no distance (NaN). Infinity
+    // keeps the method as published.
+    double max_roughness = 0.02;
+    double registration_error = 0.0;  // m, "reg" of Lague 2013, eq. 1, without a registration
+    int threads = 0;                  // 0: every core
+};
+
+struct NormalParameters {
+    std::vector<double> radii = Parameters{}.normal_radii;
+    Orientation orientation;
+};
+
+struct CylinderParameters {
+    double radius = Parameters{}.cylinder_radius;
+    double max_depth = Parameters{}.max_depth;
+    CylinderStatistic statistic = Parameters{}.statistic;
 };
 
 struct DistanceParameters {
-    std::size_t min_points = 5;       // fewer in either cylinder: no distance (NaN)
-    double registration_error = 0.0;  // m, "reg" of Lague 2013, eq. 1
-    // m: a reference cylinder whose spread s1 (the roughness σ1 along the normal) exceeds
-    // this holds more than one surface — an edge, a corner, clutter — and its mean depends
-    // on which of them each epoch's sampling happens to catch: no distance (NaN). The
-    // default (infinity) keeps the method as published.
+    std::size_t min_points = static_cast<std::size_t>(Parameters{}.min_points);
+    double registration_error = Parameters{}.registration_error;
+    // m, Parameters::max_roughness; infinity (no limit) is the method as published, which
+    // the kernel's known-answer tests check.
     double max_reference_spread = std::numeric_limits<double>::infinity();
 };
+
+// The kernel's parts of `p`; `scanner`: the position the normals face with orient_to_scanner.
+NormalParameters normal_parameters(const Parameters& p, const Eigen::Vector3d& scanner);
+CylinderParameters cylinder_parameters(const Parameters& p);
+DistanceParameters distance_parameters(const Parameters& p);
 
 // Throws Error naming the parameter when a value cannot give a meaningful result.
 void validate(const NormalParameters& p);

@@ -22,7 +22,7 @@ namespace tlsmon::m3c2 {
 struct Reference {
     static constexpr int kFormatVersion = 1;
 
-    Cylinders cylinders;                // core points (centres), normals (axes), index
+    Cylinders cylinders;  // core points (centres), normals (axes), index
     // Per core point: the radius its normal was taken at; 0 where the normal was given
     // (a zone's design normal); NaN where it is undefined.
     std::vector<double> normal_radius;

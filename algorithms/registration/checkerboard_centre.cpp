@@ -342,7 +342,8 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
     out.point_spacing = std::sqrt(std::numbers::pi * radius * radius / m);
     if (out.blur_sigma < search.min_blur_to_spacing * out.point_spacing) {
         throw Error("checkerboard centre: undersampled, the pattern's blur " +
-                    std::to_string(1e3 * out.blur_sigma).substr(0, 5) + " mm against a point spacing of " +
+                    std::to_string(1e3 * out.blur_sigma).substr(0, 5) +
+                    " mm against a point spacing of " +
                     std::to_string(1e3 * out.point_spacing).substr(0, 5) +
                     " mm (the edges are not resolved; a finer scan step or a sphere is needed)");
     }

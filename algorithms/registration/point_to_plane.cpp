@@ -142,8 +142,9 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         const Eigen::LDLT<Covariance6> ldlt(N);
         const Vector6 dx = -ldlt.solve(b);
         if (ldlt.info() != Eigen::Success || !dx.allFinite()) {
-            throw Error("point-to-plane fit: singular normal matrix (the stable regions' "
-                        "surfaces do not hold every direction)");
+            throw Error(
+                "point-to-plane fit: singular normal matrix (the stable regions' "
+                "surfaces do not hold every direction)");
         }
         R = exp_so3(dx.head<3>()) * R;
         t += dx.tail<3>();
@@ -155,8 +156,9 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
     out.pairs = n;
     out.condition = es.eigenvalues()(5) / std::max(es.eigenvalues()(0), 1e-300);
     if (!(es.eigenvalues()(0) > 1e-12)) {
-        throw Error("point-to-plane fit: singular normal matrix (the stable regions' surfaces "
-                    "do not hold every direction)");
+        throw Error(
+            "point-to-plane fit: singular normal matrix (the stable regions' surfaces "
+            "do not hold every direction)");
     }
     const Covariance6 Ninv = N.inverse();
     // Residuals and the clusters' scores g_k = Σ a_i·v_i.
@@ -166,8 +168,8 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         double v = 0;
         const Vector6 a = row(p, v);
         vv += v * v;
-        auto [it, inserted] = scores.try_emplace(cell_key(p.reference, params.cluster_size),
-                                                 Vector6::Zero());
+        auto [it, inserted] =
+            scores.try_emplace(cell_key(p.reference, params.cluster_size), Vector6::Zero());
         it->second += a * v;
     }
     out.rms = std::sqrt(vv / n);
@@ -219,8 +221,9 @@ RigidTransform combine_transforms(const RigidTransform& a, const RigidTransform&
     const Eigen::LDLT<Covariance6> lp(P);
     const Covariance6 S = lp.solve(Covariance6::Identity());
     const Vector6 dc = S * (Pb * d);
-    RigidTransform c = rigid_transform_from(exp_so3(dc.head<3>()) * a.rotation,
-                                            a.translation + dc.tail<3>(), 0.5 * (S + S.transpose()));
+    RigidTransform c =
+        rigid_transform_from(exp_so3(dc.head<3>()) * a.rotation, a.translation + dc.tail<3>(),
+                             0.5 * (S + S.transpose()));
     c.variance_factor = a.variance_factor;
     c.redundancy = a.redundancy + b.redundancy;
     c.residuals = a.residuals;

@@ -49,12 +49,12 @@ struct PointToPlaneFit {
     std::size_t pairs = 0;     // used
     std::size_t outliers = 0;  // left out beyond outlier_k·σ̂
     std::size_t clusters = 0;
-    double rms = 0.0;                // m, RMS of the distances v after the fit
-    double variance_factor = 0.0;    // s0² = vᵀv/(n − 6), m²
-    Covariance6 independent;         // s0²·N⁻¹
-    Covariance6 clustered;           // the sandwich Σ_c
-    double inflation = 1.0;          // largest σ ratio of the reported covariance to s0²·N⁻¹
-    double condition = 0.0;          // of N scaled to unit diagonal: large = a direction unheld
+    double rms = 0.0;              // m, RMS of the distances v after the fit
+    double variance_factor = 0.0;  // s0² = vᵀv/(n − 6), m²
+    Covariance6 independent;       // s0²·N⁻¹
+    Covariance6 clustered;         // the sandwich Σ_c
+    double inflation = 1.0;        // largest σ ratio of the reported covariance to s0²·N⁻¹
+    double condition = 0.0;        // of N scaled to unit diagonal: large = a direction unheld
 };
 
 // Gauss–Newton on Σ v² from `start` (4×4, epoch -> reference) with the pairs fixed. Throws

@@ -26,7 +26,7 @@ enum class OutlierStatistic {
 };
 
 struct TargetTestParams {
-    double global_alpha = 0.05;   // χ² test of the variance factor (one-sided: s0² too large)
+    double global_alpha = 0.05;  // χ² test of the variance factor (one-sided: s0² too large)
     // A failed global test with no target to blame is not a refusal while Ω stays within
     // χ²(r, 1 − global_reject_alpha), the variance factor's hard limit: the covariance is
     // scaled by s0² and the registration is `accepted_scaled`. Beyond it, or with

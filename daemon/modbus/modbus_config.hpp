@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "core/config_key.hpp"
+
 namespace tlsmon {
 
 // The order of the two 16-bit words of a 32-bit value: ABCD = high word first (Modbus
@@ -25,5 +27,8 @@ struct ModbusConfig {
     double stale_seconds = 2700.0;   // a zone value older than this is flagged stale
     double snapshot_interval = 5.0;  // registers refreshed from the database this often
 };
+
+// The keys of [modbus] (core/config_key.hpp).
+std::vector<SectionKey<ModbusConfig>> modbus_keys();
 
 }  // namespace tlsmon

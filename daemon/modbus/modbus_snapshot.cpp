@@ -1,7 +1,9 @@
 #include "daemon/modbus/modbus_snapshot.hpp"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 
+#include "alarms/alarm_rate.hpp"
 #include "daemon/system_alarm_watch.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -10,7 +12,6 @@ namespace tlsmon {
 namespace {
 
 constexpr UtcSeconds kDay = 86400;
-constexpr UtcSeconds kRateWindow = kDay;          // rate: slope over the last 24 h
 constexpr UtcSeconds kValueLookBack = 30 * kDay;  // before the last epoch: older = none
 
 }  // namespace
@@ -38,24 +39,18 @@ MapInputs modbus_map_inputs(const EpochDatabase* db, const std::vector<std::stri
     return in;
 }
 
-std::optional<double> slope_per_day(const std::vector<std::pair<UtcSeconds, double>>& points) {
-    if (points.size() < 2) return std::nullopt;
-    double mt = 0, mv = 0;
-    for (const auto& [t, v] : points) {
-        mt += static_cast<double>(t - points.front().first);
-        mv += v;
+// The window of each zone quantity's `.rate`: that of the first enabled rate rule watching
+// it (the rate its alarm evaluates), else a day.
+double rate_window(const std::vector<AlarmRule>& rules, const std::string& zone,
+                   const std::string& quantity) {
+    for (const auto& rule : rules) {
+        if (!rule.enabled || rule.zone != zone || rule.quantity != quantity) continue;
+        const auto definition = nlohmann::json::parse(rule.definition_json, nullptr, false);
+        if (definition.is_discarded()) continue;
+        const auto window = definition.find("rate_window_seconds");
+        if (window != definition.end() && window->is_number()) return window->get<double>();
     }
-    const double n = static_cast<double>(points.size());
-    mt /= n;
-    mv /= n;
-    double stt = 0, stv = 0;
-    for (const auto& [t, v] : points) {
-        const double dt = static_cast<double>(t - points.front().first) - mt;
-        stt += dt * dt;
-        stv += dt * (v - mv);
-    }
-    if (stt <= 0) return std::nullopt;
-    return stv / stt * static_cast<double>(kDay);
+    return kDefaultRateWindowSeconds;
 }
 
 ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& inputs,
@@ -80,6 +75,7 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
     s.stale = !summary.last_done ||
               static_cast<double>(now - summary.last_done->acquired) > config.stale_seconds;
 
+    const auto rules = db.alarms().rules();
     for (const auto& z : inputs.zones) {
         for (std::size_t q = 0; q < inputs.quantities.size(); ++q) {
             TimeRange range;
@@ -96,12 +92,10 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
             v.lod = last.uncertainty;
             v.significant = last.significant;
             v.stale = static_cast<double>(now - last.acquired) > config.stale_seconds;
-            std::vector<std::pair<UtcSeconds, double>> window;
-            for (const auto& p : points) {
-                if (p.acquired >= last.acquired - kRateWindow)
-                    window.emplace_back(p.acquired, p.value);
-            }
-            v.rate = slope_per_day(window);
+            std::vector<TimedValue> values;
+            for (const auto& p : points) values.push_back({p.acquired, p.value});
+            v.rate = rate_per_day(values, last.acquired,
+                                  rate_window(rules, z.name, inputs.quantities[q]));
             if (const auto reg = db.registrations().of_epoch(last.epoch)) {
                 v.unregistered = reg->method == kUnregistered;
                 v.registration_degraded = !reg->accepted && !v.unregistered;
@@ -109,7 +103,6 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
             s.values.push_back(v);
         }
     }
-    const auto rules = db.alarms().rules();
     const auto states = db.alarms().states();
     for (const auto& rule : rules) {
         RuleStatus r;
@@ -117,11 +110,10 @@ ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& in
         r.name = rule.name;
         r.zone = rule.zone;
         r.quantity = rule.quantity;
-        r.state = "normal";
         for (const auto& st : states) {
             if (st.rule == rule.name) {
-                r.state = st.state;
-                r.level = st.level;
+                r.state = parse_isa_state(st.state);
+                r.level = parse_alarm_level(st.level);
             }
         }
         s.rules.push_back(r);

@@ -6,6 +6,7 @@
 
 #include "core/utc_time.hpp"
 #include "daemon/modbus/register_image.hpp"
+#include "storage/alarm_store.hpp"
 
 namespace tlsmon {
 
@@ -20,7 +21,9 @@ MapInputs modbus_map_inputs(const EpochDatabase* db, const std::vector<std::stri
 ModbusSnapshot read_modbus_snapshot(const EpochDatabase& db, const MapInputs& inputs,
                                     const ModbusConfig& config, UtcSeconds now);
 
-// Least-squares slope of (t, v) in units per day; nullopt with fewer than 2 distinct times.
-std::optional<double> slope_per_day(const std::vector<std::pair<UtcSeconds, double>>& points);
+// The window of a zone quantity's `.rate` registers: the first enabled rate rule's on it
+// (alarms/alarm_rate.hpp), else a day.
+double rate_window(const std::vector<AlarmRule>& rules, const std::string& zone,
+                   const std::string& quantity);
 
 }  // namespace tlsmon

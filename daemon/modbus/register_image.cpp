@@ -34,8 +34,8 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
 
     bool any_alarm = false, any_unack = false;
     for (const auto& rule : s.rules) {
-        if (alarm_level_code(rule.level) > 0 && alarm_level_code(rule.level) <= 3) any_alarm = true;
-        if (rule.state == "unack" || rule.state == "rtn_unack") any_unack = true;
+        if (rule.level != AlarmLevel::none) any_alarm = true;
+        if (unacknowledged(rule.state)) any_unack = true;
     }
     std::uint16_t status = kStatusRunning;
     if (s.database_ok) status |= kStatusDatabaseOk;
@@ -85,7 +85,8 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
             auto& state = r.at(static_cast<std::size_t>(b + kOffState));
             const std::uint16_t l = alarm_level_code(rule.level);
             const std::uint16_t st = isa_state_code(rule.state);
-            if (l > level || (l == level && (st == 1 || st == 3) && state != 1)) {
+            const std::uint16_t unack = isa_state_code(IsaState::unack);
+            if (l > level || (l == level && unacknowledged(rule.state) && state != unack)) {
                 level = l;
                 state = st;
             }
@@ -97,8 +98,7 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
             img.discrete_inputs[static_cast<std::size_t>(bit + level - 1)] =
                 (l >= level && l <= 3) ? 1 : 0;
         }
-        img.discrete_inputs[static_cast<std::size_t>(bit + 3)] =
-            (rule.state == "unack" || rule.state == "rtn_unack") ? 1 : 0;
+        img.discrete_inputs[static_cast<std::size_t>(bit + 3)] = unacknowledged(rule.state) ? 1 : 0;
     }
     img.discrete_inputs.at(kBitAnyAlarm) = any_alarm ? 1 : 0;
     img.discrete_inputs.at(kBitAnyUnacknowledged) = any_unack ? 1 : 0;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "alarms/alarm_machine.hpp"
 #include "daemon/modbus/modbus_config.hpp"
 #include "daemon/modbus/register_map.hpp"
 
@@ -30,8 +31,8 @@ struct RuleStatus {
     std::string name;
     std::string zone;
     std::string quantity;
-    std::string level;  // "", "warning", "alert", "alarm"
-    std::string state;  // "normal", "unack", ...
+    AlarmLevel level = AlarmLevel::none;
+    IsaState state = IsaState::normal;
 };
 
 struct ModbusSnapshot {

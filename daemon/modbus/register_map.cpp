@@ -9,10 +9,6 @@ namespace tlsmon {
 
 namespace {
 
-constexpr std::array<const char*, 6> kStates = {"normal",    "unack",   "ack",
-                                                "rtn_unack", "shelved", "out_of_service"};
-constexpr std::array<const char*, 4> kLevels = {"", "warning", "alert", "alarm"};
-
 // "m3c2_median_m" -> "m": the unit is the suffix after the last underscore, by the naming of
 // the quantities (docs/storage.md); "" when the name has none.
 std::string unit_of(const std::string& quantity) {
@@ -22,18 +18,12 @@ std::string unit_of(const std::string& quantity) {
 
 }  // namespace
 
-std::uint16_t isa_state_code(const std::string& state) {
-    for (std::size_t i = 0; i < kStates.size(); ++i) {
-        if (state == kStates[i]) return static_cast<std::uint16_t>(i);
-    }
-    return 0xFFFF;  // a state this map version does not know
+std::uint16_t isa_state_code(IsaState state) {
+    return static_cast<std::uint16_t>(state);
 }
 
-std::uint16_t alarm_level_code(const std::string& level) {
-    for (std::size_t i = 0; i < kLevels.size(); ++i) {
-        if (level == kLevels[i]) return static_cast<std::uint16_t>(i);
-    }
-    return 0xFFFF;
+std::uint16_t alarm_level_code(AlarmLevel level) {
+    return static_cast<std::uint16_t>(level);
 }
 
 const char* table_name(ModbusTable table) {
@@ -139,8 +129,9 @@ RegisterMap build_register_map(const MapInputs& in) {
         }
         const int bit = kBitRuleBase + r.slot * kBitRuleStride;
         for (int level = 1; level <= 3; ++level) {
-            add(T::discrete_input, bit + level - 1, 1, r.name + "." + kLevels[level], Y::bit, "",
-                "Rule " + r.name + " is at level " + kLevels[level] + " or above");
+            const std::string name(to_string(static_cast<AlarmLevel>(level)));
+            add(T::discrete_input, bit + level - 1, 1, r.name + "." + name, Y::bit, "",
+                "Rule " + r.name + " is at level " + name + " or above");
         }
         add(T::discrete_input, bit + 3, 1, r.name + ".unacknowledged", Y::bit, "",
             "Rule " + r.name + " waits for acknowledgement");

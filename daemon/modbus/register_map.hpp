@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "alarms/alarm_machine.hpp"
+
 namespace tlsmon {
 
 inline constexpr int kModbusMapVersion = 1;
@@ -59,8 +61,10 @@ inline constexpr std::uint16_t kQualityRegistrationDegraded = 1u << 3;
 inline constexpr std::uint16_t kQualityUnregistered = 1u << 4;
 
 // ISA-18.2 state codes (register ".isa_state") and alarm level codes (".alarm_level").
-std::uint16_t isa_state_code(const std::string& state);    // "normal" 0 .. "out_of_service" 5
-std::uint16_t alarm_level_code(const std::string& level);  // "" 0, warning 1, alert 2, alarm 3
+// normal 0, unack 1, ack 2, rtn_unack 3, shelved 4, out_of_service 5 (IsaState's order).
+std::uint16_t isa_state_code(IsaState state);
+// none 0, warning 1, alert 2, alarm 3.
+std::uint16_t alarm_level_code(AlarmLevel level);
 
 struct MapSlot {
     int slot = 0;  // database id - 1

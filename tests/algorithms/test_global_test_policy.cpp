@@ -32,10 +32,11 @@ const Eigen::Vector3d kPier(120.0, 90.0, 15.0);  // 150 m from the scanner
 // Components within 2σ: ω, φ, κ, tx, ty, tz against the truth, and the pier point's x, y, z.
 int within_two_sigma(const RigidTransform& T, const TrueTransform& truth, int& components) {
     int in = 0;
-    const double est[6] = {T.omega,           T.phi,             T.kappa,
-                           T.translation.x(), T.translation.y(), T.translation.z()};
-    const double tru[6] = {truth.omega,          truth.phi,           truth.kappa,
-                           truth.translation.x(), truth.translation.y(), truth.translation.z()};
+    const double est[6] = {T.omega,          T.phi, T.kappa, T.translation.x(), T.translation.y(),
+                           T.translation.z()};
+    const double tru[6] = {truth.omega,           truth.phi,
+                           truth.kappa,           truth.translation.x(),
+                           truth.translation.y(), truth.translation.z()};
     const auto sig = T.sigmas();
     for (int k = 0; k < 6; ++k) in += std::fabs(est[k] - tru[k]) <= 2.0 * sig(k);
     const Eigen::Vector3d x = truth.rotation.transpose() * (kPier - truth.translation);
@@ -110,8 +111,8 @@ KnockRates knock_rates(int n, double k_sigma, std::uint64_t seed, int trials,
         const int moved = t % n;
         const Eigen::Vector3d d = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
         const CentreObservation& c = centres[moved];
-        const Eigen::Matrix3d S = c.reference_covariance + truth.rotation * c.epoch_covariance *
-                                                               truth.rotation.transpose();
+        const Eigen::Matrix3d S = c.reference_covariance +
+                                  truth.rotation * c.epoch_covariance * truth.rotation.transpose();
         const double sigma = std::sqrt(d.dot(S * d));
         centres[moved].epoch += truth.rotation.transpose() * (k_sigma * sigma * d);
         const TestedRegistration r = register_with_tests(pairs(centres), params);
@@ -189,8 +190,7 @@ TEST(GlobalTestPolicy, RejectAlphaAboveGlobalAlphaIsAnError) {
     TargetTestParams p;
     p.global_reject_alpha = 0.1;
     std::mt19937_64 rng(3);
-    EXPECT_THROW(register_with_tests(pairs(observe(target_centres(4), drift(rng), rng)), p),
-                 Error);
+    EXPECT_THROW(register_with_tests(pairs(observe(target_centres(4), drift(rng), rng)), p), Error);
 }
 
 }  // namespace

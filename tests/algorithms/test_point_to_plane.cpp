@@ -23,12 +23,12 @@ struct Plane {
 
 std::vector<Plane> site_planes() {
     return {
-        {{-15, 30, 0}, {30, 0, 0}, {0, 12, 0}},       // ground in front of the pier
-        {{0, 43.5, 0}, {18, 0, 0}, {0, 0, 0.4}},      // foundation's south face
-        {{0, 43.5, 0}, {0, 10, 0}, {0, 0, 0.4}},      // foundation's west face
-        {{22, 56, 0}, {0, 6, 0}, {0, 0, 2.5}},        // abutment's west face
-        {{22, 56, 0}, {8, 0, 0}, {0, 0, 2.5}},        // abutment's south face
-        {{-10, 60, 0}, {40, 0, 0}, {0, 20, 7.3}},     // the valley side (20°)
+        {{-15, 30, 0}, {30, 0, 0}, {0, 12, 0}},    // ground in front of the pier
+        {{0, 43.5, 0}, {18, 0, 0}, {0, 0, 0.4}},   // foundation's south face
+        {{0, 43.5, 0}, {0, 10, 0}, {0, 0, 0.4}},   // foundation's west face
+        {{22, 56, 0}, {0, 6, 0}, {0, 0, 2.5}},     // abutment's west face
+        {{22, 56, 0}, {8, 0, 0}, {0, 0, 2.5}},     // abutment's south face
+        {{-10, 60, 0}, {40, 0, 0}, {0, 20, 7.3}},  // the valley side (20°)
     };
 }
 
@@ -39,11 +39,10 @@ struct Truth {
 
 Truth drift(std::mt19937_64& rng) {
     std::normal_distribution<double> n(0.0, 1.0);
-    const Eigen::Matrix3d R =
-        (Eigen::AngleAxisd(40 * kArcsec * n(rng), Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(8 * kArcsec * n(rng), Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(8 * kArcsec * n(rng), Eigen::Vector3d::UnitX()))
-            .toRotationMatrix();
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(40 * kArcsec * n(rng), Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(8 * kArcsec * n(rng), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(8 * kArcsec * n(rng), Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
     return {R, Eigen::Vector3d(0.002 * n(rng), 0.002 * n(rng), 0.002 * n(rng))};
 }
 
@@ -167,8 +166,8 @@ TEST(PointToPlane, TooFewPairsOrOnePlaneIsAnError) {
 TEST(PointToPlane, CombinationIsTheWeightedMean) {
     Covariance6 S = Covariance6::Zero();
     S.diagonal() << 4e-12, 4e-12, 9e-12, 1e-8, 1e-8, 4e-8;
-    const RigidTransform a = rigid_transform_from(Eigen::Matrix3d::Identity(),
-                                                  Eigen::Vector3d(0.001, 0, 0), S);
+    const RigidTransform a =
+        rigid_transform_from(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.001, 0, 0), S);
     const Eigen::Matrix3d Rb = Eigen::AngleAxisd(2 * kArcsec, Eigen::Vector3d::UnitZ()).matrix();
     const RigidTransform b = rigid_transform_from(Rb, Eigen::Vector3d(0.0015, 0, 0), S);
     const RigidTransform c = combine_transforms(a, b);
@@ -179,8 +178,8 @@ TEST(PointToPlane, CombinationIsTheWeightedMean) {
     }
     // Unequal weights: the better one dominates, 4:1 in variance -> 0.8 of the way.
     Covariance6 S4 = 4.0 * S;
-    const RigidTransform a4 = rigid_transform_from(Eigen::Matrix3d::Identity(),
-                                                   Eigen::Vector3d(0.001, 0, 0), S4);
+    const RigidTransform a4 =
+        rigid_transform_from(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.001, 0, 0), S4);
     EXPECT_NEAR(combine_transforms(a4, b).translation.x(), 0.001 + 0.8 * 0.0005, 1e-12);
 }
 

@@ -53,8 +53,8 @@ TEST(SphereFitSimulated, PierPresetSpheresMatchTheTruth) {
             // The air scales every range about the scanner (atmosphere.hpp): the centre
             // seen through the header is scaled about the scanner's position too.
             const Eigen::Vector3d truth =
-                N.translation() + conditions.atmosphere.range_scale *
-                                      (H.inverse() * t.centre - N.translation());
+                N.translation() +
+                conditions.atmosphere.range_scale * (H.inverse() * t.centre - N.translation());
             std::vector<Eigen::Vector3d> near;
             for (const auto& p : r.scan.xyz)
                 if ((p - t.centre).norm() < 0.2) near.push_back(p);

@@ -38,7 +38,8 @@ TEST(ConfigStableRegions, BadRegionsNameKeyAndLine) {
         "[[stable_region]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
         "[[stable_region]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n");
     EXPECT_NE(twice.find("defined twice"), std::string::npos) << twice;
-    const std::string two = error_of("[[stable_region]]\nname = \"a\"\nmin = [0, 0]\nmax = [1, 1, 1]\n");
+    const std::string two =
+        error_of("[[stable_region]]\nname = \"a\"\nmin = [0, 0]\nmax = [1, 1, 1]\n");
     EXPECT_NE(two.find("three numbers"), std::string::npos) << two;
     const std::string none = error_of("[registration]\nicp = \"fallback\"\n");
     EXPECT_NE(none.find("stable_region"), std::string::npos) << none;

@@ -120,9 +120,10 @@ normal = [-1, 0, 0]
                            "'south', whose normal differs"),
               std::string::npos)
         << overlap;
-    EXPECT_NE(error_of("[[zone]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nnormal = [0, 0, 0]\n")
-                  .find("key 'zone[0].normal': expected three numbers [x, y, z], not all zero"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of("[[zone]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nnormal = [0, 0, 0]\n")
+            .find("key 'zone[0].normal': expected three numbers [x, y, z], not all zero"),
+        std::string::npos);
     EXPECT_NE(error_of("[m3c2]\nmax_roughness = 0\n").find("m3c2.max_roughness"),
               std::string::npos);
 }
@@ -143,7 +144,7 @@ min_points = 20
     EXPECT_EQ(c.m3c2.normal_radii, (std::vector<double>{0.2, 0.4, 0.8}));
     EXPECT_FALSE(c.m3c2.orient_to_scanner);
     EXPECT_EQ(c.m3c2.orientation, Eigen::Vector3d(0, -1, 0));
-    EXPECT_EQ(c.m3c2.statistic, M3c2Statistic::median);
+    EXPECT_EQ(c.m3c2.statistic, m3c2::CylinderStatistic::median);
     EXPECT_EQ(c.m3c2.min_points, 20);
 }
 

@@ -79,7 +79,8 @@ TEST(ModbusImage, MissingValuesAreNanWithQualityCleared) {
     ModbusSnapshot s;
     s.database_ok = true;
     s.values.push_back({0, 1, 0.004, 0.002, 0.5, false, true, false});
-    s.rules.push_back({0, "top settles", "pier top", "keypoint_dz_m", "alert", "unack"});
+    s.rules.push_back(
+        {0, "top settles", "pier top", "keypoint_dz_m", AlarmLevel::alert, IsaState::unack});
     const RegisterImage img = render_registers(m, in, s, WordOrder::abcd);
     const auto& r = img.input_registers;
     EXPECT_TRUE(std::isnan(float_from_words({r[100], r[101]}, WordOrder::abcd)));
@@ -101,12 +102,20 @@ TEST(ModbusImage, MissingValuesAreNanWithQualityCleared) {
     EXPECT_EQ(img.coil_rules[1], "");
 }
 
-TEST(ModbusSnapshot, RateIsTheSlopePerDay) {
-    // v = 2 t / day exactly, 3 points over one day.
-    const auto slope = slope_per_day({{1000, 0.0}, {1000 + 43200, 1.0}, {1000 + 86400, 2.0}});
-    ASSERT_TRUE(slope);
-    EXPECT_NEAR(*slope, 2.0, 1e-12);
-    EXPECT_FALSE(slope_per_day({{1000, 1.0}}));
+TEST(ModbusSnapshot, RateWindowIsTheRateRulesElseADay) {
+    const auto rule = [](std::string name, std::string zone, std::string definition, bool enabled) {
+        return AlarmRule{
+            0, std::move(name), std::move(zone), "m3c2_median_m", std::move(definition), enabled};
+    };
+    const std::vector<AlarmRule> rules{
+        rule("level", "top", R"({"rate_window_seconds":null})", true),
+        rule("off", "top", R"({"rate_window_seconds":600})", false),
+        rule("rate", "top", R"({"rate_window_seconds":7200})", true),
+        rule("other", "foot", R"({"rate_window_seconds":3600})", true)};
+    EXPECT_EQ(rate_window(rules, "top", "m3c2_median_m"), 7200.0);
+    EXPECT_EQ(rate_window(rules, "foot", "m3c2_median_m"), 3600.0);
+    EXPECT_EQ(rate_window(rules, "foot", "m3c2_mean_m"), 86400.0);
+    EXPECT_EQ(rate_window(rules, "side", "m3c2_median_m"), 86400.0);
 }
 
 TEST(ModbusSnapshot, ConfiguredZonesUnknownToTheDatabaseTakeTheNextSlots) {

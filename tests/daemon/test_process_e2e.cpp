@@ -22,6 +22,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include "tests/daemon/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
@@ -278,6 +279,92 @@ constexpr const char* kUtc = "strftime('%Y-%m-%dT%H:%M:%SZ', %s, 'unixepoch')";
 std::string utc(const std::string& column) {
     std::string s = kUtc;
     return s.replace(s.find("%s"), 2, column);
+}
+
+// A CSV file's rows as maps of its header's names to the fields.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+    std::istringstream in(read_text(file));
+    std::string line;
+    std::vector<std::string> names;
+    std::getline(in, line);
+    for (std::istringstream h(line); std::getline(h, line, ',');) names.push_back(line);
+    std::vector<std::map<std::string, std::string>> rows;
+    while (std::getline(in, line)) {
+        std::map<std::string, std::string> row;
+        std::istringstream fields(line);
+        for (const auto& name : names) {
+            std::string f;
+            std::getline(fields, f, ',');
+            row[name] = f;
+        }
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+// The one-shot commands on the two scan files of the reference epoch and of epoch `k`, with
+// the daemon's configuration, give what the daemon stored for epoch k: every core point's
+// M3C2 distance and LoD95 (stored as float32), and every zone's keypoint mean vector (the
+// mean of the matches the command lists as kept; its CSV has µm).
+void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64_t epoch_id,
+                                            const fs::path& config, const fs::path& db,
+                                            const fs::path& dir) {
+    const auto scan = [&](int i) {
+        return (s.scans() / (s.stems.at(static_cast<std::size_t>(i)) + ".ptx")).string();
+    };
+    const std::string pair = scan(0) + " " + scan(k) + " --config " + config.string();
+    const auto m3c2 = shell(std::string(TLSMON_BINARY) + " m3c2 " + pair + " --out " +
+                            (dir / "m3c2.csv").string());
+    ASSERT_EQ(m3c2.status, 0) << m3c2.output;
+    const json stored = tlsmon_json("query corepoints --epoch " + std::to_string(epoch_id) +
+                                    " --config " + config.string());
+    const auto rows = csv_rows(dir / "m3c2.csv");
+    ASSERT_EQ(rows.size(), stored.size());
+    int with_distance = 0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const json& d = stored[i].at("distance");
+        if (rows[i].at("distance") == "nan") {
+            EXPECT_TRUE(d.is_null()) << "core point " << i;
+            continue;
+        }
+        ASSERT_FALSE(d.is_null()) << "core point " << i;
+        const double one_shot = std::stod(rows[i].at("distance"));
+        EXPECT_NEAR(one_shot, d.get<double>(), 2e-9 + 1e-7 * std::abs(one_shot)) << i;
+        const double lod = std::stod(rows[i].at("lod"));
+        EXPECT_NEAR(lod, stored[i].at("lod95").get<double>(), 2e-9 + 1e-7 * lod) << i;
+        EXPECT_NEAR(std::stod(rows[i].at("x")), stored[i].at("x").get<double>(), 1e-6) << i;
+        ++with_distance;
+    }
+    EXPECT_GT(with_distance, 100);
+
+    const auto keypoints = shell(std::string(TLSMON_BINARY) + " keypoints " + pair + " --out " +
+                                 (dir / "keypoints.csv").string());
+    ASSERT_EQ(keypoints.status, 0) << keypoints.output;
+    std::map<std::string, Eigen::Vector3d> sum;
+    std::map<std::string, int> kept;
+    for (const auto& m : csv_rows(dir / "keypoints.csv")) {
+        if (!m.at("removed_by").empty()) continue;
+        sum.try_emplace(m.at("zone"), Eigen::Vector3d::Zero()).first->second +=
+            Eigen::Vector3d(std::stod(m.at("dx")), std::stod(m.at("dy")), std::stod(m.at("dz")));
+        ++kept[m.at("zone")];
+    }
+    int zones = 0;
+    for (const auto& row :
+         sql(db,
+             "SELECT z.name AS zone, q.name AS quantity, r.value, r.n FROM zone_results r "
+             "JOIN zones z ON z.id = r.zone_id JOIN quantities q ON q.id = r.quantity_id "
+             "WHERE r.epoch_id = " +
+                 std::to_string(epoch_id) +
+                 " AND q.name IN ('keypoint_dx_m', 'keypoint_dy_m', 'keypoint_dz_m')")) {
+        const std::string zone = row.at("zone");
+        const int axis = row.at("quantity").get<std::string>()[10] - 'x';
+        ASSERT_TRUE(kept.count(zone)) << zone;
+        EXPECT_EQ(row.at("n").get<int>(), kept[zone]) << zone;
+        EXPECT_NEAR(sum[zone](axis) / kept[zone], row.at("value").get<double>(), 1e-6)
+            << zone << " " << row.at("quantity");
+        zones += axis == 0;
+    }
+    EXPECT_GE(zones, 2);
 }
 
 TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
@@ -731,6 +818,13 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
     ASSERT_EQ(final_state.size(), 1u);
     EXPECT_EQ(final_state[0].at("state"), "ack") << "latched, the band still stepped";
     EXPECT_EQ(final_state[0].at("level"), "alarm");
+
+    // The one-shot commands measure as the stages do (epoch 5: before the knocked target).
+    for (const auto& [id, i] : index_of) {
+        if (i != 5) continue;
+        SCOPED_TRACE("tlsmon m3c2 / keypoints --config on epoch 5");
+        one_shot_commands_reproduce_the_daemon(s, 5, id, config, db, tmp.path());
+    }
 
     std::cout << "end to end: " << kEpochs << " epochs; rendered in " << render_s
               << " s, processed and checked in " << run_s << " s, " << seconds_since(t0)

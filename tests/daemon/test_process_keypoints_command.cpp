@@ -49,8 +49,8 @@ class KeypointsCommand : public ::testing::Test {
 TEST_F(KeypointsCommand, NoChangePairGivesZeroVectors) {
     const fs::path csv = dir_ / "vectors.csv";
     const fs::path pictures = dir_ / "pictures";
-    ASSERT_EQ(run({ptx, e57, "--window-deg", "0.3", "--out", csv.string(), "--images",
-                   pictures.string()}),
+    ASSERT_EQ(run({ptx, e57, "--window-deg", "0.3", "--detector", "kaze", "--out", csv.string(),
+                   "--images", pictures.string()}),
               0)
         << err_;
     std::istringstream in(tlsmon::test::read_file(csv));
@@ -58,7 +58,7 @@ TEST_F(KeypointsCommand, NoChangePairGivesZeroVectors) {
     std::getline(in, line);
     EXPECT_EQ(line,
               "reference_row,reference_column,row,column,x,y,z,dx,dy,dz,descriptor_distance,"
-              "segment,removed_by");
+              "segment,zone,removed_by");
     std::size_t rows = 0, kept = 0;
     double sum[3] = {0, 0, 0};
     while (std::getline(in, line)) {
@@ -67,7 +67,7 @@ TEST_F(KeypointsCommand, NoChangePairGivesZeroVectors) {
         std::string s;
         while (std::getline(fields, s, ',')) f.push_back(s);
         if (line.back() == ',') f.push_back("");
-        ASSERT_EQ(f.size(), 13u) << line;
+        ASSERT_EQ(f.size(), 14u) << line;
         // Same scan (its values rounded differently in the two files): each keypoint is
         // found at its own place to a few hundredths of a pixel (0.05), so the vector is
         // below 0.05 of a column step (0.25°) at ≤ 5.43 m, 1.2 mm; and the range lies in the
@@ -85,6 +85,7 @@ TEST_F(KeypointsCommand, NoChangePairGivesZeroVectors) {
         const int segment = std::stoi(f[11]);
         EXPECT_EQ(segment, static_cast<int>(
                                std::floor((std::asin(std::stod(f[6]) / r) * 180 / M_PI + 90) / 5)));
+        EXPECT_EQ(f[12].rfind("keypoint_band_", 0), 0u) << line;
         // Empty (kept) or the name of the outlier filter that removed it.
         static const std::set<std::string> names = {"",
                                                     "row_difference",
@@ -97,15 +98,21 @@ TEST_F(KeypointsCommand, NoChangePairGivesZeroVectors) {
                                                     "dz",
                                                     "magnitude",
                                                     "angle_to_median"};
-        EXPECT_TRUE(names.count(f[12])) << line;
-        kept += f[12].empty();
+        EXPECT_TRUE(names.count(f[13])) << line;
+        kept += f[13].empty();
         ++rows;
     }
     EXPECT_GT(rows, 200u);
     EXPECT_GT(kept, 0u);
     // And on average no movement, to 0.1 mm.
     for (double v : sum) EXPECT_LE(std::abs(v / static_cast<double>(rows)), 1e-4);
-    EXPECT_NE(out_.find("segment"), std::string::npos) << out_;
+    // The parameters used: a fresh site's with bands, the detector replaced; the summary per
+    // band.
+    EXPECT_NE(out_.find("keypoints.detector = \"kaze\""), std::string::npos) << out_;
+    EXPECT_NE(out_.find("keypoints.window_deg = 0.3"), std::string::npos) << out_;
+    EXPECT_NE(out_.find("keypoints.refine = true"), std::string::npos) << out_;
+    EXPECT_NE(out_.find("keypoints.segments = \"bands\""), std::string::npos) << out_;
+    EXPECT_NE(out_.find("\nkeypoint_band_"), std::string::npos) << out_;
     for (const char* name : {"reference.png", "epoch.png"}) {
         const std::string png = tlsmon::test::read_file(pictures / name);
         ASSERT_GT(png.size(), 1000u) << name;

@@ -79,9 +79,24 @@ class M3c2Command : public ::testing::Test {
         return out;
     }
     std::vector<std::string> pair_args(const fs::path& csv) {
-        return {
-            t1,    t2,         "--normal-radii", "2.0",   "--cylinder-radius", "3.0", "--max-depth",
-            "1.0", "--orient", "0,0,1",          "--out", csv.string()};
+        // The method as published: no roughness limit, 5 points a cylinder (a site's
+        // defaults are 0.02 m and 10).
+        return {t1,
+                t2,
+                "--normal-radii",
+                "2.0",
+                "--cylinder-radius",
+                "3.0",
+                "--max-depth",
+                "1.0",
+                "--orient",
+                "0,0,1",
+                "--out",
+                csv.string(),
+                "--max-roughness",
+                "100",
+                "--min-points",
+                "5"};
     }
 
     tlsmon::test::TempDir dir_;
@@ -152,7 +167,7 @@ TEST_F(M3c2Command, OrientTowardsTheScanner) {
 TEST_F(M3c2Command, SparseCylindersAreNanInTheCsv) {
     const fs::path csv = dir_ / "result.csv";
     auto args = pair_args(csv);
-    args.insert(args.end(), {"--min-points", "30"});  // at most 29 points within 3 m on 1 m
+    args[15] = "30";  // --min-points: at most 29 points within 3 m on 1 m
     ASSERT_EQ(run(args), 0) << err_;
     for (const auto& row : rows(csv)) {
         EXPECT_TRUE(std::isnan(row[distance]));

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "daemon/config.hpp"
+#include "daemon_harness.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
-#include "daemon_harness.hpp"
 #include "tests/support/small_tmpfs.hpp"
 
 namespace tlsmon::test {

@@ -200,6 +200,7 @@ TEST(KeypointsRealScan, KnownRigidMotionGivesTheKeypointVectors) {
 TEST(KeypointsRealScan, BriskDropsBorderKeypointsAndKeepsTheDetectorsPositions) {
     const Raster8 grey = intensity_to_8bit(reference().images);
     FeatureParameters p;
+    p.detector = "kaze";
     // Without a mask KAZE finds keypoints up to the image's border, where BRISK's pattern
     // does not fit.
     const auto detected = detect_keypoints(grey, {}, p);
@@ -279,6 +280,7 @@ TEST(KeypointsRealScan, BadNamesAreErrors) {
         EXPECT_NE(std::string(e.what()).find("surf"), std::string::npos);
     }
     p = {};
+    p.detector = "kaze";
     p.descriptor = "akaze";  // needs AKAZE's own keypoints
     EXPECT_THROW(validate(p), Error);
 }

@@ -127,7 +127,7 @@ TEST(IcpRegistration, FallbackRecoversThePoseWithTwoTargets) {
     ASSERT_EQ(r.tested.status, registration::RegistrationStatus::too_few_targets);
     apply_icp(config, surface, e1.scans, {}, r);
     ASSERT_TRUE(r.icp);
-    std::printf("%s\n", icp_quality_json(r).c_str());
+    std::printf("%s\n", icp_quality(*r.icp).dump().c_str());
     if (r.icp->transform) {
         print("ICP alone",
               score(*r.icp->transform, e0.header_to_true, e1.header_to_true, pier_points(site)));
@@ -209,7 +209,7 @@ TEST(IcpRegistration, RefinementDoesNotMakeAGoodTargetRegistrationWorse) {
             score(*r.tested.transform, e0.header_to_true, e1.header_to_true, pier_points(site));
         apply_icp(config, surface, e1.scans, {}, r);
         ASSERT_TRUE(r.icp);
-        std::printf("%s\n", icp_quality_json(r).c_str());
+        std::printf("%s\n", icp_quality(*r.icp).dump().c_str());
         ASSERT_TRUE(r.accepted());
         const Scored refined =
             score(*r.tested.transform, e0.header_to_true, e1.header_to_true, pier_points(site));

@@ -55,8 +55,7 @@ Rendered add_scan(test::PipelineSite& site, const sim::Site& scene, int index, d
 }
 
 // The face's zone, the reference at 0 h and an epoch at 6 h, both processed.
-std::pair<Rendered, Rendered> process_two_epochs(test::PipelineSite& site,
-                                                 const sim::Site& scene) {
+std::pair<Rendered, Rendered> process_two_epochs(test::PipelineSite& site, const sim::Site& scene) {
     site.config.keypoints.zones = {face_zone()};
     site.db->site().upsert_zone("face", "{}");
     std::pair<Rendered, Rendered> e{add_scan(site, scene, 0, 0.0), add_scan(site, scene, 1, 6.0)};

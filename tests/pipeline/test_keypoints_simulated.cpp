@@ -26,6 +26,7 @@
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/registration_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
@@ -284,8 +285,7 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
     print_score("keypoints, along the surface v", v);
     print_score("keypoints, along the normal", normal);
     print_score("M3C2 median, along the normal", m3c2);
-    std::printf("LoD95 covers the error in %d of %d along-surface figures\n", lod_covers,
-                lod_rows);
+    std::printf("LoD95 covers the error in %d of %d along-surface figures\n", lod_covers, lod_rows);
     EXPECT_LE(h.rms(), 0.001);
     EXPECT_LE(v.rms(), 0.001);
     // The truth moves by millimetres along the surface: the test measures something.

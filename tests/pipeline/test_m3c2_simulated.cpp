@@ -1,8 +1,9 @@
 // M3C2 after registration on simulated series of the `pier` preset (issue 11's acceptance):
 // per-zone medians and means against the truth on whole faces, and the honesty of the LoD in
 // a series without deformation. Each epoch renders the targets' windows and the pier's faces
-// at a coarser 0.05° (4–5 cm at 45–60 m; tests/pipeline/simulated_windows.hpp). The atmosphere's range scales are the truth's (a site takes them from
-// its weather station's air, docs/registration.md).
+// at a coarser 0.05° (4–5 cm at 45–60 m; tests/pipeline/simulated_windows.hpp). The atmosphere's
+// range scales are the truth's (a site takes them from its weather station's air,
+// docs/registration.md).
 //
 // Truth: the pier's displacement u_i at a core point c (sim::pier_displacement; c stands for
 // the material point: u varies by < 1e-5 over the millimetres it moved); the true change
@@ -16,6 +17,7 @@
 #include <cstdio>
 
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/registration_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
@@ -25,7 +27,6 @@
 
 namespace tlsmon {
 namespace {
-
 
 // The zones of tests/support/simulated_zones.hpp (whole faces with their design normals;
 // the cylinders at an edge take in the other face, and max_roughness leaves them out).
@@ -141,9 +142,8 @@ Score score(const Series& s, const std::string& quantity, bool west) {
         std::printf(
             "epoch %d %-14s %s %+.3f mm, truth %+.3f mm, error %+.3f mm, LoD %.3f mm, "
             "%lld core points\n",
-            s.row_epoch[r], row.zone.c_str(), quantity.c_str(), 1e3 * row.value,
-            1e3 * s.truth[r], 1e3 * error, 1e3 * row.uncertainty.value_or(0),
-            static_cast<long long>(row.n));
+            s.row_epoch[r], row.zone.c_str(), quantity.c_str(), 1e3 * row.value, 1e3 * s.truth[r],
+            1e3 * error, 1e3 * row.uncertainty.value_or(0), static_cast<long long>(row.n));
         out.rms += error * error;
         out.bias += error;
         out.worst = std::max(out.worst, std::abs(error));

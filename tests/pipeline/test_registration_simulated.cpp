@@ -35,7 +35,6 @@ sim::Site drifting_pier() {
     return drifting(sim::preset_pier());
 }
 
-
 struct RenderedEpoch {
     std::vector<Scan> scans;  // one window per target
     Eigen::Affine3d header_to_true;

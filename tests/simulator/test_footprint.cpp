@@ -1,8 +1,6 @@
 // The beam footprint and the signal-dependent range noise: mixed pixels at the pier's
 // silhouette, black checker squares noisier than white ones by the modelled ratio, and a
 // black/white edge band-limited over the footprint's width.
-#include "simulator/footprint.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <map>
 #include <numbers>
 
+#include "simulator/footprint.hpp"
 #include "simulator/range_noise.hpp"
 #include "simulator/render.hpp"
 #include "simulator/truth.hpp"

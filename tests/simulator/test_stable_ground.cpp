@@ -32,8 +32,8 @@ TEST(StableGround, NeverThePierAlwaysTheBlocks) {
             const Eigen::Vector3d p(block.lo.x() + 0.5, block.lo.y() + 0.5, block.hi.z());
             bool inside = false;
             for (const auto& b : boxes) {
-                inside = inside || ((p.array() >= b.min.array()).all() &&
-                                    (p.array() <= b.max.array()).all());
+                inside = inside ||
+                         ((p.array() >= b.min.array()).all() && (p.array() <= b.max.array()).all());
             }
             EXPECT_TRUE(inside) << name << " " << block.name;
         }

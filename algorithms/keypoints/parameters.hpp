@@ -1,0 +1,37 @@
+#pragma once
+// The parameters of the keypoint displacement method (docs/keypoints.md) that a user sets,
+// with their defaults in this one place: the site's [keypoints] section embeds them and
+// `tlsmon keypoints` starts from them. The kernel's parts (features, matching, outlier
+// filters, segments) take their defaults from here.
+#include <string>
+
+namespace tlsmon::keypoints {
+
+struct Parameters {
+    // AKAZE, not KAZE: the one that keeps a pier epoch within 10 s on 2 cores
+    // (docs/keypoints.md, "The default detector").
+    std::string detector = "akaze";
+    std::string descriptor = "brisk";
+    bool clahe = false;
+    double window_deg = 0.05;  // angular radius of the matching window
+    // Least-squares refinement of each match on a patch of (2·patch_radius + 1)² pixels
+    // (patch_refinement.hpp).
+    bool refine = true;
+    int patch_radius = 7;
+    double ratio = 0.0;  // Lowe's ratio test; 0: off
+    bool mutual = false;
+    double mad_k = 2.0;    // outlier filters: |x − median| > k · 1.4826 · MAD
+    int min_matches = 10;  // kept matches a segment needs
+    // Zones: a match whose beam meets the zone's wall at a larger angle to its normal is not
+    // used (a grazing surface's image is stretched along the beam; its keypoints do not
+    // repeat). 90: every match.
+    double max_incidence_deg = 75.0;
+    // m: a segment where the scan samples the surface coarser than this (the median over its
+    // matches of range × angular step) is undefined: its intensity image is aliased, the
+    // sub-pixel positions follow the lattice, not the surface (docs/keypoints.md, "Sampling").
+    double max_sample_spacing = 0.015;
+    double band_width_deg = 5.0;      // bands of the vertical angle, when they are the segments
+    double registration_error = 0.0;  // m, the LoD's reg without a registration
+};
+
+}  // namespace tlsmon::keypoints

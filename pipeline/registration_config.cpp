@@ -1,0 +1,104 @@
+#include "pipeline/registration_config.hpp"
+
+#include <array>
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
+    {AtmosphereCorrection::measured_air, "measured_air"},
+    {AtmosphereCorrection::off, "off"},
+}};
+constexpr std::array<Named<IcpMode>, 4> kIcpModes{{
+    {IcpMode::off, "off"},
+    {IcpMode::refine, "refine"},
+    {IcpMode::fallback, "fallback"},
+    {IcpMode::both, "both"},
+}};
+
+}  // namespace
+
+std::vector<SectionKey<RegistrationConfig>> registration_keys() {
+    using K = Keys<RegistrationConfig>;
+    return {
+        K::number(&RegistrationConfig::search_radius, "search_radius", 0.05, 5, "m",
+                  "A target's points are taken within this of its predicted centre (its centre in "
+                  "the reference epoch), through the scan grid's angular window."),
+        K::number(&RegistrationConfig::centre_sigma_floor, "centre_sigma_floor", 0, 0.01, "m",
+                  "Added as σ² per coordinate to every fitted centre's covariance: the fit's σ is "
+                  "only its random part; what a centre repeats to beyond it (the footprint, the "
+                  "silhouette's mixed returns) is 0.05–0.1 mm (docs/registration.md)."),
+        K::integer(&RegistrationConfig::min_targets, "min_targets", 3, 100, "",
+                   "Usable targets that must remain after outliers are excluded; fewer: rejected."),
+        K::number(&RegistrationConfig::max_rms, "max_rms", 0, 1, "m",
+                  "Quality gate: RMS of the used targets' residual lengths."),
+        K::number(&RegistrationConfig::max_sigma_angle_arcsec, "max_sigma_angle_arcsec", 0, 3600,
+                  "″", "Quality gate: σ of each of ω, φ, κ."),
+        K::number(&RegistrationConfig::max_sigma_translation, "max_sigma_translation", 0, 1, "m",
+                  "Quality gate: σ of each of tx, ty, tz."),
+        K::number(&RegistrationConfig::global_alpha, "global_alpha", 1e-6, 0.5, "",
+                  "Significance level of the global test of the variance factor. An epoch that "
+                  "fails it while every target passes its outlier test is accepted with the "
+                  "covariance scaled by s0² (`accepted_scaled`), unless the hard limit below is "
+                  "exceeded (docs/registration.md, \"Global test policy\")."),
+        K::number(&RegistrationConfig::global_reject_alpha, "global_reject_alpha", 1e-9, 0.5, "",
+                  "The variance factor's hard limit χ²(r, 1 − this)/r: above it an epoch that "
+                  "fails the global test is rejected; at most `global_alpha` (equal: every failed "
+                  "global test is rejected)."),
+        K::number(&RegistrationConfig::target_alpha, "target_alpha", 1e-9, 0.5, "",
+                  "Significance level of each target's outlier test (Baarda's α0)."),
+        K::choice(&RegistrationConfig::atmosphere, "atmosphere", kAtmosphereCorrections,
+                  "`measured_air`: when the epoch has meteo values, every range (target centres, "
+                  "and the points handed to later stages) is corrected from the scanner's "
+                  "setting below to the measured air, IAG 1999 group refractivity "
+                  "(core/group_refractivity.hpp); the reference epoch with its own meteo. "
+                  "Without meteo for the epoch or the reference, nothing is corrected and the "
+                  "registration row says so. `off`: never corrected."),
+        K::number(&RegistrationConfig::scanner_wavelength_nm, "scanner_wavelength_nm", 300, 2000,
+                  "nm", "The scanner's carrier wavelength."),
+        K::number(&RegistrationConfig::scanner_temperature_c, "scanner_temperature_c", -60, 60,
+                  "°C", "Air temperature of the scanner's atmospheric setting."),
+        K::number(&RegistrationConfig::scanner_pressure_hpa, "scanner_pressure_hpa", 300, 1200,
+                  "hPa", "Air pressure of the scanner's atmospheric setting."),
+        K::number(&RegistrationConfig::scanner_humidity_pct, "scanner_humidity_pct", 0, 100, "%",
+                  "Relative humidity of the scanner's atmospheric setting."),
+    };
+}
+
+std::vector<SectionKey<IcpConfig>> icp_keys() {
+    using K = Keys<IcpConfig>;
+    return {
+        K::choice(&IcpConfig::mode, "icp", kIcpModes,
+                  "Point-to-plane ICP on the `[[stable_region]]` tables only, never on the "
+                  "structure (docs/registration.md). `refine`: after an accepted target "
+                  "registration, combined with it by weights when the two agree. `fallback`: in "
+                  "place of the targets when fewer than `min_targets` are usable (or they lie on a "
+                  "line), from the identity, the epoch accepted if the ICP passes the `icp_*` "
+                  "limits and the σ limits above. `both`: either. `off`: targets only. The row's "
+                  "`method` says which was used."),
+        K::number(&IcpConfig::max_correspondence_distance, "icp_max_correspondence_distance", 0.001,
+                  1, "m", "ICP pairs an epoch point with the nearest reference point within this."),
+        K::integer(&IcpConfig::max_iterations, "icp_max_iterations", 1, 1000, "",
+                   "ICP iterations at most; not converged by then: refused."),
+        K::number(&IcpConfig::voxel_size, "icp_voxel_size", 0.01, 2, "m",
+                  "Both clouds are thinned to one centroid per voxel of this side; the reference's "
+                  "normals come from its centroids within three voxels."),
+        K::number(&IcpConfig::min_overlap, "icp_min_overlap", 0, 1, "",
+                  "Quality gate: share of the epoch's thinned stable points that found a pair "
+                  "(the fitness)."),
+        K::integer(&IcpConfig::min_points, "icp_min_points", 7, 10000000, "",
+                   "Quality gate: pairs at least."),
+        K::number(&IcpConfig::max_rms, "icp_max_rms", 0, 0.1, "m",
+                  "Quality gate: RMS of the point-to-plane distances."),
+        K::number(&IcpConfig::cluster_size, "icp_cluster_size", 0.1, 100, "m",
+                  "The ICP's covariance lets the residuals within cells of this side be correlated "
+                  "(cluster-robust, docs/registration.md)."),
+        K::number(&IcpConfig::sigma_factor, "icp_sigma_factor", 1, 10, "",
+                  "The ICP's σ is multiplied by this for what no residual shows (the footprint on "
+                  "grazing ground, the grid's phase); 2 is honest on the simulator "
+                  "(docs/registration.md)."),
+    };
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,120 @@
+#include "pipeline/registration_rows.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "core/utc_time.hpp"
+#include "pipeline/icp_registration.hpp"
+
+namespace tlsmon {
+
+void record_registration(const RegistrationResult& r, const StageVerdict& verdict, EpochId epoch,
+                         EpochResults& results) {
+    namespace reg = registration;
+    RegistrationRow row;
+    row.method = registration_method(r);
+    const auto ppm = [](const std::optional<double>& scale) {
+        return scale ? nlohmann::json((*scale - 1) * 1e6) : nlohmann::json(nullptr);
+    };
+    nlohmann::json quality{{"atmosphere", r.epoch_range_scale ? "corrected" : "not_corrected"},
+                           {"epoch_ppm", ppm(r.epoch_range_scale)},
+                           {"reference_ppm", ppm(r.reference_range_scale)}};
+    if (r.icp) quality["icp"] = icp_quality(*r.icp);
+    row.quality_json = quality.dump();
+    row.status = name_of(r.tested.status);
+    // Accepted with a scaled covariance: the reason says by how much, and why.
+    row.reason = verdict.rejected.empty() &&
+                         r.tested.status == registration::RegistrationStatus::accepted_scaled
+                     ? r.tested.reason
+                     : verdict.rejected;
+    row.target_count = r.used;
+    row.rms_m = r.rms;
+    row.max_residual_m = r.max_residual;
+    row.accepted = r.accepted();
+    Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+    if (const auto& T = r.tested.transform) {
+        M = T->matrix();
+        row.sigma0 = std::sqrt(T->variance_factor);
+        row.variance_factor = T->variance_factor;
+        row.redundancy = T->redundancy;
+        row.parameters = std::array<double, 6>{
+            T->omega, T->phi, T->kappa, T->translation.x(), T->translation.y(), T->translation.z()};
+        const auto s = T->sigmas();
+        row.sigmas = std::array<double, 6>{s(0), s(1), s(2), s(3), s(4), s(5)};
+        row.quaternion = std::array<double, 4>{T->quaternion.w(), T->quaternion.x(),
+                                               T->quaternion.y(), T->quaternion.z()};
+    }
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = M(i, j);
+    results.registration = row;
+    for (std::size_t i = 0; i < r.measured.size(); ++i) {
+        const auto& m = r.measured[i];
+        TargetObservation o;
+        o.target = m.name;
+        o.kind = to_string(m.kind);
+        o.status = m.status;
+        o.reason = m.reason;
+        for (int k = 0; k < 3; ++k)
+            o.measured[k] = m.found() || m.status == "excluded" ? m.centre[k] : 0.0;
+        if (m.found() || m.status == "excluded") {
+            const Eigen::Vector3d s = m.covariance.diagonal().cwiseSqrt();
+            o.sigma = std::array<double, 3>{s.x(), s.y(), s.z()};
+        }
+        if (i < r.tested.targets.size()) {
+            const auto& v = r.tested.targets[i];
+            o.use = name_of(v.use);
+            o.used = v.use == reg::TargetUse::used;
+            o.stable =
+                v.use != reg::TargetUse::excluded_outlier && v.use != reg::TargetUse::suspect;
+            for (int k = 0; k < 3; ++k)
+                o.residual[k] = std::isfinite(v.residual[k]) ? v.residual[k] : 0.0;
+            if (v.statistic > 0 || v.critical > 0) {
+                o.statistic = v.statistic;
+                o.critical = v.critical;
+            }
+            if (std::isfinite(v.minimal_detectable_bias)) {
+                o.minimal_detectable_bias_m = v.minimal_detectable_bias;
+            }
+        } else {
+            o.used = false;
+        }
+        results.targets.push_back(std::move(o));
+    }
+    results.target_exclusions = r.newly_excluded;
+    for (const auto& name : r.newly_excluded) {
+        results.system_events.push_back(
+            SystemEvent{now_utc(), "warning", "target_excluded",
+                        "target " + name +
+                            " moved and is excluded from the registration until it is "
+                            "re-surveyed",
+                        epoch});
+    }
+    if (r.accepted()) {
+        for (const auto& z : r.zones) {
+            results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
+        }
+    }
+}
+
+RegistrationRow datum_without_registration(bool is_reference) {
+    RegistrationRow row;
+    const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) row.transform[4 * i + j] = I(i, j);
+    if (is_reference) {
+        row.method = "reference";
+        row.status = "reference";
+        row.accepted = true;
+        row.reason = "the reference epoch: its own frame is the datum";
+    } else {
+        row.method = kUnregistered;
+        row.status = kUnregistered;
+        row.accepted = false;
+        row.reason =
+            "not registered: no [[target]] and no ICP fallback on [[stable_region]]s are "
+            "configured; the epoch stays in the scanner's frame, its values raise no alarm";
+    }
+    return row;
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,28 @@
+#include "pipeline/site_stages.hpp"
+
+#include <memory>
+
+#include "pipeline/coverage_stage.hpp"
+#include "pipeline/keypoint_stage.hpp"
+#include "pipeline/m3c2_stage.hpp"
+#include "pipeline/registration_stage.hpp"
+
+namespace tlsmon {
+
+StageList site_stages(const PipelineConfig& config) {
+    StageList stages;
+    // Does the epoch cover the reference's extent?
+    stages.push_back(std::make_shared<CoverageStage>(config.coverage));
+    // Its datum: targets, ICP on stable regions, the reference's own frame, or none.
+    stages.push_back(std::make_shared<RegistrationStage>(config.registration));
+    // Change along the surface normal at the core points.
+    if (config.m3c2.enabled && !config.m3c2.zones.empty())
+        stages.push_back(std::make_shared<M3c2Stage>(config.m3c2));
+    // Movement along the surface from the intensity images.
+    const KeypointConfig& kp = config.keypoints;
+    if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty()))
+        stages.push_back(std::make_shared<KeypointStage>(kp));
+    return stages;
+}
+
+}  // namespace tlsmon
