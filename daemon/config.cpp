@@ -473,21 +473,18 @@ std::vector<std::string> describe(const Config& c) {
 
 namespace {
 
-RegistrationConfig with_zones(const Config& config) {
-    RegistrationConfig r = config.registration;
-    r.icp = config.icp;
-    for (const auto& z : config.zones) {
-        r.zones.push_back({z.name, Eigen::Vector3d(z.min[0], z.min[1], z.min[2]),
-                           Eigen::Vector3d(z.max[0], z.max[1], z.max[2])});
-    }
-    return r;
-}
-
 M3c2Config with_zone_shapes(const Config& config) {
     M3c2Config m = config.m3c2;
     m.zones.clear();
     for (const auto& z : config.zones) m.zones.push_back(zone_shape(z));
     return m;
+}
+
+RegistrationConfig with_zones(const Config& config) {
+    RegistrationConfig r = config.registration;
+    r.icp = config.icp;
+    r.zones = with_zone_shapes(config).zones;
+    return r;
 }
 
 KeypointConfig keypoints_with_zone_shapes(const Config& config) {

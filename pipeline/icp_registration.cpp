@@ -62,24 +62,6 @@ std::string sigma_gate(const RegistrationConfig& config, const reg::RigidTransfo
     return "";
 }
 
-// The zones' σ under the epoch's final transformation (as register_epoch computes them).
-std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
-                                               const reg::RigidTransform& T) {
-    std::vector<ZoneRegistrationSigma> out;
-    for (const auto& z : config.zones) {
-        ZoneRegistrationSigma s{z.name, 0.0};
-        for (int c = 0; c < 8; ++c) {
-            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(),
-                                    (c & 2) ? z.max.y() : z.min.y(),
-                                    (c & 4) ? z.max.z() : z.min.z());
-            s.max_sigma_3d =
-                std::max(s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
-        }
-        out.push_back(s);
-    }
-    return out;
-}
-
 bool too_few_targets(const RegistrationResult& r) {
     return r.tested.status == reg::RegistrationStatus::too_few_targets ||
            r.tested.status == reg::RegistrationStatus::degenerate_geometry;

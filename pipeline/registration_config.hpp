@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/zones/zone_shape.hpp"
 #include "core/config_key.hpp"
 #include "pipeline/icp_config.hpp"
 
@@ -23,13 +24,6 @@ struct TargetConfig {
     // A surveyed centre (project frame) replaces the one measured in the reference epoch.
     std::optional<Eigen::Vector3d> surveyed;
     double surveyed_sigma = 0.0005;  // m, per coordinate, of a surveyed centre
-};
-
-// A zone of the structure as a box; the registration's σ is propagated to its corners.
-struct RegistrationZone {
-    std::string name;
-    Eigen::Vector3d min = Eigen::Vector3d::Zero();
-    Eigen::Vector3d max = Eigen::Vector3d::Zero();
 };
 
 // What to do with the epoch's meteo values (EpochInput::meteo).
@@ -56,7 +50,8 @@ struct RegistrationConfig {
     double scanner_temperature_c = 20.0;
     double scanner_pressure_hpa = 1013.25;
     double scanner_humidity_pct = 60.0;
-    std::vector<RegistrationZone> zones;
+    // The site's zones; the registration's σ is propagated to each one's bounding box.
+    std::vector<ZoneShape> zones;
     // ICP on the stable regions: refinement and fallback (pipeline/icp_registration.hpp).
     IcpConfig icp;
 };

@@ -319,16 +319,21 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
                 1e3 * sig(3 + k), 1e3 * config.max_sigma_translation);
         }
     }
+    out.zones = zone_sigmas(config, T);
+    return out;
+}
+
+std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
+                                               const reg::RigidTransform& T) {
+    std::vector<ZoneRegistrationSigma> out;
     for (const auto& z : config.zones) {
         ZoneRegistrationSigma s{z.name, 0.0};
         for (int c = 0; c < 8; ++c) {
-            const Eigen::Vector3d p((c & 1) ? z.max.x() : z.min.x(),
-                                    (c & 2) ? z.max.y() : z.min.y(),
-                                    (c & 4) ? z.max.z() : z.min.z());
+            const Eigen::Vector3d p = z.box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
             s.max_sigma_3d =
                 std::max(s.max_sigma_3d, std::sqrt(reg::registration_covariance_at(T, p).trace()));
         }
-        out.zones.push_back(s);
+        out.push_back(s);
     }
     return out;
 }

@@ -63,6 +63,8 @@ struct ZoneRegistrationSigma {
     std::string zone;
     double max_sigma_3d = 0;  // m
 };
+std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
+                                               const registration::RigidTransform& T);
 
 struct RegistrationResult {
     std::vector<TargetMeasurement> measured;  // this epoch, in the configuration's order

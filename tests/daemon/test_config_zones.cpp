@@ -50,7 +50,7 @@ TEST(ConfigZones, BoxPrismAndBandsBecomeNamedZones) {
     EXPECT_FALSE(p.m3c2.zones[3].contains({5, 45, 31}));
     // The registration's σ is taken at each zone's bounding box.
     ASSERT_EQ(p.registration.zones.size(), 5u);
-    EXPECT_EQ(p.registration.zones[4].min, Eigen::Vector3d(2, 44.5, 30));
+    EXPECT_EQ(p.registration.zones[4].box.min(), Eigen::Vector3d(2, 44.5, 30));
 }
 
 TEST(ConfigZones, BandsAlongXFromAGivenStart) {

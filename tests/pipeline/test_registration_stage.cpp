@@ -55,7 +55,7 @@ TEST(RegistrationStage, KnockedTargetStaysExcludedAndTwoTargetsAreRejected) {
         ps.config.registration.targets.push_back(g);
     }
     ps.config.registration.zones.push_back(
-        {"pier_south_face", Eigen::Vector3d(2, 44.5, 0), Eigen::Vector3d(17, 45.5, 40)});
+        box_zone("pier_south_face", Eigen::Vector3d(2, 44.5, 0), Eigen::Vector3d(17, 45.5, 40)));
     ReferenceCache cache(*ps.db);
     std::vector<EpochOutcome> outcomes;
     std::vector<EpochId> ids;
