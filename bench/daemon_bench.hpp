@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "bench/bench_support.hpp"
-#include "daemon/demo_daemon.hpp"
-#include "daemon/demo_scene.hpp"
-#include "daemon/site_config_writer.hpp"
+#include "demo/daemon_process.hpp"
+#include "demo/scene.hpp"
+#include "demo/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
 #include "simulator/series.hpp"
 #include "tests/support/text_file.hpp"

@@ -8,7 +8,7 @@
 // Every time is reported as its median and spread (quartiles and range), not only the best.
 // Usage: bench_epoch_database [DIR [TLSMON]]  (DIR: where the databases go, kept for reruns;
 // default a new temporary folder, removed at the end; TLSMON: the binary, default
-// ../daemon/tlsmon next to this program).
+// ../tlsmon, the build folder of this program).
 #include "storage/epoch_database.hpp"
 
 #include <signal.h>
@@ -190,8 +190,7 @@ int main(int argc, char** argv) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     try {
         const fs::path tlsmon = argc > 2 ? fs::path(argv[2])
-                                         : fs::read_symlink("/proc/self/exe").parent_path() / ".." /
-                                               "daemon" / "tlsmon";
+                                         : fs::read_symlink("/proc/self/exe").parent_path() / ".." / "tlsmon";
         if (argc > 1) {
             fs::create_directories(argv[1]);
             run(argv[1], tlsmon);

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "bench/bench_support.hpp"
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "algorithms/registration/registration_error.hpp"
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"

@@ -14,7 +14,7 @@
 
 #include "bench/bench_support.hpp"
 #include "bench/daemon_bench.hpp"
-#include "daemon/demo_daemon.hpp"
+#include "demo/daemon_process.hpp"
 
 using namespace tlsmon;
 using namespace tlsmon::bench;

@@ -7,7 +7,7 @@
 //          "Radius of the projection cylinder (d/2 of Lague 2013).")
 //
 // The default is the member's initialiser. Each section's list is collected, with the name
-// of its TOML table, into the configuration's keys (daemon/config_keys.hpp), from which the
+// of its TOML table, into the configuration's keys (config/keys.hpp), from which the
 // reader, the effective configuration logged at start, the one-shot commands' parameter
 // lines and the reference tables of docs/configuration.md all come.
 #include <array>

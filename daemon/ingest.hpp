@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
 #include "storage/epoch_database.hpp"

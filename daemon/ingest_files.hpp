@@ -6,14 +6,9 @@
 #include <string>
 #include <vector>
 
-namespace tlsmon {
+#include "config/time_source.hpp"
 
-// Where an epoch's acquisition time can come from (ingest.acquisition_time).
-enum class TimeSource {
-    scan,       // the file's own header time (E57's acquisitionStart; other formats have none)
-    file_name,  // a YYYYMMDDTHHMMSSZ stamp in the name
-    mtime,      // the file's modification time
-};
+namespace tlsmon {
 
 // "YYYYMMDDTHHMMSSZ" anywhere in the file name (e.g. "pier_20260601T061500Z.ptx"), as UTC
 // seconds; nullopt when absent or not a valid date.

@@ -10,10 +10,10 @@
 #include <thread>
 #include <utility>
 
+#include "config/config.hpp"
+#include "config/reload.hpp"
 #include "daemon/alarm_actions.hpp"
 #include "daemon/alarm_shelving.hpp"
-#include "daemon/config.hpp"
-#include "daemon/config_reload.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/ingest_meteo.hpp"

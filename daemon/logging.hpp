@@ -4,7 +4,7 @@
 // rotating file. One default spdlog logger; the level comes from the configuration.
 #include <string>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 
 namespace tlsmon {
 

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <fstream>
 
+#include "config/folder_overlap.hpp"
 #include "core/error.hpp"
-#include "daemon/folder_overlap.hpp"
 
 namespace tlsmon {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 
 namespace tlsmon {
 

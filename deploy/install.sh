@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-BIN=build/daemon/tlsmon
+BIN=build/tlsmon
 PREFIX=${PREFIX:-/usr/local}
 STATE=/var/lib/tlsmon
 [ -x "$BIN" ] || { echo "install: $BIN missing; run deploy/build.sh first" >&2; exit 1; }

@@ -13,4 +13,4 @@ TLSMON_TARGETS=tlsmon bash deploy/build.sh  # the executable only, not the test 
 
 args=(--workdir var/demo)
 [ -n "${EPOCHS:-}" ] && args+=(--epochs "$EPOCHS")
-exec ./build/daemon/tlsmon demo "${args[@]}" "$@"
+exec ./build/tlsmon demo "${args[@]}" "$@"

@@ -26,7 +26,7 @@ namespace tlsmon {
 
 enum class ArchiveMode { move, keep };
 
-// What the pipeline needs of the daemon's configuration (daemon/config.hpp fills it).
+// What the pipeline needs of the daemon's configuration (config/config.hpp fills it).
 struct PipelineConfig {
     std::filesystem::path archive;     // processed files go here (ArchiveMode::move)
     std::filesystem::path quarantine;  // unreadable files + <name>.reason.txt

@@ -16,6 +16,7 @@
 #include "algorithms/keypoints/patch_refinement.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/m3c2_stage.hpp"
 
@@ -182,11 +183,6 @@ double sample_spacing(const KeypointReference& reference, const KeypointMatch& m
     return m.reference_range * reference.scans[static_cast<std::size_t>(m.scan)].angular_step;
 }
 
-double median_of(std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 // Of one segment's matches, those of the scan that samples it finest (the smallest median
 // range × step): a detail scan over part of a zone measures it, not the overview's coarser
 // pixels there, and two scans' vectors are never mixed in one mean.
@@ -198,7 +194,7 @@ std::vector<KeypointMatch> finest_scan_matches(std::vector<KeypointMatch> in,
     int finest = 0;
     double best = std::numeric_limits<double>::infinity();
     for (const auto& [scan, values] : spacing) {
-        const double median = median_of(values);
+        const double median = median_high(values);
         if (median < best) {
             best = median;
             finest = scan;
@@ -348,7 +344,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
         for (const auto& m : in)
             if (m.segment == segment) spacing.push_back(sample_spacing(reference, m));
         if (spacing.empty() || !d.defined()) return;
-        const double median = median_of(std::move(spacing));
+        const double median = median_high(std::move(spacing));
         if (median <= config.max_sample_spacing) return;
         SegmentDisplacement undefined;  // figures NaN; the counts and the wall stay
         undefined.segment = d.segment;

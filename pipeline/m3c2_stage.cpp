@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "core/payload.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon {
 
@@ -41,12 +42,6 @@ Cloud cloud_of(const std::vector<Scan>& scans) {
 
 unsigned threads_of(const M3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
-}
-
-double median_of(std::vector<double> v) {
-    if (v.empty()) return kNaN;
-    std::sort(v.begin(), v.end());
-    return m3c2::quantile_of_sorted(v, 0.5);
 }
 
 }  // namespace
@@ -109,7 +104,7 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
     in_zones = {};
     // A core point takes the design normal of the first zone (in the configuration's order)
     // that holds it and has one; zones with different normals do not overlap
-    // (daemon/config.cpp), so only a point on two boundaries has a choice.
+    // (config/config.cpp), so only a point on two boundaries has a choice.
     std::vector<Eigen::Vector3d> given(cores.size(), Eigen::Vector3d::Constant(kNaN));
     for (const auto& z : config.zones) {
         out.zone_names.push_back(z.name);
@@ -269,14 +264,11 @@ std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& product, const M3
         double mean = 0;
         for (double v : d) mean += v;
         mean /= double(valid);
-        const double median = median_of(d);
-        const double lod_median = median_of(lod);
-        std::vector<double> deviation(d.size());
-        for (std::size_t i = 0; i < d.size(); ++i) deviation[i] = std::abs(d[i] - median);
-        // 1.4826·MAD: the σ of a normal distribution (Rousseeuw & Croux 1993).
-        const double spread = 1.4826 * median_of(std::move(deviation));
+        const auto [median_d, mad_d] = median_and_mad(d);
+        const double lod_median = median(lod);
+        const double spread = kMadToSigma * mad_d;
         rows.push_back(
-            {zone, "m3c2_median_m", median, lod_median, valid, std::abs(median) > lod_median});
+            {zone, "m3c2_median_m", median_d, lod_median, valid, std::abs(median_d) > lod_median});
         rows.push_back({zone, "m3c2_mean_m", mean, lod_median, valid, std::abs(mean) > lod_median});
         rows.push_back({zone, "m3c2_spread_m", spread, std::nullopt, valid, false});
         rows.push_back({zone, "m3c2_lod95_median_m", lod_median, std::nullopt, valid, false});

@@ -7,6 +7,7 @@
 
 #include "algorithms/keypoints/outlier_filters.hpp"
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon::keypoints {
 namespace {
@@ -142,7 +143,7 @@ DisplacementModel fit_displacement_model(std::span<const ModelObservation> obser
     model.sum_abs_residuals = model.residuals.lpNorm<1>();
     const MedianAndMad spread_r =
         median_and_mad(std::vector<double>(model.residuals.data(), model.residuals.data() + rows));
-    model.residual_scale = 1.4826 * spread_r.mad;
+    model.residual_scale = kMadToSigma * spread_r.mad;
     return model;
 }
 

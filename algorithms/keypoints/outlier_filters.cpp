@@ -9,24 +9,13 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon::keypoints {
 namespace {
 
-// 1/Φ⁻¹(3/4): MAD · 1.4826 estimates σ of a normal distribution.
-constexpr double kMadToSigma = 1.4826;
 // √(π/2): the mean absolute deviation · 1.2533 estimates σ of a normal distribution.
 constexpr double kMeanDeviationToSigma = 1.2533;
-
-double median_of(std::vector<double>& v) {
-    const std::size_t n = v.size();
-    const auto middle = v.begin() + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(v.begin(), middle, v.end());
-    const double upper = *middle;
-    if (n % 2 == 1) return upper;
-    const double lower = *std::max_element(v.begin(), middle);
-    return 0.5 * (lower + upper);
-}
 
 void check_finite(std::size_t i, const KeypointMatch& m) {
     const auto require = [&](double value, const char* field) {
@@ -113,7 +102,7 @@ FilterStep run_filter(OutlierFilter filter, std::span<const KeypointMatch> match
         for (int axis = 0; axis < 3; ++axis) {
             for (std::size_t j = 0; j < kept.size(); ++j)
                 c[j] = matches[kept[j]].displacement()[axis];
-            median_vector[axis] = median_of(c);
+            median_vector[axis] = median(c);
         }
         if (median_vector.isZero(0.0)) {
             step.skipped = true;
@@ -204,14 +193,6 @@ std::optional<OutlierFilter> outlier_filter_from_name(std::string_view name) {
     for (OutlierFilter f : kOutlierFilterOrder)
         if (outlier_filter_name(f) == name) return f;
     return std::nullopt;
-}
-
-MedianAndMad median_and_mad(std::vector<double> values) {
-    if (values.empty())
-        return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-    const double median = median_of(values);
-    for (double& v : values) v = std::abs(v - median);
-    return {median, median_of(values)};
 }
 
 double periodic_difference(double a, double b, double period) {

@@ -109,14 +109,6 @@ struct OutlierResult {
 OutlierResult filter_outliers(std::span<const KeypointMatch> matches,
                               const OutlierParameters& parameters = {});
 
-// The median (mean of the two middle values for an even count) and the median absolute
-// deviation about it. Empty input: NaN for both.
-struct MedianAndMad {
-    double median;
-    double mad;
-};
-MedianAndMad median_and_mad(std::vector<double> values);
-
 // a − b reduced into (−period/2, period/2]; period 0 leaves a − b as is.
 double periodic_difference(double a, double b, double period);
 

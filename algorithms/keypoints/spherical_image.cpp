@@ -7,21 +7,13 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon::keypoints {
 
 namespace {
 
 constexpr double two_pi = 2.0 * std::numbers::pi;
-
-double median_of(std::vector<double> v) {
-    const std::size_t n = v.size();
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2), v.end());
-    const double upper = v[n / 2];
-    if (n % 2) return upper;
-    return (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2))) /
-           2.0;
-}
 
 // The azimuth at which the scan is cut open: the middle of the widest angular gap between
 // returns (the gap across ±π included), so that no return lies near the cut. Azimuths below
@@ -93,7 +85,7 @@ Eigen::ArrayXd complete_lattice(const std::vector<double>& medians, const std::s
     for (std::size_t j = 1; j < known.size(); ++j)
         steps.push_back((medians[known[j]] - medians[known[j - 1]]) /
                         static_cast<double>(known[j] - known[j - 1]));
-    const double step = median_of(steps);
+    const double step = median(steps);
     Eigen::ArrayXd lattice(static_cast<Eigen::Index>(medians.size()));
     for (std::size_t i = 0; i < medians.size(); ++i) {
         if (!std::isnan(medians[i])) {
@@ -196,9 +188,9 @@ SphericalImages spherical_images_from_grid(const Scan& scan) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::vector<double> column_median(grid.columns, nan), row_median(grid.rows, nan);
     for (std::size_t c = 0; c < grid.columns; ++c)
-        if (!by_column[c].empty()) column_median[c] = median_of(std::move(by_column[c]));
+        if (!by_column[c].empty()) column_median[c] = median(std::move(by_column[c]));
     for (std::size_t r = 0; r < grid.rows; ++r)
-        if (!by_row[r].empty()) row_median[r] = median_of(std::move(by_row[r]));
+        if (!by_row[r].empty()) row_median[r] = median(std::move(by_row[r]));
     Eigen::ArrayXd column_lattice = complete_lattice(column_median, scan.source, "columns");
     Eigen::ArrayXd row_lattice = complete_lattice(row_median, scan.source, "rows");
     // Photograph orientation: azimuth decreasing with the column, elevation with the row.
@@ -228,11 +220,11 @@ SphericalImages spherical_images_from_grid(const Scan& scan) {
         std::vector<double> steps;
         for (Eigen::Index c = 1; c < im.columns; ++c)
             steps.push_back(im.column_azimuth(c - 1) - im.column_azimuth(c));
-        if (!steps.empty()) im.azimuth_step = std::abs(median_of(steps));
+        if (!steps.empty()) im.azimuth_step = std::abs(median(steps));
         steps.clear();
         for (Eigen::Index r = 1; r < im.rows; ++r)
             steps.push_back(im.row_elevation(r - 1) - im.row_elevation(r));
-        if (!steps.empty()) im.elevation_step = std::abs(median_of(steps));
+        if (!steps.empty()) im.elevation_step = std::abs(median(steps));
     }
     return im;
 }

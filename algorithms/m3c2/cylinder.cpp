@@ -5,16 +5,9 @@
 #include <utility>
 
 #include "algorithms/m3c2/members.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon::m3c2 {
-
-double quantile_of_sorted(std::span<const double> sorted, double q) {
-    if (sorted.empty()) return std::numeric_limits<double>::quiet_NaN();
-    const double h = static_cast<double>(sorted.size() - 1) * q;
-    const auto below = static_cast<std::size_t>(std::floor(h));
-    if (below + 1 >= sorted.size()) return sorted.back();
-    return sorted[below] + (h - static_cast<double>(below)) * (sorted[below + 1] - sorted[below]);
-}
 
 CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic) {
     CylinderSide side;

@@ -36,9 +36,6 @@ struct CylinderSide {
 // points, spread NaN with fewer than 2.
 CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic);
 
-// Linear interpolation between the order statistics of sorted values at position (n - 1) q.
-double quantile_of_sorted(std::span<const double> sorted, double q);
-
 // The cylinders of a set of core points: where they are, their axes (NaN: no normal, no
 // cylinder) and the index that finds the cylinders a point may lie in.
 struct Cylinders {

@@ -7,19 +7,13 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon {
 
 namespace {
 
 constexpr std::size_t kMinPoints = 50;
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-}
 
 struct Plane {
     Eigen::Vector3d centroid, normal;
@@ -52,7 +46,7 @@ Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, std::vector<std::siz
         for (const std::size_t i : pl.inliers) {
             abs_d.push_back(std::abs(pl.normal.dot(xyz[i] - pl.centroid)));
         }
-        const double tol = std::max(3.0 * 1.4826 * median(abs_d), 5e-4);
+        const double tol = std::max(3.0 * kMadToSigma * median_high(std::move(abs_d)), 5e-4);
         std::vector<std::size_t> next;
         for (const std::size_t i : candidates) {
             if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) <= tol) next.push_back(i);

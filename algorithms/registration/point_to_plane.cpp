@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 
 namespace tlsmon::registration {
 
@@ -96,8 +97,7 @@ PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
     for (const auto& p : pairs) v.push_back(p.normal.dot(R * p.epoch + t - p.reference));
     std::vector<double> a(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) a[i] = std::fabs(v[i]);
-    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
-    const double sigma = std::max(params.min_sigma, 1.4826 * a[a.size() / 2]);
+    const double sigma = std::max(params.min_sigma, kMadToSigma * median_high(std::move(a)));
     std::vector<PointPlanePair> kept;
     kept.reserve(pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) {

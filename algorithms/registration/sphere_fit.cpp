@@ -9,6 +9,8 @@
 #include <random>
 #include <vector>
 
+#include "core/statistics.hpp"
+
 namespace tlsmon::registration {
 namespace {
 
@@ -30,12 +32,6 @@ int centres_through_three_points(const Eigen::Vector3d& a, const Eigen::Vector3d
     out[0] = o + h;
     out[1] = o - h;
     return 2;
-}
-
-double median_in_place(std::vector<double>& v) {
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
 }
 
 struct KnownRadiusFit {
@@ -228,7 +224,7 @@ SphereFit fit_sphere(std::span<const Eigen::Vector3d> points,
         c = ls.centre;
         absv.clear();
         for (const std::uint32_t i : inliers) absv.push_back(std::fabs((points[i] - c).norm() - r));
-        const double sigma = std::max(1.4826 * median_in_place(absv), p.min_noise);
+        const double sigma = std::max(kMadToSigma * median_high(absv), p.min_noise);
         const double bound = std::min(p.outlier_k * sigma, p.inlier_threshold);
         next.clear();
         for (std::uint32_t i = 0; i < n; ++i)

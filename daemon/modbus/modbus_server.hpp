@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "daemon/modbus/modbus_config.hpp"
+#include "config/modbus_config.hpp"
 #include "daemon/modbus/register_image.hpp"
 
 namespace tlsmon {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "config/modbus_config.hpp"
 #include "core/utc_time.hpp"
-#include "daemon/modbus/modbus_config.hpp"
 
 namespace tlsmon {
 

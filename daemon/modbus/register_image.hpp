@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "alarms/alarm_machine.hpp"
-#include "daemon/modbus/modbus_config.hpp"
+#include "config/modbus_config.hpp"
 #include "daemon/modbus/register_map.hpp"
 
 namespace tlsmon {

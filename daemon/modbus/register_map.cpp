@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 
+#include "core/csv.hpp"
 #include "core/error.hpp"
 
 namespace tlsmon {
@@ -164,16 +165,12 @@ std::string map_markdown(const RegisterMap& map) {
 }
 
 std::string map_csv(const RegisterMap& map) {
-    auto quoted = [](const std::string& s) {
-        std::string q = "\"";
-        for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-        return q + "\"";
-    };
     std::string out = "table,address,count,name,type,unit,meaning\n";
     for (const auto& e : map.entries) {
-        out += std::string(table_name(e.table)) + "," + std::to_string(e.address) + "," +
-               std::to_string(e.count) + "," + quoted(e.name) + "," + type_name(e.type) + "," +
-               quoted(e.unit) + "," + quoted(e.meaning) + "\n";
+        append_csv_line(out,
+                        std::vector<std::string>{table_name(e.table), std::to_string(e.address),
+                                                 std::to_string(e.count), e.name, type_name(e.type),
+                                                 e.unit, e.meaning});
     }
     return out;
 }

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "daemon/modbus/modbus_config.hpp"
+#include "config/modbus_config.hpp"
 
 namespace tlsmon {
 

@@ -12,14 +12,14 @@
 #include <iostream>
 #include <numbers>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/modbus/modbus_snapshot.hpp"
-#include "daemon_harness.hpp"
 #include "formats/ptx_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_pipeline.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {

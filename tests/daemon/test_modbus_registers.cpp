@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "daemon/modbus/modbus_snapshot.hpp"
 #include "daemon/modbus/register_image.hpp"
 #include "daemon/modbus/register_map.hpp"

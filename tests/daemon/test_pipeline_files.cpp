@@ -7,12 +7,12 @@
 #include <ctime>
 #include <fstream>
 
-#include "daemon/config.hpp"
+#include "config/config.hpp"
 #include "daemon/ingest.hpp"
-#include "daemon_harness.hpp"
 #include "pipeline/epoch_meteo.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
+#include "tests/support/daemon_harness.hpp"
 #include "tests/support/text_file.hpp"
 
 namespace tlsmon::test {

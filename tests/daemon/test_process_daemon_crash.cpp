@@ -6,7 +6,7 @@
 #include <map>
 #include <random>
 
-#include "daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {

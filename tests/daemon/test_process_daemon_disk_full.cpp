@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "daemon/modbus/register_map.hpp"
-#include "daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 #include "tests/support/modbus_client.hpp"
 #include "tests/support/small_tmpfs.hpp"
 

@@ -9,7 +9,7 @@
 #include <atomic>
 #include <thread>
 
-#include "daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {

@@ -5,7 +5,7 @@
 #include <sys/socket.h>
 #include <sys/un.h>
 
-#include "daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {

@@ -24,7 +24,7 @@
 #include <set>
 #include <sstream>
 
-#include "tests/daemon/e2e_scenario.hpp"
+#include "tests/support/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
 
 namespace tlsmon::test::e2e {
@@ -305,7 +305,7 @@ std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
 // The one-shot commands on the two scan files of the reference epoch and of epoch `k`, with
 // the daemon's configuration, give what the daemon stored for epoch k: every core point's
 // M3C2 distance and LoD95 (stored as float32), and every zone's keypoint mean vector (the
-// mean of the matches the command lists as kept; its CSV has µm).
+// mean of the matches the command lists as kept; its CSV has full precision).
 void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64_t epoch_id,
                                             const fs::path& config, const fs::path& db,
                                             const fs::path& dir) {
@@ -323,16 +323,16 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     int with_distance = 0;
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const json& d = stored[i].at("distance");
-        if (rows[i].at("distance") == "nan") {
+        if (rows[i].at("distance_m").empty()) {
             EXPECT_TRUE(d.is_null()) << "core point " << i;
             continue;
         }
         ASSERT_FALSE(d.is_null()) << "core point " << i;
-        const double one_shot = std::stod(rows[i].at("distance"));
+        const double one_shot = std::stod(rows[i].at("distance_m"));
         EXPECT_NEAR(one_shot, d.get<double>(), 2e-9 + 1e-7 * std::abs(one_shot)) << i;
-        const double lod = std::stod(rows[i].at("lod"));
+        const double lod = std::stod(rows[i].at("lod95_m"));
         EXPECT_NEAR(lod, stored[i].at("lod95").get<double>(), 2e-9 + 1e-7 * lod) << i;
-        EXPECT_NEAR(std::stod(rows[i].at("x")), stored[i].at("x").get<double>(), 1e-6) << i;
+        EXPECT_NEAR(std::stod(rows[i].at("x_m")), stored[i].at("x").get<double>(), 1e-12) << i;
         ++with_distance;
     }
     EXPECT_GT(with_distance, 100);
@@ -344,8 +344,8 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     std::map<std::string, int> kept;
     for (const auto& m : csv_rows(dir / "keypoints.csv")) {
         if (!m.at("removed_by").empty()) continue;
-        sum.try_emplace(m.at("zone"), Eigen::Vector3d::Zero()).first->second +=
-            Eigen::Vector3d(std::stod(m.at("dx")), std::stod(m.at("dy")), std::stod(m.at("dz")));
+        sum.try_emplace(m.at("zone"), Eigen::Vector3d::Zero()).first->second += Eigen::Vector3d(
+            std::stod(m.at("dx_m")), std::stod(m.at("dy_m")), std::stod(m.at("dz_m")));
         ++kept[m.at("zone")];
     }
     int zones = 0;
@@ -360,7 +360,7 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
         const int axis = row.at("quantity").get<std::string>()[10] - 'x';
         ASSERT_TRUE(kept.count(zone)) << zone;
         EXPECT_EQ(row.at("n").get<int>(), kept[zone]) << zone;
-        EXPECT_NEAR(sum[zone](axis) / kept[zone], row.at("value").get<double>(), 1e-6)
+        EXPECT_NEAR(sum[zone](axis) / kept[zone], row.at("value").get<double>(), 1e-12)
             << zone << " " << row.at("quantity");
         zones += axis == 0;
     }

@@ -14,7 +14,7 @@
 #include <map>
 #include <random>
 
-#include "tests/daemon/e2e_scenario.hpp"
+#include "tests/support/e2e_scenario.hpp"
 
 namespace tlsmon::test::e2e {
 namespace {

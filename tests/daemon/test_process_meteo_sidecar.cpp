@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-#include "daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon::test {
 namespace {

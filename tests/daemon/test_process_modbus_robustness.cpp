@@ -14,7 +14,7 @@
 #include <random>
 #include <thread>
 
-#include "tests/daemon/daemon_harness.hpp"
+#include "tests/support/daemon_harness.hpp"
 #include "tests/support/modbus_client.hpp"
 
 namespace tlsmon {

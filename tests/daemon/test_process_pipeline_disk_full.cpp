@@ -3,10 +3,10 @@
 // once there is room. In-process, on a real SQLite file on a small tmpfs.
 #include <gtest/gtest.h>
 
-#include "daemon/config.hpp"
-#include "daemon_harness.hpp"
+#include "config/config.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
+#include "tests/support/daemon_harness.hpp"
 #include "tests/support/small_tmpfs.hpp"
 
 namespace tlsmon::test {

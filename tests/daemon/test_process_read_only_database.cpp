@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "daemon_harness.hpp"
 #include "storage/epoch_database.hpp"
+#include "tests/support/daemon_harness.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {

@@ -1,6 +1,6 @@
 #pragma once
 // The zones a site engineer would draw on a simulated pier, as `tlsmon simulate` writes them
-// into site.toml (daemon/site_config_writer.cpp): the two visible faces whole, edges and
+// into site.toml (demo/site_config_writer.cpp): the two visible faces whole, edges and
 // corners included, with their design normals — the west face's box starting 0.5 m behind
 // the corner, so that the two meet without overlapping — and 10 m bands of the south face.
 // Shared by the M3C2 pipeline tests and the M3C2 stage bench.

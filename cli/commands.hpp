@@ -1,0 +1,227 @@
+#pragma once
+// The subcommands of the `tlsmon` binary as plain functions: each takes its options struct
+// and returns the process exit code. Only cli/main.cpp knows the command line (CLI11,
+// whose header costs seconds per file that includes it): it declares every option and
+// help text and fills these structs.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/query_output.hpp"
+#include "daemon/ingest_service.hpp"
+
+namespace tlsmon {
+
+// `tlsmon check-config FILE`
+struct CheckConfigOptions {
+    std::string file;
+};
+// 0: valid (effective values on stdout); 1: an error naming file, line and key.
+int run_check_config(const CheckConfigOptions& options);
+
+// `tlsmon info FILE...`
+struct InfoOptions {
+    std::vector<std::string> files;
+    bool json = false;
+};
+// 0: every file read; 2: at least one could not be read (the others are still reported).
+int run_info(const InfoOptions& options);
+
+// `tlsmon status`: 0, or 1 with the error on stderr (as the other reading commands).
+int run_status(const ReadOptions& options);
+
+// `tlsmon query epochs`
+int run_query_epochs(const ReadOptions& options);
+
+// `tlsmon query meteo`: each epoch's meteo sidecar and the values used
+int run_query_meteo(const ReadOptions& options);
+
+// `tlsmon query registrations`: each epoch's registration, its parameters and targets
+int run_query_registrations(const ReadOptions& options);
+
+// `tlsmon register REFERENCE EPOCH --config SITE`: the registration of EPOCH onto
+// REFERENCE through the site's targets, for an analyst checking a scan by hand.
+struct RegisterOptions {
+    std::string reference;
+    std::string epoch;
+    std::string config;
+    OutputFormat format = OutputFormat::table;
+};
+// 0: accepted; 3: registered but refused (the reason printed); 1: an error.
+int run_register(const RegisterOptions& options);
+
+// `tlsmon targets`: each reference target's status in the newest epoch, whether and since
+// when it is excluded as moved, and why.
+int run_targets(const ReadOptions& options);
+
+// `tlsmon targets resurvey NAME [--by WHO]`: clears the target's exclusion and records who.
+struct TargetResurveyOptions {
+    std::string db;
+    std::string config;
+    std::string target;
+    std::string by;  // empty: "cli:$USER"
+};
+// 0: cleared; 1: an error (the target is not excluded, no database, ...).
+int run_target_resurvey(const TargetResurveyOptions& options);
+
+// `tlsmon query series --zone Z --quantity Q`
+struct SeriesOptions {
+    ReadOptions read;
+    std::string zone;
+    std::string quantity;
+};
+int run_query_series(const SeriesOptions& options);
+
+// `tlsmon query keypoint-models [--quantity Q] [--residuals]`: the keypoint displacement
+// model of each epoch, or the residuals of its own segments
+struct KeypointModelsOptions {
+    ReadOptions read;
+    std::string quantity;  // "" = every modelled quantity
+    bool residuals = false;
+};
+int run_query_keypoint_models(const KeypointModelsOptions& options);
+
+// `tlsmon query keypoints [--zone Z]`: the keypoint stage's figures per zone and epoch
+struct KeypointsQueryOptions {
+    ReadOptions read;
+    std::string zone;  // "" = every zone with keypoint rows
+};
+int run_query_keypoints(const KeypointsQueryOptions& options);
+
+// `tlsmon query corepoints --epoch N [--out FILE]`: one epoch's M3C2 at every core point
+// (with --out: CSV, or JSON with --format json).
+struct CorePointsOptions {
+    ReadOptions read;
+    std::int64_t epoch = 0;
+    std::string out;
+};
+int run_query_corepoints(const CorePointsOptions& options);
+
+// `tlsmon events [--kind K]`
+struct EventsOptions {
+    ReadOptions read;
+    std::string kind;  // "" = every kind
+};
+int run_events(const EventsOptions& options);
+
+// `tlsmon modbus-map --config FILE [--format markdown|csv]`: 0, or 1 with the error.
+struct ModbusMapOptions {
+    std::string config;
+    std::string format = "markdown";
+};
+int run_modbus_map(const ModbusMapOptions& options);
+
+// `tlsmon alarms`: the rules whose state is not normal.
+int run_alarms(const ReadOptions& options);
+
+// `tlsmon alarms history [--rule R]`: alarm events by time.
+struct AlarmHistoryOptions {
+    ReadOptions read;
+    std::string rule;  // "" = every rule
+};
+int run_alarm_history(const AlarmHistoryOptions& options);
+
+// `tlsmon alarms ack|shelve|unshelve|out-of-service|in-service RULE` ("*" = every rule): 0, or 1
+// with the error.
+struct AlarmActionOptions {
+    std::string db;
+    std::string config;
+    std::string action;  // "ack", "shelve", "unshelve", "out-of-service", "in-service"
+    std::string rule;
+    std::string until;  // shelve: ISO-8601 UTC
+};
+int run_alarm_action(const AlarmActionOptions& options);
+
+// `tlsmon simulate` (compiled into the executable only: the daemon library does not link
+// the simulator).
+struct SimulateOptions {
+    std::string config;
+    std::string preset;
+    std::string out;
+    int epochs = 24;
+    std::string cadence;
+    std::string start = "2026-06-01T06:00:00Z";
+    std::optional<std::int64_t> seed;
+    double realtime = 0.0;
+    double slow_copy = 0.0;
+    unsigned threads = 2;
+};
+// 0, or 1 with the error on stderr.
+int run_simulate(const SimulateOptions& options);
+
+// `tlsmon m3c2 REFERENCE COMPARED ...`: M3C2 between any two readable scan files, one CSV row
+// per core point (docs/m3c2.md).
+struct M3c2Options {
+    std::string reference;
+    std::string compared;
+    std::string out;
+    std::string config;     // a site's configuration: its [m3c2], zones and registration
+    std::string core_file;  // core points from this file (else subsampled at core_spacing)
+    // Each one given replaces the parameter (algorithms/m3c2/parameters.hpp).
+    std::optional<double> core_spacing;
+    std::vector<double> normal_radii;  // empty: not given
+    std::optional<double> cylinder_radius;
+    std::optional<double> max_depth;
+    std::optional<std::string> orient;  // "scanner" or "X,Y,Z"
+    std::optional<double> registration_error;
+    bool median = false;
+    std::optional<int> min_points;
+    std::optional<double> max_roughness;
+    std::optional<int> threads;
+};
+// 0, or 1 with the error on stderr.
+int run_m3c2(const M3c2Options& options);
+
+// `tlsmon report --database DB --truth DIR --out DIR`: a finished run scored against the
+// simulator's truth files (Markdown, CSV, PNG plots). 0, or 1 with the error on stderr.
+struct ReportOptions {
+    std::string database;
+    std::string truth;
+    std::string out;
+    std::string config;  // the daemon's configuration, named in the example commands
+    int modbus_port = 1502;
+};
+int run_report(const ReportOptions& options);
+
+// `tlsmon demo`: the daemon on a simulated day, one scan every few seconds, a line per epoch,
+// then the report (compiled into the executable only, like `simulate`).
+struct DemoOptions {
+    std::string workdir = "tlsmon-demo";
+    int epochs = 96;
+    double interval = 2.0;
+    std::string preset = "small";
+    std::string start;  // ISO-8601 UTC; "" = 00:00 UTC today (the reference at night)
+    int modbus_port = 1502;
+    unsigned threads = 2;
+};
+// 0: the run finished and its report was written; 1: an error; 130: interrupted (Ctrl-C).
+int run_demo(const DemoOptions& options);
+
+// `tlsmon keypoints REFERENCE EPOCH ... --out VECTORS.csv`: keypoint displacement vectors
+// between two structured scans already in one frame (compiled into the executable only: the
+// daemon library does not link the OpenCV adapter).
+struct KeypointsOptions {
+    std::string reference;
+    std::string epoch;
+    std::string out;
+    std::string config;  // a site's configuration: its [keypoints], zones and registration
+    // Each one given replaces the parameter (algorithms/keypoints/parameters.hpp).
+    std::optional<std::string> detector;
+    std::optional<std::string> descriptor;
+    std::optional<double> window_deg;
+    std::optional<double> ratio;
+    bool mutual = false;
+    bool clahe = false;
+    bool no_refine = false;
+    std::optional<double> segments_deg;  // bands of the vertical angle this high
+    std::string images;                  // folder for the pictures; "": none
+    double vector_scale = 20.0;
+    std::optional<int> scan;  // only the k-th structured scan of each file, from 1
+};
+// 0, or 1 with the error on stderr.
+int run_keypoints(const KeypointsOptions& options);
+
+// `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
+
+}  // namespace tlsmon

@@ -1,0 +1,516 @@
+// tlsmon: unattended deformation monitoring with a terrestrial laser scanner.
+// The whole command line is declared here, the only file that includes CLI11 (its header
+// costs seconds to compile); each subcommand is a plain function in daemon/command_*.cpp.
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "config/keys.hpp"
+#include "pipeline/keypoint_config.hpp"
+#include "pipeline/m3c2_config.hpp"
+
+namespace tlsmon {
+namespace {
+
+// --db, --config, --format (and --from/--to when `with_time_range`) of the reading
+// commands. The format is checked by name here and handed on as an enum by `finish`.
+struct ReadOptionsOnTheCommandLine {
+    ReadOptions options;
+    std::string format = "table";
+
+    void add_to(CLI::App* cmd, bool with_time_range) {
+        auto* db = cmd->add_option("--db", options.db, "Epoch database (SQLite file)");
+        auto* config = cmd->add_option("--config", options.config,
+                                       "Configuration file naming the database (paths.database)");
+        db->excludes(config);
+        cmd->add_option("--format", format, "Output format")
+            ->check(CLI::IsMember({"table", "csv", "json"}));
+        if (with_time_range) {
+            cmd->add_option("--from", options.from, "Start, ISO-8601 UTC (e.g. 2026-03-01T00:00Z)");
+            cmd->add_option("--to", options.to, "End (inclusive), ISO-8601 UTC");
+        }
+    }
+    const ReadOptions& finish() {
+        static const std::map<std::string, OutputFormat> formats = {{"table", OutputFormat::table},
+                                                                    {"csv", OutputFormat::csv},
+                                                                    {"json", OutputFormat::json}};
+        options.format = formats.at(format);
+        return options;
+    }
+};
+
+// Every subcommand's options, filled by the parser, and the exit code its callback sets.
+struct CommandLine {
+    int code = 0;
+    CheckConfigOptions check_config;
+    InfoOptions info;
+    RunOptions run;
+    std::string run_config;
+    SimulateOptions simulate;
+    ReadOptionsOnTheCommandLine status;
+    ReadOptionsOnTheCommandLine epochs;
+    ReadOptionsOnTheCommandLine meteo;
+    ReadOptionsOnTheCommandLine registrations;
+    RegisterOptions register_;
+    std::string register_format = "table";
+    ReadOptionsOnTheCommandLine series_read;
+    SeriesOptions series;
+    ReadOptionsOnTheCommandLine keypoint_models_read;
+    KeypointModelsOptions keypoint_models;
+    ReadOptionsOnTheCommandLine keypoints_read;
+    KeypointsQueryOptions keypoints_query;
+    ReadOptionsOnTheCommandLine corepoints_read;
+    CorePointsOptions corepoints;
+    ReadOptionsOnTheCommandLine events_read;
+    EventsOptions events;
+    M3c2Options m3c2;
+    KeypointsOptions keypoints;
+    ModbusMapOptions modbus_map;
+    ReadOptionsOnTheCommandLine alarms;
+    ReadOptionsOnTheCommandLine alarm_history_read;
+    AlarmHistoryOptions alarm_history;
+    std::map<std::string, AlarmActionOptions> alarm_actions;
+    ReportOptions report;
+    DemoOptions demo;
+    ReadOptionsOnTheCommandLine targets;
+    TargetResurveyOptions resurvey;
+};
+
+void add_check_config(CLI::App& app, CommandLine& c) {
+    auto& o = c.check_config;
+    auto* cmd = app.add_subcommand("check-config",
+                                   "Validate a configuration file and print "
+                                   "the effective values");
+    cmd->add_option("FILE", o.file, "TOML configuration file")->required();
+    cmd->callback([&] { c.code = run_check_config(o); });
+}
+
+void add_info(CLI::App& app, CommandLine& c) {
+    auto& o = c.info;
+    auto* cmd = app.add_subcommand(
+        "info", "Describe scanner exports: format, scans, points, grid, intensity, pose");
+    cmd->add_option("FILE", o.files, "Scan files (PTX, PTS, XYZ, PLY, PCD, LAS, E57)")->required();
+    cmd->add_flag("--json", o.json, "Print a JSON array, one object per file");
+    cmd->callback([&] { c.code = run_info(o); });
+}
+
+void add_run(CLI::App& app, CommandLine& c) {
+    auto& o = c.run;
+    auto* cmd = app.add_subcommand("run", "Run the ingest daemon on the configured folders");
+    cmd->add_option("--config", c.run_config, "TOML configuration file")->required();
+    cmd->add_flag("--once", o.once,
+                  "Process the files present (once complete) and the backlog, then exit");
+    cmd->callback([&] {
+        o.config_file = c.run_config;
+        c.code = run_daemon(o);
+    });
+}
+
+void add_simulate(CLI::App& app, CommandLine& c) {
+    auto& o = c.simulate;
+    auto* cmd = app.add_subcommand(
+        "simulate",
+        "Write synthetic PTX scans of a bridge pier with known deformation, drift "
+        "and targets, each with its truth (JSON) and the site's meteo file (CSV)");
+    cmd->add_option("--config", o.config, "Scene file (TOML), see etc/simulator-small.toml")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--preset", o.preset, "Scene preset")
+        ->check(CLI::IsMember({"small", "pier", "hochmosel"}));
+    cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
+    cmd->add_option("--epochs", o.epochs, "Number of epochs")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    cmd->add_option("--cadence", o.cadence,
+                    "Time between scans, e.g. 15min (default: the scene's, 15min)");
+    cmd->add_option("--start", o.start, "Acquisition time of epoch 0 (UTC)")->capture_default_str();
+    cmd->add_option("--seed", o.seed,
+                    "Seed of the measurement noise and the drift jitter (default: the scene's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--realtime", o.realtime,
+                    "Write one scan every SECONDS (temporary name, then rename)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--slow-copy", o.slow_copy,
+                    "Write each scan under its final name in chunks over SECONDS")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o.threads, "Render threads")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_simulate(o); });
+}
+
+void add_status(CLI::App& app, CommandLine& c) {
+    auto& o = c.status;
+    auto* cmd =
+        app.add_subcommand("status", "Last epoch, backlog, failures, alarms, database size");
+    o.add_to(cmd, false);
+    cmd->callback([&] { c.code = run_status(o.finish()); });
+}
+
+void add_query(CLI::App& app, CommandLine& c) {
+    auto* query = app.add_subcommand("query", "Query the epoch database");
+    query->require_subcommand(1);
+
+    auto& epochs_options = c.epochs;
+    auto* epochs = query->add_subcommand("epochs", "Epochs acquired in a time range");
+    epochs_options.add_to(epochs, true);
+    epochs->callback([&] { c.code = run_query_epochs(epochs_options.finish()); });
+
+    auto& meteo_options = c.meteo;
+    auto* meteo = query->add_subcommand(
+        "meteo", "Epochs in a time range with their meteo sidecar and the values used");
+    meteo_options.add_to(meteo, true);
+    meteo->callback([&] { c.code = run_query_meteo(meteo_options.finish()); });
+
+    auto& registrations_options = c.registrations;
+    auto* registrations = query->add_subcommand(
+        "registrations",
+        "Epochs in a time range with their registration: parameters, σ, targets, zone σ");
+    registrations_options.add_to(registrations, true);
+    registrations->callback(
+        [&] { c.code = run_query_registrations(registrations_options.finish()); });
+
+    auto& models_read = c.keypoint_models_read;
+    auto& models_options = c.keypoint_models;
+    auto* models = query->add_subcommand(
+        "keypoint-models",
+        "Epochs in a time range with their keypoint displacement model d(t, z): coefficients, "
+        "convergence, residual scale (docs/keypoints.md)");
+    models->add_option("--quantity", models_options.quantity,
+                       "Only the model of this quantity (e.g. keypoint_along_surface_h_m)");
+    models->add_flag("--residuals", models_options.residuals,
+                     "One row per residual of each fitting epoch's own segments");
+    models_read.add_to(models, true);
+    models->callback([&] {
+        models_options.read = models_read.finish();
+        c.code = run_query_keypoint_models(models_options);
+    });
+
+    auto& keypoints_read = c.keypoints_read;
+    auto& keypoints_options = c.keypoints_query;
+    auto* keypoints = query->add_subcommand(
+        "keypoints",
+        "Epochs in a time range with the keypoint displacement of each zone: matches kept, "
+        "mean vector, components along the wall, LoD95 (docs/keypoints.md)");
+    keypoints->add_option("--zone", keypoints_options.zone, "Only this zone");
+    keypoints_read.add_to(keypoints, true);
+    keypoints->callback([&] {
+        keypoints_options.read = keypoints_read.finish();
+        c.code = run_query_keypoints(keypoints_options);
+    });
+
+    auto& series_read = c.series_read;
+    auto& series_options = c.series;
+    auto* series = query->add_subcommand("series", "Time series of one zone and quantity");
+    series->add_option("--zone", series_options.zone, "Zone name")->required();
+    series->add_option("--quantity", series_options.quantity, "Quantity (e.g. m3c2_mean_m)")
+        ->required();
+    series_read.add_to(series, true);
+    series->callback([&] {
+        series_options.read = series_read.finish();
+        c.code = run_query_series(series_options);
+    });
+
+    auto& corepoints_read = c.corepoints_read;
+    auto& corepoints_options = c.corepoints;
+    auto* corepoints = query->add_subcommand(
+        "corepoints", "One epoch's M3C2 map: every core point, its normal, distance and LoD");
+    corepoints->add_option("--epoch", corepoints_options.epoch, "Epoch id")->required();
+    corepoints->add_option("--out", corepoints_options.out,
+                           "Write to this file (CSV; JSON with --format json)");
+    corepoints_read.add_to(corepoints, false);
+    corepoints->callback([&] {
+        corepoints_options.read = corepoints_read.finish();
+        c.code = run_query_corepoints(corepoints_options);
+    });
+}
+
+void add_register(CLI::App& app, CommandLine& c) {
+    auto& o = c.register_;
+    auto* cmd = app.add_subcommand(
+        "register",
+        "Register a scan onto a reference scan through the site's targets and print the "
+        "transformation, its σ and each target's residual");
+    cmd->add_option("REFERENCE", o.reference, "Reference scan (epoch 0)")->required();
+    cmd->add_option("EPOCH", o.epoch, "Scan to register")->required();
+    cmd->add_option("--config", o.config, "Site configuration ([[target]] tables)")->required();
+    cmd->add_option("--format", c.register_format, "Output format")
+        ->check(CLI::IsMember({"table", "json"}));
+    cmd->callback([&] {
+        o.format = c.register_format == "json" ? OutputFormat::json : OutputFormat::table;
+        c.code = run_register(o);
+    });
+}
+
+void add_events(CLI::App& app, CommandLine& c) {
+    auto& read = c.events_read;
+    auto& o = c.events;
+    auto* cmd = app.add_subcommand("events", "List system and alarm events");
+    read.add_to(cmd, true);
+    cmd->add_option("--kind", o.kind, "Only events of this kind (e.g. disk_full, raise, ack)");
+    cmd->callback([&] {
+        o.read = read.finish();
+        c.code = run_events(o);
+    });
+}
+
+void add_alarms(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "alarms",
+        "Alarms standing now (not normal); history; "
+        "acknowledge, shelve, unshelve, out-of-service, in-service (docs/alarms.md)");
+    c.alarms.add_to(cmd, false);
+    auto* history = cmd->add_subcommand("history", "Alarm events by time");
+    c.alarm_history_read.add_to(history, true);
+    history->add_option("--rule", c.alarm_history.rule, "Only this rule's events");
+    history->callback([&] {
+        c.alarm_history.read = c.alarm_history_read.finish();
+        c.code = run_alarm_history(c.alarm_history);
+    });
+    const std::pair<const char*, const char*> actions[] = {
+        {"ack", "Acknowledge the alarm of RULE (\"*\": every rule)"},
+        {"shelve", "Shelve the alarm of RULE until --until"},
+        {"unshelve", "End the shelve of RULE"},
+        {"out-of-service", "Remove RULE from service (maintenance) until in-service"},
+        {"in-service", "Return RULE to service"}};
+    for (const auto& [name, help] : actions) {
+        auto& o = c.alarm_actions[name];
+        o.action = name;
+        auto* sub = cmd->add_subcommand(name, help);
+        auto* db = sub->add_option("--db", o.db, "Epoch database (SQLite file)");
+        sub->add_option("--config", o.config, "Configuration file naming the database")
+            ->excludes(db);
+        sub->add_option("RULE", o.rule, "Alarm rule name")->required();
+        if (std::string(name) == "shelve") {
+            sub->add_option("--until", o.until, "End of the shelve, ISO-8601 UTC")->required();
+        }
+        sub->callback([&] { c.code = run_alarm_action(o); });
+    }
+    cmd->callback([cmd, &c] {
+        if (cmd->get_subcommands().empty()) c.code = run_alarms(c.alarms.finish());
+    });
+}
+
+// A one-shot command's parameter option: its default, the site's with --config, else a fresh
+// site's.
+std::string fallback(const std::string& key, const std::string& value) {
+    return " (default: the site's " + key + ", else " + value + ")";
+}
+
+void add_m3c2(CLI::App& app, CommandLine& c) {
+    auto& o = c.m3c2;
+    auto* cmd = app.add_subcommand(
+        "m3c2",
+        "M3C2 distances (Lague 2013) from REFERENCE to COMPARED at core points, with LoD95; "
+        "one CSV row per core point (docs/m3c2.md). Parameters: a fresh site's defaults, or "
+        "the site's with --config (its zones and registration too: the numbers the daemon "
+        "stores); each option replaces one. Radii and half-lengths in metres");
+    const M3c2Config defaults;
+    const auto listed = [](const std::vector<double>& values) {
+        std::string out;
+        for (double v : values) out += (out.empty() ? "" : ",") + toml_number(v);
+        return out;
+    };
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (normals, core points)")
+        ->required();
+    cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [m3c2] parameters, [[zone]] core points and "
+                    "registration of COMPARED onto REFERENCE");
+    auto* core = cmd->add_option("--core", o.core_file, "Core points: every point of this file");
+    cmd->add_option("--core-spacing", o.core_spacing,
+                    "Core points: REFERENCE subsampled at this spacing" +
+                        fallback("m3c2.core_spacing", toml_number(defaults.core_spacing)))
+        ->excludes(core);
+    cmd->add_option("--normal-radii", o.normal_radii,
+                    "Normal radii R1,R2,...: the most planar scale is used" +
+                        fallback("m3c2.normal_radii", listed(defaults.normal_radii)))
+        ->delimiter(',');
+    cmd->add_option("--cylinder-radius", o.cylinder_radius,
+                    "Cylinder radius (projection scale)" +
+                        fallback("m3c2.cylinder_radius", toml_number(defaults.cylinder_radius)));
+    cmd->add_option("--max-depth", o.max_depth,
+                    "Cylinder half-length along the normal" +
+                        fallback("m3c2.max_depth", toml_number(defaults.max_depth)));
+    cmd->add_option("--orient", o.orient,
+                    "Normal orientation: scanner (towards REFERENCE's scanner) or X,Y,Z" +
+                        fallback("m3c2.orientation", "scanner"));
+    cmd->add_option(
+        "--reg-error", o.registration_error,
+        "Registration error added to the LoD without a registration (Lague 2013, "
+        "eq. 1)" +
+            fallback("m3c2.registration_error", toml_number(defaults.registration_error)));
+    cmd->add_flag("--median", o.median, "Median and interquartile range instead of mean and std");
+    cmd->add_option("--min-points", o.min_points,
+                    "Fewer points in either cylinder: no distance (NaN)" +
+                        fallback("m3c2.min_points", std::to_string(defaults.min_points)));
+    cmd->add_option("--max-roughness", o.max_roughness,
+                    "A reference cylinder spreading more than this (m) holds an edge: no "
+                    "distance" +
+                        fallback("m3c2.max_roughness", toml_number(defaults.max_roughness)));
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)");
+    cmd->add_option("--out", o.out, "Result CSV file")->required();
+    cmd->callback([&] { c.code = run_m3c2(o); });
+}
+
+void add_keypoints(CLI::App& app, CommandLine& c) {
+    auto& o = c.keypoints;
+    auto* cmd = app.add_subcommand(
+        "keypoints",
+        "Keypoint displacement vectors between two structured scans, measured by the keypoint "
+        "stage (docs/keypoints.md): a fresh site's parameters with bands of the vertical angle, "
+        "or the site's with --config (its zones and registration too: the numbers the daemon "
+        "stores); each option replaces one. One CSV row per match, a summary per segment");
+    const KeypointConfig defaults;
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (PTX or gridded E57)")
+        ->required();
+    cmd->add_option("EPOCH", o.epoch, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [keypoints] parameters, [[zone]] segments and "
+                    "registration of EPOCH onto REFERENCE");
+    cmd->add_option(
+        "--detector", o.detector,
+        "kaze, akaze, sift, brisk or orb" + fallback("keypoints.detector", defaults.detector));
+    cmd->add_option("--descriptor", o.descriptor,
+                    "brisk, sift, orb, kaze or akaze (the last two on their own detector only)" +
+                        fallback("keypoints.descriptor", defaults.descriptor));
+    cmd->add_option("--window-deg", o.window_deg,
+                    "Angular radius of the matching window, degrees" +
+                        fallback("keypoints.window_deg", toml_number(defaults.window_deg)))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option(
+           "--ratio", o.ratio,
+           "Lowe's ratio test (0: off)" + fallback("keypoints.ratio", toml_number(defaults.ratio)))
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--mutual", o.mutual, "Keep only mutually nearest matches");
+    cmd->add_flag("--clahe", o.clahe, "Equalise the intensity images (CLAHE) before detection");
+    cmd->add_flag("--no-refine", o.no_refine,
+                  "No least-squares refinement of the matches on their intensity patches");
+    cmd->add_option("--segments", o.segments_deg,
+                    "Segments: bands of the reference's vertical angle this many degrees high" +
+                        fallback("keypoints.band_width_deg", toml_number(defaults.band_width_deg)))
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--out", o.out, "Result CSV file, one row per match")->required();
+    cmd->add_option("--images", o.images,
+                    "Folder for reference.png and epoch.png: the intensity images with the "
+                    "matches drawn");
+    cmd->add_option("--vector-scale", o.vector_scale, "Vectors drawn this many times their length")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--scan", o.scan,
+                    "Only this structured scan of each file, 1 = the first (a file may hold an "
+                    "overview and its detail scans; `tlsmon info` lists them); default: every "
+                    "scan, paired by their order, as the daemon")
+        ->check(CLI::PositiveNumber);
+    cmd->callback([&] { c.code = run_keypoints(o); });
+}
+
+void add_modbus_map(CLI::App& app, CommandLine& c) {
+    auto& o = c.modbus_map;
+    auto* cmd = app.add_subcommand(
+        "modbus-map", "Print the Modbus register map of a configuration (docs/modbus.md)");
+    cmd->add_option("--config", o.config, "TOML configuration file")->required();
+    cmd->add_option("--format", o.format, "Output format")
+        ->check(CLI::IsMember({"markdown", "csv"}))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_modbus_map(o); });
+}
+
+void add_report(CLI::App& app, CommandLine& c) {
+    auto& o = c.report;
+    auto* cmd = app.add_subcommand(
+        "report",
+        "Score a finished run on a simulated series against the simulator's truth files: "
+        "registration, zones, alarms (Markdown, CSV, PNG plots by gnuplot)");
+    cmd->add_option("--database", o.database, "Epoch database (SQLite file)")->required();
+    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")->required();
+    cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
+    cmd->add_option("--config", o.config,
+                    "The daemon's configuration, named in the report's example commands");
+    cmd->add_option("--modbus-port", o.modbus_port, "Modbus port named in the examples")
+        ->check(CLI::Range(1, 65535))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_report(o); });
+}
+
+void add_demo(CLI::App& app, CommandLine& c) {
+    auto& o = c.demo;
+    auto* cmd = app.add_subcommand(
+        "demo",
+        "Run the daemon on a simulated day (thermal bending, scanner drift, a knocked target, "
+        "a step in one zone), one scan every few seconds, then report against the truth");
+    cmd->add_option("--workdir", o.workdir,
+                    "Working folder (created; a previous demo's folder is cleared)")
+        ->capture_default_str();
+    cmd->add_option("--epochs", o.epochs, "Number of 15-minute epochs")
+        ->check(CLI::Range(4, 100000))
+        ->capture_default_str();
+    cmd->add_option("--interval", o.interval, "Seconds between scans (wall clock)")
+        ->check(CLI::Range(0.0, 3600.0))
+        ->capture_default_str();
+    cmd->add_option("--preset", o.preset,
+                    "Scene: small (0.05° grid, five spheres), pier or hochmosel (slow)")
+        ->check(CLI::IsMember({"small", "pier", "hochmosel"}))
+        ->capture_default_str();
+    cmd->add_option("--start", o.start,
+                    "Acquisition time of epoch 0, UTC (default: 00:00 UTC today)");
+    cmd->add_option("--modbus-port", o.modbus_port, "Modbus TCP port on 127.0.0.1")
+        ->check(CLI::Range(1, 65535))
+        ->capture_default_str();
+    cmd->add_option("--threads", o.threads, "Render threads of the simulator")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->callback([&] { c.code = run_demo(o); });
+}
+
+void add_targets(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "targets",
+        "Reference targets: status in the newest epoch, excluded as moved since when and why; "
+        "`resurvey NAME` clears an exclusion (docs/registration.md)");
+    c.targets.add_to(cmd, false);
+    auto& o = c.resurvey;
+    auto* sub = cmd->add_subcommand(
+        "resurvey",
+        "Mark target NAME re-surveyed: its exclusion is cleared and an event records who");
+    auto* db = sub->add_option("--db", o.db, "Epoch database (SQLite file)");
+    sub->add_option("--config", o.config, "Configuration file naming the database")->excludes(db);
+    sub->add_option("NAME", o.target, "Target name")->required();
+    sub->add_option("--by", o.by, "Who re-surveyed it (default: cli:$USER)");
+    sub->callback([&] { c.code = run_target_resurvey(o); });
+    cmd->callback([cmd, &c] {
+        if (cmd->get_subcommands().empty()) c.code = run_targets(c.targets.finish());
+    });
+}
+
+}  // namespace
+}  // namespace tlsmon
+
+int main(int argc, char** argv) {
+    CLI::App app{"tlsmon: unattended deformation monitoring with a terrestrial laser scanner"};
+    app.set_version_flag("--version", std::string("tlsmon ") + TLSMON_VERSION);
+    app.require_subcommand(1);
+    tlsmon::CommandLine c;
+    tlsmon::add_check_config(app, c);
+    tlsmon::add_info(app, c);
+    tlsmon::add_run(app, c);
+    tlsmon::add_simulate(app, c);
+    tlsmon::add_status(app, c);
+    tlsmon::add_query(app, c);
+    tlsmon::add_events(app, c);
+    tlsmon::add_m3c2(app, c);
+    tlsmon::add_keypoints(app, c);
+    tlsmon::add_modbus_map(app, c);
+    tlsmon::add_register(app, c);
+    tlsmon::add_alarms(app, c);
+    tlsmon::add_report(app, c);
+    tlsmon::add_demo(app, c);
+    tlsmon::add_targets(app, c);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    return c.code;
+}

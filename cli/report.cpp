@@ -1,0 +1,49 @@
+// `tlsmon report --database DB --truth DIR --out DIR`: a finished run of the daemon on a
+// simulated series, scored against the simulator's truth files — registration, zones,
+// alarms — as Markdown, CSV and PNG plots (daemon/report_*.hpp).
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "core/error.hpp"
+#include "report/output.hpp"
+#include "storage/storage_error.hpp"
+
+namespace tlsmon {
+
+int run_report(const ReportOptions& o) {
+    namespace fs = std::filesystem;
+    try {
+        if (!fs::exists(o.database)) throw Error("no database at " + o.database);
+        const auto truth = report::read_truth_folder(o.truth);
+        const report::RunData run = report::read_run(fs::path(o.database));
+        const report::RunReport r = report::analyse(run, truth, o.truth);
+        const fs::path out(o.out);
+        fs::create_directories(out);
+        report::ReportFiles files;
+        report::write_csv(r, out, files);
+        report::draw_plots(r, out, files);
+        files.markdown = out / "report.md";
+        const std::string md = report::markdown(
+            r, files, {o.config.empty() ? fs::path() : fs::path(o.config), o.modbus_port});
+        std::ofstream f(files.markdown, std::ios::binary | std::ios::trunc);
+        f << md;
+        f.close();
+        if (!f) throw Error("cannot write " + files.markdown.string());
+        for (const auto& line : report::summary_lines(r)) std::cout << "  " << line << '\n';
+        std::cout << "report: " << files.markdown.string() << " (";
+        for (std::size_t i = 0; i < files.csv.size(); ++i) {
+            std::cout << (i ? ", " : "") << files.csv[i].filename().string();
+        }
+        for (const auto& p : files.plots) std::cout << ", " << p.filename().string();
+        std::cout << ")" << std::endl;
+        for (const auto& n : files.notes) std::cout << "  note: " << n << '\n';
+    } catch (const std::exception& e) {
+        std::cerr << "tlsmon report: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,152 @@
+// The keys of the daemon's own sections ([station], [paths], [ingest], [logging], [daemon],
+// [alarm]), declared beside their structs (config/config.hpp) as the stages' are beside
+// theirs; config/keys.cpp collects them all.
+#include <array>
+
+#include "config/config.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::array<Named<ArchiveMode>, 2> kArchiveModes{{
+    {ArchiveMode::move, "move"},
+    {ArchiveMode::keep, "keep"},
+}};
+constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
+    {TimeSource::scan, "scan"},
+    {TimeSource::file_name, "file_name"},
+    {TimeSource::mtime, "mtime"},
+}};
+constexpr std::array<Named<LogLevel>, 7> kLogLevels{{
+    {LogLevel::trace, "trace"},
+    {LogLevel::debug, "debug"},
+    {LogLevel::info, "info"},
+    {LogLevel::warn, "warn"},
+    {LogLevel::error, "error"},
+    {LogLevel::critical, "critical"},
+    {LogLevel::off, "off"},
+}};
+constexpr std::array<Named<JournaldMode>, 3> kJournaldModes{{
+    {JournaldMode::automatic, "auto"},
+    {JournaldMode::on, "on"},
+    {JournaldMode::off, "off"},
+}};
+
+}  // namespace
+
+std::vector<SectionKey<StationConfig>> station_keys() {
+    using K = Keys<StationConfig>;
+    return {
+        K::text(&StationConfig::name, "name", "non-empty, no `/`",
+                "The scanner station; recorded with every epoch. The simulator names its files "
+                "`<name>_YYYYMMDDTHHMMSSZ.ptx`."),
+    };
+}
+
+std::vector<SectionKey<PathsConfig>> paths_keys() {
+    using K = Keys<PathsConfig>;
+    return {
+        K::path(&PathsConfig::ingest, "ingest", "",
+                "Folder the scanner exports into; watched (not recursively)."),
+        K::path(&PathsConfig::archive, "archive", "apart from `ingest`: neither inside the other",
+                "Processed scans are moved here when `ingest.archive = \"move\"`. A name already "
+                "taken gets the first 12 hex digits of the sha256 added."),
+        K::path(&PathsConfig::quarantine, "quarantine", "apart from `ingest` and `archive`",
+                "Files that could not be read, each with `<name>.reason.txt`."),
+        K::path(&PathsConfig::database, "database", "not in `ingest`, `archive` or `quarantine`",
+                "The SQLite epoch database (created and migrated at start)."),
+    };
+}
+
+std::vector<SectionKey<IngestConfig>> ingest_keys() {
+    using K = Keys<IngestConfig>;
+    constexpr double day = 86400.0;
+    return {
+        K::names(&IngestConfig::extensions, "extensions",
+                 "letters/digits, no dot, no repeats; case-insensitive",
+                 "File name extensions taken as scans (`laz` is listed so that a compressed LAS "
+                 "export is quarantined with a clear reason instead of being ignored). Hidden "
+                 "names (`.x`), `*.part`, `*.tmp`, `*.partial` and `*~` are always ignored."),
+        K::seconds(&IngestConfig::stable_seconds, "stable_seconds", 0, day, "",
+                   "A file is complete when it is not open for writing (its last inotify event was "
+                   "close-after-write or moved-in; a file found only by a folder scan counts as "
+                   "closed) and its size and mtime have not changed for this long."),
+        K::seconds(&IngestConfig::rescan_interval, "rescan_interval", 0.1, day, "",
+                   "Full scan of the folder besides inotify (network shares, lost events)."),
+        K::seconds(&IngestConfig::max_growing, "max_growing", 1, 30 * day, "> `stable_seconds`",
+                   "A file not complete after this long is logged once and recorded as a "
+                   "`file_growing` system event; it is still not processed while it grows."),
+        K::choice(&IngestConfig::archive, "archive", kArchiveModes,
+                  "`move`: processed files go to `paths.archive`; a second copy of a known scan is "
+                  "deleted. `keep`: files stay where they are; copies are left and logged."),
+        K::text(&IngestConfig::reference_epoch, "reference_epoch",
+                "file name (no folder) or 64 lower-case hex digits",
+                "The reference epoch (epoch 0 of the analyses). Empty: the first epoch accepted. "
+                "Otherwise the epoch whose file name or sha256 matches, once it is accepted. Set "
+                "once; never changed afterwards."),
+        K::choices(&IngestConfig::acquisition_time, "acquisition_time", kTimeSources,
+                   "Where an epoch's acquisition time comes from, first available wins: `scan` = "
+                   "the file's own header (E57 `acquisitionStart`, read from its XML section "
+                   "only), `file_name` = a `YYYYMMDDTHHMMSSZ` stamp in the name (UTC), `mtime` = "
+                   "the file's modification time. If none is available, mtime is used. Pending "
+                   "epochs are processed in acquisition-time order."),
+        K::seconds(&IngestConfig::max_clock_ahead, "max_clock_ahead", 0, 30 * day, "",
+                   "A scan whose acquisition time lies further ahead of the daemon's clock is "
+                   "quarantined with the reason, never recorded as an epoch (a scanner clock or a "
+                   "file name that is wrong would make every later scan look late to the alarm "
+                   "rules)."),
+        K::integer(&IngestConfig::max_file_size, "max_file_size", 1024, std::int64_t{1} << 42,
+                   "bytes",
+                   "A larger file is quarantined unread, with the reason; so is a file larger than "
+                   "the memory available when it is taken (MemAvailable). Files are read whole."),
+        K::seconds(&IngestConfig::retry_initial, "retry_initial", 0.1, 3600, "",
+                   "After a disk-full or database error, the epoch stays pending and processing "
+                   "pauses this long, doubling after each further failure ..."),
+        K::seconds(&IngestConfig::retry_max, "retry_max", 0.1, day, ">= `retry_initial`",
+                   "... up to this."),
+    };
+}
+
+std::vector<SectionKey<LoggingConfig>> logging_keys() {
+    using K = Keys<LoggingConfig>;
+    return {
+        K::choice(&LoggingConfig::level, "level", kLogLevels, "Lowest level logged."),
+        K::optional_path(&LoggingConfig::file, "file",
+                         "Optional log file, rotated by size. Empty: none."),
+        K::integer(&LoggingConfig::max_size, "max_size", 4096, std::int64_t{1} << 40, "bytes",
+                   "Bytes per log file before it rotates."),
+        K::integer(&LoggingConfig::max_files, "max_files", 1, 1000, "", "Rotated files kept."),
+        K::choice(&LoggingConfig::journald, "journald", kJournaldModes,
+                  "`auto`: log to the systemd journal (with priorities) when started by systemd "
+                  "(`$JOURNAL_STREAM` or `$INVOCATION_ID` set), else to stderr. `on`: always the "
+                  "journal. `off`: always stderr."),
+    };
+}
+
+std::vector<SectionKey<DaemonConfig>> daemon_keys() {
+    using K = Keys<DaemonConfig>;
+    constexpr double day = 86400.0;
+    return {
+        K::seconds(&DaemonConfig::status_interval, "status_interval", 1, day, "",
+                   "How often the systemd `STATUS=` line is refreshed."),
+    };
+}
+
+std::vector<SectionKey<AlarmConfig>> alarm_keys() {
+    using K = Keys<AlarmConfig>;
+    constexpr double day = 86400.0;
+    return {
+        K::seconds(&AlarmConfig::cadence, "cadence", 60, day, "",
+                   "The scanner's interval between scans, for the `system.stale` alarm."),
+        K::number(&AlarmConfig::stale_factor, "stale_factor", 1, 1000, "",
+                  "`system.stale` is raised when no new epoch was acquired for this many "
+                  "`cadence` intervals."),
+        K::number(&AlarmConfig::disk_free_min, "disk_free_min", 0, 0.5, "",
+                  "`system.disk_nearly_full` is raised when the free share of the database's "
+                  "file system falls below this (cleared 0.01 above it). The alarm rules are "
+                  "the `[[alarm.rule]]` tables (docs/alarms.md)."),
+    };
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,102 @@
+#pragma once
+// A finished run scored against the simulator's truth: the registration's error at the
+// pier, each zone quantity against the true change since the reference epoch, and the
+// alarms against the true step event. Pure: plain data in, plain data out.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "report/data.hpp"
+#include "report/truth.hpp"
+
+namespace tlsmon::report {
+
+// Bias (mean), RMS and largest magnitude of a list of errors; n = 0 when there are none.
+struct ErrorSummary {
+    std::size_t n = 0;
+    double bias = 0, rms = 0, max_abs = 0;
+};
+ErrorSummary summarise(const std::vector<double>& errors);
+
+// One epoch's registration against the truth.
+struct RegistrationCheck {
+    EpochId id = 0;
+    int truth_epoch = -1;  // -1: no truth file for this epoch
+    std::int64_t acquired = 0;
+    std::string status;  // epoch status (done, rejected, failed, pending)
+    bool registered = false;
+    bool accepted = false;
+    bool is_reference = false;
+    std::int64_t targets_used = 0;
+    double target_rms_m = 0;  // RMS of the used targets' residuals (the registration's own)
+    std::vector<std::string> excluded;  // targets excluded as moved (or flagged) this epoch
+    std::string reason;
+    // The transformation's error at the pier against the exact answer H₀⁻¹·Hᵢ
+    // (docs/simulator.md, "Scanner instability"), at the truth's pier sample points:
+    std::optional<Eigen::Vector3d> top_error;  // at the top centre, m
+    std::optional<double> max_error;           // largest over the sample points, m
+    std::optional<double> zone_sigma_m;        // the registration's own largest zone σ (3-D)
+    // Each target's residual length as the registration stored it (found or excluded), m.
+    std::vector<std::pair<std::string, double>> target_residuals;
+};
+
+struct ZoneQuantityCheck {
+    std::string zone;
+    std::string quantity;
+    std::string truth_kind;  // what it is compared with, in words; "" = no truth for it
+    struct Row {
+        EpochId id = 0;
+        int truth_epoch = -1;
+        std::int64_t acquired = 0;
+        double value = 0;
+        std::optional<double> lod;
+        std::optional<double> truth;
+        bool significant = false;
+    };
+    std::vector<Row> rows;
+    ErrorSummary error;  // value − truth over the rows with a truth
+};
+
+struct ZoneCheck {
+    ZoneId id = 0;
+    std::string zone;
+    std::optional<ZoneFace> face;                  // absent: not on one pier face
+    std::vector<ZoneQuantityCheck> quantities;     // stored ones, with their truth
+    std::vector<std::pair<int, ZoneTruth>> truth;  // (truth epoch, true change) for plots
+    bool step_zone = false;                        // the truth's step moves it along its normal
+};
+
+struct AlarmCheck {
+    AlarmRuleId id = 0;  // its Modbus slot is id − 1
+    std::string rule, zone, quantity;
+    bool step_zone = false;
+    std::optional<int> step_epoch;         // truth: first epoch of the step
+    std::optional<int> first_raise_epoch;  // truth epoch of the first raise at/after it
+    std::optional<int> latency_epochs;     // first_raise_epoch − step_epoch
+    int false_alarms = 0;                  // raises before the step, or on a zone it misses
+    bool evaluated = false;                // the rule's quantity has rows in its zone
+    std::vector<std::string> events;       // "epoch 64: raise alarm (0.0112)"
+};
+
+struct RunReport {
+    std::filesystem::path database;
+    std::filesystem::path truth_folder;
+    std::optional<int> reference_truth_epoch;
+    int truth_epochs = 0;
+    std::optional<KnockedTarget> knocked;  // truth
+    std::optional<StepEvent> step;         // truth
+    std::vector<RegistrationCheck> registration;
+    ErrorSummary registration_top_error;        // |error| at the top centre, accepted epochs
+    ErrorSummary registration_max_error;        // largest over the pier samples, accepted epochs
+    std::vector<double> bias_vector_mm;         // mean error vector at the top centre, mm (x, y, z)
+    std::vector<std::string> excluded_targets;  // ever excluded, in order of first exclusion
+    std::optional<int> knocked_excluded_from;   // truth epoch the knocked target is first out
+    std::vector<ZoneCheck> zones;
+    std::vector<AlarmCheck> alarms;
+    std::size_t epochs_done = 0, epochs_rejected = 0, epochs_failed = 0, epochs_pending = 0;
+};
+
+RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
+                  const std::filesystem::path& truth_folder);
+
+}  // namespace tlsmon::report

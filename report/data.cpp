@@ -1,0 +1,65 @@
+#include "report/data.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace tlsmon::report {
+
+std::optional<ZoneBox> parse_zone_box(const std::string& definition_json) {
+    const nlohmann::json j = nlohmann::json::parse(definition_json, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("min") || !j.contains("max")) {
+        return std::nullopt;
+    }
+    if (j.contains("type") && j["type"] != "box") return std::nullopt;
+    const auto v3 = [](const nlohmann::json& a) -> std::optional<Eigen::Vector3d> {
+        if (!a.is_array() || a.size() != 3) return std::nullopt;
+        for (const auto& x : a) {
+            if (!x.is_number()) return std::nullopt;
+        }
+        return Eigen::Vector3d(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+    };
+    const auto lo = v3(j["min"]), hi = v3(j["max"]);
+    if (!lo || !hi) return std::nullopt;
+    return ZoneBox{*lo, *hi};
+}
+
+RunData read_run(const EpochDatabase& db) {
+    RunData r;
+    r.database = db.path();
+    r.reference = db.epochs().reference();
+    for (const Epoch& e : db.series().epochs_in_range({})) {
+        RunEpoch re;
+        re.epoch = e;
+        re.registration = db.registrations().of_epoch(e.id);
+        re.targets = db.registrations().targets_of_epoch(e.id);
+        re.zone_sigmas = db.registrations().zone_sigmas_of_epoch(e.id);
+        r.epochs.push_back(std::move(re));
+    }
+    const auto definitions = db.site().zones();
+    for (const auto& [id, name] : db.site().zone_ids()) {
+        RunZone z;
+        z.id = id;
+        z.name = name;
+        for (const auto& [n, definition] : definitions) {
+            if (n == name) z.box = parse_zone_box(definition);
+        }
+        for (const std::string& q : db.series().quantities(name)) {
+            z.series[q] = db.series().points(name, q, {});
+        }
+        if (!z.box && z.series.empty()) continue;  // e.g. the system alarms' own zone
+        r.zones.push_back(std::move(z));
+    }
+    for (const AlarmRule& rule : db.alarms().rules()) {
+        if (rule.name.rfind("system.", 0) != 0) r.rules.push_back(rule);
+    }
+    for (const AlarmEvent& e : db.alarms().events(std::nullopt)) {
+        if (e.rule.rfind("system.", 0) != 0) r.alarm_events.push_back(e);
+    }
+    return r;
+}
+
+RunData read_run(const std::filesystem::path& database) {
+    const EpochDatabase db = EpochDatabase::open(database, EpochDatabase::Mode::read_only);
+    return read_run(db);
+}
+
+}  // namespace tlsmon::report

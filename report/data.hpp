@@ -1,0 +1,48 @@
+#pragma once
+// What the report reads from an epoch database (read only): the epochs, their
+// registrations and targets, the zones with their time series, the alarm rules and events.
+// Plain structs, so the comparison with the truth (report/analysis.hpp) is pure.
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "report/truth.hpp"
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon::report {
+
+struct RunEpoch {
+    Epoch epoch;
+    std::optional<RegistrationRow> registration;
+    std::vector<TargetObservation> targets;
+    std::vector<RegistrationZoneSigma> zone_sigmas;
+};
+
+struct RunZone {
+    ZoneId id = 0;  // its Modbus slot is id − 1 (docs/modbus.md)
+    std::string name;
+    std::optional<ZoneBox> box;  // absent for a zone that is not a box
+    // quantity -> its time series, by acquisition time
+    std::map<std::string, std::vector<SeriesPoint>> series;
+};
+
+struct RunData {
+    std::filesystem::path database;
+    std::optional<EpochId> reference;
+    std::vector<RunEpoch> epochs;  // by acquisition time
+    std::vector<RunZone> zones;    // by id
+    std::vector<AlarmRule> rules;  // configured rules (system.* left out)
+    std::vector<AlarmEvent> alarm_events;
+};
+
+// Reads everything the report needs; throws StorageError (naming the file) when the
+// database cannot be opened.
+RunData read_run(const std::filesystem::path& database);
+RunData read_run(const EpochDatabase& db);
+
+// A zone definition as stored ({"type":"box","min":[..],"max":[..]}); nullopt otherwise.
+std::optional<ZoneBox> parse_zone_box(const std::string& definition_json);
+
+}  // namespace tlsmon::report

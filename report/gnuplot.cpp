@@ -1,0 +1,49 @@
+#include "report/gnuplot.hpp"
+
+#include <cstdlib>
+#include <fstream>
+
+#include "core/error.hpp"
+
+namespace tlsmon::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A shell word in single quotes.
+std::string shell_quoted(const std::string& s) {
+    std::string q = "'";
+    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+}  // namespace
+
+void write_text(const fs::path& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f << text;
+    f.close();
+    if (!f) throw Error("cannot write " + path.string());
+}
+
+std::string gnuplot_quoted(const std::string& s) {
+    std::string q = "'";
+    for (const char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
+    return q + "'";
+}
+
+bool have_gnuplot() {
+    return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+}
+
+bool run_gnuplot(const fs::path& script, const fs::path& png, const fs::path& log) {
+    std::error_code ec;
+    fs::remove(png, ec);
+    const std::string cmd = "cd " + shell_quoted(script.parent_path().string()) + " && gnuplot " +
+                            shell_quoted(script.filename().string()) + " >" +
+                            shell_quoted(log.string()) + " 2>&1";
+    return std::system(cmd.c_str()) == 0 && fs::exists(png) && fs::file_size(png) > 0;
+}
+
+}  // namespace tlsmon::report

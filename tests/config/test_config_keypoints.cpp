@@ -1,0 +1,66 @@
+// The [keypoints] section: what the file says, what the stage receives (pipeline_config:
+// the zones too), and each mistake named by file, line, column and key.
+#include <gtest/gtest.h>
+
+#include "config/config.hpp"
+#include "tests/support/config_text.hpp"
+
+namespace tlsmon {
+namespace {
+
+using test::error_of;
+using test::parse;
+
+TEST(ConfigKeypoints, SectionAndZonesReachTheStage) {
+    const Config c = parse(R"(
+[[zone]]
+name = "south"
+min = [2, 44.5, 0]
+max = [17, 45.5, 40]
+
+[keypoints]
+detector = "kaze"
+segments = "bands"
+band_width_deg = 2.5
+max_incidence_deg = 60
+refine = false
+model_quantities = ["keypoint_dz_m"]
+)");
+    const PipelineConfig p = pipeline_config(c);
+    EXPECT_EQ(p.keypoints.detector, "kaze");
+    EXPECT_EQ(p.keypoints.descriptor, "brisk");
+    EXPECT_EQ(p.keypoints.segments, KeypointSegments::bands);
+    EXPECT_EQ(p.keypoints.band_width_deg, 2.5);
+    EXPECT_EQ(p.keypoints.max_incidence_deg, 60);
+    EXPECT_FALSE(p.keypoints.refine);
+    EXPECT_EQ(p.keypoints.model_quantities, std::vector<std::string>{"keypoint_dz_m"});
+    ASSERT_EQ(p.keypoints.zones.size(), 1u);
+    EXPECT_TRUE(p.keypoints.zones[0].contains({5, 45, 10}));
+}
+
+TEST(ConfigKeypoints, MistakesNameFileLineAndKey) {
+    EXPECT_EQ(error_of("[keypoints]\ndetector = \"surf\"\n")
+                  .rfind("site.toml:2:12: key 'keypoints.detector': ", 0),
+              0u)
+        << error_of("[keypoints]\ndetector = \"surf\"\n");
+    EXPECT_NE(error_of("[keypoints]\ndescriptor = \"kaze\"\n")
+                  .find("site.toml:2:14: key 'keypoints.descriptor': "),
+              std::string::npos)
+        << error_of("[keypoints]\ndescriptor = \"kaze\"\n");
+    EXPECT_NE(error_of("[keypoints]\nsegments = \"rows\"\n").find("key 'keypoints.segments'"),
+              std::string::npos);
+    EXPECT_NE(error_of("[keypoints]\nwindow_deg = 0\n")
+                  .find("site.toml:2:14: key 'keypoints.window_deg'"),
+              std::string::npos)
+        << error_of("[keypoints]\nwindow_deg = 0\n");
+    EXPECT_NE(error_of("[keypoints]\nmodel_quantities = [\"m3c2_mean_m\"]\n")
+                  .find("key 'keypoints.model_quantities': 'm3c2_mean_m' is not a keypoint"),
+              std::string::npos)
+        << error_of("[keypoints]\nmodel_quantities = [\"m3c2_mean_m\"]\n");
+    EXPECT_NE(
+        error_of("[keypoints]\nthreshold = 1\n").find("key 'keypoints.threshold': unknown key"),
+        std::string::npos);
+}
+
+}  // namespace
+}  // namespace tlsmon
