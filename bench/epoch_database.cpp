@@ -189,8 +189,9 @@ int main(int argc, char** argv) {
     // Line by line, so a run stopped during the long year generation keeps what it measured.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     try {
-        const fs::path tlsmon = argc > 2 ? fs::path(argv[2])
-                                         : fs::read_symlink("/proc/self/exe").parent_path() / ".." / "tlsmon";
+        const fs::path tlsmon =
+            argc > 2 ? fs::path(argv[2])
+                     : fs::read_symlink("/proc/self/exe").parent_path() / ".." / "tlsmon";
         if (argc > 1) {
             fs::create_directories(argv[1]);
             run(argv[1], tlsmon);

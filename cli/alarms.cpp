@@ -53,11 +53,15 @@ int run_alarm_history(const AlarmHistoryOptions& o) {
     return run_reporting_errors("alarms history", [&] {
         const auto range = time_range(o.read);
         const auto db = open_for_reading(o.read);
-        Table t{{"time", "rule", "kind", "level", "value", "epoch", "actor", "message"}, {}};
+        Table t{
+            {"time", "time_base", "rule", "kind", "level", "value", "epoch", "actor", "message"},
+            {}};
         for (const auto& e : db.alarms().events(range.from, o.rule)) {
             if (range.to && e.time > *range.to) continue;
-            t.rows.push_back({format_utc(e.time), e.rule, e.kind, e.level, optional_cell(e.value),
-                              optional_cell(e.epoch), e.actor, e.message});
+            t.rows.push_back({format_utc(e.time),
+                              std::string(alarm_event_time_base(e.rule, e.actor)), e.rule, e.kind,
+                              e.level, optional_cell(e.value), optional_cell(e.epoch), e.actor,
+                              e.message});
         }
         print(std::cout, t, o.read.format);
     });

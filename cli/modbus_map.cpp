@@ -38,8 +38,12 @@ int run_modbus_map(const ModbusMapOptions& options) {
                   << (m.word_order == WordOrder::abcd ? "ABCD (high word first)"
                                                       : "CDAB (low word first)")
                   << ", bytes big-endian within a register; 123456.0 reads "
-                  << (m.word_order == WordOrder::abcd ? "0x47F1 0x2000" : "0x2000 0x47F1")
-                  << ".\n\n"
+                  << (m.word_order == WordOrder::abcd ? "0x47F1 0x2000" : "0x2000 0x47F1") << ". "
+                  << (m.value_type == ModbusValueType::int32
+                          ? "Zone values, LoD and rates as int32 in the unit of each row "
+                            "(-2147483648: none)."
+                          : "Zone values, LoD and rates as float32 (NaN: none).")
+                  << "\n\n"
                   << map_markdown(map);
     } catch (const std::exception& e) {
         std::cerr << "tlsmon modbus-map: " << e.what() << '\n';

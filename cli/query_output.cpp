@@ -77,6 +77,9 @@ std::string cell_text(const Cell& c, std::string_view column, OutputFormat forma
         std::string operator()(std::int64_t i) const { return std::to_string(i); }
         std::string operator()(double d) const { return csv_number(d); }
         std::string operator()(bool b) const { return b ? "true" : "false"; }
+        std::string operator()(const Structured& s) const {
+            return escape_control_characters(s.text);
+        }
     } visitor;
     return std::visit(visitor, c);
 }
@@ -88,6 +91,9 @@ nlohmann::ordered_json cell_json(const Cell& c) {
         nlohmann::ordered_json operator()(std::int64_t i) const { return i; }
         nlohmann::ordered_json operator()(double d) const { return d; }  // NaN: null
         nlohmann::ordered_json operator()(bool b) const { return b; }
+        nlohmann::ordered_json operator()(const Structured& s) const {
+            return nlohmann::ordered_json::parse(s.json);
+        }
     } visitor;
     return std::visit(visitor, c);
 }
@@ -106,6 +112,8 @@ void append_json(std::string& buf, const Cell& c) {
         buf += json_string(*s);
     } else if (std::holds_alternative<std::monostate>(c)) {
         buf += "null";
+    } else if (const auto* structured = std::get_if<Structured>(&c)) {
+        buf += structured->json;
     } else {
         buf += cell_text(c, {}, OutputFormat::json);  // integer or true/false
     }

@@ -18,8 +18,16 @@ namespace tlsmon {
 
 enum class OutputFormat { table, csv, json };
 
-// A printed value: null, text, integer, real or flag. Times are ISO-8601 UTC text.
-using Cell = std::variant<std::monostate, std::string, std::int64_t, double, bool>;
+// A value with parts (each target of a registration, each zone's σ): one line of text in a
+// table or CSV, a nested JSON value in JSON, so a program never parses free text.
+struct Structured {
+    std::string text;
+    std::string json;  // one JSON value
+};
+
+// A printed value: null, text, integer, real, flag or structured. Times are ISO-8601 UTC
+// text.
+using Cell = std::variant<std::monostate, std::string, std::int64_t, double, bool, Structured>;
 
 struct Table {
     std::vector<std::string> columns;

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/query_output.hpp"
@@ -15,36 +16,47 @@ namespace tlsmon {
 
 namespace {
 
-// "T1 used 0.04 mm; T2 excluded_outlier 10.02 mm; ..." (residual lengths).
-std::string target_summary(const std::vector<TargetObservation>& targets) {
-    std::string out;
+// Each target's use and residual length: "T1 used 0.000040 m; T2 excluded_outlier 0.010020
+// m; T3 not_found" as text, [{"target", "use", "residual_m"}] as JSON (null: not measured).
+Structured target_summary(const std::vector<TargetObservation>& targets) {
+    Structured out{"", ""};
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const auto& t : targets) {
-        const double len = std::hypot(t.residual[0], t.residual[1], t.residual[2]);
-        out += fmt::format(
-            "{}{} {} {}", out.empty() ? "" : "; ", t.target, t.use.empty() ? t.status : t.use,
-            t.status == "found" || t.status == "excluded" ? fmt::format("{:.2f} mm", 1e3 * len)
-                                                          : "(" + t.status + ")");
+        const std::string use = t.use.empty() ? t.status : t.use;
+        const bool measured = t.status == "found" || t.status == "excluded";
+        const double length = std::hypot(t.residual[0], t.residual[1], t.residual[2]);
+        out.text += fmt::format("{}{} {}", out.text.empty() ? "" : "; ", t.target, use);
+        if (measured) out.text += fmt::format(" {:.6f} m", length);
+        list.push_back({{"target", t.target},
+                        {"use", use},
+                        {"residual_m", measured ? nlohmann::ordered_json(length) : nullptr}});
     }
+    out.json = list.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
     return out;
 }
 
-std::string zone_summary(const std::vector<RegistrationZoneSigma>& zones) {
-    std::string out;
+// The registration's largest 3-D σ in each zone: "pier_top 0.000310 m; ..." as text,
+// {"zone": σ} as JSON.
+Structured zone_summary(const std::vector<RegistrationZoneSigma>& zones) {
+    Structured out{"", ""};
+    nlohmann::ordered_json object = nlohmann::ordered_json::object();
     for (const auto& z : zones) {
-        out +=
-            fmt::format("{}{} {:.2f} mm", out.empty() ? "" : "; ", z.zone, 1e3 * z.max_sigma_3d_m);
+        out.text +=
+            fmt::format("{}{} {:.6f} m", out.text.empty() ? "" : "; ", z.zone, z.max_sigma_3d_m);
+        object[z.zone] = z.max_sigma_3d_m;
     }
+    out.json = object.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
     return out;
 }
 
 Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epochs) {
     Table t{{"epoch", "acquired", "status", "registration", "accepted", "method", "targets_used",
-             "rms_mm"},
+             "rms_m"},
             {}};
     t.columns.insert(t.columns.end(), kParameterColumns.begin(), kParameterColumns.end());
     t.columns.insert(t.columns.end(), kSigmaColumns.begin(), kSigmaColumns.end());
     t.columns.insert(t.columns.end(), {"qw", "qx", "qy", "qz", "variance_factor", "redundancy",
-                                       "targets", "zone_sigma_3d", "reason"});
+                                       "targets", "zone_sigma_3d_m", "reason"});
     for (const auto& e : epochs) {
         const auto r = db.registrations().of_epoch(e.id);
         if (!r) continue;
@@ -55,7 +67,7 @@ Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epo
                               r->accepted,
                               r->method,
                               r->target_count,
-                              1e3 * r->rms_m};
+                              r->rms_m};
         const auto& unit = kParameterUnits;
         for (int k = 0; k < 6; ++k) {
             row.push_back(optional_cell(r->parameters

@@ -30,7 +30,7 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
                       : v.rejected;
     j["method"] = registration_method(r);
     j["targets_used"] = r.used;
-    j["rms_mm"] = 1e3 * r.rms;
+    j["rms_m"] = r.rms;
     if (const auto& T = r.tested.transform) {
         const auto s = T->sigmas();
         const double parameters[6] = {
@@ -61,15 +61,14 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
             const auto& v = r.tested.targets[i];
             t["use"] = name_of(v.use);
             if (std::isfinite(v.residual.norm())) {
-                t["residual_mm"] = {1e3 * v.residual.x(), 1e3 * v.residual.y(),
-                                    1e3 * v.residual.z()};
+                t["residual_m"] = {v.residual.x(), v.residual.y(), v.residual.z()};
             }
             if (std::isfinite(v.minimal_detectable_bias)) {
-                t["minimal_detectable_bias_mm"] = 1e3 * v.minimal_detectable_bias;
+                t["minimal_detectable_bias_m"] = v.minimal_detectable_bias;
             }
         }
         if (m.found() || m.status == "excluded") {
-            t["centre"] = {m.centre.x(), m.centre.y(), m.centre.z()};
+            t["centre_m"] = {m.centre.x(), m.centre.y(), m.centre.z()};
         }
         targets.push_back(t);
     }
@@ -80,7 +79,7 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
 void print_table(const nlohmann::json& j) {
     std::vector<std::pair<std::string, Cell>> fields;
     std::vector<const char*> keys{"status", "accepted",     "reason",
-                                  "method", "targets_used", "rms_mm"};
+                                  "method", "targets_used", "rms_m"};
     keys.insert(keys.end(), kParameterColumns.begin(), kParameterColumns.end());
     keys.insert(keys.end(), kSigmaColumns.begin(), kSigmaColumns.end());
     keys.insert(keys.end(), {"variance_factor", "redundancy"});

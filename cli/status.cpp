@@ -1,5 +1,6 @@
 // `tlsmon status`: last epoch, backlog, failures, alarm summary, database size.
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/query_output.hpp"
@@ -38,13 +39,22 @@ std::vector<std::pair<std::string, Cell>> status_fields(const EpochDatabase& db,
     }
     f.emplace_back("alarms_active", s.alarms_active);
     f.emplace_back("alarms_unacknowledged", s.alarms_unacknowledged);
+    // Every rule not in its normal state: "P3 settlement: unack H since ...; ..." as text,
+    // [{"rule", "state", "level", "since"}] as JSON.
+    Structured active{"", ""};
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const auto& a : s.alarm_states) {
         if (a.state == "normal") continue;
-        std::string text = a.state;
-        if (!a.level.empty()) text += " " + a.level;
-        text += " since " + format_utc(a.since);
-        f.emplace_back("alarm " + a.rule, text);
+        active.text += (active.text.empty() ? "" : "; ") + a.rule + ": " + a.state;
+        if (!a.level.empty()) active.text += " " + a.level;
+        active.text += " since " + format_utc(a.since);
+        list.push_back({{"rule", a.rule},
+                        {"state", a.state},
+                        {"level", a.level},
+                        {"since", format_utc(a.since)}});
     }
+    active.json = list.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+    f.emplace_back("alarm_states", active);
     return f;
 }
 

@@ -11,6 +11,11 @@ constexpr std::array<Named<WordOrder>, 2> kWordOrders{{
     {WordOrder::cdab, "CDAB"},
 }};
 
+constexpr std::array<Named<ModbusValueType>, 2> kValueTypes{{
+    {ModbusValueType::float32, "float32"},
+    {ModbusValueType::int32, "int32"},
+}};
+
 }  // namespace
 
 std::vector<SectionKey<ModbusConfig>> modbus_keys() {
@@ -29,6 +34,11 @@ std::vector<SectionKey<ModbusConfig>> modbus_keys() {
                   "Order of the two registers of a 32-bit value (float32, uint32): `ABCD` = high "
                   "word first, `CDAB` = low word first. Bytes within a register are always "
                   "big-endian."),
+        K::choice(&ModbusConfig::value_type, "value_type", kValueTypes,
+                  "Type of each zone quantity's value, LoD and rate registers: `float32` (NaN: "
+                  "none), or `int32` for PLCs without floating point: lengths in micrometres, "
+                  "counts as they are, other quantities in thousandths, -2147483648 "
+                  "(0x80000000) for none or out of range (docs/modbus.md)."),
         K::integer(&ModbusConfig::max_clients, "max_clients", 1, 256, "",
                    "Connections served at once; a further one is closed at once."),
         K::seconds(&ModbusConfig::idle_timeout, "idle_timeout", 1, day, "",

@@ -12,12 +12,18 @@ namespace tlsmon {
 // big-endian, the default), CDAB = low word first (many PLCs).
 enum class WordOrder { abcd, cdab };
 
+// How a zone quantity's value, LoD and rate are written: IEEE 754 float32 (NaN: none), or
+// for PLCs without floating point, a signed 32-bit integer in fixed units (lengths in µm,
+// counts as they are, other quantities in thousandths; docs/modbus.md).
+enum class ModbusValueType { float32, int32 };
+
 struct ModbusConfig {
     bool enabled = false;
     std::string address = "127.0.0.1";  // IPv4 address the server listens on
     int port = 1502;
     int unit_id = 1;
     WordOrder word_order = WordOrder::abcd;
+    ModbusValueType value_type = ModbusValueType::float32;
     int max_clients = 32;
     double idle_timeout = 60.0;          // seconds without a request before a client is dropped
     std::vector<std::string> allowlist;  // IPv4 client addresses; empty = any client

@@ -217,7 +217,10 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
 
     // ---- Alarms ----
     std::map<EpochId, int> truth_epoch_of;
-    for (const RegistrationCheck& c : out.registration) truth_epoch_of[c.id] = c.truth_epoch;
+    for (const RegistrationCheck& c : out.registration) {
+        truth_epoch_of[c.id] = c.truth_epoch;
+        if (c.truth_epoch >= 0) out.epoch_id[c.truth_epoch] = c.id;
+    }
     for (const AlarmRule& rule : run.rules) {
         AlarmCheck a;
         a.id = rule.id;
@@ -237,8 +240,9 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
             const int te =
                 ev.epoch && truth_epoch_of.count(*ev.epoch) ? truth_epoch_of[*ev.epoch] : -1;
             a.events.push_back(fmt::format(
-                "{}: {} {}{}", te >= 0 ? fmt::format("epoch {}", te) : std::string("operator"),
-                ev.kind, ev.level,
+                "{}: {} {}{}",
+                ev.epoch ? fmt::format("epoch {}", *ev.epoch) : std::string("operator"), ev.kind,
+                ev.level,
                 ev.value ? fmt::format(" ({:+.2f} mm)", 1e3 * *ev.value) : std::string()));
             if (ev.kind != "raise") continue;
             if (a.step_epoch && te >= *a.step_epoch) {

@@ -2,6 +2,7 @@
 // A finished run scored against the simulator's truth: the registration's error at the
 // pier, each zone quantity against the true change since the reference epoch, and the
 // alarms against the true step event. Pure: plain data in, plain data out.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,7 +76,7 @@ struct AlarmCheck {
     std::optional<int> latency_epochs;     // first_raise_epoch − step_epoch
     int false_alarms = 0;                  // raises before the step, or on a zone it misses
     bool evaluated = false;                // the rule's quantity has rows in its zone
-    std::vector<std::string> events;       // "epoch 64: raise alarm (0.0112)"
+    std::vector<std::string> events;       // "epoch 65: raise alarm (+11.20 mm)" (database ids)
 };
 
 struct RunReport {
@@ -85,6 +86,7 @@ struct RunReport {
     int truth_epochs = 0;
     std::optional<KnockedTarget> knocked;  // truth
     std::optional<StepEvent> step;         // truth
+    std::map<int, EpochId> epoch_id;       // truth epoch -> the database's epoch id
     std::vector<RegistrationCheck> registration;
     ErrorSummary registration_top_error;        // |error| at the top centre, accepted epochs
     ErrorSummary registration_max_error;        // largest over the pier samples, accepted epochs

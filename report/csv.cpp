@@ -67,15 +67,18 @@ void write_csv(const RunReport& r, const std::filesystem::path& out, ReportFiles
     write_file(out / "zones.csv", zones, files);
 
     std::string alarms =
-        "rule,zone,quantity,evaluated,step_zone,step_epoch,first_raise_epoch,"
-        "latency_epochs,false_alarms,events\n";
+        "rule,zone,quantity,evaluated,step_zone,step_truth_epoch,first_raise_truth_epoch,"
+        "first_raise_epoch_id,latency_epochs,false_alarms,events\n";
     for (const AlarmCheck& a : r.alarms) {
         const auto opt = [](const std::optional<int>& v) {
             return v ? std::to_string(*v) : std::string();
         };
+        const auto id =
+            a.first_raise_epoch ? r.epoch_id.find(*a.first_raise_epoch) : r.epoch_id.end();
         alarms += fmt::format(
-            "{},{},{},{},{},{},{},{},{},{}\n", csv_field(a.rule), csv_field(a.zone), a.quantity,
+            "{},{},{},{},{},{},{},{},{},{},{}\n", csv_field(a.rule), csv_field(a.zone), a.quantity,
             a.evaluated ? 1 : 0, a.step_zone ? 1 : 0, opt(a.step_epoch), opt(a.first_raise_epoch),
+            id != r.epoch_id.end() ? std::to_string(id->second) : std::string(),
             opt(a.latency_epochs), a.false_alarms, csv_field(joined(a.events, "; ")));
     }
     write_file(out / "alarms.csv", alarms, files);

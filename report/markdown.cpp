@@ -30,6 +30,14 @@ std::string tlsmon_db(const ReportContext& c, const RunReport& r) {
     return c.config.empty() ? "--db " + r.database.string() : "--config " + c.config.string();
 }
 
+// A truth epoch as the database numbers it, the number `tlsmon query epochs` and `tlsmon
+// alarms history` show, with the simulator's own.
+std::string epoch_name(const RunReport& r, int truth_epoch) {
+    const auto id = r.epoch_id.find(truth_epoch);
+    if (id == r.epoch_id.end()) return fmt::format("simulator epoch {}", truth_epoch);
+    return fmt::format("epoch {} (simulator epoch {})", id->second, truth_epoch);
+}
+
 }  // namespace
 
 std::vector<std::string> summary_lines(const RunReport& r) {
@@ -46,12 +54,12 @@ std::vector<std::string> summary_lines(const RunReport& r) {
         out.push_back("registration vs truth: not computed (no accepted registration)");
     }
     if (r.knocked) {
-        out.push_back(
-            r.knocked_excluded_from
-                ? fmt::format("knocked target {} (truth: epoch {}): excluded from epoch {}",
-                              r.knocked->target, r.knocked->since_epoch, *r.knocked_excluded_from)
-                : fmt::format("knocked target {} (truth: epoch {}): never excluded",
-                              r.knocked->target, r.knocked->since_epoch));
+        out.push_back(r.knocked_excluded_from
+                          ? fmt::format("knocked target {} (truth: {}): excluded from {}",
+                                        r.knocked->target, epoch_name(r, r.knocked->since_epoch),
+                                        epoch_name(r, *r.knocked_excluded_from))
+                          : fmt::format("knocked target {} (truth: {}): never excluded",
+                                        r.knocked->target, epoch_name(r, r.knocked->since_epoch)));
     }
     bool any_zone = false;
     for (const ZoneCheck& z : r.zones) {
@@ -141,8 +149,8 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     std::vector<std::string> rejected;
     for (const RegistrationCheck& x : r.registration) {
         if (x.status == "rejected" || x.status == "failed") {
-            rejected.push_back(
-                fmt::format("epoch {} ({}): {}", x.truth_epoch, x.status, x.reason.substr(0, 160)));
+            rejected.push_back(fmt::format("{} ({}): {}", epoch_name(r, x.truth_epoch), x.status,
+                                           x.reason.substr(0, 160)));
         }
     }
     md += fmt::format("Rejected or failed epochs: {}.\n",
@@ -153,14 +161,15 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     if (r.knocked) {
         md += fmt::format(
             "Knocked target (truth): **{}** moved by ({:+.1f}, {:+.1f}, {:+.1f}) mm "
-            "from epoch {}. ",
+            "from {}. ",
             r.knocked->target, 1e3 * r.knocked->displacement.x(), 1e3 * r.knocked->displacement.y(),
-            1e3 * r.knocked->displacement.z(), r.knocked->since_epoch);
+            1e3 * r.knocked->displacement.z(), epoch_name(r, r.knocked->since_epoch));
         md += r.knocked_excluded_from
                   ? fmt::format(
-                        "The registration excluded it from epoch {} on ({} epoch(s) after "
+                        "The registration excluded it from {} on ({} epoch(s) after "
                         "it moved).\n",
-                        *r.knocked_excluded_from, *r.knocked_excluded_from - r.knocked->since_epoch)
+                        epoch_name(r, *r.knocked_excluded_from),
+                        *r.knocked_excluded_from - r.knocked->since_epoch)
                   : std::string("The registration never excluded it.\n");
     }
     std::vector<std::string> others;
@@ -229,10 +238,10 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     md += "## Alarms against the truth\n\n";
     md += r.step ? fmt::format(
                        "Step event (truth): pier points at z {:g}–{:g} m move by ({:+.1f}, "
-                       "{:+.1f}, {:+.1f}) mm from epoch {}.\n\n",
+                       "{:+.1f}, {:+.1f}) mm from {}.\n\n",
                        r.step->z_min, r.step->z_max, 1e3 * r.step->displacement.x(),
                        1e3 * r.step->displacement.y(), 1e3 * r.step->displacement.z(),
-                       r.step->since_epoch)
+                       epoch_name(r, r.step->since_epoch))
                  : std::string("No step event in the truth.\n\n");
     if (r.alarms.empty()) md += "No alarm rules configured.\n";
     for (const AlarmCheck& a : r.alarms) {
@@ -246,11 +255,10 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
             continue;
         }
         if (a.step_epoch) {
-            md +=
-                a.latency_epochs
-                    ? fmt::format("first raised at epoch {}, a detection latency of {} epoch(s); ",
-                                  *a.first_raise_epoch, *a.latency_epochs)
-                    : std::string("the step was **not** detected; ");
+            md += a.latency_epochs
+                      ? fmt::format("first raised at {}, a detection latency of {} epoch(s); ",
+                                    epoch_name(r, *a.first_raise_epoch), *a.latency_epochs)
+                      : std::string("the step was **not** detected; ");
         }
         md += fmt::format("{} false alarm(s).\n", a.false_alarms);
         for (const auto& e : a.events) md += "  - " + e + "\n";

@@ -82,6 +82,10 @@ void AlarmStore::update(const std::function<AlarmRows(const std::vector<AlarmSta
     });
 }
 
+std::string_view alarm_event_time_base(std::string_view rule, std::string_view actor) {
+    return actor == "rule" && !rule.starts_with("system.") ? "acquisition" : "system";
+}
+
 std::vector<AlarmEvent> AlarmStore::events(const std::optional<UtcSeconds>& from,
                                            const std::string& rule) const {
     return guarded(*c_, "listing alarm events", [&] {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/utc_time.hpp"
@@ -47,6 +48,12 @@ struct AlarmEvent {
     std::string message;
     std::string actor = "rule";  // "rule", "SCADA", "CLI"
 };
+
+// The clock an alarm event's time was read from: "acquisition" for a rule's own transitions
+// (raise, clear, return to normal), stamped with the acquisition time of the epoch that
+// caused them, so a backlog's alarms stand at the structure's time and not at the time it
+// was processed; "system" for operators' actions and the system alarms ("system.*").
+std::string_view alarm_event_time_base(std::string_view rule, std::string_view actor);
 
 // The rows one alarm evaluation or operator action writes.
 struct AlarmRows {

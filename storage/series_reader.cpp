@@ -133,10 +133,12 @@ std::vector<EventRow> SeriesReader::events(const TimeRange& range,
     return guarded(*c_, "listing events", [&] {
         SQLite::Statement s(
             c_->db,
-            "SELECT time, 'system' AS source, level, kind, message, epoch_id, '' AS rule, id"
+            "SELECT time, 'system' AS source, level, kind, message, epoch_id, '' AS rule, id,"
+            " '' AS actor"
             " FROM system_events WHERE time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR kind = ?3)"
             " UNION ALL"
-            " SELECT a.time, 'alarm', a.level, a.kind, a.message, a.epoch_id, r.name, a.id"
+            " SELECT a.time, 'alarm', a.level, a.kind, a.message, a.epoch_id, r.name, a.id,"
+            " a.actor"
             " FROM alarm_events a JOIN alarm_rules r ON r.id = a.rule_id"
             " WHERE a.time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR a.kind = ?3)"
             " ORDER BY 1, 2 DESC, 8");
@@ -148,7 +150,7 @@ std::vector<EventRow> SeriesReader::events(const TimeRange& range,
             out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getString(),
                            s.getColumn(2).getString(), s.getColumn(3).getString(),
                            s.getColumn(4).getString(), optional_int64(s.getColumn(5)),
-                           s.getColumn(6).getString()});
+                           s.getColumn(6).getString(), s.getColumn(8).getString()});
         }
         return out;
     });

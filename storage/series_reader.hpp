@@ -42,7 +42,8 @@ struct EventRow {
     std::string kind;
     std::string message;
     std::optional<EpochId> epoch;
-    std::string rule;  // alarm events only
+    std::string rule;   // alarm events only
+    std::string actor;  // alarm events only: "rule", "SCADA", "CLI ..."
 };
 
 struct StatusSummary {

@@ -20,6 +20,7 @@ MapInputs modbus_map_inputs(const EpochDatabase* db, const std::vector<std::stri
                             const ModbusConfig& config) {
     MapInputs in;
     in.quantities = config.quantities;
+    in.value_type = config.value_type;
     ZoneId next = 1;
     if (db) {
         for (const auto& [id, name] : db->site().zone_ids()) {

@@ -1,6 +1,7 @@
 #include "daemon/modbus/register_image.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <limits>
 
 #include "daemon/modbus/register_words.hpp"
@@ -50,7 +51,15 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
     put(r, kRegEpochsProcessed, u32_words(s.epochs_processed, order));
     put(r, kRegTestFloat, float_words(123456.0f, order));
 
-    const auto nan = float_words(std::numeric_limits<float>::quiet_NaN(), order);
+    // A zone quantity's value, LoD and rate: float32, or int32 in the quantity's fixed unit.
+    const bool integer = inputs.value_type == ModbusValueType::int32;
+    const auto words = [&](const std::optional<double>& v, std::size_t quantity_slot) {
+        if (!integer) return float_words(as_float(v), order);
+        const Int32Scale scale = int32_scale(inputs.quantities.at(quantity_slot));
+        return u32_words(std::bit_cast<std::uint32_t>(int32_value(v, scale)), order);
+    };
+    const auto nan = integer ? u32_words(std::bit_cast<std::uint32_t>(kInt32None), order)
+                             : float_words(std::numeric_limits<float>::quiet_NaN(), order);
     for (const auto& z : inputs.zones) {
         for (std::size_t q = 0; q < inputs.quantities.size(); ++q) {
             const int b = block(z.slot, static_cast<int>(q));
@@ -62,11 +71,12 @@ RegisterImage render_registers(const RegisterMap& map, const MapInputs& inputs,
     for (const auto& v : s.values) {
         const int b = block(v.zone_slot, v.quantity_slot);
         if (b + kOffState >= static_cast<int>(r.size())) continue;  // not in this map
-        put(r, b + kOffValue, float_words(as_float(v.value), order));
-        put(r, b + kOffLod, float_words(as_float(v.lod), order));
-        put(r, b + kOffRate, float_words(as_float(v.rate), order));
+        const auto slot = static_cast<std::size_t>(v.quantity_slot);
+        put(r, b + kOffValue, words(v.value, slot));
+        put(r, b + kOffLod, words(v.lod, slot));
+        put(r, b + kOffRate, words(v.rate, slot));
         std::uint16_t quality = 0;
-        if (v.value) quality |= kQualityValid;
+        if (v.value && (!integer || words(v.value, slot) != nan)) quality |= kQualityValid;
         if (v.stale) quality |= kQualityStale;
         if (v.value && !v.significant) quality |= kQualityBelowLod;
         if (v.registration_degraded) quality |= kQualityRegistrationDegraded;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
+#include <cmath>
 
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -18,6 +20,20 @@ std::string unit_of(const std::string& quantity) {
 }
 
 }  // namespace
+
+Int32Scale int32_scale(const std::string& quantity) {
+    const std::string unit = unit_of(quantity);
+    if (unit == "m") return {1e6, "µm"};
+    if (unit == "count") return {1.0, "count"};
+    return {1e3, "1e-3 " + unit};
+}
+
+std::int32_t int32_value(const std::optional<double>& value, const Int32Scale& scale) {
+    if (!value || !std::isfinite(*value)) return kInt32None;
+    const double counts = std::round(*value * scale.counts_per_unit);
+    if (!(std::abs(counts) <= double(INT32_MAX))) return kInt32None;
+    return static_cast<std::int32_t>(counts);
+}
 
 std::uint16_t isa_state_code(IsaState state) {
     return static_cast<std::uint16_t>(state);
@@ -43,6 +59,8 @@ const char* type_name(ModbusType type) {
     switch (type) {
         case ModbusType::uint16:
             return "uint16";
+        case ModbusType::int32:
+            return "int32";
         case ModbusType::uint32:
             return "uint32";
         case ModbusType::float32:
@@ -93,12 +111,15 @@ RegisterMap build_register_map(const MapInputs& in) {
                 kRegZoneBase + z.slot * kRegZoneStride + static_cast<int>(q) * kRegQuantityStride;
             const std::string& qn = in.quantities[q];
             const std::string id = z.name + "/" + qn;
-            const std::string unit = unit_of(qn);
-            add(T::input_register, base + kOffValue, 2, id + ".value", Y::float32, unit,
-                "Latest value of " + qn + " in zone " + z.name + " (NaN: none)");
-            add(T::input_register, base + kOffLod, 2, id + ".lod", Y::float32, unit,
-                "Its level of detection / uncertainty (NaN: none)");
-            add(T::input_register, base + kOffRate, 2, id + ".rate", Y::float32,
+            const bool integer = in.value_type == ModbusValueType::int32;
+            const std::string unit = integer ? int32_scale(qn).unit : unit_of(qn);
+            const Y type = integer ? Y::int32 : Y::float32;
+            const std::string none = integer ? "-2147483648" : "NaN";
+            add(T::input_register, base + kOffValue, 2, id + ".value", type, unit,
+                "Latest value of " + qn + " in zone " + z.name + " (" + none + ": none)");
+            add(T::input_register, base + kOffLod, 2, id + ".lod", type, unit,
+                "Its level of detection / uncertainty (" + none + ": none)");
+            add(T::input_register, base + kOffRate, 2, id + ".rate", type,
                 unit.empty() ? "1/d" : unit + "/d",
                 "Rate of change: least-squares slope over the 24 h up to the latest value "
                 "(NaN: fewer than 2 values)");

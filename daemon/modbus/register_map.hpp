@@ -6,11 +6,14 @@
 // given in order of first appearance and never reused: zones and rules are upserted by name
 // and never deleted), and a quantity's slot is its position in `modbus.quantities` (append
 // only). Adding a zone, rule or quantity therefore never moves an existing address.
+#include <climits>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "alarms/alarm_machine.hpp"
+#include "config/modbus_config.hpp"
 
 namespace tlsmon {
 
@@ -75,10 +78,23 @@ struct MapInputs {
     std::vector<MapSlot> zones;
     std::vector<std::string> quantities;  // slot = index
     std::vector<MapSlot> rules;
+    ModbusValueType value_type = ModbusValueType::float32;  // of value, LoD and rate
 };
 
 enum class ModbusTable { input_register, discrete_input, coil };
-enum class ModbusType { uint16, uint32, float32, bit };
+enum class ModbusType { uint16, uint32, int32, float32, bit };
+
+// value_type int32: a quantity's fixed unit, from the unit its name ends with ("m": µm,
+// "count": as it is, any other: thousandths), and the counts per stored unit.
+struct Int32Scale {
+    double counts_per_unit = 1e3;
+    std::string unit;  // as the map prints it: "µm", "count", "1e-3 share"
+};
+Int32Scale int32_scale(const std::string& quantity);
+// The register value of `value` in that scale: rounded to the nearest count; none, NaN or
+// beyond ±2147483647: kInt32None.
+inline constexpr std::int32_t kInt32None = INT32_MIN;
+std::int32_t int32_value(const std::optional<double>& value, const Int32Scale& scale);
 
 struct MapEntry {
     ModbusTable table = ModbusTable::input_register;

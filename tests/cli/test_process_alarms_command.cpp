@@ -101,6 +101,9 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(events[0]["kind"], "raise");
     EXPECT_EQ(events[0]["actor"], "rule");
     EXPECT_EQ(events[0]["time"], "2026-03-01T12:00:00Z");
+    // The raise carries its epoch's acquisition time, the operator's ack the system clock.
+    EXPECT_EQ(events[0]["time_base"], "acquisition");
+    EXPECT_EQ(events[1]["time_base"], "system");
     EXPECT_EQ(events[1]["kind"], "ack");
     const std::string user = "user " + std::string(::getpwuid(::getuid())->pw_name);
     EXPECT_EQ(events[1]["actor"], "CLI " + user);

@@ -167,14 +167,15 @@ TEST_F(QueryCommands, EpochsInAllFormats) {
 TEST_F(QueryCommands, EventsInAllFormats) {
     const auto csv = run("events --format csv " + db());
     ASSERT_EQ(csv.status, 0) << csv.out;
-    EXPECT_EQ(lines(csv.out),
-              (std::vector<std::string>{
-                  "time,source,level,kind,rule,epoch,message",
-                  "2026-03-01T11:59:00Z,system,info,start,,,tlsmon started",
-                  "2026-03-01T12:15:00Z,alarm,H,raise,P3 settlement,2,P3 top settled 4.2 mm",
-                  "2026-03-01T12:16:40Z,system,error,disk_full,,,\"write failed, \"\"/var\"\" "
-                  "full\"",
-              }));
+    EXPECT_EQ(
+        lines(csv.out),
+        (std::vector<std::string>{
+            "time,time_base,source,level,kind,rule,epoch,message",
+            "2026-03-01T11:59:00Z,system,system,info,start,,,tlsmon started",
+            "2026-03-01T12:15:00Z,acquisition,alarm,H,raise,P3 settlement,2,P3 top settled 4.2 mm",
+            "2026-03-01T12:16:40Z,system,system,error,disk_full,,,\"write failed, \"\"/var\"\" "
+            "full\"",
+        }));
     const auto json = run("events --format json --kind disk_full " + db());
     const auto j = nlohmann::json::parse(json.out);
     ASSERT_EQ(j.size(), 1u);
@@ -201,7 +202,11 @@ TEST_F(QueryCommands, StatusInAllFormats) {
     EXPECT_EQ(j["reference_epoch"], 1);
     EXPECT_EQ(j["alarms_active"], 1);
     EXPECT_EQ(j["alarms_unacknowledged"], 1);
-    EXPECT_EQ(j["alarm P3 settlement"], "unack H since 2026-03-01T12:15:00Z");
+    ASSERT_EQ(j["alarm_states"].size(), 1u) << j.dump();
+    EXPECT_EQ(j["alarm_states"][0]["rule"], "P3 settlement");
+    EXPECT_EQ(j["alarm_states"][0]["state"], "unack");
+    EXPECT_EQ(j["alarm_states"][0]["level"], "H");
+    EXPECT_EQ(j["alarm_states"][0]["since"], "2026-03-01T12:15:00Z");
     EXPECT_EQ(
         j["database_bytes"].get<std::int64_t>(),
         static_cast<std::int64_t>(std::filesystem::file_size(db_path_) +

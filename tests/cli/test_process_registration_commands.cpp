@@ -43,16 +43,16 @@ Truth read_truth(const fs::path& ptx) {
     return t;
 }
 
-// ω, φ, κ (″) and tx, ty, tz (mm) of the exact answer H₀⁻¹·Hᵢ, R = R_z(κ)·R_y(φ)·R_x(ω).
+// ω, φ, κ (″) and tx, ty, tz (m) of the exact answer H₀⁻¹·Hᵢ, R = R_z(κ)·R_y(φ)·R_x(ω).
 std::array<double, 6> true_parameters(const Truth& t0, const Truth& ti) {
     const Eigen::Matrix4d M = t0.header_to_true.inverse() * ti.header_to_true;
     const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
     return {std::atan2(R(2, 1), R(2, 2)) * kArcsec,
             -std::asin(R(2, 0)) * kArcsec,
             std::atan2(R(1, 0), R(0, 0)) * kArcsec,
-            1e3 * M(0, 3),
-            1e3 * M(1, 3),
-            1e3 * M(2, 3)};
+            M(0, 3),
+            M(1, 3),
+            M(2, 3)};
 }
 
 std::string log_of(const test::Site& site) {
@@ -61,7 +61,7 @@ std::string log_of(const test::Site& site) {
 }
 
 const char* const kNames[6] = {"omega_arcsec", "phi_arcsec", "kappa_arcsec",
-                               "tx_mm",        "ty_mm",      "tz_mm"};
+                               "tx_m",         "ty_m",       "tz_m"};
 
 class RegistrationCommands : public ::testing::Test {
   protected:
@@ -317,14 +317,14 @@ TEST(RegisterCommand, IcpAloneRegistersTheRealPumpScan) {
     const auto same = run(pump);
     EXPECT_EQ(same["method"], "icp");
     EXPECT_LT(std::abs(same["kappa_arcsec"].get<double>()), 0.1) << same.dump(2);
-    EXPECT_LT(std::abs(same["tx_mm"].get<double>()), 0.01) << same.dump(2);
+    EXPECT_LT(std::abs(same["tx_m"].get<double>()), 1e-5) << same.dump(2);
     const auto back = run(dir / "moved.ptx");
     EXPECT_EQ(back["method"], "icp");
     EXPECT_TRUE(back["accepted"].get<bool>()) << back.dump(2);
     // Within 3σ of the ICP's own σ (a 5 m room fixes angles to tens of arc seconds), κ to 20″.
     const std::pair<const char*, double> truth[] = {{"omega_arcsec", 0.0},   {"phi_arcsec", 0.0},
-                                                    {"kappa_arcsec", -72.0}, {"tx_mm", -2.0},
-                                                    {"ty_mm", 3.0},          {"tz_mm", -6.0}};
+                                                    {"kappa_arcsec", -72.0}, {"tx_m", -0.002},
+                                                    {"ty_m", 0.003},         {"tz_m", -0.006}};
     for (const auto& [name, value] : truth) {
         const double sigma = back["sigma_" + std::string(name)].get<double>();
         EXPECT_LT(std::abs(back[name].get<double>() - value), 3 * sigma) << name << back.dump(2);

@@ -102,6 +102,49 @@ TEST(ModbusImage, MissingValuesAreNanWithQualityCleared) {
     EXPECT_EQ(img.coil_rules[1], "");
 }
 
+// value_type = int32: the same block as int32 in the quantity's fixed unit (metres as µm,
+// counts as they are, shares in thousandths); none or beyond the range: INT32_MIN, invalid.
+TEST(ModbusImage, Int32ValuesInFixedUnitsForPlcsWithoutFloats) {
+    MapInputs in = two_zones();
+    in.quantities = {"m3c2_median_m", "m3c2_valid_count", "m3c2_significant_share"};
+    in.value_type = ModbusValueType::int32;
+    const RegisterMap m = build_register_map(in);
+    const MapEntry* value = find(m, "pier top/m3c2_median_m.value");
+    ASSERT_TRUE(value);
+    EXPECT_EQ(value->type, ModbusType::int32);
+    EXPECT_EQ(value->unit, "µm");
+    EXPECT_EQ(find(m, "pier top/m3c2_median_m.rate")->unit, "µm/d");
+    EXPECT_EQ(find(m, "pier top/m3c2_valid_count.value")->unit, "count");
+    EXPECT_EQ(find(m, "pier top/m3c2_significant_share.value")->unit, "1e-3 share");
+    EXPECT_EQ(value->address, 100);  // the addresses do not depend on the type
+
+    ModbusSnapshot s;
+    s.database_ok = true;
+    s.values.push_back({0, 0, -0.0041234, 0.0006, 0.0000126, false, true, false});
+    s.values.push_back({0, 1, 1234.0, std::nullopt, std::nullopt, false, true, false});
+    s.values.push_back({0, 2, 0.8765, std::nullopt, std::nullopt, false, true, false});
+    s.values.push_back({1, 0, 3000.0, std::nullopt, std::nullopt, false, true, false});
+    const RegisterImage img = render_registers(m, in, s, WordOrder::abcd);
+    const auto& r = img.input_registers;
+    const auto i32 = [&](int a) {
+        return static_cast<std::int32_t>((std::uint32_t{r[a]} << 16) | r[a + 1]);
+    };
+    EXPECT_EQ(i32(100), -4123);  // −4.1234 mm in µm, rounded
+    EXPECT_EQ(i32(102), 600);
+    EXPECT_EQ(i32(104), 13);  // 12.6 µm/d
+    EXPECT_EQ(r[106] & kQualityValid, kQualityValid);
+    EXPECT_EQ(i32(110), 1234);
+    EXPECT_EQ(i32(112), INT32_MIN);  // no LoD
+    EXPECT_EQ(i32(120), 877);
+    // 3000 m is 3·10⁹ µm, beyond int32: none, and the value is not valid.
+    EXPECT_EQ(i32(180), INT32_MIN);
+    EXPECT_EQ(r[186] & kQualityValid, 0);
+    // A zone quantity without a value at all.
+    EXPECT_EQ(i32(190), INT32_MIN);
+    // 0x80000000 in CDAB is the low word first.
+    EXPECT_EQ(u32_words(0x80000000u, WordOrder::cdab), (std::array<std::uint16_t, 2>{0, 0x8000}));
+}
+
 TEST(ModbusSnapshot, RateWindowIsTheRateRulesElseADay) {
     const auto rule = [](std::string name, std::string zone, std::string definition, bool enabled) {
         return AlarmRule{

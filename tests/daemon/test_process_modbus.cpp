@@ -243,9 +243,9 @@ TEST(ModbusProcess, MapPrintedForTheIntegratorIsWhatTheServerAnswers) {
         if (!std::regex_search(line, m, row)) continue;
         ++rows;
         const std::string address = m[1], name = m[3], type = m[4];
-        const std::string t = type == "float32"  ? "3:float -B"
-                              : type == "uint32" ? "3:int -B"
-                                                 : "3";
+        const std::string t = type == "float32"                     ? "3:float -B"
+                              : type == "uint32" || type == "int32" ? "3:int -B"
+                                                                    : "3";
         const Poll p = mbpoll(r.port, "-t " + t + " -r " + address + " -c 1");
         ASSERT_EQ(p.status, 0) << line << "\n" << p.output;
         ASSERT_EQ(p.values.size(), 1u) << line << "\n" << p.output;

@@ -179,8 +179,10 @@ TEST(DemoCommand, RunsTheDaemonOnASimulatedSeriesAndReportsAgainstTheTruth) {
 
     std::ifstream md_in(work / "report" / "report.md");
     const std::string md((std::istreambuf_iterator<char>(md_in)), {});
-    EXPECT_NE(md.find("The registration excluded it from epoch 2 on (0 epoch(s) after it moved)"),
-              std::string::npos)
+    EXPECT_NE(
+        md.find("The registration excluded it from epoch 3 (simulator epoch 2) on (0 epoch(s) "
+                "after it moved)"),
+        std::string::npos)
         << md;
 }
 

@@ -145,6 +145,10 @@ TEST(ReportAnalysis, RegistrationErrorAndStepLatencyAgainstTheTruth) {
     ASSERT_EQ(r.alarms.size(), 1u);
     EXPECT_EQ(r.alarms[0].false_alarms, 1);
     EXPECT_EQ(r.alarms[0].latency_epochs, 1);
+    // Named by the database's epoch ids, as `tlsmon alarms history` names them.
+    EXPECT_EQ(r.epoch_id.at(3), 4);
+    ASSERT_EQ(r.alarms[0].events.size(), 2u);
+    EXPECT_EQ(r.alarms[0].events[1].rfind("epoch 4: raise alarm", 0), 0u) << r.alarms[0].events[1];
 }
 
 TEST(ReportAnalysis, SummaryOfErrors) {
