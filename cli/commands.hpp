@@ -1,6 +1,8 @@
 #pragma once
-// The subcommands of the `tlsmon` binary as plain functions: each takes its options struct
-// and returns the process exit code. Only cli/main.cpp knows the command line (CLI11,
+// The subcommands of the `tlsmon` program as plain functions: each takes its options struct
+// and returns the process exit code. The measuring ones (run, simulate, register, m3c2,
+// keypoints, report, demo) are those of tlsmon-analysis; in `tlsmon` they hand the command
+// line over to it (cli/analysis_handoff.cpp). Only cli/main.cpp knows the command line (CLI11,
 // whose header costs seconds per file that includes it): it declares every option and
 // help text and fills these structs.
 #include <cstdint>
@@ -133,8 +135,7 @@ struct AlarmActionOptions {
 };
 int run_alarm_action(const AlarmActionOptions& options);
 
-// `tlsmon simulate` (compiled into the executable only: the daemon library does not link
-// the simulator).
+// `tlsmon simulate`
 struct SimulateOptions {
     std::string config;
     std::string preset;
@@ -173,11 +174,11 @@ struct M3c2Options {
 // 0, or 1 with the error on stderr.
 int run_m3c2(const M3c2Options& options);
 
-// `tlsmon report --database DB --truth DIR --out DIR`: a finished run scored against the
-// simulator's truth files (Markdown, CSV, PNG plots). 0, or 1 with the error on stderr.
+// `tlsmon report --database DB [--truth DIR] --out DIR`: a run's report (Markdown, CSV, PNG
+// plots), scored against the simulator's truth when given. 0, or 1 with the error on stderr.
 struct ReportOptions {
     std::string database;
-    std::string truth;
+    std::string truth;  // "": no truth, nothing scored
     std::string out;
     std::string config;  // the daemon's configuration, named in the example commands
     int modbus_port = 1502;
@@ -185,7 +186,7 @@ struct ReportOptions {
 int run_report(const ReportOptions& options);
 
 // `tlsmon demo`: the daemon on a simulated day, one scan every few seconds, a line per epoch,
-// then the report (compiled into the executable only, like `simulate`).
+// then the report.
 struct DemoOptions {
     std::string workdir = "tlsmon-demo";
     int epochs = 96;
@@ -199,8 +200,7 @@ struct DemoOptions {
 int run_demo(const DemoOptions& options);
 
 // `tlsmon keypoints REFERENCE EPOCH ... --out VECTORS.csv`: keypoint displacement vectors
-// between two structured scans already in one frame (compiled into the executable only: the
-// daemon library does not link the OpenCV adapter).
+// between two structured scans already in one frame.
 struct KeypointsOptions {
     std::string reference;
     std::string epoch;
@@ -222,6 +222,7 @@ struct KeypointsOptions {
 // 0, or 1 with the error on stderr.
 int run_keypoints(const KeypointsOptions& options);
 
-// `tlsmon run` is run_daemon (daemon/ingest_service.hpp).
+// `tlsmon run`: the ingest daemon (run_daemon, daemon/ingest_service.hpp).
+int run_ingest(const RunOptions& options);
 
 }  // namespace tlsmon

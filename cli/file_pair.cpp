@@ -9,6 +9,7 @@
 #include "formats/scan_file.hpp"
 #include "pipeline/epoch_meteo.hpp"
 #include "pipeline/registration_stage.hpp"
+#include "storage/epoch_database.hpp"
 
 namespace tlsmon {
 
@@ -33,6 +34,19 @@ std::optional<MeteoSidecar> meteo_of(const Epoch& e, const Config& site) {
     auto meteo = read_epoch_meteo(sidecar, e, site.meteo);
     if (!meteo || meteo->outcome != MeteoOutcome::used) return std::nullopt;
     return meteo;
+}
+
+// The targets the daemon had excluded as moved when this epoch arrived: excluded by an epoch
+// acquired before it and not re-surveyed (the site's database, when it has one).
+std::set<std::string> excluded_before(const Epoch& e, const Config& site) {
+    std::error_code ec;
+    if (!fs::is_regular_file(site.paths.database, ec)) return {};
+    const auto db = EpochDatabase::open(site.paths.database, EpochDatabase::Mode::read_only);
+    std::set<std::string> out;
+    for (const auto& x : db.registrations().exclusions()) {
+        if (x.excluded_acquired < e.acquired && !x.resurveyed) out.insert(x.target);
+    }
+    return out;
 }
 
 }  // namespace
@@ -75,7 +89,8 @@ StageVerdict register_file_pair(const FilePair& pair, const Config& site,
     const PipelineConfig pipeline = pipeline_config(site);
     ReferenceEpoch reference(pair.reference, [scans = pair.reference_scans] { return scans; });
     ReferenceCache cache;  // in memory: this run's products only
-    StageHistory history;  // no earlier epochs: no excluded targets
+    StageHistory history;
+    history.excluded_targets = excluded_before(pair.epoch, site);
     history.reference_meteo = meteo_of(pair.reference, site);
     const EpochInput input{pair.epoch, pair.epoch_scans, meteo_of(pair.epoch, site)};
     StageOutputs outputs;

@@ -2,8 +2,10 @@
 // The two files of a one-shot comparison (`tlsmon m3c2`, `tlsmon keypoints`) as the daemon
 // sees two epochs: read, and with a site configuration (--config) also timed, with their
 // meteo sidecars, and the second registered onto the first by the site's registration stage
-// (pipeline/registration_stage.hpp). So the command measures what the daemon stored for that
-// epoch. Without a configuration the files are taken as already in one frame.
+// (pipeline/registration_stage.hpp), leaving out the targets the site's database (when there
+// is one) had excluded as moved before the epoch was acquired. So the command measures what
+// the daemon stored for that epoch. Without a configuration the files are taken as already in
+// one frame.
 #include <memory>
 #include <optional>
 #include <string>

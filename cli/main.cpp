@@ -1,11 +1,12 @@
 // tlsmon: unattended deformation monitoring with a terrestrial laser scanner.
 // The whole command line is declared here, the only file that includes CLI11 (its header
-// costs seconds to compile); each subcommand is a plain function in daemon/command_*.cpp.
+// costs seconds to compile); each subcommand is a plain function in cli/<command>.cpp.
 #include <CLI/CLI.hpp>
 #include <map>
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/program_arguments.hpp"
 #include "config/keys.hpp"
 #include "pipeline/keypoint_config.hpp"
 #include "pipeline/m3c2_config.hpp"
@@ -103,7 +104,7 @@ void add_run(CLI::App& app, CommandLine& c) {
                   "Process the files present (once complete) and the backlog, then exit");
     cmd->callback([&] {
         o.config_file = c.run_config;
-        c.code = run_daemon(o);
+        c.code = run_ingest(o);
     });
 }
 
@@ -420,10 +421,11 @@ void add_report(CLI::App& app, CommandLine& c) {
     auto& o = c.report;
     auto* cmd = app.add_subcommand(
         "report",
-        "Score a finished run on a simulated series against the simulator's truth files: "
-        "registration, zones, alarms (Markdown, CSV, PNG plots by gnuplot)");
+        "A run's report: registration, zones, alarms (Markdown, CSV, PNG plots by gnuplot); "
+        "with --truth scored against the simulator's truth files");
     cmd->add_option("--database", o.database, "Epoch database (SQLite file)")->required();
-    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")->required();
+    cmd->add_option("--truth", o.truth,
+                    "Folder of the simulator's *.truth.json files (a simulated series)");
     cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
     cmd->add_option("--config", o.config,
                     "The daemon's configuration, named in the report's example commands");
@@ -507,6 +509,7 @@ int main(int argc, char** argv) {
     tlsmon::add_demo(app, c);
     tlsmon::add_targets(app, c);
 
+    tlsmon::remember_program_arguments(argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

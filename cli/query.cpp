@@ -45,9 +45,11 @@ std::string quality_of(const SeriesPoint& p) {
     return p.registration_accepted ? "accepted" : "degraded";
 }
 
-Table series_table(const std::vector<SeriesPoint>& points) {
+// The value and its uncertainty are in the quantity's unit, which its name ends with.
+Table series_table(const std::vector<SeriesPoint>& points, const std::string& quantity) {
     Table t{{"epoch", "acquired", "value", "uncertainty", "n", "significant", "quality", "datum"},
-            {}};
+            {},
+            {"", "", quantity, quantity}};
     t.rows.reserve(points.size());
     for (const auto& p : points) {
         t.rows.push_back({p.epoch, format_utc(p.acquired), p.value, optional_cell(p.uncertainty),
@@ -94,7 +96,7 @@ int run_query_series(const SeriesOptions& o) {
         const auto range = time_range(o.read);
         const auto db = open_for_reading(o.read);
         check_series_names(db, o.zone, o.quantity);
-        print(std::cout, series_table(db.series().points(o.zone, o.quantity, range)),
+        print(std::cout, series_table(db.series().points(o.zone, o.quantity, range), o.quantity),
               o.read.format);
     });
 }

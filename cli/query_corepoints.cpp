@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/query_output.hpp"
-#include "pipeline/m3c2_stage.hpp"
+#include "pipeline/m3c2_reference.hpp"
 
 namespace tlsmon {
 

@@ -148,8 +148,10 @@ void print(std::ostream& out, const Table& table, OutputFormat format) {
     text.reserve((table.rows.size() + 1) * columns);
     for (const auto& c : table.columns) text.push_back(c);
     for (const auto& row : table.rows) {
-        for (std::size_t i = 0; i < columns; ++i)
-            text.push_back(cell_text(row[i], table.columns[i], format));
+        for (std::size_t i = 0; i < columns; ++i) {
+            const bool own = i >= table.rounded_as.size() || table.rounded_as[i].empty();
+            text.push_back(cell_text(row[i], own ? table.columns[i] : table.rounded_as[i], format));
+        }
     }
     const std::size_t lines = table.rows.size() + 1;
     if (format == OutputFormat::csv) {

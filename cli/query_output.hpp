@@ -32,6 +32,10 @@ using Cell = std::variant<std::monostate, std::string, std::int64_t, double, boo
 struct Table {
     std::vector<std::string> columns;
     std::vector<std::vector<Cell>> rows;
+    // Per column, the name whose unit suffix sets the table's rounding when the column's own
+    // name has none (a series' value is in its quantity's unit: "m3c2_median_m"); empty: the
+    // columns' own names.
+    std::vector<std::string> rounded_as = {};
 };
 
 // The options every reading command takes (cli/main.cpp declares them).

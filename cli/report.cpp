@@ -1,9 +1,10 @@
-// `tlsmon report --database DB --truth DIR --out DIR`: a finished run of the daemon on a
-// simulated series, scored against the simulator's truth files — registration, zones,
-// alarms — as Markdown, CSV and PNG plots (daemon/report_*.hpp).
+// `tlsmon report --database DB [--truth DIR] --out DIR`: a run of the daemon — registration,
+// zones, alarms — as Markdown, CSV and PNG plots (report/); with the simulator's truth files
+// scored against them, without (a real site) in the run's own figures.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
@@ -16,7 +17,8 @@ int run_report(const ReportOptions& o) {
     namespace fs = std::filesystem;
     try {
         if (!fs::exists(o.database)) throw Error("no database at " + o.database);
-        const auto truth = report::read_truth_folder(o.truth);
+        const auto truth = o.truth.empty() ? std::vector<report::TruthEpoch>{}
+                                           : report::read_truth_folder(o.truth);
         const report::RunData run = report::read_run(fs::path(o.database));
         const report::RunReport r = report::analyse(run, truth, o.truth);
         const fs::path out(o.out);

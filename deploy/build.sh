@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Configures and builds tlsmon in ./build (RelWithDebInfo) on every core. Extra arguments go
 # to CMake (e.g. -DTLSMON_WERROR=ON). TLSMON_TARGETS="tlsmon" builds only those targets (the
-# demo needs the executable, not the tests and benchmarks); unset: everything. CMake compiles through ccache when it is installed
+# demo needs the program, tlsmon and tlsmon-analysis, not the tests and benchmarks); unset:
+# everything. CMake compiles through ccache when it is installed
 # (deploy/install-deps.sh installs it); this script says so, with this build's hit rate.
 set -euo pipefail
 cd "$(dirname "$0")/.."

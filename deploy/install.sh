@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs tlsmon as a service: the binary, the configuration (paths rewritten to
+# Installs tlsmon as a service: the program (tlsmon and, beside it, tlsmon-analysis, which
+# carries out the measuring commands), the configuration (paths rewritten to
 # /var/lib/tlsmon), the folders, a `tlsmon` system user and the systemd unit.
 # Run as root after deploy/build.sh. Idempotent: an existing /etc/tlsmon/tlsmon.toml is
 # kept (the new default is written beside it as tlsmon.toml.default).
@@ -7,15 +8,19 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BIN=build/tlsmon
+ANALYSIS=build/tlsmon-analysis
 PREFIX=${PREFIX:-/usr/local}
 STATE=/var/lib/tlsmon
-[ -x "$BIN" ] || { echo "install: $BIN missing; run deploy/build.sh first" >&2; exit 1; }
+for f in "$BIN" "$ANALYSIS"; do
+  [ -x "$f" ] || { echo "install: $f missing; run deploy/build.sh first" >&2; exit 1; }
+done
 [ "$(id -u)" -eq 0 ] || { echo "install: run as root" >&2; exit 1; }
 
 id -u tlsmon >/dev/null 2>&1 ||
   useradd --system --home-dir "$STATE" --no-create-home --shell /usr/sbin/nologin tlsmon
 
 install -D -m 0755 "$BIN" "$PREFIX/bin/tlsmon"
+install -D -m 0755 "$ANALYSIS" "$PREFIX/bin/tlsmon-analysis"
 install -d -m 0750 -o tlsmon -g tlsmon "$STATE" "$STATE/ingest" "$STATE/archive" \
   "$STATE/quarantine"
 # The scanner's export user must be able to write into the ingest folder: add it to the

@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
-TLSMON_TARGETS=tlsmon bash deploy/build.sh  # the executable only, not the test suite
+TLSMON_TARGETS=tlsmon bash deploy/build.sh  # the program only, not the test suite
 
 args=(--workdir var/demo)
 [ -n "${EPOCHS:-}" ] && args+=(--epochs "$EPOCHS")

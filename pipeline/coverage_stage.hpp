@@ -8,19 +8,11 @@
 #include <string_view>
 
 #include "algorithms/extent.hpp"
-#include "core/config_key.hpp"
+#include "pipeline/coverage_config.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/stage.hpp"
 
 namespace tlsmon {
-
-struct CoverageConfig {
-    double margin = 1.0;            // m: the reference's bounding box grown on every side
-    double min_inside_share = 0.0;  // 0..1: a smaller share inside -> rejected (0 = never)
-};
-
-// The keys of [coverage] (core/config_key.hpp).
-std::vector<SectionKey<CoverageConfig>> coverage_keys();
 
 // The reference's extent, as kept in the reference cache.
 struct ReferenceExtent {

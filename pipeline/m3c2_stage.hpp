@@ -21,8 +21,8 @@
 #include <string_view>
 #include <vector>
 
-#include "algorithms/m3c2/reference.hpp"
 #include "pipeline/m3c2_config.hpp"
+#include "pipeline/m3c2_reference.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/stage.hpp"
 #include "storage/epoch_results.hpp"
@@ -33,20 +33,6 @@ namespace tlsmon {
 inline constexpr std::array<const char*, 6> kM3c2Quantities = {
     "m3c2_valid_count", "m3c2_median_m",       "m3c2_mean_m",
     "m3c2_spread_m",    "m3c2_lod95_median_m", "m3c2_significant_share"};
-
-// What the M3C2 stage keeps of the reference epoch.
-struct M3c2Reference {
-    static constexpr int kFormatVersion = 1;
-    static constexpr const char* kStage = "m3c2";
-
-    m3c2::Reference reference;
-    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();   // the reference scan's position
-    std::vector<std::string> zone_names;                 // in the configuration's order
-    std::vector<std::vector<std::uint32_t>> zone_cores;  // per zone, its core points (ascending)
-
-    std::string encode() const;
-    static M3c2Reference decode(std::string_view payload);
-};
 
 // The canonical text of every parameter the reference product depends on (its cache key).
 std::string m3c2_reference_parameters(const M3c2Config& config);

@@ -4,6 +4,10 @@
 
 namespace tlsmon {
 
+const char* to_string(TargetKind kind) {
+    return kind == TargetKind::sphere ? "sphere" : "checkerboard";
+}
+
 namespace {
 
 constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{

@@ -20,10 +20,6 @@ namespace tlsmon {
 
 namespace reg = registration;
 
-const char* to_string(TargetKind kind) {
-    return kind == TargetKind::sphere ? "sphere" : "checkerboard";
-}
-
 const char* name_of(reg::TargetUse use) {
     switch (use) {
         case reg::TargetUse::used:

@@ -66,6 +66,8 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                   const std::filesystem::path& truth_folder) {
     RunReport out;
     out.database = run.database;
+    out.scored = !truth.empty();
+    out.reference = run.reference;
     out.truth_folder = truth_folder;
     out.truth_epochs = static_cast<int>(truth.size());
     for (const TruthEpoch& t : truth) {
@@ -168,12 +170,11 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
     }
 
     // ---- Zones ----
-    const PierBox pier = truth.front().pier;
     for (const RunZone& z : run.zones) {
         ZoneCheck zc;
         zc.id = z.id;
         zc.zone = z.name;
-        if (z.box) zc.face = zone_face(pier, *z.box);
+        if (z.box && out.scored) zc.face = zone_face(truth.front().pier, *z.box);
         if (zc.face && reference) {
             for (const TruthEpoch& t : truth) {
                 if (t.missing) continue;
@@ -191,6 +192,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
             q.zone = z.name;
             q.quantity = quantity;
             const auto kind = truth_kind(quantity);
+            q.displacement = kind.has_value();
             if (kind && zc.face && reference) q.truth_kind = *kind;
             std::vector<double> errors;
             for (const SeriesPoint& p : points) {
@@ -245,6 +247,8 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                 ev.level,
                 ev.value ? fmt::format(" ({:+.2f} mm)", 1e3 * *ev.value) : std::string()));
             if (ev.kind != "raise") continue;
+            ++a.raises;
+            if (!out.scored) continue;
             if (a.step_epoch && te >= *a.step_epoch) {
                 if (!a.first_raise_epoch) {
                     a.first_raise_epoch = te;

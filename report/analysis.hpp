@@ -1,7 +1,9 @@
 #pragma once
-// A finished run scored against the simulator's truth: the registration's error at the
-// pier, each zone quantity against the true change since the reference epoch, and the
-// alarms against the true step event. Pure: plain data in, plain data out.
+// A finished run, scored against the simulator's truth when there is one: the registration's
+// error at the pier, each zone quantity against the true change since the reference epoch,
+// and the alarms against the true step event. Without a truth (a real site) the same report
+// holds the run's own figures: the registration's residuals and σ, each zone's series with
+// its LoD95, the alarm events. Pure: plain data in, plain data out.
 #include <map>
 #include <optional>
 #include <string>
@@ -44,7 +46,8 @@ struct RegistrationCheck {
 struct ZoneQuantityCheck {
     std::string zone;
     std::string quantity;
-    std::string truth_kind;  // what it is compared with, in words; "" = no truth for it
+    std::string truth_kind;     // what it is compared with, in words; "" = no truth for it
+    bool displacement = false;  // a change of the surface the plots draw (M3C2, keypoints)
     struct Row {
         EpochId id = 0;
         int truth_epoch = -1;
@@ -74,13 +77,16 @@ struct AlarmCheck {
     std::optional<int> step_epoch;         // truth: first epoch of the step
     std::optional<int> first_raise_epoch;  // truth epoch of the first raise at/after it
     std::optional<int> latency_epochs;     // first_raise_epoch − step_epoch
-    int false_alarms = 0;                  // raises before the step, or on a zone it misses
+    int raises = 0;                        // every raise, at any level
+    int false_alarms = 0;                  // scored: raises before the step, or where it is not
     bool evaluated = false;                // the rule's quantity has rows in its zone
     std::vector<std::string> events;       // "epoch 65: raise alarm (+11.20 mm)" (database ids)
 };
 
 struct RunReport {
     std::filesystem::path database;
+    bool scored = false;               // a truth was given: the comparisons below are filled
+    std::optional<EpochId> reference;  // the database's reference epoch
     std::filesystem::path truth_folder;
     std::optional<int> reference_truth_epoch;
     int truth_epochs = 0;
@@ -98,6 +104,7 @@ struct RunReport {
     std::size_t epochs_done = 0, epochs_rejected = 0, epochs_failed = 0, epochs_pending = 0;
 };
 
+// `truth` empty: a run without a truth (nothing is scored).
 RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                   const std::filesystem::path& truth_folder);
 

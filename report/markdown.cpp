@@ -1,10 +1,12 @@
-// report.md: the run scored against the truth, in the order a reader checks it —
-// registration, zones, alarms — then where to look further.
+// report.md: the run in the order a reader checks it — registration, zones, alarms — then
+// where to look further; scored against the truth when there is one, else the run's own
+// figures (a real site).
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "core/utc_time.hpp"
 #include "report/output.hpp"
@@ -38,6 +40,102 @@ std::string epoch_name(const RunReport& r, int truth_epoch) {
     return fmt::format("epoch {} (simulator epoch {})", id->second, truth_epoch);
 }
 
+// A database epoch, with the simulator's number when there is a truth for it.
+std::string epoch_label(EpochId id, int truth_epoch) {
+    return truth_epoch < 0 ? fmt::format("epoch {}", id)
+                           : fmt::format("epoch {} (simulator epoch {})", id, truth_epoch);
+}
+
+std::string median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? std::string("–") : mm(v[v.size() / 2]);
+}
+
+// The registration's own figures over the accepted epochs (the reference left out).
+std::string registration_own_table(const RunReport& r) {
+    std::int64_t used_min = 1 << 30, used_max = 0;
+    std::vector<double> own_rms, sigma;
+    for (const RegistrationCheck& x : r.registration) {
+        if (!x.accepted || x.is_reference) continue;
+        used_min = std::min(used_min, x.targets_used);
+        used_max = std::max(used_max, x.targets_used);
+        own_rms.push_back(x.target_rms_m);
+        if (x.zone_sigma_m) sigma.push_back(*x.zone_sigma_m);
+    }
+    if (own_rms.empty()) return "No accepted registration besides the reference.\n";
+    std::string md = "| the registration's own | epochs | median | max |\n|---|---|---|---|\n";
+    md += fmt::format("| targets' residual RMS (mm) | {} | {} | {} |\n", own_rms.size(),
+                      median_of(own_rms), mm(*std::max_element(own_rms.begin(), own_rms.end())));
+    if (!sigma.empty()) {
+        md += fmt::format("| largest σ at a zone, 3-D (mm) | {} | {} | {} |\n", sigma.size(),
+                          median_of(sigma), mm(*std::max_element(sigma.begin(), sigma.end())));
+    }
+    md += fmt::format("\nTargets used per accepted epoch: {}–{}.\n", used_min, used_max);
+    return md;
+}
+
+// The registration against the exact answer of the truth, then its own figures.
+std::string registration_scored(const RunReport& r) {
+    std::string md =
+        "\n## Registration against the truth\n\n"
+        "Each epoch's transformation T (epoch frame → reference frame, as stored) against the "
+        "exact answer H₀⁻¹·Hᵢ from the truth's `header_to_true` (docs/simulator.md): the error "
+        "T·q − H₀⁻¹·Hᵢ·q where the epoch sees each of the truth's pier sample points "
+        "(faces at 5–39 m and the top centre). Accepted epochs, the reference left out.\n\n";
+    const ErrorSummary& top = r.registration_top_error;
+    const ErrorSummary& any = r.registration_max_error;
+    if (top.n == 0) return md + "Not computed: no accepted registration with a truth file.\n";
+    md += "| quantity | epochs | bias | RMS | max |\n|---|---|---|---|---|\n";
+    md += fmt::format(
+        "| error at the pier's top centre (mm) | {} | ({:+.3f}, {:+.3f}, {:+.3f}) | "
+        "{} | {} |\n",
+        top.n, r.bias_vector_mm[0], r.bias_vector_mm[1], r.bias_vector_mm[2], mm(top.rms),
+        mm(top.max_abs));
+    md += fmt::format("| largest error over the pier samples (mm) | {} | | {} | {} |\n\n", any.n,
+                      mm(any.rms), mm(any.max_abs));
+    return md + registration_own_table(r);
+}
+
+// A stored value as the table shows it: lengths (`_m`) in mm, signed as a change (not an
+// uncertainty), other quantities as they are.
+std::string value_text(const std::string& quantity, double v, bool change = true) {
+    if (!std::isfinite(v)) return "–";
+    const bool length = quantity.size() > 2 && quantity.compare(quantity.size() - 2, 2, "_m") == 0;
+    if (!length) return fmt::format("{:g}", v);
+    return change ? fmt::format("{:+.3f}", 1e3 * v) : mm(v);
+}
+
+// Each change of the surface (M3C2 along the normal, keypoints along the surface) as the run
+// measured it: the latest value with its LoD95, the range and the share of epochs where the
+// change was significant. The other quantities (counts, spreads, shares) are in zones.csv.
+std::string zone_own_table(const ZoneCheck& z) {
+    if (std::none_of(z.quantities.begin(), z.quantities.end(),
+                     [](const ZoneQuantityCheck& q) { return q.displacement && !q.rows.empty(); }))
+        return "No M3C2 or keypoint changes for this zone in the database.\n";
+    std::string md =
+        "| quantity | epochs | latest | LoD95 | min | max | significant |\n"
+        "|---|---|---|---|---|---|---|\n";
+    for (const ZoneQuantityCheck& q : z.quantities) {
+        if (!q.displacement || q.rows.empty()) continue;
+        double lo = q.rows.front().value, hi = lo;
+        int significant = 0;
+        for (const auto& row : q.rows) {
+            lo = std::min(lo, row.value);
+            hi = std::max(hi, row.value);
+            significant += row.significant;
+        }
+        const auto& last = q.rows.back();
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {:.0f} % |\n", q.quantity, q.rows.size(),
+                          value_text(q.quantity, last.value),
+                          last.lod ? value_text(q.quantity, *last.lod, false) : std::string("–"),
+                          value_text(q.quantity, lo), value_text(q.quantity, hi),
+                          100.0 * significant / double(q.rows.size()));
+    }
+    return md +
+           "\n(mm; M3C2 + towards the scanner along the normal; every quantity of the zone "
+           "is in zones.csv)\n";
+}
+
 }  // namespace
 
 std::vector<std::string> summary_lines(const RunReport& r) {
@@ -45,7 +143,16 @@ std::vector<std::string> summary_lines(const RunReport& r) {
     out.push_back(fmt::format("epochs: {} done, {} rejected, {} failed, {} not processed",
                               r.epochs_done, r.epochs_rejected, r.epochs_failed, r.epochs_pending));
     const ErrorSummary& t = r.registration_top_error;
-    if (t.n > 0) {
+    if (!r.scored) {
+        std::vector<double> own;
+        for (const RegistrationCheck& x : r.registration) {
+            if (x.accepted && !x.is_reference) own.push_back(x.target_rms_m);
+        }
+        out.push_back(
+            fmt::format("registration: {} accepted epochs, targets' residual RMS median "
+                        "{} mm (no truth: nothing scored)",
+                        own.size(), median_of(own)));
+    } else if (t.n > 0) {
         out.push_back(fmt::format(
             "registration vs truth at the pier top ({} accepted epochs): RMS {} mm, max {} mm; "
             "largest over the pier {} mm",
@@ -71,9 +178,11 @@ std::vector<std::string> summary_lines(const RunReport& r) {
                 mm(q.error.bias), mm(q.error.rms), mm(q.error.max_abs), q.error.n));
         }
     }
-    if (!any_zone) out.push_back("zones (M3C2, keypoints): not computed in this run");
+    if (!any_zone && r.scored) out.push_back("zones (M3C2, keypoints): not computed in this run");
     for (const AlarmCheck& a : r.alarms) {
-        if (!a.evaluated) {
+        if (!r.scored) {
+            out.push_back(fmt::format("alarm {}: raised {} time(s)", a.rule, a.raises));
+        } else if (!a.evaluated) {
             out.push_back(fmt::format("alarm {}: not evaluated (no {} rows in zone {})", a.rule,
                                       a.quantity, a.zone));
         } else {
@@ -90,19 +199,33 @@ std::vector<std::string> summary_lines(const RunReport& r) {
 }
 
 std::string markdown(const RunReport& r, const ReportFiles& files, const ReportContext& c) {
-    std::string md = "# tlsmon run scored against the simulator's truth\n\n";
-    md += fmt::format(
-        "- Epoch database: `{}`\n- Truth files: `{}` ({} epochs)\n- Epochs processed: {} done, "
-        "{} rejected, {} failed; {} not processed\n",
-        r.database.string(), r.truth_folder.string(), r.truth_epochs, r.epochs_done,
-        r.epochs_rejected, r.epochs_failed, r.epochs_pending);
-    md += r.reference_truth_epoch
-              ? fmt::format(
-                    "- Reference epoch: simulator epoch {}. Every comparison below is "
-                    "against the change of the truth since that epoch (epoch 0 of a "
-                    "simulated series is neither undeformed nor at the nominal pose).\n",
-                    *r.reference_truth_epoch)
-              : std::string("- Reference epoch: none with a truth file, nothing can be scored.\n");
+    std::string md =
+        r.scored ? "# tlsmon run scored against the simulator's truth\n\n" : "# tlsmon run\n\n";
+    md += fmt::format("- Epoch database: `{}`\n", r.database.string());
+    if (r.scored) {
+        md += fmt::format("- Truth files: `{}` ({} epochs)\n", r.truth_folder.string(),
+                          r.truth_epochs);
+    }
+    md += fmt::format("- Epochs processed: {} done, {} rejected, {} failed; {} not processed\n",
+                      r.epochs_done, r.epochs_rejected, r.epochs_failed, r.epochs_pending);
+    if (!r.reference) {
+        md += "- Reference epoch: none yet.\n";
+    } else if (!r.scored) {
+        md += fmt::format(
+            "- Reference epoch: epoch {}. Every change below is since that epoch. The figures are "
+            "the run's own: its registration residuals and σ, each zone's series with its "
+            "LoD95, the alarm events.\n",
+            *r.reference);
+    } else {
+        md += r.reference_truth_epoch
+                  ? fmt::format(
+                        "- Reference epoch: {}. Every comparison below is against the change of "
+                        "the truth since that epoch (epoch 0 of a simulated series is neither "
+                        "undeformed nor at the nominal pose).\n",
+                        epoch_name(r, *r.reference_truth_epoch))
+                  : std::string(
+                        "- Reference epoch: none with a truth file, nothing can be scored.\n");
+    }
     md += "\nTables: ";
     for (std::size_t i = 0; i < files.csv.size(); ++i) {
         md += fmt::format("{}[{}]({})", i ? ", " : "", files.csv[i].filename().string(),
@@ -111,46 +234,21 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     md += " (lengths in mm).\n";
 
     // ---- Registration ----
-    md +=
-        "\n## Registration against the truth\n\n"
-        "Each epoch's transformation T (epoch frame → reference frame, as stored) against the "
-        "exact answer H₀⁻¹·Hᵢ from the truth's `header_to_true` (docs/simulator.md): the error "
-        "T·q − H₀⁻¹·Hᵢ·q where the epoch sees each of the truth's pier sample points "
-        "(faces at 5–39 m and the top centre). Accepted epochs, the reference left out.\n\n";
-    const ErrorSummary& top = r.registration_top_error;
-    const ErrorSummary& any = r.registration_max_error;
-    if (top.n == 0) {
-        md += "Not computed: no accepted registration with a truth file.\n";
-    } else {
-        std::int64_t used_min = 1 << 30, used_max = 0;
-        double rms_max = 0;
-        std::vector<double> own_rms;
-        for (const RegistrationCheck& x : r.registration) {
-            if (!x.accepted || x.is_reference) continue;
-            used_min = std::min(used_min, x.targets_used);
-            used_max = std::max(used_max, x.targets_used);
-            rms_max = std::max(rms_max, x.target_rms_m);
-            own_rms.push_back(x.target_rms_m);
-        }
-        std::sort(own_rms.begin(), own_rms.end());
-        md += "| quantity | epochs | bias | RMS | max |\n|---|---|---|---|---|\n";
+    if (!r.scored) {
         md +=
-            fmt::format("| error at the pier's top centre (mm) | {} | ({}, {}, {}) | {} | {} |\n",
-                        top.n, fmt::format("{:+.3f}", r.bias_vector_mm[0]),
-                        fmt::format("{:+.3f}", r.bias_vector_mm[1]),
-                        fmt::format("{:+.3f}", r.bias_vector_mm[2]), mm(top.rms), mm(top.max_abs));
-        md += fmt::format("| largest error over the pier samples (mm) | {} | | {} | {} |\n", any.n,
-                          mm(any.rms), mm(any.max_abs));
-        md += fmt::format(
-            "| targets' residual RMS, the registration's own (mm) | {} | | median {} | {} |\n\n",
-            own_rms.size(), mm(own_rms[own_rms.size() / 2]), mm(rms_max));
-        md += fmt::format("Targets used per accepted epoch: {}–{}.\n", used_min, used_max);
+            "\n## Registration\n\n"
+            "Each epoch's transformation onto the reference epoch, as the registration "
+            "measured its own quality: the residuals of the targets it used and its σ at the "
+            "zones (docs/registration.md).\n\n";
+        md += registration_own_table(r);
+    } else {
+        md += registration_scored(r);
     }
     std::vector<std::string> rejected;
     for (const RegistrationCheck& x : r.registration) {
         if (x.status == "rejected" || x.status == "failed") {
-            rejected.push_back(fmt::format("{} ({}): {}", epoch_name(r, x.truth_epoch), x.status,
-                                           x.reason.substr(0, 160)));
+            rejected.push_back(fmt::format("{} ({}): {}", epoch_label(x.id, x.truth_epoch),
+                                           x.status, x.reason.substr(0, 160)));
         }
     }
     md += fmt::format("Rejected or failed epochs: {}.\n",
@@ -176,21 +274,36 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     for (const auto& t : r.excluded_targets) {
         if (!r.knocked || t != r.knocked->target) others.push_back(t);
     }
-    md += others.empty() ? std::string("No other target was excluded.\n")
-                         : fmt::format("Also excluded, though the truth did not move them: {}.\n",
-                                       fmt::join(others, ", "));
+    if (!r.scored) {
+        md += others.empty() ? std::string("No target was excluded as moved.\n")
+                             : fmt::format(
+                                   "Targets excluded as moved: {} (`tlsmon targets` says "
+                                   "since when and why).\n",
+                                   fmt::join(others, ", "));
+    } else {
+        md += others.empty()
+                  ? std::string("No other target was excluded.\n")
+                  : fmt::format("Also excluded, though the truth did not move them: {}.\n",
+                                fmt::join(others, ", "));
+    }
     md += "\n![registration](registration.png)\n";
 
     // ---- Zones ----
-    md +=
-        "\n## Zones against the truth\n\n"
-        "Each zone quantity against the true change of the zone since the reference epoch "
-        "(the truth's displacement field, docs/simulator.md \"Deformation\", over the zone's "
-        "part of the pier face): M3C2 along the face's outward normal (+ towards the "
-        "scanner), keypoint components against the mean true vector. Error = value − truth.\n\n";
+    md += r.scored
+              ? "\n## Zones against the truth\n\n"
+                "Each zone quantity against the true change of the zone since the reference "
+                "epoch (the truth's displacement field, docs/simulator.md \"Deformation\", over "
+                "the zone's part of the pier face): M3C2 along the face's outward normal (+ "
+                "towards the scanner), keypoint components against the mean true vector. "
+                "Error = value − truth.\n\n"
+              : "\n## Zones\n\n"
+                "Each zone quantity's change since the reference epoch as stored (M3C2 along "
+                "the normal, keypoints along the surface; docs/m3c2.md, docs/keypoints.md).\n\n";
     for (const ZoneCheck& z : r.zones) {
         md += fmt::format("### {}\n\n", z.zone);
-        if (!z.face) {
+        if (!r.scored) {
+            md += zone_own_table(z);
+        } else if (!z.face) {
             md += "Not on one face of the pier: no truth to compare with.\n\n";
         } else {
             std::string moved;
@@ -204,6 +317,7 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         }
         bool table = false;
         for (const ZoneQuantityCheck& q : z.quantities) {
+            if (!r.scored) break;
             if (!table) {
                 md +=
                     "| quantity | compared with | epochs | bias (mm) | RMS (mm) | max (mm) |\n"
@@ -235,18 +349,22 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     }
 
     // ---- Alarms ----
-    md += "## Alarms against the truth\n\n";
-    md += r.step ? fmt::format(
-                       "Step event (truth): pier points at z {:g}–{:g} m move by ({:+.1f}, "
-                       "{:+.1f}, {:+.1f}) mm from {}.\n\n",
-                       r.step->z_min, r.step->z_max, 1e3 * r.step->displacement.x(),
-                       1e3 * r.step->displacement.y(), 1e3 * r.step->displacement.z(),
-                       epoch_name(r, r.step->since_epoch))
-                 : std::string("No step event in the truth.\n\n");
+    md += r.scored ? "## Alarms against the truth\n\n" : "\n## Alarms\n\n";
+    if (r.scored) {
+        md += r.step ? fmt::format(
+                           "Step event (truth): pier points at z {:g}–{:g} m move by ({:+.1f}, "
+                           "{:+.1f}, {:+.1f}) mm from {}.\n\n",
+                           r.step->z_min, r.step->z_max, 1e3 * r.step->displacement.x(),
+                           1e3 * r.step->displacement.y(), 1e3 * r.step->displacement.z(),
+                           epoch_name(r, r.step->since_epoch))
+                     : std::string("No step event in the truth.\n\n");
+    }
     if (r.alarms.empty()) md += "No alarm rules configured.\n";
     for (const AlarmCheck& a : r.alarms) {
         md += fmt::format("- **{}** ({} in zone {}{}): ", a.rule, a.quantity, a.zone,
-                          a.step_zone ? ", moved by the step" : ", not moved by the step");
+                          !r.scored     ? ""
+                          : a.step_zone ? ", moved by the step"
+                                        : ", not moved by the step");
         if (!a.evaluated) {
             md += fmt::format(
                 "not evaluated — the database has no `{}` rows for zone {} (the "
@@ -254,13 +372,17 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
                 a.quantity, a.zone);
             continue;
         }
-        if (a.step_epoch) {
-            md += a.latency_epochs
-                      ? fmt::format("first raised at {}, a detection latency of {} epoch(s); ",
-                                    epoch_name(r, *a.first_raise_epoch), *a.latency_epochs)
-                      : std::string("the step was **not** detected; ");
+        if (!r.scored) {
+            md += fmt::format("raised {} time(s).\n", a.raises);
+        } else {
+            if (a.step_epoch) {
+                md += a.latency_epochs
+                          ? fmt::format("first raised at {}, a detection latency of {} epoch(s); ",
+                                        epoch_name(r, *a.first_raise_epoch), *a.latency_epochs)
+                          : std::string("the step was **not** detected; ");
+            }
+            md += fmt::format("{} false alarm(s).\n", a.false_alarms);
         }
-        md += fmt::format("{} false alarm(s).\n", a.false_alarms);
         for (const auto& e : a.events) md += "  - " + e + "\n";
     }
 
@@ -274,10 +396,15 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         "    tlsmon alarms history {0}\n",
         db);
     for (const ZoneCheck& z : r.zones) {
-        for (const ZoneQuantityCheck& q : z.quantities) {
+        // The zone's first change of the surface, else its first quantity.
+        const auto q = std::find_if(z.quantities.begin(), z.quantities.end(),
+                                    [](const ZoneQuantityCheck& x) { return x.displacement; });
+        const auto* shown = q != z.quantities.end() ? &*q
+                            : z.quantities.empty()  ? nullptr
+                                                    : &z.quantities.front();
+        if (shown) {
             md += fmt::format("    tlsmon query series {} --zone {} --quantity {}\n", db, z.zone,
-                              q.quantity);
-            break;
+                              shown->quantity);
         }
     }
     if (!c.config.empty()) {

@@ -125,8 +125,8 @@ TEST_F(QueryCommands, SeriesAsTable) {
     const auto l = lines(r.out);
     ASSERT_EQ(l.size(), 3u);
     EXPECT_EQ(l[0].rfind("epoch  acquired", 0), 0u) << l[0];
-    EXPECT_NE(l[2].find("2026-03-01T12:15:00Z  0.0001"), std::string::npos) << l[2];
-    EXPECT_NE(l[2].find("0.002"), std::string::npos) << l[2];
+    // Value and uncertainty in the quantity's unit (m3c2_mean_m: metres), so to the micrometre.
+    EXPECT_NE(l[2].find("2026-03-01T12:15:00Z  0.000100  0.002000"), std::string::npos) << l[2];
     // Aligned columns, the last one (datum) included; quality and datum per epoch.
     EXPECT_EQ(l[1].rfind("unregistered  unregistered"), l[0].rfind("quality"));
     EXPECT_EQ(l[2].rfind("accepted"), l[0].rfind("quality")) << l[2];

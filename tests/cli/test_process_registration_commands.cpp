@@ -16,6 +16,7 @@
 
 #include "formats/ptx_writer.hpp"
 #include "formats/scan_file.hpp"
+#include "storage/epoch_database.hpp"
 #include "tests/support/daemon_harness.hpp"
 
 namespace tlsmon {
@@ -169,6 +170,37 @@ TEST_F(RegistrationCommands, RegisterTableAndRefusal) {
     EXPECT_FALSE(j["accepted"].get<bool>());
     EXPECT_NE(j["reason"].get<std::string>().find("2 usable targets, at least 3 needed"),
               std::string::npos);
+}
+
+TEST_F(RegistrationCommands, RegisterLeavesOutTheTargetsTheSiteHadExcludedBeforeTheEpoch) {
+    // The site's database (paths.database, beside its configuration) holds three exclusions:
+    // T1 by an epoch acquired before the scan (still out), T2 likewise but re-surveyed since
+    // (back in), T3 by an epoch acquired after the scan (not yet out when it arrived).
+    TempDir dir("register-history");
+    fs::copy_file(scans_ / "site.toml", dir.path() / "site.toml");
+    {
+        auto db =
+            EpochDatabase::open(dir.path() / "tlsmon.sqlite", EpochDatabase::Mode::read_write);
+        db.epochs().insert({std::string(64, '1'), 0, "earlier.ptx", 1, std::nullopt});
+        db.epochs().insert({std::string(64, '3'), 4'000'000'000, "later.ptx", 1, std::nullopt});
+    }
+    {
+        SQLite::Database raw((dir.path() / "tlsmon.sqlite").string(), SQLite::OPEN_READWRITE);
+        raw.exec(
+            "INSERT INTO target_exclusions (target, epoch_id, resurveyed) VALUES "
+            "('T1', 1, NULL), ('T2', 1, 1000), ('T3', 2, NULL)");
+    }
+    const auto r = shell(std::string(TLSMON_BINARY) + " register " + files_[0].string() + " " +
+                         files_[1].string() + " --config " + (dir.path() / "site.toml").string() +
+                         " --format json");
+    // Registered on the three others (exit 0, or 3 when the quality gate refuses the
+    // weaker geometry; 1 would be an error).
+    ASSERT_TRUE(r.status == 0 || r.status == 3) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["targets_used"].get<int>(), 3) << r.output;
+    for (const auto& t : j["targets"]) {
+        EXPECT_EQ(t["status"] == "excluded", t["name"] == "T1") << t.dump();
+    }
 }
 
 TEST_F(RegistrationCommands, RegisterBadArgumentsAreClearErrors) {

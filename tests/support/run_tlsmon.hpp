@@ -14,9 +14,10 @@ struct CommandRun {
     std::string out;  // standard output, and standard error unless left out
 };
 
-inline CommandRun run_tlsmon(const std::string& args, bool with_stderr = true) {
-    const std::string cmd =
-        std::string(TLSMON_BINARY) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+// `program` (a copy of the binary elsewhere, say) run with arguments.
+inline CommandRun run_tlsmon_at(const std::string& program, const std::string& args,
+                                bool with_stderr = true) {
+    const std::string cmd = program + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
     CommandRun r;
     FILE* pipe = ::popen(cmd.c_str(), "r");
     if (!pipe) return r;
@@ -26,6 +27,10 @@ inline CommandRun run_tlsmon(const std::string& args, bool with_stderr = true) {
     const int status = ::pclose(pipe);
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+
+inline CommandRun run_tlsmon(const std::string& args, bool with_stderr = true) {
+    return run_tlsmon_at(TLSMON_BINARY, args, with_stderr);
 }
 
 }  // namespace tlsmon::test
