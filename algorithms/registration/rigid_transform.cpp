@@ -7,22 +7,11 @@
 #include <cmath>
 #include <string>
 
+#include "algorithms/registration/so3.hpp"
 #include "core/error.hpp"
 
 namespace tlsmon::registration {
 namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
-    Eigen::Matrix3d S;
-    S << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-    return S;
-}
-
-Eigen::Matrix3d exp_so3(const Eigen::Vector3d& theta) {
-    const double angle = theta.norm();
-    if (angle < 1e-300) return Eigen::Matrix3d::Identity();
-    return Eigen::AngleAxisd(angle, theta / angle).toRotationMatrix();
-}
 
 // Scalar weight of a pair for the closed form: the inverse mean variance of the difference.
 double scalar_weight(const CentreObservation& c) {
@@ -44,6 +33,8 @@ Eigen::Matrix3d euler_rate_matrix(double phi, double kappa) {
     return M;
 }
 
+}  // namespace
+
 void finish_parameters(RigidTransform& T) {
     const Eigen::Vector3d e = euler_from_rotation(T.rotation);
     T.omega = e(0);
@@ -51,9 +42,23 @@ void finish_parameters(RigidTransform& T) {
     T.kappa = e(2);
     T.quaternion = Eigen::Quaterniond(T.rotation).normalized();
     if (T.quaternion.w() < 0) T.quaternion.coeffs() *= -1.0;  // one sign: w ≥ 0
+    // Σ_euler = J·Σ_θ·Jᵀ, J = blockdiag(M⁻¹, I, 1).
+    ParameterCovariance J = ParameterCovariance::Identity();
+    J.topLeftCorner<3, 3>() = euler_rate_matrix(T.phi, T.kappa).inverse();
+    T.covariance = J * T.small_rotation_covariance * J.transpose();
 }
 
-}  // namespace
+double covariance_factor(CovarianceScaling scaling, double variance_factor) {
+    switch (scaling) {
+        case CovarianceScaling::a_priori:
+            return 1.0;
+        case CovarianceScaling::a_posteriori:
+            return variance_factor;
+        case CovarianceScaling::larger_of:
+            break;
+    }
+    return std::max(1.0, variance_factor);
+}
 
 Eigen::Matrix4d RigidTransform::matrix() const {
     Eigen::Matrix4d H = Eigen::Matrix4d::Identity();
@@ -209,26 +214,12 @@ RigidTransform estimate_rigid_transform(std::span<const CentreObservation> centr
     }
     T.redundancy = static_cast<int>(3 * n) - u;
     T.variance_factor = T.redundancy > 0 ? T.omega_sq / T.redundancy : 0.0;
-    switch (params.scaling) {
-        case CovarianceScaling::a_priori:
-            T.covariance_factor = 1.0;
-            break;
-        case CovarianceScaling::a_posteriori:
-            T.covariance_factor = T.variance_factor;
-            break;
-        case CovarianceScaling::larger_of:
-            T.covariance_factor = std::max(1.0, T.variance_factor);
-            break;
-    }
+    T.covariance_factor = covariance_factor(params.scaling, T.variance_factor);
     T.scale_estimated = params.estimate_scale;
     T.small_rotation_covariance.setZero();
     T.small_rotation_covariance.topLeftCorner(u, u) = T.covariance_factor * Qxx;
 
     finish_parameters(T);
-    // Σ_euler = J·Σ_θ·Jᵀ, J = blockdiag(M⁻¹, I, 1).
-    ParameterCovariance J = ParameterCovariance::Identity();
-    J.topLeftCorner<3, 3>() = euler_rate_matrix(T.phi, T.kappa).inverse();
-    T.covariance = J * T.small_rotation_covariance * J.transpose();
     return T;
 }
 

@@ -28,6 +28,9 @@ enum class CovarianceScaling {
     larger_of,     // max(1, s0²): never more optimistic than the centres, nor the residuals
 };
 
+// σ0² for `scaling` given the adjustment's s0².
+double covariance_factor(CovarianceScaling scaling, double variance_factor);
+
 struct RigidTransformParams {
     bool estimate_scale = false;
     CovarianceScaling scaling = CovarianceScaling::larger_of;
@@ -73,6 +76,10 @@ struct RigidTransform {
     Eigen::Matrix4d matrix() const;
     Eigen::Vector<double, 7> sigmas() const { return covariance.diagonal().cwiseSqrt(); }
 };
+
+// After an adjustment has set `rotation` and `small_rotation_covariance`: the Euler angles,
+// the quaternion (w ≥ 0) and the Euler angles' covariance `covariance`.
+void finish_parameters(RigidTransform& T);
 
 // R = R_z(κ)·R_y(φ)·R_x(ω) and back (φ in [−90°, 90°]).
 Eigen::Matrix3d rotation_from_euler(double omega, double phi, double kappa);

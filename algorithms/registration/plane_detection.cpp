@@ -1,0 +1,228 @@
+#include "algorithms/registration/plane_detection.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <unordered_set>
+
+#include "algorithms/registration/distribution_quantiles.hpp"
+#include "algorithms/registration/plane_registration.hpp"
+#include "core/error.hpp"
+#include "core/parallel_for.hpp"
+
+namespace tlsmon::registration {
+
+namespace {
+
+constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+
+struct Block {
+    std::uint32_t r0, r1, c0, c1;  // half-open rows and columns
+    std::uint32_t rows() const { return r1 - r0; }
+    std::uint32_t columns() const { return c1 - c0; }
+};
+
+struct Kept {
+    FittedPlane plane;
+    std::vector<Block> blocks;
+    std::vector<std::uint32_t> points;
+};
+
+class Detector {
+  public:
+    Detector(const Scan& scan, const PlaneDetectionParams& p)
+        : scan_(scan), p_(p), scanner_(scan.scanner_position()) {
+        const ScanGrid& g = *scan.grid;
+        cell_.assign(g.cells(), -1);
+        for (std::size_t i = 0; i < scan.size(); ++i)
+            cell_[std::uint64_t{g.row[i]} * g.columns + g.column[i]] = static_cast<std::int32_t>(i);
+    }
+
+    // The blocks of one tile that are planar, after splitting what is not.
+    void split(const Block& b, std::vector<Kept>& out) const {
+        std::vector<std::uint32_t> points = points_of(b);
+        if (points.size() < p_.min_points) return;
+        if (auto plane = planar(points)) {
+            out.push_back({*plane, {b}, std::move(points)});
+            return;
+        }
+        const bool rows = b.rows() >= 2 * p_.min_cells, columns = b.columns() >= 2 * p_.min_cells;
+        if (!rows && !columns) return;
+        const std::uint32_t rm = rows ? b.r0 + b.rows() / 2 : b.r1;
+        const std::uint32_t cm = columns ? b.c0 + b.columns() / 2 : b.c1;
+        for (const Block& q : {Block{b.r0, rm, b.c0, cm}, Block{rm, b.r1, b.c0, cm},
+                               Block{b.r0, rm, cm, b.c1}, Block{rm, b.r1, cm, b.c1}}) {
+            if (q.rows() > 0 && q.columns() > 0) split(q, out);
+        }
+    }
+
+    // The plane of the points when they pass the planarity test and its normal is
+    // significant, with the covariance of the stochastic model (header).
+    std::optional<FittedPlane> planar(const std::vector<std::uint32_t>& points) const {
+        std::vector<Eigen::Vector3d> xyz;
+        xyz.reserve(points.size());
+        for (const auto i : points) xyz.push_back(scan_.xyz[i]);
+        FittedPlane f;
+        try {
+            f = fit_plane(xyz, 0.0, scanner_);
+        } catch (const Error&) {
+            return std::nullopt;  // on a line
+        }
+        const double sigma_theta = p_.angular_sigma_arcsec * kArcsec;
+        double model = 0.0;  // Σ σᵢ²
+        for (const auto& x : xyz) {
+            const Eigen::Vector3d beam = x - scanner_;
+            const double r = beam.norm();
+            const double cos_a = r > 0.0 ? std::min(1.0, std::fabs(f.normal.dot(beam)) / r) : 1.0;
+            const double sigma_r = p_.range_sigma_a + 1e-6 * p_.range_sigma_b_ppm * r;
+            model += std::pow(sigma_r * cos_a, 2) +
+                     std::pow(r * sigma_theta, 2) * (1.0 - cos_a * cos_a) +
+                     p_.flatness * p_.flatness;
+        }
+        const double n = double(xyz.size());
+        const double mean_variance = model / n;
+        const double dof = n - 3.0;
+        const double limit = mean_variance * chi_square_quantile(1.0 - p_.alpha, dof) / dof;
+        if (!(f.residual_sigma * f.residual_sigma <= limit)) return std::nullopt;
+        // The covariance from the model's σ instead of the fit's own scatter.
+        const double scale = mean_variance / (f.point_sigma * f.point_sigma);
+        f.normal_covariance *= scale;
+        f.centroid_variance *= scale;
+        f.point_sigma = std::sqrt(mean_variance);
+        const double tilt = std::sqrt(
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(f.normal_covariance).eigenvalues()(2));
+        if (!(tilt <= p_.max_normal_sigma_arcsec * kArcsec)) return std::nullopt;
+        return f;
+    }
+
+  private:
+    std::vector<std::uint32_t> points_of(const Block& b) const {
+        const std::uint32_t columns = scan_.grid->columns;
+        std::vector<std::uint32_t> out;
+        for (std::uint32_t r = b.r0; r < b.r1; ++r)
+            for (std::uint32_t c = b.c0; c < b.c1; ++c)
+                if (const auto i = cell_[std::uint64_t{r} * columns + c]; i >= 0)
+                    out.push_back(static_cast<std::uint32_t>(i));
+        return out;
+    }
+
+    const Scan& scan_;
+    const PlaneDetectionParams& p_;
+    Eigen::Vector3d scanner_;
+    std::vector<std::int32_t> cell_;  // point index per cell, −1: no return
+};
+
+// Union–find over the kept blocks.
+struct Groups {
+    std::vector<std::size_t> parent;
+    explicit Groups(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+    std::size_t find(std::size_t a) {
+        while (parent[a] != a) a = parent[a] = parent[parent[a]];
+        return a;
+    }
+    void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
+};
+
+// Pairs of kept blocks that touch in the grid (a cell of one beside a cell of the other).
+std::vector<std::pair<std::size_t, std::size_t>> touching(const std::vector<Kept>& kept,
+                                                          const ScanGrid& g) {
+    std::vector<std::int32_t> label(g.cells(), -1);
+    for (std::size_t k = 0; k < kept.size(); ++k)
+        for (const Block& b : kept[k].blocks)
+            for (std::uint32_t r = b.r0; r < b.r1; ++r)
+                for (std::uint32_t c = b.c0; c < b.c1; ++c)
+                    label[std::uint64_t{r} * g.columns + c] = static_cast<std::int32_t>(k);
+    std::unordered_set<std::uint64_t> seen;
+    std::vector<std::pair<std::size_t, std::size_t>> out;
+    const auto pair = [&](std::int32_t a, std::int32_t b) {
+        if (a < 0 || b < 0 || a == b) return;
+        const auto lo = std::uint64_t(std::min(a, b)), hi = std::uint64_t(std::max(a, b));
+        if (seen.insert(lo << 32 | hi).second) out.emplace_back(lo, hi);
+    };
+    for (std::uint32_t r = 0; r < g.rows; ++r)
+        for (std::uint32_t c = 0; c < g.columns; ++c) {
+            const std::int32_t a = label[std::uint64_t{r} * g.columns + c];
+            if (c + 1 < g.columns) pair(a, label[std::uint64_t{r} * g.columns + c + 1]);
+            if (r + 1 < g.rows) pair(a, label[std::uint64_t{r + 1} * g.columns + c]);
+        }
+    return out;
+}
+
+DetectedPlane detected(Kept&& k) {
+    DetectedPlane d;
+    d.plane = k.plane;
+    d.points = std::move(k.points);
+    d.blocks = k.blocks.size();
+    d.row_min = d.column_min = UINT32_MAX;
+    for (const Block& b : k.blocks) {
+        d.row_min = std::min(d.row_min, b.r0);
+        d.row_max = std::max(d.row_max, b.r1 - 1);
+        d.column_min = std::min(d.column_min, b.c0);
+        d.column_max = std::max(d.column_max, b.c1 - 1);
+    }
+    return d;
+}
+
+}  // namespace
+
+double plane_difference_statistic(const FittedPlane& a, const FittedPlane& b) {
+    return plane_misclosure({a, b}, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero())
+        .test_statistic;
+}
+
+std::vector<DetectedPlane> detect_planes(const Scan& scan, const PlaneDetectionParams& p) {
+    if (!scan.grid)
+        throw Error("plane detection: " + scan.source + " has no grid (not structured)");
+    if (p.tile < 2 * p.min_cells || p.min_cells < 2)
+        throw Error("plane detection: tile must be at least twice min_cells, min_cells at least 2");
+    const ScanGrid& g = *scan.grid;
+    const Detector detector(scan, p);
+
+    // 1. The split, tile by tile (in parallel; the tiles' results in tile order).
+    std::vector<Block> tiles;
+    for (std::uint32_t r = 0; r < g.rows; r += p.tile)
+        for (std::uint32_t c = 0; c < g.columns; c += p.tile)
+            tiles.push_back({r, std::min(r + p.tile, g.rows), c, std::min(c + p.tile, g.columns)});
+    std::vector<std::vector<Kept>> per_tile(tiles.size());
+    parallel_for(tiles.size(), [&](std::size_t t) { detector.split(tiles[t], per_tile[t]); });
+    std::vector<Kept> kept;
+    for (auto& v : per_tile)
+        for (auto& k : v) kept.push_back(std::move(k));
+
+    // 2. Touching blocks with equal planes merge; a merged group that is not planar as a
+    // whole (a chain along a curved surface) stays in its blocks.
+    Groups groups(kept.size());
+    const double limit = chi_square_quantile(1.0 - p.merge_alpha, 3.0);
+    for (const auto& [a, b] : touching(kept, g)) {
+        if (plane_difference_statistic(kept[a].plane, kept[b].plane) <= limit) groups.unite(a, b);
+    }
+    std::vector<std::vector<std::size_t>> members(kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) members[groups.find(k)].push_back(k);
+    std::vector<DetectedPlane> out;
+    for (auto& m : members) {
+        if (m.empty()) continue;
+        if (m.size() == 1) {
+            out.push_back(detected(std::move(kept[m[0]])));
+            continue;
+        }
+        Kept merged;
+        for (const auto k : m) {
+            merged.blocks.insert(merged.blocks.end(), kept[k].blocks.begin(), kept[k].blocks.end());
+            merged.points.insert(merged.points.end(), kept[k].points.begin(), kept[k].points.end());
+        }
+        if (auto plane = detector.planar(merged.points)) {
+            merged.plane = *plane;
+            out.push_back(detected(std::move(merged)));
+        } else {
+            for (const auto k : m) out.push_back(detected(std::move(kept[k])));
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const DetectedPlane& a, const DetectedPlane& b) {
+        return a.points.size() > b.points.size();
+    });
+    return out;
+}
+
+}  // namespace tlsmon::registration
