@@ -6,8 +6,8 @@
 //    fitted with a plane (plane_fit.hpp). It is planar when its points' scatter about the
 //    plane agrees with the scanner's stochastic model: s² ≤ σ̄²·χ²(N − 3, 1 − α)/(N − 3),
 //    σ̄² the mean over its points of
-//        σ² = (σ_r·cos α)² + (r·σ_θ·sin α)² + flatness²,   σ_r = a + b·r,
-//    α the incidence angle of each point's beam on the plane: the range noise projected on
+//        σ² = (σ_r·cos β)² + (r·σ_θ·sin β)² + flatness²,   σ_r = a + b·r,
+//    β the incidence angle of each point's beam on the plane: the range noise projected on
 //    the normal, the direction's noise across it, and the surface's own departure from a
 //    plane. A planar block is kept when its normal is significant (its σ below
 //    `max_normal_sigma_arcsec`); a block that is not planar is split in four, down to
