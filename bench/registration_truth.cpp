@@ -8,7 +8,12 @@
 //     its error at the pier against the exact answer H₀⁻¹·Hᵢ (RMS over the pier's faces
 //     every 2.5 m, and at the top corner with the predicted 3-D σ there).
 // `--truth-air` scales every range back by the truth's own range scale, as exact meteo
-// would, to tell the atmosphere's share from the fits'.
+// would, to tell the atmosphere's share from the fits'. `--method planes|targets+planes`
+// registers on the scene's planes (alone or with the targets) in place of the site's
+// registration.method; then per epoch the planes' roles, and the congruence test scored
+// against the truth's blocks: the planes on a block that moved (found: flagged moved or
+// significant) and the planes flagged on blocks that did not (false). The simulated deck does
+// not move with the pier; a real one would, so it is put in a zone here (never in the datum).
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +25,7 @@
 #include "algorithms/registration/registration_error.hpp"
 #include "config/config.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/registration_on_planes.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
 
@@ -27,12 +33,31 @@ namespace {
 
 using namespace tlsmon;
 
+// A block of the truth: its box in its own frame at epoch 0, and whether it has moved.
+struct TruthBlock {
+    std::string name;
+    Eigen::Vector3d half;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // own frame -> site, unmoved
+    bool moved = false;
+    // Whether a point (true frame) lies on the block, within `margin`.
+    bool holds(const Eigen::Vector3d& p, double margin = 0.05) const {
+        const Eigen::Vector3d q = pose.inverse() * p;
+        return (q.cwiseAbs().array() <= half.array() + margin).all();
+    }
+};
+
 struct Truth {
     Eigen::Affine3d header_to_true = Eigen::Affine3d::Identity();
     std::map<std::string, Eigen::Vector3d> centres;
     Eigen::Vector3d pier_min, pier_max;
     double range_scale = 1.0;
+    std::vector<TruthBlock> blocks;
+    Eigen::AlignedBox3d deck;  // empty without a deck
 };
+
+Eigen::Vector3d vector_of(const nlohmann::json& a) {
+    return {a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()};
+}
 
 Truth read_truth(const std::string& ptx) {
     const std::string path = ptx.substr(0, ptx.size() - 4) + ".truth.json";
@@ -56,6 +81,28 @@ Truth read_truth(const std::string& ptx) {
                                  p.at("height").get<double>());
     if (j.contains("atmosphere") && j.at("atmosphere").value("enabled", false))
         t.range_scale = j.at("atmosphere").at("range_scale").get<double>();
+    for (const auto& b : j.at("terrain").at("blocks")) {
+        TruthBlock k;
+        k.name = b.at("name").get<std::string>();
+        const Eigen::Vector3d lo = vector_of(b.at("lo")), hi = vector_of(b.at("hi"));
+        k.half = 0.5 * (hi - lo);
+        k.pose.linear() =
+            Eigen::AngleAxisd(b.value("yaw_deg", 0.0) * M_PI / 180.0, Eigen::Vector3d::UnitZ())
+                .toRotationMatrix();
+        k.pose.translation() = 0.5 * (lo + hi);
+        k.moved = b.value("moved", false);
+        t.blocks.push_back(k);
+    }
+    if (j.contains("deck") && j.at("deck").value("enabled", false)) {
+        const auto& d = j.at("deck");
+        const double cy = 0.5 * (t.pier_min.y() + p.at("y1").get<double>());
+        const double overhang = d.at("overhang").get<double>();
+        const double half = d.at("half_length").get<double>();
+        t.deck = Eigen::AlignedBox3d(
+            Eigen::Vector3d(t.pier_min.x() - overhang, cy - half, t.pier_max.z() - 0.5),
+            Eigen::Vector3d(t.pier_max.x() + overhang, cy + half,
+                            t.pier_max.z() + d.at("thickness").get<double>() + 0.5));
+    }
     return t;
 }
 
@@ -94,38 +141,104 @@ std::vector<Eigen::Vector3d> pier_points(const Truth& t) {
     return p;
 }
 
+// The congruence test against the truth's blocks in one epoch: planes on a moved block
+// (and how many of them were flagged) and planes flagged elsewhere.
+struct PlaneScore {
+    int on_moved = 0, found = 0, flagged_elsewhere = 0;
+};
+
+PlaneScore score_planes(const PlaneMeasurement& m, const Truth& t0, const Truth& t) {
+    PlaneScore s;
+    for (const auto& o : m.matched) {
+        const Eigen::Vector3d p = t0.header_to_true * o.reference.centroid;
+        bool moved = false;
+        for (const auto& b : t.blocks) moved = moved || (b.moved && b.holds(p));
+        const bool flagged = o.role == "moved" || (o.role == "monitored" && o.significant());
+        if (moved) {
+            ++s.on_moved;
+            s.found += flagged;
+        } else if (o.role == "moved") {
+            ++s.flagged_elsewhere;
+        }
+    }
+    return s;
+}
+
+void print_planes(const PlaneMeasurement& m, const Truth& t0) {
+    std::printf(
+        "  planes (%s): %s%s; %zu in the reference, %zu in the epoch, %zu matched, %zu in "
+        "the datum, %zu moved, %zu in zones; Ω %.1f (limit %.1f), last %.1f (%.1f); "
+        "detection %.0f ms, adjustment %.1f ms\n",
+        m.role.c_str(), m.used ? "used" : "not used: ", m.refused.c_str(), m.reference_planes,
+        m.epoch_planes, m.matched.size(), m.in_datum, m.moved, m.monitored, m.first_omega,
+        m.first_limit, m.last_omega, m.last_limit, m.detection_ms, m.adjustment_ms);
+    constexpr double arcsec = 180.0 * 3600.0 / M_PI;
+    for (const auto& o : m.matched) {
+        if (o.role == "datum" && !o.significant()) continue;
+        const Eigen::Vector3d c = t0.header_to_true * o.reference.centroid;
+        std::string block;
+        for (const auto& b : t0.blocks)
+            if (b.holds(c)) block = b.name;
+        std::printf(
+            "    plane %3zu %-9s %-16s at (%.1f %.1f %.1f) %7zu pts  tilt %+7.1f %+7.1f″ "
+            "shift %+7.3f mm (σ %.3f)  T %.1f\n",
+            o.plane, o.role.c_str(), (o.zone.empty() ? block : o.zone).c_str(), c.x(), c.y(), c.z(),
+            o.reference.points, o.misclosure.w(0) * arcsec, o.misclosure.w(1) * arcsec,
+            1e3 * o.misclosure.w(2), 1e3 * std::sqrt(o.misclosure.cofactor(2, 2)),
+            o.misclosure.test_statistic);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::vector<std::string> files;
     bool truth_air = false;
+    std::string method;
     for (int i = 2; i < argc; ++i) {
         if (std::strcmp(argv[i], "--truth-air") == 0)
             truth_air = true;
+        else if (std::strcmp(argv[i], "--method") == 0 && i + 1 < argc)
+            method = argv[++i];
         else
             files.emplace_back(argv[i]);
     }
     if (argc < 3 || files.size() < 2) {
         std::fprintf(stderr,
-                     "usage: bench_registration_truth SITE.toml E0.ptx E1.ptx ... [--truth-air]\n");
+                     "usage: bench_registration_truth SITE.toml E0.ptx E1.ptx ... [--truth-air] "
+                     "[--method targets|planes|targets+planes]\n");
         return 2;
     }
     try {
-        const RegistrationConfig config = pipeline_config(load_config(argv[1])).registration;
+        RegistrationConfig config = pipeline_config(load_config(argv[1])).registration;
+        if (!method.empty()) {
+            const auto m = registration_method_named(method);
+            if (!m) throw std::runtime_error("--method " + method + ": not a method");
+            config.method = *m;
+        }
+        RegistrationConfig targets_config = config;
+        if (!config.uses_targets()) targets_config.targets.clear();
         std::vector<Truth> truths;
         ReferenceTargets reference;
+        ReferencePlanes reference_planes;
+        // Over the later epochs: the pier's RMS errors, the components within 2σ, the planes.
+        std::vector<double> pier_rms;
+        int components = 0, within_2sigma = 0, registered = 0;
+        PlaneScore total;
+        int epochs_with_moved = 0, epochs_all_found = 0;
         for (std::size_t i = 0; i < files.size(); ++i) {
             const HashedBytes content = read_file_hashed(files[i]);
             const std::vector<Scan> scans = parse_scans(content.bytes, files[i]);
             truths.push_back(read_truth(files[i]));
             const Truth& t = truths.back();
+            if (i == 0 && !t.deck.isEmpty()) config.zones.push_back({"deck", t.deck, {}, {}});
             const Eigen::Vector3d scanner = t.header_to_true * scans.front().scanner_position();
             std::printf("%s (range scale %+.2f ppm)\n", files[i].c_str(),
                         (t.range_scale - 1) * 1e6);
             RangeScales scales;
             if (truth_air) scales = {t.range_scale, truths.front().range_scale};
             if (i == 0) {
-                reference = measure_reference_targets(config, scans);
+                reference = measure_reference_targets(targets_config, scans);
                 for (auto& m : reference.targets) {
                     if (truth_air && m.found())
                         m.centre = m.viewpoint + (m.centre - m.viewpoint) / t.range_scale;
@@ -133,9 +246,12 @@ int main(int argc, char** argv) {
                     if (truth_air && m.found())  // back as measured: the stage corrects it
                         m.centre = m.viewpoint + (m.centre - m.viewpoint) * t.range_scale;
                 }
+                if (config.uses_planes())
+                    reference_planes = detect_scan_planes(config.planes, scans);
                 continue;
             }
-            const RegistrationResult r = register_epoch(config, reference, scans, {}, scales);
+            RegistrationResult r = register_epoch(targets_config, reference, scans, {}, scales);
+            apply_planes(config, reference_planes, scans, scales, r);
             for (auto m : r.measured) {
                 if (truth_air && m.found())
                     m.centre = m.viewpoint + (m.centre - m.viewpoint) / t.range_scale;
@@ -152,7 +268,19 @@ int main(int argc, char** argv) {
                             config.targets[k].name.c_str(), name_of(v.use), v.statistic, v.critical,
                             1e3 * v.residual.norm());
             }
-            if (!r.tested.transform) continue;
+            if (r.planes) {
+                print_planes(*r.planes, truths.front());
+                const PlaneScore ps = score_planes(*r.planes, truths.front(), t);
+                total.on_moved += ps.on_moved;
+                total.found += ps.found;
+                total.flagged_elsewhere += ps.flagged_elsewhere;
+                if (ps.on_moved > 0) {
+                    ++epochs_with_moved;
+                    epochs_all_found += ps.found == ps.on_moved;
+                }
+            }
+            if (!r.tested.transform || !r.accepted()) continue;
+            ++registered;
             const auto& T = *r.tested.transform;
             const Eigen::Affine3d& H0 = truths.front().header_to_true;
             const Eigen::Affine3d& Hi = t.header_to_true;
@@ -161,16 +289,41 @@ int main(int argc, char** argv) {
             for (const auto& P : pier)
                 rms += (T.apply(Hi.inverse() * P) - H0.inverse() * P).squaredNorm();
             rms = std::sqrt(rms / pier.size());
-            const Eigen::Vector3d top = Hi.inverse() * pier.back();
-            const Eigen::Vector3d e = T.apply(top) - H0.inverse() * pier.back();
-            const Eigen::Matrix3d S = registration::registration_covariance_at(T, top);
-            int within = 0;
-            for (int k = 0; k < 3; ++k) within += std::fabs(e(k)) <= 2 * std::sqrt(S(k, k));
+            pier_rms.push_back(rms);
+            // The foot's and the top's corner: each component's error against its 2σ.
+            for (const Eigen::Vector3d& P : {pier.front(), pier.back()}) {
+                const Eigen::Vector3d x = Hi.inverse() * P;
+                const Eigen::Vector3d e = T.apply(x) - H0.inverse() * P;
+                const Eigen::Matrix3d S = registration::registration_covariance_at(T, x);
+                for (int k = 0; k < 3; ++k) {
+                    ++components;
+                    within_2sigma += std::fabs(e(k)) <= 2 * std::sqrt(S(k, k));
+                }
+                std::printf(
+                    "  pier at (%.1f %.1f %.1f): error %.3f mm (x %+.3f y %+.3f z %+.3f), σ %.3f "
+                    "%.3f %.3f mm\n",
+                    P.x(), P.y(), P.z(), 1e3 * e.norm(), 1e3 * e.x(), 1e3 * e.y(), 1e3 * e.z(),
+                    1e3 * std::sqrt(S(0, 0)), 1e3 * std::sqrt(S(1, 1)), 1e3 * std::sqrt(S(2, 2)));
+            }
+            std::printf("  pier: RMS error %.3f mm over %zu points\n", 1e3 * rms, pier.size());
+        }
+        double sum = 0, worst = 0;
+        for (const double e : pier_rms) {
+            sum += e * e;
+            worst = std::max(worst, e);
+        }
+        std::printf(
+            "summary: %d of %zu epochs registered; pier RMS error %.3f mm (worst epoch %.3f mm); "
+            "%d of %d components (foot and top corners) within 2σ (%.1f %%)\n",
+            registered, files.size() - 1,
+            pier_rms.empty() ? 0.0 : 1e3 * std::sqrt(sum / pier_rms.size()), 1e3 * worst,
+            within_2sigma, components, components ? 100.0 * within_2sigma / components : 0.0);
+        if (config.uses_planes()) {
             std::printf(
-                "  pier: RMS error %.3f mm; top corner error %.3f mm (x %+.3f y %+.3f z %+.3f), "
-                "predicted 3-D σ %.3f mm, %d/3 components within 2σ\n",
-                1e3 * rms, 1e3 * e.norm(), 1e3 * e.x(), 1e3 * e.y(), 1e3 * e.z(),
-                1e3 * std::sqrt(S.trace()), within);
+                "summary planes: %d epochs with a moved block: all its matched planes flagged in "
+                "%d; %d of %d such planes flagged; %d planes flagged moved on unmoved ground\n",
+                epochs_with_moved, epochs_all_found, total.found, total.on_moved,
+                total.flagged_elsewhere);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_registration_truth: %s\n", e.what());

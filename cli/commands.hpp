@@ -48,6 +48,7 @@ struct RegisterOptions {
     std::string reference;
     std::string epoch;
     std::string config;
+    std::string method;  // targets, planes, targets+planes; "" = the configuration's
     OutputFormat format = OutputFormat::table;
 };
 // 0: accepted; 3: registered but refused (the reason printed); 1: an error.
@@ -99,6 +100,14 @@ struct CorePointsOptions {
     std::string out;
 };
 int run_query_corepoints(const CorePointsOptions& options);
+
+// `tlsmon query planes --epoch N`: the reference planes the registration on planes matched
+// in one epoch, each with its role (datum, moved, monitored), tilt and shift with σ, and test.
+struct PlanesQueryOptions {
+    ReadOptions read;
+    std::int64_t epoch = 0;
+};
+int run_query_planes(const PlanesQueryOptions& options);
 
 // `tlsmon events [--kind K]`
 struct EventsOptions {

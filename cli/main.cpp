@@ -63,6 +63,8 @@ struct CommandLine {
     KeypointsQueryOptions keypoints_query;
     ReadOptionsOnTheCommandLine corepoints_read;
     CorePointsOptions corepoints;
+    ReadOptionsOnTheCommandLine planes_read;
+    PlanesQueryOptions planes;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
@@ -224,17 +226,35 @@ void add_query(CLI::App& app, CommandLine& c) {
         corepoints_options.read = corepoints_read.finish();
         c.code = run_query_corepoints(corepoints_options);
     });
+
+    auto& planes_read = c.planes_read;
+    auto& planes_options = c.planes;
+    auto* planes = query->add_subcommand(
+        "planes",
+        "One epoch's planes from the registration on planes: role (datum, moved, monitored), "
+        "tilt and shift with σ, test statistic (docs/registration.md)");
+    planes->add_option("--epoch", planes_options.epoch, "Epoch id")->required();
+    planes_read.add_to(planes, false);
+    planes->callback([&] {
+        planes_options.read = planes_read.finish();
+        c.code = run_query_planes(planes_options);
+    });
 }
 
 void add_register(CLI::App& app, CommandLine& c) {
     auto& o = c.register_;
     auto* cmd = app.add_subcommand(
         "register",
-        "Register a scan onto a reference scan through the site's targets and print the "
-        "transformation, its σ and each target's residual");
+        "Register a scan onto a reference scan through the site's targets or the scene's "
+        "planes and print the transformation, its σ, each target's residual and each plane's "
+        "change");
     cmd->add_option("REFERENCE", o.reference, "Reference scan (epoch 0)")->required();
     cmd->add_option("EPOCH", o.epoch, "Scan to register")->required();
     cmd->add_option("--config", o.config, "Site configuration ([[target]] tables)")->required();
+    cmd->add_option("--method", o.method,
+                    "What the datum rests on, in place of the configuration's "
+                    "registration.method")
+        ->check(CLI::IsMember({"targets", "planes", "targets+planes"}));
     cmd->add_option("--format", c.register_format, "Output format")
         ->check(CLI::IsMember({"table", "json"}));
     cmd->callback([&] {

@@ -50,7 +50,7 @@ namespace {
 std::optional<int> table_decimals(std::string_view column) {
     static constexpr std::pair<std::string_view, int> kUnits[] = {
         {"_m", 6},   {"_mm", 3},  {"_ms", 1},  {"_s", 3},         {"_deg", 6}, {"_c", 2},
-        {"_hpa", 1}, {"_pct", 1}, {"_ppm", 2}, {"_m_per_day", 6}, {"_px", 2}};
+        {"_hpa", 1}, {"_pct", 1}, {"_ppm", 2}, {"_m_per_day", 6}, {"_px", 2},  {"_arcsec", 2}};
     for (const auto& [suffix, decimals] : kUnits)
         if (column.ends_with(suffix)) return decimals;
     return std::nullopt;

@@ -1,8 +1,9 @@
-// `tlsmon register REFERENCE EPOCH --config SITE`: the registration stage on two files, for
-// an analyst checking a scan by hand. The reference's target centres are measured in
-// REFERENCE (or taken from the survey), EPOCH's against them, and the tested transformation
-// printed: its JSON holds `matrix`, the 4×4 rows that map EPOCH's points into REFERENCE's
-// frame. Nothing is stored and no exclusion carries over.
+// `tlsmon register REFERENCE EPOCH --config SITE [--method M]`: the registration stage on two
+// files, for an analyst checking a scan by hand. The reference's target centres (or planes)
+// are measured in REFERENCE (or taken from the survey), EPOCH's against them, and the tested
+// transformation printed: its JSON holds `matrix`, the 4×4 rows that map EPOCH's points into
+// REFERENCE's frame, and with planes each matched plane's role and change. Nothing is stored
+// and no exclusion carries over.
 #include <fmt/format.h>
 
 #include <iostream>
@@ -13,11 +14,15 @@
 #include "cli/transformation_columns.hpp"
 #include "config/config.hpp"
 #include "pipeline/icp_registration.hpp"
+#include "pipeline/registration_on_planes.hpp"
+#include "pipeline/registration_rows.hpp"
 #include "pipeline/registration_stage.hpp"
 
 namespace tlsmon {
 
 namespace {
+
+constexpr double kArcsecPerRad = 180.0 * 3600.0 / 3.141592653589793;
 
 nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& v) {
     namespace reg = registration;
@@ -73,6 +78,28 @@ nlohmann::json describe_result(const RegistrationResult& r, const StageVerdict& 
         targets.push_back(t);
     }
     j["targets"] = targets;
+    if (r.planes) {
+        nlohmann::json planes = plane_quality(*r.planes);
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& p : plane_rows(r)) {
+            list.push_back({{"plane", p.plane},
+                            {"zone", p.zone},
+                            {"role", p.role},
+                            {"normal", p.normal},
+                            {"centroid_m", p.centroid},
+                            {"tilt_u_arcsec", p.change[0] * kArcsecPerRad},
+                            {"tilt_v_arcsec", p.change[1] * kArcsecPerRad},
+                            {"shift_mm", 1e3 * p.change[2]},
+                            {"sigma_tilt_u_arcsec", p.sigma[0] * kArcsecPerRad},
+                            {"sigma_tilt_v_arcsec", p.sigma[1] * kArcsecPerRad},
+                            {"sigma_shift_mm", 1e3 * p.sigma[2]},
+                            {"statistic", p.statistic},
+                            {"critical", p.critical},
+                            {"significant", p.significant}});
+        }
+        planes["planes"] = list;
+        j["planes"] = planes;
+    }
     return j;
 }
 
@@ -118,6 +145,26 @@ void print_table(const nlohmann::json& j) {
                           g["reason"].get<std::string>()});
     }
     print(std::cout, t, OutputFormat::table);
+    if (!j.contains("planes")) return;
+    const auto& planes = j["planes"];
+    std::cout << fmt::format(
+        "planes: {} in the reference, {} in the epoch, {} matched: {} in the datum, {} moved, "
+        "{} in zones{}\n",
+        planes["reference_planes"].get<std::size_t>(), planes["epoch_planes"].get<std::size_t>(),
+        planes["matched"].get<std::size_t>(), planes["in_datum"].get<std::size_t>(),
+        planes["moved"].get<std::size_t>(), planes["monitored"].get<std::size_t>(),
+        planes["used"].get<bool>() ? "" : "; not used: " + planes["refused"].get<std::string>());
+    Table p{{"plane", "zone", "role", "tilt_u_arcsec", "tilt_v_arcsec", "shift_mm",
+             "sigma_shift_mm", "statistic", "significant"},
+            {}};
+    for (const auto& g : planes["planes"]) {
+        p.rows.push_back({g["plane"].get<std::int64_t>(), g["zone"].get<std::string>(),
+                          g["role"].get<std::string>(), g["tilt_u_arcsec"].get<double>(),
+                          g["tilt_v_arcsec"].get<double>(), g["shift_mm"].get<double>(),
+                          g["sigma_shift_mm"].get<double>(), g["statistic"].get<double>(),
+                          g["significant"].get<bool>()});
+    }
+    if (!p.rows.empty()) print(std::cout, p, OutputFormat::table);
 }
 
 }  // namespace
@@ -125,7 +172,12 @@ void print_table(const nlohmann::json& j) {
 int run_register(const RegisterOptions& o) {
     bool accepted = false;
     const int code = run_reporting_errors("register", [&] {
-        const Config config = load_config(o.config);
+        Config config = load_config(o.config);
+        if (!o.method.empty()) {
+            const auto method = registration_method_named(o.method);
+            if (!method) throw Error("--method " + o.method + ": not a registration method");
+            config.registration.method = *method;
+        }
         const RegistrationConfig rc = pipeline_config(config).registration;
         if (!can_register(rc)) {
             throw ConfigError(o.config + ": " + kNoRegistrationWarning);

@@ -483,6 +483,7 @@ M3c2Config with_zone_shapes(const Config& config) {
 RegistrationConfig with_zones(const Config& config) {
     RegistrationConfig r = config.registration;
     r.icp = config.icp;
+    r.planes = config.planes;
     r.zones = with_zone_shapes(config).zones;
     return r;
 }

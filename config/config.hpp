@@ -114,7 +114,8 @@ struct Config {
     RegistrationConfig registration;  // targets: the [[target]] tables
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
     KeypointConfig keypoints;         // likewise
-    IcpConfig icp;  // [registration] icp_* keys; regions: the [[stable_region]] tables
+    IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
+    PlaneConfig planes;  // [registration] plane_* keys
     ModbusConfig modbus;
     AlarmConfig alarm;
     std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]

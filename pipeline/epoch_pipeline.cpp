@@ -116,14 +116,23 @@ std::optional<ReferenceEpoch> reference_for(PipelineContext& ctx, const Epoch& e
 }
 
 // What the earlier epochs left for this one: the targets excluded as moved, the reference
-// epoch's air, the stored series.
-StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference) {
+// epoch's air, the stored series, the last accepted transformation.
+StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference,
+                         const Epoch& epoch) {
     StageHistory history;
     history.excluded_targets = ctx.db.registrations().excluded_targets();
     for (const auto& m : ctx.db.meteo().of_epoch(reference.epoch().id)) {
         if (m.outcome == MeteoOutcome::used && m.values) history.reference_meteo = m;
     }
     history.series = &ctx.db.series();
+    if (const auto m = ctx.db.registrations().last_accepted_transform(epoch.acquired)) {
+        registration::RigidTransform t;
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) t.rotation(r, c) = (*m)[4 * r + c];
+            t.translation(r) = (*m)[4 * r + 3];
+        }
+        history.last_transform = t;
+    }
     return history;
 }
 
@@ -155,7 +164,7 @@ StageVerdict run_stages(PipelineContext& ctx, const EpochInput& input, EpochResu
                             ""};
     }
     // 2. What the stages may read of the epochs before.
-    const StageHistory history = history_for(ctx, *reference);
+    const StageHistory history = history_for(ctx, *reference, input.epoch);
     // 3. Coverage, registration, M3C2, keypoints (site_stages): each prepares its reference
     //    product (cached) and measures the epoch into its own rows.
     StageOutputs outputs;

@@ -41,30 +41,11 @@ bool in_regions(const IcpConfig& c, const Eigen::Vector3d& p) {
     return false;
 }
 
-// The σ part of the quality gate (registration.max_sigma_*) on a transformation.
-std::string sigma_gate(const RegistrationConfig& config, const reg::RigidTransform& T) {
-    const auto sig = T.sigmas();
-    const char* angles[] = {"ω", "φ", "κ"};
-    for (int k = 0; k < 3; ++k) {
-        if (sig(k) / kArcsec > config.max_sigma_angle_arcsec) {
-            return fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
-                               angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
-        }
-    }
-    const char* axes[] = {"tx", "ty", "tz"};
-    for (int k = 0; k < 3; ++k) {
-        if (sig(3 + k) > config.max_sigma_translation) {
-            return fmt::format(
-                "σ of {} {:.2f} mm above registration.max_sigma_translation = {:.2f} mm", axes[k],
-                1e3 * sig(3 + k), 1e3 * config.max_sigma_translation);
-        }
-    }
-    return "";
-}
-
+// Too few targets, or (with the planes) no registration on planes either.
 bool too_few_targets(const RegistrationResult& r) {
     return r.tested.status == reg::RegistrationStatus::too_few_targets ||
-           r.tested.status == reg::RegistrationStatus::degenerate_geometry;
+           r.tested.status == reg::RegistrationStatus::degenerate_geometry ||
+           r.tested.status == reg::RegistrationStatus::planes_refused;
 }
 
 }  // namespace
@@ -244,15 +225,7 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
         if (m.refused.empty()) {
             const reg::RigidTransform& Tt = *result.tested.transform;
             const reg::RigidTransform combined = reg::combine_transforms(Tt, *m.transform);
-            // The two estimates' difference against their summed covariance: χ²(6).
-            Eigen::Matrix<double, 6, 1> d;
-            const Eigen::AngleAxisd dr(m.transform->rotation * Tt.rotation.transpose());
-            d.head<3>() = dr.angle() * dr.axis();
-            d.tail<3>() = m.transform->translation - Tt.translation;
-            const Eigen::Matrix<double, 6, 6> S =
-                Tt.small_rotation_covariance.topLeftCorner<6, 6>() +
-                m.transform->small_rotation_covariance.topLeftCorner<6, 6>();
-            m.agreement = d.dot(S.ldlt().solve(d));
+            m.agreement = reg::transform_difference_statistic(Tt, *m.transform);
             const double limit = reg::chi_square_quantile(1.0 - kAgreementAlpha, 6);
             if (*m.agreement > limit) {
                 m.refused = fmt::format(
@@ -297,7 +270,8 @@ void apply_icp(const RegistrationConfig& config, const EpochInput& input, Refere
 
 std::string registration_method(const RegistrationResult& r) {
     std::string m = "targets";
-    if (r.icp && r.icp->used) m = r.icp->role == "fallback" ? "icp" : "targets+icp";
+    if (r.planes && r.planes->used) m = r.planes->role == "joint" ? "targets+planes" : "planes";
+    if (r.icp && r.icp->used) m = r.icp->role == "fallback" ? "icp" : m + "+icp";
     if (r.epoch_range_scale) m += "+atmosphere";
     return m;
 }

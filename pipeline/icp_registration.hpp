@@ -60,7 +60,8 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
 void apply_icp(const RegistrationConfig& config, const EpochInput& input, ReferenceEpoch& reference,
                ReferenceCache& cache, const RangeScales& scales, RegistrationResult& result);
 
-// "targets", "targets+icp" or "icp", with "+atmosphere" when the ranges were corrected.
+// "targets", "planes", "targets+planes" or "icp", with "+icp" for a refinement and
+// "+atmosphere" when the ranges were corrected.
 std::string registration_method(const RegistrationResult& result);
 
 // The ICP's figures, the `icp` member of the registration row's quality_json (a NaN is null).

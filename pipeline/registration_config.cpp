@@ -10,6 +10,12 @@ const char* to_string(TargetKind kind) {
 
 namespace {
 
+constexpr std::array<Named<RegistrationMethod>, 3> kMethods{{
+    {RegistrationMethod::targets, "targets"},
+    {RegistrationMethod::planes, "planes"},
+    {RegistrationMethod::targets_planes, "targets+planes"},
+}};
+
 constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
     {AtmosphereCorrection::measured_air, "measured_air"},
     {AtmosphereCorrection::off, "off"},
@@ -23,9 +29,31 @@ constexpr std::array<Named<IcpMode>, 4> kIcpModes{{
 
 }  // namespace
 
+const char* to_string(RegistrationMethod method) {
+    for (const auto& m : kMethods) {
+        if (m.value == method) return m.name.data();
+    }
+    return "targets";
+}
+
+std::optional<RegistrationMethod> registration_method_named(std::string_view name) {
+    for (const auto& m : kMethods) {
+        if (m.name == name) return m.value;
+    }
+    return std::nullopt;
+}
+
 std::vector<SectionKey<RegistrationConfig>> registration_keys() {
     using K = Keys<RegistrationConfig>;
     return {
+        K::choice(&RegistrationConfig::method, "method", kMethods,
+                  "What the datum rests on. `targets`: the [[target]] tables. `planes`: the "
+                  "planes of the scene itself, detected in each scan's grid, matched to the "
+                  "reference's and adjusted; the congruence test leaves out the planes that "
+                  "moved, and planes inside a [[zone]] never enter the datum "
+                  "(docs/registration.md, \"Registration on planes\"). `targets+planes`: both, "
+                  "their estimates combined by their covariances when they agree; planes alone "
+                  "when the targets are too few."),
         K::number(&RegistrationConfig::search_radius, "search_radius", 0.05, 5, "m",
                   "A target's points are taken within this of its predicted centre (its centre in "
                   "the reference epoch), through the scan grid's angular window."),
@@ -102,6 +130,37 @@ std::vector<SectionKey<IcpConfig>> icp_keys() {
                   "The ICP's σ is multiplied by this for what no residual shows (the footprint on "
                   "grazing ground, the grid's phase); 2 is honest on the simulator "
                   "(docs/registration.md)."),
+    };
+}
+
+std::vector<SectionKey<PlaneConfig>> plane_keys() {
+    using K = Keys<PlaneConfig>;
+    return {
+        K::number(&PlaneConfig::range_sigma_a, "plane_range_sigma_a", 0, 0.1, "m",
+                  "The scanner's range noise σ_r = a + b·r, constant part: a block of the grid is "
+                  "planar when its scatter agrees with this model (docs/registration.md)."),
+        K::number(&PlaneConfig::range_sigma_b_ppm, "plane_range_sigma_b_ppm", 0, 1000, "ppm",
+                  "The range noise's part proportional to the range."),
+        K::number(&PlaneConfig::angular_sigma_arcsec, "plane_angular_sigma_arcsec", 0, 100, "″",
+                  "The σ of the beam's direction."),
+        K::number(&PlaneConfig::flatness, "plane_flatness", 0, 0.05, "m",
+                  "A real surface's own departure from a plane (formwork, joints), added to the "
+                  "model's σ."),
+        K::integer(&PlaneConfig::min_points, "plane_min_points", 10, 10000000, "",
+                   "Fewer points in a block of the grid: no plane."),
+        K::number(&PlaneConfig::max_normal_sigma_arcsec, "plane_max_normal_sigma_arcsec", 1, 36000,
+                  "″", "A plane whose normal's σ is larger is not significant and is not kept."),
+        K::number(&PlaneConfig::max_angle_deg, "plane_max_angle_deg", 0.01, 30, "°",
+                  "Matching: an epoch plane's normal, mapped by the approximate transformation, "
+                  "within this of the reference plane's."),
+        K::number(&PlaneConfig::max_offset, "plane_max_offset", 0.001, 5, "m",
+                  "Matching: the mapped epoch centroid within this of the reference plane."),
+        K::number(&PlaneConfig::alpha, "plane_alpha", 1e-6, 0.5, "",
+                  "The congruence test's level: the global test of \"no plane moved\"; while it "
+                  "fails, the plane with the largest test statistic leaves the datum."),
+        K::integer(&PlaneConfig::min_planes, "plane_min_planes", 3, 100000, "",
+                   "Planes that must stay in the datum; fewer: the epoch is not registered on "
+                   "planes."),
     };
 }
 

@@ -4,11 +4,13 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/zones/zone_shape.hpp"
 #include "core/config_key.hpp"
 #include "pipeline/icp_config.hpp"
+#include "pipeline/plane_config.hpp"
 
 namespace tlsmon {
 
@@ -26,11 +28,19 @@ struct TargetConfig {
     double surveyed_sigma = 0.0005;  // m, per coordinate, of a surveyed centre
 };
 
+// What the datum rests on: the targets; the scene's own planes (the congruence test keeps the
+// planes that stayed); or both, their estimates combined by their covariances.
+enum class RegistrationMethod { targets, planes, targets_planes };
+const char* to_string(RegistrationMethod method);
+// The method of that name ("targets", "planes", "targets+planes"); absent for another name.
+std::optional<RegistrationMethod> registration_method_named(std::string_view name);
+
 // What to do with the epoch's meteo values (EpochInput::meteo).
 enum class AtmosphereCorrection { measured_air, off };
 
 struct RegistrationConfig {
-    std::vector<TargetConfig> targets;  // none: no registration (the stage does not run)
+    RegistrationMethod method = RegistrationMethod::targets;
+    std::vector<TargetConfig> targets;  // none: no registration on targets
     double search_radius = 0.30;        // m about the predicted centre
     // Added (as σ² per coordinate) to every fitted centre's covariance: what a centre really
     // repeats to beyond the fit's random part (docs/registration.md, "Sphere targets").
@@ -54,22 +64,29 @@ struct RegistrationConfig {
     std::vector<ZoneShape> zones;
     // ICP on the stable regions: refinement and fallback (pipeline/icp_registration.hpp).
     IcpConfig icp;
+    // The registration on planes (pipeline/registration_on_planes.hpp).
+    PlaneConfig planes;
+    bool uses_targets() const { return method != RegistrationMethod::planes; }
+    bool uses_planes() const { return method != RegistrationMethod::targets; }
 };
 
-// Whether an epoch can be registered at all: on targets, or by the ICP fallback on the
-// stable regions (which also runs where no target is configured).
+// Whether an epoch can be registered at all: on targets, on planes, or by the ICP fallback
+// on the stable regions (which also runs where no target is configured).
 inline bool can_register(const RegistrationConfig& c) {
-    return !c.targets.empty() || (c.icp.falls_back() && !c.icp.regions.empty());
+    return (c.uses_targets() && !c.targets.empty()) || c.uses_planes() ||
+           (c.icp.falls_back() && !c.icp.regions.empty());
 }
 
 // What a site that cannot register says (check-config, and the log and events at start).
 inline constexpr const char* kNoRegistrationWarning =
-    "no registration can run: no [[target]] tables and no ICP fallback on [[stable_region]] "
-    "tables (registration.icp = \"fallback\" or \"both\"); every epoch but the reference "
+    "no registration can run: no [[target]] tables, registration.method is not on planes, and "
+    "no ICP fallback on [[stable_region]] tables (registration.icp = \"fallback\" or "
+    "\"both\"); every epoch but the reference "
     "is stored `unregistered` and its values raise no alarm";
 
 // The keys of [registration]: its own, then the ICP's (`icp`, `icp_*`; core/config_key.hpp).
 std::vector<SectionKey<RegistrationConfig>> registration_keys();
 std::vector<SectionKey<IcpConfig>> icp_keys();
+std::vector<SectionKey<PlaneConfig>> plane_keys();
 
 }  // namespace tlsmon

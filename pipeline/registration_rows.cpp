@@ -1,10 +1,12 @@
 #include "pipeline/registration_rows.hpp"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "core/utc_time.hpp"
 #include "pipeline/icp_registration.hpp"
+#include "pipeline/registration_on_planes.hpp"
 
 namespace tlsmon {
 
@@ -20,6 +22,7 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                            {"epoch_ppm", ppm(r.epoch_range_scale)},
                            {"reference_ppm", ppm(r.reference_range_scale)}};
     if (r.icp) quality["icp"] = icp_quality(*r.icp);
+    if (r.planes) quality["planes"] = plane_quality(*r.planes);
     row.quality_json = quality.dump();
     row.status = name_of(r.tested.status);
     // Accepted with a scaled covariance: the reason says by how much, and why.
@@ -89,11 +92,47 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                             "re-surveyed",
                         epoch});
     }
-    if (r.accepted()) {
-        for (const auto& z : r.zones) {
-            results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
-        }
+    if (!r.accepted()) return;
+    if (r.planes && r.planes->used && r.planes->station_change) {
+        results.system_events.push_back(SystemEvent{
+            now_utc(), "warning", "station_change",
+            describe(*r.planes->station_change) +
+                "; the reference is unchanged, every later epoch is registered from this pose",
+            epoch});
     }
+    for (const auto& z : r.zones) {
+        results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
+    }
+    results.planes = plane_rows(r);
+}
+
+std::vector<PlaneRow> plane_rows(const RegistrationResult& r) {
+    std::vector<PlaneRow> out;
+    if (!r.accepted() || !r.planes || !r.planes->transform) return out;
+    const registration::RigidTransform& T = *r.tested.transform;
+    for (const auto& o : r.planes->matched) {
+        const auto m =
+            registration::plane_misclosure({o.reference, o.epoch}, T.rotation, T.translation);
+        PlaneRow p;
+        p.plane = static_cast<std::int64_t>(o.plane);
+        p.zone = o.zone;
+        p.role = o.role;
+        for (int k = 0; k < 3; ++k) {
+            p.normal[k] = o.reference.normal(k);
+            p.centroid[k] = o.reference.centroid(k);
+            p.change[k] = m.w(k);
+            p.sigma[k] = std::sqrt(o.misclosure.cofactor(k, k));
+        }
+        p.reference_points = static_cast<std::int64_t>(o.reference.points);
+        p.epoch_points = static_cast<std::int64_t>(o.epoch.points);
+        // The planes' own cofactor (its prediction's part is nearly the same under a combined
+        // transformation, which agreed with theirs).
+        p.statistic = m.w.dot(o.misclosure.cofactor.ldlt().solve(m.w));
+        p.critical = o.critical;
+        p.significant = p.statistic > p.critical;
+        out.push_back(p);
+    }
+    return out;
 }
 
 RegistrationRow datum_without_registration(bool is_reference) {

@@ -13,6 +13,7 @@
 #include "core/group_refractivity.hpp"
 #include "core/payload.hpp"
 #include "pipeline/icp_registration.hpp"
+#include "pipeline/registration_on_planes.hpp"
 #include "pipeline/registration_rows.hpp"
 #include "pipeline/target_window.hpp"
 
@@ -50,6 +51,8 @@ const char* name_of(reg::RegistrationStatus status) {
             return "outlier_not_excludable";
         case reg::RegistrationStatus::outlier_not_identifiable:
             return "outlier_not_identifiable";
+        case reg::RegistrationStatus::planes_refused:
+            return "planes_refused";
     }
     return "unknown";
 }
@@ -292,31 +295,36 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     out.rms = out.used ? std::sqrt(out.rms / out.used) : 0.0;
     if (!out.tested.accepted() || !out.tested.transform) return out;
     const reg::RigidTransform& T = *out.tested.transform;
-    const auto sig = T.sigmas();
     if (out.rms > config.max_rms) {
         out.gate = fmt::format(
             "RMS of the target residuals {:.2f} mm above registration.max_rms "
             "= {:.2f} mm",
             1e3 * out.rms, 1e3 * config.max_rms);
+    } else {
+        out.gate = sigma_gate(config, T);
     }
+    out.zones = zone_sigmas(config, T);
+    return out;
+}
+
+std::string sigma_gate(const RegistrationConfig& config, const reg::RigidTransform& T) {
+    const auto sig = T.sigmas();
     const char* angles[] = {"ω", "φ", "κ"};
-    for (int k = 0; k < 3 && out.gate.empty(); ++k) {
+    for (int k = 0; k < 3; ++k) {
         if (sig(k) / kArcsec > config.max_sigma_angle_arcsec) {
-            out.gate =
-                fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
-                            angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
+            return fmt::format("σ of {} {:.1f}″ above registration.max_sigma_angle_arcsec = {}″",
+                               angles[k], sig(k) / kArcsec, config.max_sigma_angle_arcsec);
         }
     }
     const char* axes[] = {"tx", "ty", "tz"};
-    for (int k = 0; k < 3 && out.gate.empty(); ++k) {
+    for (int k = 0; k < 3; ++k) {
         if (sig(3 + k) > config.max_sigma_translation) {
-            out.gate = fmt::format(
+            return fmt::format(
                 "σ of {} {:.2f} mm above registration.max_sigma_translation = {:.2f} mm", axes[k],
                 1e3 * sig(3 + k), 1e3 * config.max_sigma_translation);
         }
     }
-    out.zones = zone_sigmas(config, T);
-    return out;
+    return "";
 }
 
 std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
@@ -377,17 +385,23 @@ StageOutputs RegistrationStage::outputs_of(const RegistrationResult& result,
 StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& result) const {
     const RegistrationConfig& config = config_;
     // The reference centres: measured once in the reference epoch (or surveyed), cached.
+    // With `method = "planes"` the targets are not measured at all.
+    RegistrationConfig targets = config;
+    if (!config.uses_targets()) targets.targets.clear();
     const auto centres = ctx.cache.get<ReferenceTargets>(
-        ctx.reference, ProductKey{"registration.targets", reference_parameters(config), 2},
-        [&](const std::vector<Scan>& scans) { return measure_reference_targets(config, scans); });
+        ctx.reference, ProductKey{"registration.targets", reference_parameters(targets), 2},
+        [&](const std::vector<Scan>& scans) { return measure_reference_targets(targets, scans); });
     // The air of both epochs, each range corrected from the scanner's setting.
     const std::optional<MeteoSidecar>& reference_meteo =
         ctx.is_reference() ? ctx.input.meteo : ctx.history.reference_meteo;
     const RangeScales scales{measured_range_scale(config, ctx.input.meteo),
                              measured_range_scale(config, reference_meteo)};
     result =
-        register_epoch(config, *centres, *ctx.input.scans, ctx.history.excluded_targets, scales);
-    apply_icp(config, ctx.input, ctx.reference, ctx.cache, scales, result);  // registration.icp
+        register_epoch(targets, *centres, *ctx.input.scans, ctx.history.excluded_targets, scales);
+    // registration.method on planes, then registration.icp.
+    apply_planes(config, ctx.input, ctx.reference, ctx.cache, scales, result,
+                 ctx.history.last_transform);
+    apply_icp(config, ctx.input, ctx.reference, ctx.cache, scales, result);
     StageVerdict verdict;
     std::string not_found;
     for (const auto& m : result.measured) {
@@ -409,14 +423,25 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
         return verdict;
     }
     const auto sig = result.tested.transform->sigmas();
-    verdict.note = fmt::format(
-        "{} targets, RMS {:.2f} mm, σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm", result.used,
-        1e3 * result.rms, sig(2) / kArcsec, 1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
+    const auto& planes = result.planes;
+    if (planes && planes->used && planes->role == "alone") {
+        verdict.note =
+            fmt::format("{} planes ({} moved, {} in zones), Ω {:.1f} ≤ {:.1f}", planes->in_datum,
+                        planes->moved, planes->monitored, planes->last_omega, planes->last_limit);
+    } else {
+        verdict.note = fmt::format("{} targets, RMS {:.2f} mm", result.used, 1e3 * result.rms);
+        if (planes && planes->used) {
+            verdict.note += fmt::format(" + {} planes ({} moved)", planes->in_datum, planes->moved);
+        }
+    }
+    verdict.note += fmt::format(", σ κ {:.1f}″, σ t {:.2f}/{:.2f}/{:.2f} mm", sig(2) / kArcsec,
+                                1e3 * sig(3), 1e3 * sig(4), 1e3 * sig(5));
     if (result.tested.status == reg::RegistrationStatus::accepted_scaled) {
         verdict.note += fmt::format("; global test failed, covariance scaled by s0² {:.2f}",
                                     result.tested.global.variance_factor);
     }
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
+    if (planes && !planes->used) verdict.note += "; planes not used: " + planes->refused;
     verdict.note += "; atmosphere " + result.atmosphere;
     if (result.icp) verdict.note += "; " + registration_method(result);
     return verdict;

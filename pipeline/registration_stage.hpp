@@ -16,6 +16,7 @@
 
 #include "algorithms/registration/target_tests.hpp"
 #include "pipeline/icp_measurement.hpp"
+#include "pipeline/plane_measurement.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/registration_config.hpp"
 #include "pipeline/stage.hpp"
@@ -66,6 +67,10 @@ struct ZoneRegistrationSigma {
 std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
                                                const registration::RigidTransform& T);
 
+// The σ part of the quality gate (registration.max_sigma_*) on a transformation: why it
+// refuses, "" when it passes.
+std::string sigma_gate(const RegistrationConfig& config, const registration::RigidTransform& T);
+
 struct RegistrationResult {
     std::vector<TargetMeasurement> measured;  // this epoch, in the configuration's order
     std::vector<TargetMeasurement> reference;
@@ -82,6 +87,8 @@ struct RegistrationResult {
     std::string atmosphere;  // what was done about the air, in words
     // The ICP on stable regions, when it ran (pipeline/icp_registration.hpp).
     std::optional<IcpMeasurement> icp;
+    // The registration on planes, when it ran (pipeline/registration_on_planes.hpp).
+    std::optional<PlaneMeasurement> planes;
     bool accepted() const { return tested.accepted() && gate.empty(); }
 };
 

@@ -60,6 +60,9 @@ struct StageHistory {
     // The reference epoch's own air (its stored meteo; this epoch's when it is the reference).
     std::optional<MeteoSidecar> reference_meteo;
     const SeriesReader* series = nullptr;  // the stored time series; none: this epoch alone
+    // The newest accepted registration before this epoch (rotation and translation only): a
+    // fixed station's approximate transformation for the next.
+    std::optional<registration::RigidTransform> last_transform;
 };
 
 // Everything one stage sees of one epoch.

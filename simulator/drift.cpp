@@ -23,18 +23,23 @@ Eigen::Affine3d PoseError::transform() const {
 
 PoseError pose_error(const Site& site, int epoch, double hours) {
     PoseError e;
+    const Events& ev = site.events;
+    if (ev.station_change_epoch >= 0 && epoch >= ev.station_change_epoch) {
+        e.yaw = ev.station_turn_deg * std::numbers::pi / 180.0;
+        e.translation = ev.station_shift;
+    }
     const Drift& d = site.drift;
     if (!d.enabled) return e;
     const double w = 2.0 * std::numbers::pi * hours / d.yaw_period_hours;
     Rng rng(hash_combine(hash_combine(site.noise.seed, kDriftStream),
                          static_cast<std::uint64_t>(epoch)));
-    e.yaw = (d.yaw_amplitude_arcsec * std::sin(w) + d.yaw_jitter_arcsec * rng.normal()) * kArcsec;
+    e.yaw += (d.yaw_amplitude_arcsec * std::sin(w) + d.yaw_jitter_arcsec * rng.normal()) * kArcsec;
     e.tilt_x =
         (d.tilt_amplitude_arcsec * std::sin(w) + d.tilt_jitter_arcsec * rng.normal()) * kArcsec;
     e.tilt_y = (d.tilt_amplitude_arcsec * 0.5 * (1.0 - std::cos(w)) +
                 d.tilt_jitter_arcsec * rng.normal()) *
                kArcsec;
-    for (int i = 0; i < 3; ++i) e.translation[i] = d.translation_sigma * rng.normal();
+    for (int i = 0; i < 3; ++i) e.translation[i] += d.translation_sigma * rng.normal();
     return e;
 }
 

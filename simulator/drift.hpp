@@ -22,7 +22,8 @@ struct PoseError {
 
 // Smooth part: yaw = A·sin(2π t / period), tilt_x = B·sin(2π t / period), tilt_y =
 // B·(1 − cos(2π t / period)) / 2; plus Gaussian jitter and translation seeded from
-// (noise.seed, epoch). Zero when drift is disabled.
+// (noise.seed, epoch); from events.station_change_epoch on, the station change added. Zero
+// when drift is disabled and the station never changed.
 PoseError pose_error(const Site& site, int epoch, double hours);
 
 // Nominal scanner -> project transform N (position and heading): what the header says.

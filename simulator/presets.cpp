@@ -86,6 +86,21 @@ Block block(std::string name, Block::Kind kind, Eigen::Vector3d lo, Eigen::Vecto
     return b;
 }
 
+// A wall `length` long and `thickness` thick, from the ground at z0 to z1, centred at (x, y)
+// and facing `facing_deg` (the direction of its front face's normal, counter-clockwise from
+// +x): a retaining wall or a building's face, set at an angle to the grid.
+Block wall(std::string name, double x, double y, double facing_deg, double length, double z0,
+           double z1, double thickness = 0.4) {
+    Block b;
+    b.name = std::move(name);
+    b.kind = Block::Kind::wall;
+    b.lo = {x - 0.5 * length, y - 0.5 * thickness, z0};
+    b.hi = {x + 0.5 * length, y + 0.5 * thickness, z1};
+    b.yaw_deg = facing_deg + 90.0;  // the box's −y face turned to face `facing_deg`
+    b.albedo = 0.35;
+    return b;
+}
+
 // A surveyor's fine scan of a target: a window over the target's angular size and
 // `margin_deg` more (the scanner's drift moves it by a few arc seconds), at `step_deg`.
 DetailScan target_scan(const Site& s, const Target& t, double step_deg, double margin_deg = 0.1) {
@@ -110,13 +125,20 @@ DetailScan target_scan(const Site& s, const Target& t, double step_deg, double m
 // pier at 60–150 m. The pier stands on a foundation (pile cap) showing 0.4 m above the
 // floor, 1.5 m wider than the pier all round; an abutment block at the foot of the north
 // side, east of the pier.
+//
+// Two low retaining walls set at an angle, either side of the pier: their faces (normals
+// (0.6, −0.8) and (−0.7, −0.7)) hold the registration on planes across the line of sight,
+// which the blocks' faces, square to the grid, hardly do. Their tops stay below the lines of
+// sight to the far targets (T5 beyond the west wall, T4 beyond the east one).
 void valley_near(Site& s) {
     s.terrain.profile_y = {60.0, 130.0};
     s.terrain.profile_z = {0.0, 25.0};
     s.terrain.blocks = {
         block("P-foundation", Block::Kind::foundation, {s.pier.x0 - 1.5, s.pier.y0 - 1.5, -1.0},
               {s.pier.x1 + 1.5, s.pier.y1 + 1.5, 0.4}),
-        block("A-north", Block::Kind::abutment, {22.0, 56.0, -1.0}, {30.0, 62.0, 2.5})};
+        block("A-north", Block::Kind::abutment, {22.0, 56.0, -1.0}, {30.0, 62.0, 2.5}),
+        wall("W-west", -2.5, 52.0, -53.13, 6.0, -0.5, 1.2),
+        wall("W-east", 21.5, 40.5, -135.0, 5.0, -0.5, 1.0)};
 }
 
 }  // namespace
@@ -178,7 +200,11 @@ Site preset_hochmosel() {
     s.terrain.profile_z = {30.0, 20.0, 0.0, 0.0, 45.0};
     s.terrain.blocks = {
         block("P-foundation", Block::Kind::foundation, {0.0, 98.0, -2.0}, {19.0, 109.0, 2.0}),
-        block("A-east", Block::Kind::abutment, {20.0, 60.0, -1.0}, {32.0, 66.0, 3.0})};
+        block("A-east", Block::Kind::abutment, {20.0, 60.0, -1.0}, {32.0, 66.0, 3.0}),
+        // Retaining walls at an angle either side of the pier, below the lines of sight to
+        // the far targets (valley_near's, larger for the distance).
+        wall("W-west", -8.0, 110.0, -53.13, 8.0, -0.5, 4.0, 0.6),
+        wall("W-east", 35.0, 115.0, -135.0, 7.0, -0.5, 5.0, 0.6)};
     s.scanner.position = {0.0, 0.0, 21.5};
     // Pier at 100–175 m range; 1334 columns x 2601 rows = 3.5 M cells at 0.03°.
     s.scanner.azimuth_min_deg = 64.0;

@@ -53,8 +53,8 @@ void consider(Hit& best, const Hit& h) {
 
 const char* surface_name(Surface s) {
     static constexpr const char* names[kSurfaceKinds] = {
-        "none",       "ground",   "pier", "deck",  "sphere",   "checkerboard",
-        "foundation", "abutment", "mast", "stand", "occluder", "vegetation"};
+        "none",     "ground", "pier",  "deck",     "sphere",     "checkerboard", "foundation",
+        "abutment", "mast",   "stand", "occluder", "vegetation", "wall"};
     return names[static_cast<int>(s)];
 }
 
@@ -90,6 +90,7 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
         g.bound_radius = 0.5 * (g.hi - g.lo).norm();
         target_geometry.push_back(std::move(g));
     }
+    for (const Block& b : s.terrain.blocks) block_poses.push_back(b.pose(e));
     occluders = occluder_states(s, e);
     vegetation = vegetation_states(s, e);
     // A bound on |u| at this epoch ((z/H)^p <= 1), plus 1 mm.
@@ -117,20 +118,29 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
     }
     for (std::size_t i = 0; i < site.terrain.blocks.size(); ++i) {
         const Block& k = site.terrain.blocks[i];
-        const BoxHit bh = intersect_box(k.lo, k.hi, o, d);
+        // In the block's own frame (its yaw and its motion at this epoch undone).
+        const Eigen::Isometry3d& P = scene.block_poses[i];
+        const Eigen::Vector3d half = 0.5 * (k.hi - k.lo);
+        const Eigen::Vector3d ol = P.linear().transpose() * (o - P.translation());
+        const Eigen::Vector3d dl = P.linear().transpose() * d;
+        const BoxHit bh = intersect_box(-half, half, ol, dl);
         if (bh.axis < 0 || bh.t >= best.range) continue;
-        Eigen::Vector3d n = Eigen::Vector3d::Zero();
-        n[bh.axis] = bh.low ? -1.0 : 1.0;
+        Eigen::Vector3d nl = Eigen::Vector3d::Zero();
+        nl[bh.axis] = bh.low ? -1.0 : 1.0;
+        const Eigen::Vector3d n = P.linear() * nl;
         const int face = pier_face(bh);
-        const Eigen::Vector2d uv = face_uv(face, o + bh.t * d);
+        // The texture is the block's own: it moves with it.
+        const Eigen::Vector2d uv = face_uv(face, ol + bh.t * dl + k.centre());
         // Concrete texture at the block's own mean reflectance, independent pattern per block.
         const double scale = site.texture.albedo > 0.0 ? k.albedo / site.texture.albedo : 0.0;
         const double albedo =
             std::clamp(scale * concrete_albedo(site.texture, 20 + 5 * static_cast<int>(i) + face,
                                                uv.x(), uv.y()),
                        0.02, 1.0);
-        Hit h{k.kind == Block::Kind::abutment ? Surface::abutment : Surface::foundation, bh.t, n,
-              albedo, -1};
+        const Surface surface = k.kind == Block::Kind::abutment ? Surface::abutment
+                                : k.kind == Block::Kind::wall   ? Surface::wall
+                                                                : Surface::foundation;
+        Hit h{surface, bh.t, n, albedo, -1};
         h.part = static_cast<int>(i);
         consider(best, h);
     }

@@ -44,9 +44,10 @@ enum class Surface {
     mast,
     stand,
     occluder,
-    vegetation
+    vegetation,
+    wall  // retaining walls and building faces (Block::Kind::wall)
 };
-constexpr int kSurfaceKinds = 12;
+constexpr int kSurfaceKinds = 13;
 // "ground", "pier", ... as in the truth's `points_by_surface`.
 const char* surface_name(Surface s);
 
@@ -84,6 +85,7 @@ struct SceneAtEpoch {
     std::vector<TargetGeometry> target_geometry;  // supports and bounds, per target
     std::vector<OccluderState> occluders;         // where each occluder is at this epoch
     std::vector<VegetationState> vegetation;      // leaves at this epoch
+    std::vector<Eigen::Isometry3d> block_poses;   // each block's own frame into the site's
 
     SceneAtEpoch(const Site& s, const EpochConditions& conditions);
     // At kDefaultStartUtc + hours (epoch_conditions.hpp).

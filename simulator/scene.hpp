@@ -8,6 +8,7 @@
 // scanner's +x axis, elevation e from the horizontal; beam direction
 // (cos e cos φ, cos e sin φ, sin e).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -124,7 +125,8 @@ struct Deformation {
     double reference_temperature_c = 15.0;  // uniform temperature of the undeformed box
 };
 
-// Events: a step of one part of the pier, a knocked target, missing scans, a scan cut short.
+// Events: a step of one part of the pier, a knocked target, a knocked scanner, missing scans,
+// a scan cut short.
 struct Events {
     int step_epoch = -1;  // from this epoch on; -1 = none
     double step_z_min = 30.0, step_z_max = 40.0;
@@ -132,6 +134,12 @@ struct Events {
     int knocked_target = -1;  // index into targets; -1 = none
     int knocked_epoch = -1;
     Eigen::Vector3d knocked_displacement{0.010, 0.0, 0.0};
+    // The scanner knocked or set up anew: from this epoch on it stands `station_shift` (m,
+    // scanner frame) away and turned by `station_turn_deg` about its standing axis, while the
+    // header keeps the nominal pose.
+    int station_change_epoch = -1;
+    Eigen::Vector3d station_shift{0.2, 0.0, 0.0};
+    double station_turn_deg = 5.0;
     std::vector<int> missing_epochs;
     int cut_short_epoch = -1;
     double cut_short_fraction = 0.5;  // fraction of the file's bytes written (at a line end)
@@ -200,13 +208,33 @@ struct Texture {
 // The valley: a cross-section z = h(y) across the valley (the bridge runs along y), piecewise
 // linear through (profile_y[k], profile_z[k]) and level beyond the ends, extruded along x.
 // The default is the flat plane z = 0. Stable blocks (foundation, abutment) are boxes on it.
+// A rigid motion of a block from an epoch on (a foundation block settling, a wall pushed by
+// the slope): what the congruence test of the registration on planes has to find. Applied
+// about the block's centre: rotation first, then the translation.
+struct BlockMotion {
+    int from_epoch = -1;                                        // below 0: the block never moves
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();      // m
+    Eigen::Vector3d rotation_arcsec = Eigen::Vector3d::Zero();  // about x, y, z
+};
+
 struct Block {
-    enum class Kind { foundation, abutment };
+    // wall: a retaining wall or a building face, a planar surface of the site set at an angle.
+    enum class Kind { foundation, abutment, wall };
     std::string name;
     Kind kind = Kind::foundation;
-    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // box, m
+    // The box (m) before its yaw: lo and hi of its own axes about its centre.
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+    double yaw_deg = 0.0;  // turned about the vertical through its centre, counter-clockwise
     double albedo = 0.40;  // mean reflectance (concrete texture)
+    BlockMotion motion;
+
+    Eigen::Vector3d centre() const { return 0.5 * (lo + hi); }
+    // Its own frame (origin at the centre, axes of lo/hi) into the site's at `epoch`.
+    Eigen::Isometry3d pose(int epoch) const;
+    // The motion at `epoch` (identity before motion.from_epoch), about the centre.
+    Eigen::Isometry3d displacement(int epoch) const;
 };
+const char* kind_name(Block::Kind kind);
 
 struct Terrain {
     std::vector<double> profile_y{0.0};  // m, increasing

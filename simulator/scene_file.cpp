@@ -227,13 +227,19 @@ sim::Block read_block(TomlFields& f) {
     f.get("name", b.name);
     if (b.name.empty()) f.fail("name", "every block needs a name");
     std::string kind = "foundation";
-    f.get_choice("kind", kind, {"foundation", "abutment"});
-    b.kind = kind == "abutment" ? sim::Block::Kind::abutment : sim::Block::Kind::foundation;
+    f.get_choice("kind", kind, {"foundation", "abutment", "wall"});
+    b.kind = kind == "abutment" ? sim::Block::Kind::abutment
+             : kind == "wall"   ? sim::Block::Kind::wall
+                                : sim::Block::Kind::foundation;
     if (!f.has("lo") || !f.has("hi")) f.fail("lo", "a block needs corners lo and hi [x, y, z]");
     get_vector3(f, "lo", b.lo, kBig);
     get_vector3(f, "hi", b.hi, kBig);
     if (!(b.hi.array() > b.lo.array()).all()) f.fail("hi", "must exceed lo on every axis");
+    f.get("yaw_deg", b.yaw_deg, -360.0, 360.0);
     f.get("albedo", b.albedo, 0.0, 1.0);
+    f.get("moves_from_epoch", b.motion.from_epoch, -1, 1000000);
+    get_vector3(f, "motion_m", b.motion.translation, 1.0);
+    get_vector3(f, "motion_arcsec", b.motion.rotation_arcsec, 36000.0);
     f.reject_unknown_keys();
     return b;
 }
@@ -371,6 +377,9 @@ void read_events(TomlFields& f, sim::Site& site) {
     }
     f.get("knocked_epoch", e.knocked_epoch, -1, 1000000);
     get_vector3(f, "knocked_displacement", e.knocked_displacement, 100.0);
+    f.get("station_change_epoch", e.station_change_epoch, -1, 1000000);
+    get_vector3(f, "station_shift", e.station_shift, 100.0);
+    f.get("station_turn_deg", e.station_turn_deg, -180.0, 180.0);
     std::vector<double> missing;
     f.get("missing_epochs", missing);
     if (f.has("missing_epochs")) {

@@ -66,11 +66,22 @@ void add_scene_truth(nlohmann::json& j, const Site& site, int epoch, double hour
     const Terrain& tr = site.terrain;
     json blocks = json::array();
     for (const Block& b : tr.blocks) {
-        blocks.push_back({{"name", b.name},
-                          {"kind", b.kind == Block::Kind::abutment ? "abutment" : "foundation"},
-                          {"lo", vec(b.lo)},
-                          {"hi", vec(b.hi)},
-                          {"albedo", b.albedo}});
+        // Its motion at this epoch (identity before motion.from_epoch): which planar surface
+        // moved and by how much, to score the congruence test (docs/simulator.md).
+        const Eigen::Isometry3d m = b.displacement(epoch);
+        const Eigen::AngleAxisd rotation(m.linear());
+        const Eigen::Vector3d c = b.centre();
+        blocks.push_back(
+            {{"name", b.name},
+             {"kind", kind_name(b.kind)},
+             {"lo", vec(b.lo)},
+             {"hi", vec(b.hi)},
+             {"yaw_deg", b.yaw_deg},
+             {"albedo", b.albedo},
+             {"moved", b.motion.from_epoch >= 0 && epoch >= b.motion.from_epoch},
+             {"centre_displacement_m", vec(Eigen::Vector3d(m * c - c))},
+             {"rotation_arcsec", rotation.angle() * 180.0 * 3600.0 / 3.141592653589793},
+             {"rotation_axis", vec(rotation.axis())}});
     }
     j["terrain"] = {{"model", "z = h(y), piecewise linear through the profile, level beyond it"},
                     {"profile_y", tr.profile_y},

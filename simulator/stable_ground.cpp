@@ -12,16 +12,25 @@ std::vector<StableBox> stable_ground(const Site& site, const StableGroundLayout&
     const Pier& p = site.pier;
     const double m = layout.margin, g = layout.gap;
     for (const Block& b : site.terrain.blocks) {
+        // The block's bounds as it stands (a wall set at an angle: its corners' bounds).
+        Eigen::AlignedBox3d box;
+        const Eigen::Isometry3d pose = b.pose(0);
+        const Eigen::AlignedBox3d own(b.lo - b.centre(), b.hi - b.centre());
+        for (int c = 0; c < 8; ++c)
+            box.extend(pose * own.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+        const Eigen::Vector3d blo = box.min(), bhi = box.max();
         // From below the lowest ground around the box to just above the block's top.
-        const double ground = std::min({terrain_height(site.terrain, b.lo.y() - m),
-                                        terrain_height(site.terrain, b.hi.y() + m),
-                                        terrain_height(site.terrain, 0.5 * (b.lo.y() + b.hi.y()))});
-        const double z0 = std::min(ground, b.hi.z()) - 1.0;
-        const double z1 = b.hi.z() + layout.headroom;
-        const Eigen::Vector3d lo(b.lo.x() - m, b.lo.y() - m, z0);
-        const Eigen::Vector3d hi(b.hi.x() + m, b.hi.y() + m, z1);
+        const double ground = std::min({terrain_height(site.terrain, blo.y() - m),
+                                        terrain_height(site.terrain, bhi.y() + m),
+                                        terrain_height(site.terrain, 0.5 * (blo.y() + bhi.y()))});
+        const double z0 = std::min(ground, bhi.z()) - 1.0;
+        const double z1 = bhi.z() + layout.headroom;
+        // A wall stands close to the pier: only a strip of ground at its foot with it.
+        const double mb = b.kind == Block::Kind::wall ? layout.wall_margin : m;
+        const Eigen::Vector3d lo(blo.x() - mb, blo.y() - mb, z0);
+        const Eigen::Vector3d hi(bhi.x() + mb, bhi.y() + mb, z1);
         const bool under_pier =
-            b.lo.x() < p.x1 && b.hi.x() > p.x0 && b.lo.y() < p.y1 && b.hi.y() > p.y0;
+            blo.x() < p.x1 && bhi.x() > p.x0 && blo.y() < p.y1 && bhi.y() > p.y0;
         if (!under_pier) {
             out.push_back({b.name, lo, hi});
             continue;

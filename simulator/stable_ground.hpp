@@ -20,9 +20,10 @@ struct StableBox {
 };
 
 struct StableGroundLayout {
-    double margin = 3.0;     // m of ground beyond a block's footprint
-    double gap = 0.2;        // m kept clear of the pier's faces
-    double headroom = 0.15;  // m above the block's top
+    double margin = 3.0;       // m of ground beyond a block's footprint
+    double wall_margin = 0.5;  // m beyond a wall's (walls stand near the pier)
+    double gap = 0.2;          // m kept clear of the pier's faces
+    double headroom = 0.15;    // m above the block's top
     bool valley_sides = true;
     double valley_width = 100.0;  // m either side of the pier along x
 };

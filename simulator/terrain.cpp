@@ -26,7 +26,13 @@ double support_height(const Terrain& t, double x, double y, int* block) {
     if (block) *block = -1;
     for (std::size_t i = 0; i < t.blocks.size(); ++i) {
         const Block& b = t.blocks[i];
-        if (x < b.lo.x() || x > b.hi.x() || y < b.lo.y() || y > b.hi.y()) continue;
+        // (x, y) in the block's own axes (its yaw undone; its motion is millimetres).
+        const double yaw = b.yaw_deg * 3.141592653589793 / 180.0;
+        const Eigen::Vector2d r(x - b.centre().x(), y - b.centre().y());
+        const Eigen::Vector2d q(std::cos(yaw) * r.x() + std::sin(yaw) * r.y(),
+                                -std::sin(yaw) * r.x() + std::cos(yaw) * r.y());
+        const Eigen::Vector3d half = 0.5 * (b.hi - b.lo);
+        if (std::abs(q.x()) > half.x() || std::abs(q.y()) > half.y()) continue;
         if (b.hi.z() > z) {
             z = b.hi.z();
             if (block) *block = static_cast<int>(i);
@@ -75,6 +81,41 @@ double terrain_albedo(const Texture& tex, const Terrain& t, double x, double y) 
     const double fine = value_noise(hash_combine(seed, 3), x / 0.25, y / 0.25) - 0.5;
     const double a = t.albedo * (1.0 + 0.9 * patch + 0.5 * fine);
     return std::clamp(a, 0.03, 1.0);
+}
+
+const char* kind_name(Block::Kind kind) {
+    switch (kind) {
+        case Block::Kind::foundation:
+            return "foundation";
+        case Block::Kind::abutment:
+            return "abutment";
+        case Block::Kind::wall:
+            return "wall";
+    }
+    return "foundation";
+}
+
+Eigen::Isometry3d Block::displacement(int epoch) const {
+    Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+    if (motion.from_epoch < 0 || epoch < motion.from_epoch) return m;
+    constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+    const Eigen::Vector3d r = kArcsec * motion.rotation_arcsec;
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
+    const Eigen::Vector3d c = centre();
+    m.linear() = R;
+    m.translation() = c - R * c + motion.translation;  // about the centre, then shifted
+    return m;
+}
+
+Eigen::Isometry3d Block::pose(int epoch) const {
+    Eigen::Isometry3d own = Eigen::Isometry3d::Identity();
+    own.linear() = Eigen::AngleAxisd(yaw_deg * 3.141592653589793 / 180.0, Eigen::Vector3d::UnitZ())
+                       .toRotationMatrix();
+    own.translation() = centre();
+    return displacement(epoch) * own;
 }
 
 void validate_terrain(const Terrain& t) {

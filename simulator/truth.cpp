@@ -119,6 +119,12 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
 
     const Pier& p = site.pier;
     j["pier"] = {{"x0", p.x0}, {"x1", p.x1}, {"y0", p.y0}, {"y1", p.y1}, {"height", p.height}};
+    const Deck& deck = site.deck;
+    j["deck"] = {{"enabled", deck.enabled},
+                 {"overhang", deck.overhang},
+                 {"half_length", deck.half_length},
+                 {"thickness", deck.thickness},
+                 {"model", "a box on the pier's top, not deformed"}};
 
     // ---- Weather, atmosphere and the thermal bending they drive ----
     const EpochConditions cond = epoch_conditions(site, epoch, hours, acquired_utc);
@@ -200,6 +206,12 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
                           {"since_epoch", ev.knocked_epoch},
                           {"target", site.targets.at(ev.knocked_target).name},
                           {"displacement", vec(ev.knocked_displacement)}});
+    }
+    if (ev.station_change_epoch >= 0 && epoch >= ev.station_change_epoch) {
+        events.push_back({{"type", "station_change"},
+                          {"since_epoch", ev.station_change_epoch},
+                          {"shift_m", vec(ev.station_shift)},
+                          {"turn_deg", ev.station_turn_deg}});
     }
     if (ev.cut_short_epoch == epoch) {
         events.push_back({{"type", "cut_short"}, {"fraction", ev.cut_short_fraction}});

@@ -62,6 +62,20 @@ struct TargetObservation {
     std::optional<double> minimal_detectable_bias_m;
 };
 
+// A reference plane matched in the epoch by the registration on planes: its change under the
+// accepted transformation (schema 0009_plane_observations.sql).
+struct PlaneRow {
+    std::int64_t plane = 0;                      // the reference plane's index
+    std::string zone;                            // "" outside every zone
+    std::string role;                            // datum, moved, monitored
+    std::array<double, 3> normal{}, centroid{};  // the reference plane, reference frame
+    std::int64_t reference_points = 0, epoch_points = 0;
+    std::array<double, 3> change{};  // tilt towards u, towards v (rad), shift along n (m)
+    std::array<double, 3> sigma{};   // of each
+    double statistic = 0, critical = 0;
+    bool significant = false;
+};
+
 // Aggregate of one quantity over one zone in one epoch: one point of a time series.
 struct ZoneResult {
     std::string zone;      // zone name (the zone must exist: Site::upsert_zone)
@@ -107,6 +121,7 @@ struct EpochResults {
     std::vector<TargetObservation> targets;
     std::vector<std::string> target_exclusions;  // targets this epoch excluded as moved
     std::vector<RegistrationZoneSigma> registration_zone_sigmas;
+    std::vector<PlaneRow> planes;    // the registration on planes' matched planes
     std::vector<NewZone> new_zones;  // before zone_results, which may name them
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;

@@ -88,6 +88,23 @@ std::optional<EpochId> RegistrationStore::last_epoch_with_targets() const {
     });
 }
 
+std::optional<std::array<double, 16>> RegistrationStore::last_accepted_transform(
+    UtcSeconds acquired) const {
+    return guarded(*c_, "reading a registration", [&]() -> std::optional<std::array<double, 16>> {
+        SQLite::Statement s(c_->db,
+                            "SELECT r.transform FROM registrations r JOIN epochs e ON"
+                            " e.id = r.epoch_id WHERE r.accepted = 1 AND e.acquired < ?"
+                            " ORDER BY e.acquired DESC, r.epoch_id DESC LIMIT 1");
+        s.bind(1, static_cast<std::int64_t>(acquired));
+        if (!s.executeStep()) return std::nullopt;
+        std::array<double, 16> t{};
+        const auto blob = s.getColumn(0);
+        if (blob.getBytes() != static_cast<int>(sizeof(t))) return std::nullopt;
+        std::memcpy(t.data(), blob.getBlob(), sizeof(t));
+        return t;
+    });
+}
+
 std::optional<RegistrationRow> RegistrationStore::of_epoch(EpochId id) const {
     return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
         SQLite::Statement s(
@@ -161,6 +178,38 @@ std::vector<TargetObservation> RegistrationStore::targets_of_epoch(EpochId id) c
             t.critical = opt(s.getColumn(17));
             t.minimal_detectable_bias_m = opt(s.getColumn(18));
             out.push_back(std::move(t));
+        }
+        return out;
+    });
+}
+
+std::vector<PlaneRow> RegistrationStore::planes_of_epoch(EpochId id) const {
+    return guarded(*c_, "reading plane observations", [&] {
+        SQLite::Statement s(
+            c_->db,
+            "SELECT plane, zone, role, normal_x, normal_y, normal_z, centroid_x, centroid_y,"
+            " centroid_z, reference_points, epoch_points, tilt_u_rad, tilt_v_rad, shift_m,"
+            " sigma_tilt_u_rad, sigma_tilt_v_rad, sigma_shift_m, statistic, critical, significant"
+            " FROM plane_observations WHERE epoch_id = ? ORDER BY plane");
+        s.bind(1, id);
+        std::vector<PlaneRow> out;
+        while (s.executeStep()) {
+            PlaneRow p;
+            p.plane = s.getColumn(0).getInt64();
+            if (!s.getColumn(1).isNull()) p.zone = s.getColumn(1).getString();
+            p.role = s.getColumn(2).getString();
+            for (int k = 0; k < 3; ++k) {
+                p.normal[k] = s.getColumn(3 + k).getDouble();
+                p.centroid[k] = s.getColumn(6 + k).getDouble();
+                p.change[k] = s.getColumn(11 + k).getDouble();
+                p.sigma[k] = s.getColumn(14 + k).getDouble();
+            }
+            p.reference_points = s.getColumn(9).getInt64();
+            p.epoch_points = s.getColumn(10).getInt64();
+            p.statistic = s.getColumn(17).getDouble();
+            p.critical = s.getColumn(18).getDouble();
+            p.significant = s.getColumn(19).getInt() != 0;
+            out.push_back(std::move(p));
         }
         return out;
     });

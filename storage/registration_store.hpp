@@ -1,10 +1,13 @@
 #pragma once
 // The registration's records outside an epoch commit: which targets are excluded as moved
 // (until an operator re-surveys them), and the rows `tlsmon query registrations` shows.
+#include <array>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "core/utc_time.hpp"
 #include "storage/epoch_results.hpp"
 #include "storage/ids.hpp"
 
@@ -39,10 +42,15 @@ class RegistrationStore {
     std::vector<TargetExclusion> exclusions() const;
     // The newest epoch with target observations, if any.
     std::optional<EpochId> last_epoch_with_targets() const;
+    // The transformation of the newest accepted registration acquired before `acquired`
+    // (4×4 row-major, as RegistrationRow::transform): a fixed station's prior for the next.
+    std::optional<std::array<double, 16>> last_accepted_transform(UtcSeconds acquired) const;
 
     std::optional<RegistrationRow> of_epoch(EpochId id) const;
     std::vector<TargetObservation> targets_of_epoch(EpochId id) const;
     std::vector<RegistrationZoneSigma> zone_sigmas_of_epoch(EpochId id) const;
+    // The registration on planes' matched planes, by reference index.
+    std::vector<PlaneRow> planes_of_epoch(EpochId id) const;
 
   private:
     Connection* c_;

@@ -108,6 +108,33 @@ void write_targets(Connection& c, EpochId id, const std::vector<TargetObservatio
     }
 }
 
+void write_planes(Connection& c, EpochId id, const std::vector<PlaneRow>& planes) {
+    if (planes.empty()) return;
+    SQLite::Statement s(c.db,
+                        "INSERT INTO plane_observations (epoch_id, plane, zone, role, normal_x,"
+                        " normal_y, normal_z, centroid_x, centroid_y, centroid_z,"
+                        " reference_points, epoch_points, tilt_u_rad, tilt_v_rad, shift_m,"
+                        " sigma_tilt_u_rad, sigma_tilt_v_rad, sigma_shift_m, statistic, critical,"
+                        " significant) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    for (const auto& p : planes) {
+        s.reset();
+        s.bind(1, id);
+        s.bind(2, p.plane);
+        bind_optional(s, 3, p.zone.empty() ? std::nullopt : std::optional<std::string>(p.zone));
+        s.bind(4, p.role);
+        for (int k = 0; k < 3; ++k) s.bind(5 + k, p.normal[k]);
+        for (int k = 0; k < 3; ++k) s.bind(8 + k, p.centroid[k]);
+        s.bind(11, p.reference_points);
+        s.bind(12, p.epoch_points);
+        for (int k = 0; k < 3; ++k) s.bind(13 + k, p.change[k]);
+        for (int k = 0; k < 3; ++k) s.bind(16 + k, p.sigma[k]);
+        s.bind(19, p.statistic);
+        s.bind(20, p.critical);
+        s.bind(21, p.significant ? 1 : 0);
+        s.exec();
+    }
+}
+
 void write_exclusions(Connection& c, EpochId id, const std::vector<std::string>& targets) {
     if (targets.empty()) return;
     SQLite::Statement s(c.db, "INSERT INTO target_exclusions (target, epoch_id) VALUES (?,?)");
@@ -250,6 +277,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results,
         write_targets(*c_, id, results.targets);
         write_exclusions(*c_, id, results.target_exclusions);
         write_zone_sigmas(*c_, id, results.registration_zone_sigmas);
+        write_planes(*c_, id, results.planes);
         for (const auto& z : results.new_zones) Site(*c_).upsert_zone(z.name, z.definition_json);
         write_zone_results(*c_, id, results.zone_results);
         write_core_point_arrays(*c_, id, results.core_point_arrays);

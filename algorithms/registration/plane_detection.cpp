@@ -44,7 +44,7 @@ class Detector {
     void split(const Block& b, std::vector<Kept>& out) const {
         std::vector<std::uint32_t> points = points_of(b);
         if (points.size() < p_.min_points) return;
-        if (auto plane = planar(points)) {
+        if (auto plane = planar(points)) {  // significant or not: small blocks merge first
             out.push_back({*plane, {b}, std::move(points)});
             return;
         }
@@ -58,8 +58,8 @@ class Detector {
         }
     }
 
-    // The plane of the points when they pass the planarity test and its normal is
-    // significant, with the covariance of the stochastic model (header).
+    // The plane of the points when they pass the planarity test, with the covariance of the
+    // stochastic model (header).
     std::optional<FittedPlane> planar(const std::vector<std::uint32_t>& points) const {
         std::vector<Eigen::Vector3d> xyz;
         xyz.reserve(points.size());
@@ -91,10 +91,14 @@ class Detector {
         f.normal_covariance *= scale;
         f.centroid_variance *= scale;
         f.point_sigma = std::sqrt(mean_variance);
+        return f;
+    }
+
+    // Whether the plane's normal is significant: the σ of its tip below the limit.
+    bool significant(const FittedPlane& f) const {
         const double tilt = std::sqrt(
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(f.normal_covariance).eigenvalues()(2));
-        if (!(tilt <= p_.max_normal_sigma_arcsec * kArcsec)) return std::nullopt;
-        return f;
+        return tilt <= p_.max_normal_sigma_arcsec * kArcsec;
     }
 
   private:
@@ -150,6 +154,38 @@ std::vector<std::pair<std::size_t, std::size_t>> touching(const std::vector<Kept
     return out;
 }
 
+// The points of each plane that lie more than `edge` cells inside it along the grid's row
+// and column (the points' cells labelled by plane first); a plane left with fewer than
+// `min_points` keeps all its points.
+void erode_edges(std::vector<DetectedPlane>& planes, const Scan& scan, std::uint32_t edge,
+                 std::size_t min_points) {
+    if (edge == 0) return;
+    const ScanGrid& g = *scan.grid;
+    std::vector<std::int32_t> label(g.cells(), -1);
+    const auto cell = [&](std::uint32_t r, std::uint32_t c) {
+        return std::uint64_t{r} * g.columns + c;
+    };
+    for (std::size_t k = 0; k < planes.size(); ++k)
+        for (const auto i : planes[k].points)
+            label[cell(g.row[i], g.column[i])] = static_cast<std::int32_t>(k);
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        const auto own = static_cast<std::int32_t>(k);
+        const auto inside = [&](std::int64_t r, std::int64_t c) {
+            return r >= 0 && c >= 0 && r < std::int64_t{g.rows} && c < std::int64_t{g.columns} &&
+                   label[cell(static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c))] == own;
+        };
+        std::vector<std::uint32_t> inner;
+        for (const auto i : planes[k].points) {
+            const std::int64_t r = g.row[i], c = g.column[i];
+            bool keep = true;
+            for (std::int64_t d = 1; d <= std::int64_t{edge} && keep; ++d)
+                keep = inside(r - d, c) && inside(r + d, c) && inside(r, c - d) && inside(r, c + d);
+            if (keep) inner.push_back(i);
+        }
+        if (inner.size() >= min_points) planes[k].points = std::move(inner);
+    }
+}
+
 DetectedPlane detected(Kept&& k) {
     DetectedPlane d;
     d.plane = k.plane;
@@ -203,8 +239,13 @@ std::vector<DetectedPlane> detect_planes(const Scan& scan, const PlaneDetectionP
     std::vector<DetectedPlane> out;
     for (auto& m : members) {
         if (m.empty()) continue;
+        // 3. What is kept: a plane whose normal is significant (a small face's blocks are
+        // not, alone; merged they may be).
+        const auto keep = [&](Kept&& k) {
+            if (detector.significant(k.plane)) out.push_back(detected(std::move(k)));
+        };
         if (m.size() == 1) {
-            out.push_back(detected(std::move(kept[m[0]])));
+            keep(std::move(kept[m[0]]));
             continue;
         }
         Kept merged;
@@ -214,15 +255,25 @@ std::vector<DetectedPlane> detect_planes(const Scan& scan, const PlaneDetectionP
         }
         if (auto plane = detector.planar(merged.points)) {
             merged.plane = *plane;
-            out.push_back(detected(std::move(merged)));
+            keep(std::move(merged));
         } else {
-            for (const auto k : m) out.push_back(detected(std::move(kept[k])));
+            for (const auto k : m) keep(std::move(kept[k]));
         }
     }
-    std::sort(out.begin(), out.end(), [](const DetectedPlane& a, const DetectedPlane& b) {
+    // 4. The edges left out, each plane fitted again on its inner points (dropped if they
+    // are not planar or not significant on their own).
+    erode_edges(out, scan, p.edge_cells, p.min_points);
+    std::vector<DetectedPlane> inner;
+    for (auto& d : out) {
+        const auto plane = detector.planar(d.points);
+        if (!plane || !detector.significant(*plane)) continue;
+        d.plane = *plane;
+        inner.push_back(std::move(d));
+    }
+    std::sort(inner.begin(), inner.end(), [](const DetectedPlane& a, const DetectedPlane& b) {
         return a.points.size() > b.points.size();
     });
-    return out;
+    return inner;
 }
 
 }  // namespace tlsmon::registration

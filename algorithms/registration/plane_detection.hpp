@@ -9,14 +9,20 @@
 //        σ² = (σ_r·cos β)² + (r·σ_θ·sin β)² + flatness²,   σ_r = a + b·r,
 //    β the incidence angle of each point's beam on the plane: the range noise projected on
 //    the normal, the direction's noise across it, and the surface's own departure from a
-//    plane. A planar block is kept when its normal is significant (its σ below
-//    `max_normal_sigma_arcsec`); a block that is not planar is split in four, down to
-//    `min_cells` rows or columns.
+//    plane. A planar block is kept; one that is not is split in four, down to `min_cells`
+//    rows or columns.
 // 2. Merging: kept blocks that touch in the grid merge when their planes are statistically
 //    equal: the difference w (the tilt between their normals towards the first one's axes
 //    and the second centroid's distance from the first plane) against its covariance,
 //    wᵀ·Σ_ww⁻¹·w ≤ χ²(3, 1 − merge_alpha) (plane_registration.hpp, with R = I, t = 0). A
 //    merged group is fitted again on all its points.
+// 3. Significance: a plane (merged or alone) is kept when its normal is significant, the σ
+//    of its tip below `max_normal_sigma_arcsec`. Tested after the merge, so that a small
+//    face (a foundation's 0.4 m showing above the floor, a low wall) whose blocks are each
+//    too small to fix a normal is found as the sum of them.
+// 4. Edges: the points within `edge_cells` of a plane's edge in the grid (a cell of another
+//    plane or none beside them, along the row or the column) leave it, and it is fitted
+//    again on its inner points.
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +43,10 @@ struct PlaneDetectionParams {
     std::size_t min_points = 50;          // fewer points in a block: no plane
     double max_normal_sigma_arcsec = 60;  // larger: the block's normal is not significant
     double merge_alpha = 0.001;           // the test of two touching planes' equality
+    // A point this many cells or fewer from the plane's edge in the grid is left out of the
+    // final fit: at an edge the beam's footprint straddles the plane and what is behind it
+    // (mixed returns), which tilts a narrow face by minutes of arc.
+    std::uint32_t edge_cells = 1;
 };
 
 struct DetectedPlane {

@@ -1,9 +1,12 @@
 #include "algorithms/registration/plane_registration.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "algorithms/registration/distribution_quantiles.hpp"
 #include "algorithms/registration/so3.hpp"
@@ -50,6 +53,35 @@ Linearised linearise(const PlaneCorrespondence& p, const Eigen::Matrix3d& R,
     l.J.block<1, 3>(2, 0) = -nr.transpose() * skew(ce);
     l.J.block<1, 3>(2, 3) = nr.transpose();
     return l;
+}
+
+// The planes must fix every direction of the rotation and the translation: a direction in
+// which the normal matrix leaves a σ above 0.001 rad (206″) or 0.1 m is one that no plane
+// faces (every plane parallel to it), and the adjustment would wander along it.
+void check_datum(const Eigen::Matrix<double, 6, 6>& N) {
+    const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu(N);
+    if (!lu.isInvertible())
+        throw Error("plane registration: singular normal matrix (the normals do not span space)");
+    const Eigen::Matrix<double, 6, 6> Q = lu.inverse();
+    const auto weakest = [&](int first) {
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Q.block<3, 3>(first, first));
+        return std::pair{std::sqrt(std::max(0.0, es.eigenvalues()(2))),
+                         Eigen::Vector3d(es.eigenvectors().col(2))};
+    };
+    const auto [rotation, axis] = weakest(0);
+    const auto [translation, direction] = weakest(3);
+    const auto text = [](const Eigen::Vector3d& v) {
+        char b[64];
+        std::snprintf(b, sizeof b, "(%.2f, %.2f, %.2f)", v.x(), v.y(), v.z());
+        return std::string(b);
+    };
+    if (translation > 0.1)
+        throw Error("plane registration: the planes do not fix the translation along " +
+                    text(direction) + " (σ " + std::to_string(translation) +
+                    " m): no plane in the datum faces that way");
+    if (rotation > 0.001)
+        throw Error("plane registration: the planes do not fix the rotation about " + text(axis) +
+                    " (σ " + std::to_string(rotation) + " rad)");
 }
 
 double quadratic_form(const Eigen::Vector3d& w, const Eigen::Matrix3d& Q) {
@@ -105,6 +137,7 @@ PlaneAdjustment adjust_planes(std::span<const PlaneCorrespondence> planes,
     bool converged = false;
     for (int it = 0; it < params.max_iterations; ++it) {
         assemble();
+        if (it == 0) check_datum(N);
         const Eigen::LDLT<Matrix6> ldlt(N);
         const Vector6 dx = ldlt.solve(b);
         if (ldlt.info() != Eigen::Success || !dx.allFinite())
@@ -154,9 +187,10 @@ PlaneAdjustment adjust_planes(std::span<const PlaneCorrespondence> planes,
 }
 
 CongruenceResult congruence_test(std::span<const PlaneCorrespondence> planes,
-                                 const RigidTransform& start, const CongruenceParams& params) {
+                                 const RigidTransform& start, const CongruenceParams& params,
+                                 const std::vector<bool>& candidate) {
     CongruenceResult out;
-    std::vector<bool> use(planes.size(), true);
+    std::vector<bool> use = candidate.empty() ? std::vector<bool>(planes.size(), true) : candidate;
     RigidTransform from = start;
     for (;;) {
         out.adjustment = adjust_planes(planes, use, from, params.adjustment);

@@ -91,10 +91,13 @@ struct CongruenceResult {
     std::string note;                  // why the localisation stopped, if not congruent
 };
 
-// The global test of "no plane moved" on every correspondence; while it fails, the plane
-// with the largest T leaves the datum and the adjustment is repeated (the localisation of
-// the congruence test), down to `min_planes`.
+// The global test of "no plane moved" on every correspondence with `candidate[i]` (all when
+// empty); while it fails, the plane with the largest T leaves the datum and the adjustment is
+// repeated (the localisation of the congruence test), down to `min_planes`. A plane that is
+// no candidate (one on the monitored structure) never enters the datum: its misclosure is
+// predicted like a moved plane's.
 CongruenceResult congruence_test(std::span<const PlaneCorrespondence> planes,
-                                 const RigidTransform& start, const CongruenceParams& params = {});
+                                 const RigidTransform& start, const CongruenceParams& params = {},
+                                 const std::vector<bool>& candidate = {});
 
 }  // namespace tlsmon::registration

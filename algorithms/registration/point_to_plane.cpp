@@ -202,6 +202,26 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
 
 }  // namespace
 
+namespace {
+
+// b as a correction δ of a: R_b = exp([δθ]×)·R_a, t_b = t_a + δt.
+Vector6 correction(const RigidTransform& a, const RigidTransform& b) {
+    const Eigen::AngleAxisd dr(b.rotation * a.rotation.transpose());
+    Vector6 d;
+    d.head<3>() = dr.angle() * dr.axis();
+    d.tail<3>() = b.translation - a.translation;
+    return d;
+}
+
+}  // namespace
+
+double transform_difference_statistic(const RigidTransform& a, const RigidTransform& b) {
+    const Vector6 d = correction(a, b);
+    const Covariance6 S = a.small_rotation_covariance.topLeftCorner<6, 6>() +
+                          b.small_rotation_covariance.topLeftCorner<6, 6>();
+    return d.dot(S.ldlt().solve(d));
+}
+
 RigidTransform combine_transforms(const RigidTransform& a, const RigidTransform& b) {
     const Covariance6 Sa = a.small_rotation_covariance.topLeftCorner<6, 6>();
     const Covariance6 Sb = b.small_rotation_covariance.topLeftCorner<6, 6>();
@@ -212,11 +232,7 @@ RigidTransform combine_transforms(const RigidTransform& a, const RigidTransform&
         !Pb.allFinite()) {
         throw Error("combining two registrations: a covariance is singular");
     }
-    // b as a correction of a.
-    Vector6 d;
-    d.head<3>() = Eigen::AngleAxisd(b.rotation * a.rotation.transpose()).angle() *
-                  Eigen::AngleAxisd(b.rotation * a.rotation.transpose()).axis();
-    d.tail<3>() = b.translation - a.translation;
+    const Vector6 d = correction(a, b);
     const Covariance6 P = Pa + Pb;
     const Eigen::LDLT<Covariance6> lp(P);
     const Covariance6 S = lp.solve(Covariance6::Identity());

@@ -76,4 +76,8 @@ RigidTransform rigid_transform_from(const Eigen::Matrix3d& rotation,
 // Niemeier 2008 §3.3, the weighted mean). The scale is not combined (both rigid).
 RigidTransform combine_transforms(const RigidTransform& a, const RigidTransform& b);
 
+// Whether two independent estimates agree: dᵀ·(Σ_a + Σ_b)⁻¹·d of b's correction d of a (as
+// above), ~ χ²(6) when both estimate the same transformation.
+double transform_difference_statistic(const RigidTransform& a, const RigidTransform& b);
+
 }  // namespace tlsmon::registration

@@ -107,6 +107,8 @@ const char* describe(RegistrationStatus status) {
             return "refused: outlier cannot be excluded";
         case RegistrationStatus::outlier_not_identifiable:
             return "refused: outlier cannot be attributed to one target";
+        case RegistrationStatus::planes_refused:
+            return "refused: no registration on planes";
     }
     return "unknown";
 }

@@ -83,6 +83,7 @@ enum class RegistrationStatus {
     degenerate_geometry,       // refused: the used targets are (nearly) on a line
     outlier_not_excludable,    // refused: a target failed its test and excluding it leaves too few
     outlier_not_identifiable,  // refused: a misfit that another target explains as well
+    planes_refused,  // refused: the registration on planes found too few, or no congruent set
 };
 
 const char* describe(RegistrationStatus status);

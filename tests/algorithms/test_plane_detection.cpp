@@ -32,7 +32,7 @@ TEST(PlaneDetection, ThePlanesOfTheSmallSceneLieOnOneSurfaceEach) {
     const sim::Site site = sim::preset_small();
     const sim::RenderedScan r = sim::render_epoch(site, 0, 0.0, 2);
     const auto planes = detect_planes(r.scan);
-    ASSERT_GE(planes.size(), 5u);
+    ASSERT_GE(planes.size(), 3u);
     std::size_t large = 0;
     bool south_face = false;
     for (const auto& d : planes) {

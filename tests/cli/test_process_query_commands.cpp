@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "storage/epoch_database.hpp"
@@ -63,6 +64,28 @@ class QueryCommands : public ::testing::Test {
                     r.registration->method = "targets";
                     r.registration->status = "accepted";
                     r.registration->accepted = true;
+                    // Two planes: the abutment's face left out as moved, the floor in the datum.
+                    PlaneRow moved;
+                    moved.plane = 3;
+                    moved.role = "moved";
+                    moved.normal = {0, -1, 0};
+                    moved.centroid = {25.2, 56.0, 1.4};
+                    moved.reference_points = 60952;
+                    moved.epoch_points = 60100;
+                    moved.change = {12.5 / 206264.806, -13.9 / 206264.806, 0.002636};
+                    moved.sigma = {0.4 / 206264.806, 0.5 / 206264.806, 0.000029};
+                    moved.statistic = 9644.3;
+                    moved.critical = 7.81;
+                    moved.significant = true;
+                    PlaneRow floor = moved;
+                    floor.plane = 0;
+                    floor.role = "datum";
+                    floor.zone = "";
+                    floor.normal = {0, 0, 1};
+                    floor.change = {0, 0, -0.000004};
+                    floor.statistic = 0.3;
+                    floor.significant = false;
+                    r.planes = {floor, moved};
                 }
             } else {
                 r.outcome = EpochStatus::rejected;
@@ -131,6 +154,32 @@ TEST_F(QueryCommands, SeriesAsTable) {
     EXPECT_EQ(l[1].rfind("unregistered  unregistered"), l[0].rfind("quality"));
     EXPECT_EQ(l[2].rfind("accepted"), l[0].rfind("quality")) << l[2];
     EXPECT_EQ(l[2].rfind("targets"), l[0].rfind("datum")) << l[2];
+}
+
+TEST_F(QueryCommands, PlanesOfAnEpoch) {
+    // Epoch 2 (registered): its planes, the moved one in arc seconds and millimetres.
+    auto r = run("query planes --epoch 2 " + db());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto l = lines(r.out);
+    ASSERT_EQ(l.size(), 3u) << r.out;
+    EXPECT_TRUE(std::regex_search(l[0], std::regex("^plane +zone +role .*tilt_u_arcsec")));
+    EXPECT_TRUE(std::regex_search(l[2], std::regex("^3 .* moved .* 12\\.50 .* 2\\.636 "))) << l[2];
+    r = run("query planes --epoch 2 --format json " + db());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j.size(), 2u);
+    EXPECT_EQ(j[0]["role"], "datum");
+    EXPECT_TRUE(j[0]["zone"].is_null());
+    EXPECT_NEAR(j[1]["shift_mm"].get<double>(), 2.636, 1e-9);
+    EXPECT_NEAR(j[1]["tilt_v_arcsec"].get<double>(), -13.9, 1e-6);
+    EXPECT_EQ(j[1]["significant"], true);
+    // Epoch 1 has none: an empty table and a note on stderr; an unknown epoch is an error.
+    r = run("query planes --epoch 1 " + db(), true);
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.out.find("has no plane observations"), std::string::npos) << r.out;
+    r = run("query planes --epoch 99 " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("no epoch 99"), std::string::npos) << r.out;
 }
 
 TEST_F(QueryCommands, EpochsInAllFormats) {

@@ -141,6 +141,47 @@ TEST_F(RegistrationCommands, RegisterPrintsTheTrueTransformWithinItsSigma) {
     }
 }
 
+TEST_F(RegistrationCommands, RegisterOnPlanesAloneFindsTheTrueTransformWithinItsSigma) {
+    // The same files on the scene's planes (floor, foundation, abutment, the two walls set at
+    // an angle), the targets not measured; the pier's foot lies in a zone (monitored).
+    const Truth t0 = read_truth(files_[0]);
+    const auto r = shell(std::string(TLSMON_BINARY) + " register " + files_[0].string() + " " +
+                         files_[2].string() + " --config " + (scans_ / "site.toml").string() +
+                         " --method planes --format json");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = nlohmann::json::parse(r.output);
+    // "planes+atmosphere": the files' meteo sidecars corrected the ranges.
+    EXPECT_EQ(j["method"].get<std::string>().rfind("planes", 0), 0u) << j["method"];
+    EXPECT_EQ(j["targets_used"].get<int>(), 0);
+    EXPECT_TRUE(j["targets"].empty());
+    const auto& planes = j["planes"];
+    EXPECT_TRUE(planes["used"].get<bool>());
+    EXPECT_GE(planes["in_datum"].get<int>(), 4);
+    int monitored = 0;
+    for (const auto& p : planes["planes"]) {
+        if (p["role"] == "monitored") {
+            ++monitored;
+            EXPECT_NE(p["zone"].get<std::string>(), "");
+        }
+    }
+    EXPECT_GE(monitored, 1);
+    const auto truth = true_parameters(t0, read_truth(files_[2]));
+    for (int k = 0; k < 6; ++k) {
+        const double est = j[kNames[k]].get<double>();
+        const double sigma = j[std::string("sigma_") + kNames[k]].get<double>();
+        EXPECT_LE(std::fabs(est - truth[k]), 3.0 * sigma + (k < 3 ? 0.5 : 0.0002))
+            << kNames[k] << ": " << est << " vs true " << truth[k] << " ± " << sigma;
+    }
+    // The table names each plane's role and change.
+    const auto t = shell(std::string(TLSMON_BINARY) + " register " + files_[0].string() + " " +
+                         files_[2].string() + " --config " + (scans_ / "site.toml").string() +
+                         " --method planes");
+    EXPECT_TRUE(
+        std::regex_search(t.output, std::regex("matched: [0-9]+ in the datum, [0-9]+ moved")))
+        << t.output;
+    EXPECT_TRUE(std::regex_search(t.output, std::regex("pier_south_face +monitored")));
+}
+
 TEST_F(RegistrationCommands, RegisterTableAndRefusal) {
     const std::string site = (scans_ / "site.toml").string();
     auto r = shell(std::string(TLSMON_BINARY) + " register " + files_[0].string() + " " +

@@ -1,0 +1,49 @@
+#pragma once
+// What the registration on the scene's own planes needs of the site (docs/configuration.md,
+// [registration] plane_* keys; docs/registration.md, "Registration on planes").
+#include "algorithms/registration/plane_detection.hpp"
+#include "algorithms/registration/plane_matching.hpp"
+#include "algorithms/registration/plane_registration.hpp"
+
+namespace tlsmon {
+
+struct PlaneConfig {
+    // The scanner's stochastic model, against which a block of the grid is planar.
+    double range_sigma_a = 0.001;       // m
+    double range_sigma_b_ppm = 10.0;    // of the range
+    double angular_sigma_arcsec = 3.0;  // of the beam's direction
+    double flatness = 0.001;            // m, a real surface's own departure from a plane
+    int min_points = 50;                // a plane has at least this many points
+    double max_normal_sigma_arcsec = 60.0;
+    // Datum-dependent matching from the approximate transformation.
+    double max_angle_deg = 1.0;
+    double max_offset = 0.05;  // m
+    // The congruence test.
+    double alpha = 0.05;
+    int min_planes = 4;
+
+    registration::PlaneDetectionParams detection() const {
+        registration::PlaneDetectionParams p;
+        p.range_sigma_a = range_sigma_a;
+        p.range_sigma_b_ppm = range_sigma_b_ppm;
+        p.angular_sigma_arcsec = angular_sigma_arcsec;
+        p.flatness = flatness;
+        p.min_points = static_cast<std::size_t>(min_points);
+        p.max_normal_sigma_arcsec = max_normal_sigma_arcsec;
+        return p;
+    }
+    registration::PlaneMatchingParams matching() const {
+        registration::PlaneMatchingParams p;
+        p.max_angle_deg = max_angle_deg;
+        p.max_offset = max_offset;
+        return p;
+    }
+    registration::CongruenceParams congruence() const {
+        registration::CongruenceParams p;
+        p.alpha = alpha;
+        p.min_planes = static_cast<std::size_t>(min_planes);
+        return p;
+    }
+};
+
+}  // namespace tlsmon
