@@ -14,12 +14,15 @@
 // against the truth's blocks: the planes on a block that moved (found: flagged moved or
 // significant) and the planes flagged on blocks that did not (false). The simulated deck does
 // not move with the pier; a real one would, so it is put in a zone here (never in the datum).
+// As in the daemon, each epoch's planes are matched from the last accepted pose; a station
+// change (matched without a prior) is printed and counted.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "algorithms/registration/registration_error.hpp"
@@ -225,7 +228,8 @@ int main(int argc, char** argv) {
         std::vector<double> pier_rms;
         int components = 0, within_2sigma = 0, registered = 0;
         PlaneScore total;
-        int epochs_with_moved = 0, epochs_all_found = 0;
+        int epochs_with_moved = 0, epochs_all_found = 0, station_changes = 0;
+        std::optional<registration::RigidTransform> prior;  // the last accepted pose
         for (std::size_t i = 0; i < files.size(); ++i) {
             const HashedBytes content = read_file_hashed(files[i]);
             const std::vector<Scan> scans = parse_scans(content.bytes, files[i]);
@@ -251,7 +255,12 @@ int main(int argc, char** argv) {
                 continue;
             }
             RegistrationResult r = register_epoch(targets_config, reference, scans, {}, scales);
-            apply_planes(config, reference_planes, scans, scales, r);
+            // As the daemon: from the last accepted registration's pose.
+            apply_planes(config, reference_planes, scans, scales, r, prior);
+            if (r.planes && r.planes->station_change) {
+                ++station_changes;
+                std::printf("  %s\n", describe(*r.planes->station_change).c_str());
+            }
             for (auto m : r.measured) {
                 if (truth_air && m.found())
                     m.centre = m.viewpoint + (m.centre - m.viewpoint) / t.range_scale;
@@ -282,6 +291,9 @@ int main(int argc, char** argv) {
             if (!r.tested.transform || !r.accepted()) continue;
             ++registered;
             const auto& T = *r.tested.transform;
+            prior = registration::RigidTransform{};
+            prior->rotation = T.rotation;
+            prior->translation = T.translation;
             const Eigen::Affine3d& H0 = truths.front().header_to_true;
             const Eigen::Affine3d& Hi = t.header_to_true;
             const auto pier = pier_points(t);
@@ -321,9 +333,10 @@ int main(int argc, char** argv) {
         if (config.uses_planes()) {
             std::printf(
                 "summary planes: %d epochs with a moved block: all its matched planes flagged in "
-                "%d; %d of %d such planes flagged; %d planes flagged moved on unmoved ground\n",
+                "%d; %d of %d such planes flagged; %d planes flagged moved on unmoved ground; %d "
+                "station changes\n",
                 epochs_with_moved, epochs_all_found, total.found, total.on_moved,
-                total.flagged_elsewhere);
+                total.flagged_elsewhere, station_changes);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_registration_truth: %s\n", e.what());

@@ -82,6 +82,9 @@ std::set<std::string> stage_quantities(const Config* runs = nullptr) {
     if (!runs || runs->keypoints.enabled) {
         q.insert(kKeypointQuantities.begin(), kKeypointQuantities.end());
     }
+    if (!runs || runs->registration.uses_planes()) {
+        q.insert(kPlaneQuantities.begin(), kPlaneQuantities.end());
+    }
     return q;
 }
 

@@ -304,6 +304,11 @@ EpochOutcome process_epoch(PipelineContext& ctx, const Epoch& epoch, HashedBytes
         if (!verdict.ran()) {
             results.outcome = EpochStatus::rejected;
             results.reason = verdict.rejected;
+            // A later stage's rejection voids the series an earlier one measured (the plane
+            // series of an accepted registration); the registration's own rows stay.
+            results.zone_results.clear();
+            results.core_point_arrays.clear();
+            results.keypoint_models.clear();
         }
 
         std::optional<fs::path> archive_to;

@@ -1,11 +1,22 @@
 #pragma once
 // What the registration on the scene's own planes needs of the site (docs/configuration.md,
 // [registration] plane_* keys; docs/registration.md, "Registration on planes").
+#include <array>
+
 #include "algorithms/registration/plane_detection.hpp"
 #include "algorithms/registration/plane_matching.hpp"
 #include "algorithms/registration/plane_registration.hpp"
 
 namespace tlsmon {
+
+// The zone quantities of the registration on planes (each zone's plane series,
+// pipeline/registration_rows.hpp): the tilt of the plane's normal towards its long axis u and
+// towards v = n × u, its shift along the normal. The alarm rules name them.
+inline constexpr const char* kPlaneTiltU = "plane_tilt_u_arcsec";
+inline constexpr const char* kPlaneTiltV = "plane_tilt_v_arcsec";
+inline constexpr const char* kPlaneShift = "plane_shift_m";
+inline constexpr std::array<const char*, 3> kPlaneQuantities = {kPlaneTiltU, kPlaneTiltV,
+                                                                kPlaneShift};
 
 struct PlaneConfig {
     // The scanner's stochastic model, against which a block of the grid is planar.

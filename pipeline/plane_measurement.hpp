@@ -2,6 +2,7 @@
 // What the registration on planes measured in one epoch (pipeline/registration_on_planes.hpp),
 // as the registration row and the plane rows record it.
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,9 @@ struct PlaneMeasurement {
     std::string targets_status;
     std::optional<registration::RigidTransform> transform;  // the planes' own estimate
     std::optional<StationChange> station_change;
+    // Each zone's plane: the largest reference plane whose centroid lies in it, by index.
+    // Its change is the zone's plane series (registration_rows.hpp), when it was matched.
+    std::map<std::string, std::size_t> zone_plane;
 };
 
 }  // namespace tlsmon

@@ -134,6 +134,10 @@ PlaneMeasurement measure_planes(const RegistrationConfig& config, const Referenc
     }
     m.reference_planes = ref.size();
     m.epoch_planes = epoch.planes.size();
+    for (std::size_t i = 0; i < ref.size(); ++i) {  // largest first
+        const std::string zone = zone_of(config, ref[i].centroid);
+        if (!zone.empty()) m.zone_plane.try_emplace(zone, i);
+    }
     const PlaneMeasurement empty = m;
     match_and_test(config, ref, epoch.planes, start, m);
     if (!m.refused.empty()) {

@@ -104,6 +104,32 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
         results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});
     }
     results.planes = plane_rows(r);
+    if (r.planes) {
+        for (auto& z : plane_zone_results(r.planes->zone_plane, results.planes)) {
+            results.zone_results.push_back(std::move(z));
+        }
+    }
+}
+
+std::vector<ZoneResult> plane_zone_results(const std::map<std::string, std::size_t>& zone_plane,
+                                           const std::vector<PlaneRow>& rows) {
+    constexpr double kArcsecPerRad = 180.0 * 3600.0 / 3.141592653589793;
+    constexpr double kLod95 = 1.959963984540054;  // the two-sided 95 % quantile of N(0, 1)
+    std::vector<ZoneResult> out;
+    for (const auto& [zone, plane] : zone_plane) {
+        for (const PlaneRow& p : rows) {
+            if (p.plane != static_cast<std::int64_t>(plane) || p.role != "monitored") continue;
+            const std::array<std::pair<const char*, double>, 3> quantities{
+                {{kPlaneTiltU, kArcsecPerRad}, {kPlaneTiltV, kArcsecPerRad}, {kPlaneShift, 1.0}}};
+            for (int k = 0; k < 3; ++k) {
+                const double value = p.change[k] * quantities[k].second;
+                const double lod = kLod95 * p.sigma[k] * quantities[k].second;
+                out.push_back({zone, quantities[k].first, value, lod, p.reference_points,
+                               std::fabs(value) > lod});
+            }
+        }
+    }
+    return out;
 }
 
 std::vector<PlaneRow> plane_rows(const RegistrationResult& r) {

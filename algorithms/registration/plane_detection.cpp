@@ -61,19 +61,16 @@ class Detector {
     // The plane of the points when they pass the planarity test, with the covariance of the
     // stochastic model (header).
     std::optional<FittedPlane> planar(const std::vector<std::uint32_t>& points) const {
-        std::vector<Eigen::Vector3d> xyz;
-        xyz.reserve(points.size());
-        for (const auto i : points) xyz.push_back(scan_.xyz[i]);
         FittedPlane f;
         try {
-            f = fit_plane(xyz, 0.0, scanner_);
+            f = fit_plane(scan_.xyz, points, 0.0, scanner_);
         } catch (const Error&) {
             return std::nullopt;  // on a line
         }
         const double sigma_theta = p_.angular_sigma_arcsec * kArcsec;
         double model = 0.0;  // Σ σᵢ²
-        for (const auto& x : xyz) {
-            const Eigen::Vector3d beam = x - scanner_;
+        for (const auto i : points) {
+            const Eigen::Vector3d beam = scan_.xyz[i] - scanner_;
             const double r = beam.norm();
             const double cos_a = r > 0.0 ? std::min(1.0, std::fabs(f.normal.dot(beam)) / r) : 1.0;
             const double sigma_r = p_.range_sigma_a + 1e-6 * p_.range_sigma_b_ppm * r;
@@ -81,7 +78,7 @@ class Detector {
                      std::pow(r * sigma_theta, 2) * (1.0 - cos_a * cos_a) +
                      p_.flatness * p_.flatness;
         }
-        const double n = double(xyz.size());
+        const double n = double(points.size());
         const double mean_variance = model / n;
         const double dof = n - 3.0;
         const double limit = mean_variance * chi_square_quantile(1.0 - p_.alpha, dof) / dof;
@@ -263,12 +260,16 @@ std::vector<DetectedPlane> detect_planes(const Scan& scan, const PlaneDetectionP
     // 4. The edges left out, each plane fitted again on its inner points (dropped if they
     // are not planar or not significant on their own).
     erode_edges(out, scan, p.edge_cells, p.min_points);
+    std::vector<std::optional<FittedPlane>> refit(out.size());  // in parallel, per plane
+    parallel_for(out.size(), [&](std::size_t k) {
+        auto plane = detector.planar(out[k].points);
+        if (plane && detector.significant(*plane)) refit[k] = plane;
+    });
     std::vector<DetectedPlane> inner;
-    for (auto& d : out) {
-        const auto plane = detector.planar(d.points);
-        if (!plane || !detector.significant(*plane)) continue;
-        d.plane = *plane;
-        inner.push_back(std::move(d));
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        if (!refit[k]) continue;
+        out[k].plane = *refit[k];
+        inner.push_back(std::move(out[k]));
     }
     std::sort(inner.begin(), inner.end(), [](const DetectedPlane& a, const DetectedPlane& b) {
         return a.points.size() > b.points.size();

@@ -8,16 +8,18 @@
 
 namespace tlsmon::registration {
 
-FittedPlane fit_plane(std::span<const Eigen::Vector3d> points, double point_sigma,
-                      const Eigen::Vector3d& viewpoint) {
-    const std::size_t n = points.size();
+namespace {
+
+// The fit over the n points point(0) … point(n − 1).
+template <class Point>
+FittedPlane fit(std::size_t n, Point point, double point_sigma, const Eigen::Vector3d& viewpoint) {
     if (n < 3) throw Error("plane fit: " + std::to_string(n) + " points, at least 3 needed");
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (const auto& p : points) c += p;
+    for (std::size_t i = 0; i < n; ++i) c += point(i);
     c /= double(n);
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-    for (const auto& p : points) {
-        const Eigen::Vector3d q = p - c;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3d q = point(i) - c;
         M.noalias() += q * q.transpose();
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);  // ascending eigenvalues
@@ -41,6 +43,23 @@ FittedPlane fit_plane(std::span<const Eigen::Vector3d> points, double point_sigm
                                 f.axis_short * f.axis_short.transpose() / lambda(1));
     f.centroid_variance = s2 / double(n);
     return f;
+}
+
+}  // namespace
+
+FittedPlane fit_plane(std::span<const Eigen::Vector3d> points, double point_sigma,
+                      const Eigen::Vector3d& viewpoint) {
+    return fit(
+        points.size(), [&](std::size_t i) -> const Eigen::Vector3d& { return points[i]; },
+        point_sigma, viewpoint);
+}
+
+FittedPlane fit_plane(std::span<const Eigen::Vector3d> cloud,
+                      std::span<const std::uint32_t> indices, double point_sigma,
+                      const Eigen::Vector3d& viewpoint) {
+    return fit(
+        indices.size(), [&](std::size_t i) -> const Eigen::Vector3d& { return cloud[indices[i]]; },
+        point_sigma, viewpoint);
 }
 
 }  // namespace tlsmon::registration

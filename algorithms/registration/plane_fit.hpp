@@ -13,6 +13,7 @@
 //   Σ_n = σ²·(e1·e1ᵀ/λ1 + e2·e2ᵀ/λ2),   σ²_c = σ²/N,   s² = λ3/(N − 3)
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
 namespace tlsmon::registration {
@@ -38,6 +39,10 @@ struct FittedPlane {
 // points' own scatter s (floored at 1e-6 m). Throws tlsmon::Error for fewer than 3 points or
 // points on a line.
 FittedPlane fit_plane(std::span<const Eigen::Vector3d> points, double point_sigma = 0.0,
+                      const Eigen::Vector3d& viewpoint = Eigen::Vector3d::Zero());
+// The same for the points `indices` of `cloud`, without copying them (a plane of millions).
+FittedPlane fit_plane(std::span<const Eigen::Vector3d> cloud,
+                      std::span<const std::uint32_t> indices, double point_sigma = 0.0,
                       const Eigen::Vector3d& viewpoint = Eigen::Vector3d::Zero());
 
 }  // namespace tlsmon::registration

@@ -99,6 +99,14 @@ TEST(ConfigAlarmRules, QuantityMustBeOneAConfiguredStageWrites) {
     EXPECT_EQ(e.find("keypoint_dx_m"), std::string::npos) << e;
     EXPECT_EQ(parse(rule + "quantity = \"keypoint_dz_m\"\n").alarm.rules.at(0).quantity,
               "keypoint_dz_m");
+    // A zone's plane series exists with the registration on planes only.
+    e = error_of(rule + "quantity = \"plane_shift_m\"\n");
+    EXPECT_NE(e.find("no configured stage produces 'plane_shift_m'"), std::string::npos) << e;
+    EXPECT_EQ(
+        parse("[registration]\nmethod = \"planes\"\n" + rule + "quantity = \"plane_shift_m\"\n")
+            .alarm.rules.at(0)
+            .quantity,
+        "plane_shift_m");
     // The Modbus registers' quantities likewise (NaN for ever otherwise).
     e = error_of("[modbus]\nquantities = [\"m3c2_median\"]\n");
     EXPECT_NE(e.find("key 'modbus.quantities'"), std::string::npos) << e;

@@ -164,6 +164,7 @@ std::unique_ptr<ProcessedSeries> process(const Series& s) {
     test::PipelineSite& ps = out->ps;
     ps.config.coverage.min_inside_share = 0.0;
     ps.config.registration = planes_config(s.site);
+    for (const auto& z : ps.config.registration.zones) ps.db->site().upsert_zone(z.name, "{}");
     ReferenceCache cache(*ps.db);
     for (std::size_t e = 0; e < s.epochs.size(); ++e) {
         const auto file = ps.dir / "ingest" / ("pier_" + std::to_string(e) + ".ptx");
@@ -264,6 +265,28 @@ TEST(RegistrationOnPlanes, TheStageStoresTheMethodAndThePlanes) {
         EXPECT_EQ(regs.zone_sigmas_of_epoch(ids[e]).size(), 2u);
     }
     EXPECT_TRUE(ps.db->series().events(TimeRange{}, std::string("station_change")).empty());
+    // The south face's zone series: its plane (the zone's largest) as the plane rows have it,
+    // the tilts in arc seconds, each with its LoD95 = 1.959964·σ.
+    const auto shift = ps.db->series().points("pier_south_face", "plane_shift_m", {});
+    const auto tilt = ps.db->series().points("pier_south_face", "plane_tilt_u_arcsec", {});
+    ASSERT_EQ(shift.size(), std::size_t(kMovedFrom));
+    ASSERT_EQ(tilt.size(), std::size_t(kMovedFrom));
+    for (int k = 0; k < kMovedFrom; ++k) {
+        const auto planes = regs.planes_of_epoch(ids[k + 1]);
+        const PlaneRow* face = nullptr;
+        for (const auto& p : planes) {
+            if (p.zone == "pier_south_face" && (!face || p.plane < face->plane)) face = &p;
+        }
+        ASSERT_TRUE(face);
+        EXPECT_DOUBLE_EQ(shift[k].value, face->change[2]);
+        EXPECT_NEAR(*shift[k].uncertainty, 1.959964 * face->sigma[2], 1e-10);
+        EXPECT_NEAR(tilt[k].value, face->change[0] * 206264.806, 1e-6);
+        EXPECT_EQ(shift[k].significant, std::fabs(face->change[2]) > *shift[k].uncertainty);
+        // The pier bends by millimetres over the day; its face is measured to a fraction.
+        EXPECT_LT(std::fabs(shift[k].value), 0.02);
+        EXPECT_GT(*shift[k].uncertainty, 0.0);
+        EXPECT_LT(*shift[k].uncertainty, 0.001);
+    }
 }
 
 TEST(RegistrationOnPlanes, TheStageRecordsOneStationChangeAndGoesOnFromTheNewPose) {
