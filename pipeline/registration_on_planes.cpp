@@ -154,7 +154,16 @@ PlaneMeasurement measure_planes(const RegistrationConfig& config, const Referenc
                 (change.shift_m > c.max_offset || change.turn_deg > c.max_angle_deg)) {
                 retry.station_change = change;
                 m = std::move(retry);
+            } else if (!retry.refused.empty()) {
+                m.refused += fmt::format(
+                    "; matched without a prior ({} planes explained, the scanner {:.3f} m and "
+                    "{:.2f}° away): {}",
+                    free->support, change.shift_m, change.turn_deg, retry.refused);
             }
+        } else {
+            m.refused +=
+                "; the matching without a prior found no pose either (too few planes, "
+                "or none facing sideways to fix the heading)";
         }
     }
     m.adjustment_ms = milliseconds_since(t0);

@@ -358,7 +358,9 @@ std::optional<double> measured_range_scale(const RegistrationConfig& config,
 
 StageVerdict RegistrationStage::run(StageContext& ctx) const {
     const RegistrationConfig& config = config_;
-    if (!can_register(config) || (ctx.is_reference() && config.targets.empty())) {
+    // The reference is its own datum; only the targets' reference centres are measured in it.
+    const bool measures_targets = config.uses_targets() && !config.targets.empty();
+    if (!can_register(config) || (ctx.is_reference() && !measures_targets)) {
         ctx.results.registration = datum_without_registration(ctx.is_reference());
         return StageVerdict{"", ctx.results.registration->reason};
     }

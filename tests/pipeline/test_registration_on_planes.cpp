@@ -164,6 +164,14 @@ std::unique_ptr<ProcessedSeries> process(const Series& s) {
     test::PipelineSite& ps = out->ps;
     ps.config.coverage.min_inside_share = 0.0;
     ps.config.registration = planes_config(s.site);
+    // A site's targets stay listed when it changes to planes: they are not measured, not even
+    // in the reference (which once rejected the reference as having too few targets).
+    for (const auto& t : s.site.targets) {
+        TargetConfig target;
+        target.name = t.name;
+        target.approximate = t.centre;
+        ps.config.registration.targets.push_back(target);
+    }
     for (const auto& z : ps.config.registration.zones) ps.db->site().upsert_zone(z.name, "{}");
     ReferenceCache cache(*ps.db);
     for (std::size_t e = 0; e < s.epochs.size(); ++e) {
