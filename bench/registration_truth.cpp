@@ -17,20 +17,26 @@
 // As in the daemon, each epoch's planes are matched from the last accepted pose; a station
 // change (matched without a prior) is printed and counted.
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
+#include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "config/config.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/registration_on_planes.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
+#include "pipeline/stable_area_registration.hpp"
 
 namespace {
 
@@ -55,7 +61,27 @@ struct Truth {
     Eigen::Vector3d pier_min, pier_max;
     double range_scale = 1.0;
     std::vector<TruthBlock> blocks;
-    Eigen::AlignedBox3d deck;  // empty without a deck
+    Eigen::AlignedBox3d deck;                            // empty without a deck
+    Eigen::Vector3d pier_top = Eigen::Vector3d::Zero();  // thermal displacement at the top
+    double exponent = 2.0;
+    // The bushes: centre and half-axes of their ellipsoids.
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> bushes;
+    // The pier's thermal displacement at a point of its faces (simulator/deformation.cpp).
+    Eigen::Vector3d pier_displacement(const Eigen::Vector3d& p) const {
+        const double zeta = std::clamp(p.z() / pier_max.z(), 0.0, 1.0);
+        const double profile = std::pow(zeta, exponent);
+        return {pier_top.x() * profile, pier_top.y() * profile, pier_top.z() * zeta};
+    }
+    bool on_pier(const Eigen::Vector3d& p, double margin = 0.05) const {
+        return (p.array() >= pier_min.array() - margin).all() &&
+               (p.array() <= pier_max.array() + margin).all() && p.z() > 0.45;
+    }
+    bool in_bush(const Eigen::Vector3d& p) const {
+        for (const auto& [c, r] : bushes) {
+            if (((p - c).array() / (r.array() + 0.1)).matrix().squaredNorm() <= 1.0) return true;
+        }
+        return false;
+    }
 };
 
 Eigen::Vector3d vector_of(const nlohmann::json& a) {
@@ -84,6 +110,12 @@ Truth read_truth(const std::string& ptx) {
                                  p.at("height").get<double>());
     if (j.contains("atmosphere") && j.at("atmosphere").value("enabled", false))
         t.range_scale = j.at("atmosphere").at("range_scale").get<double>();
+    if (j.contains("deformation") && j.at("deformation").value("enabled", false)) {
+        t.pier_top = vector_of(j.at("deformation").at("top_displacement_m"));
+        t.exponent = j.at("deformation").at("exponent").get<double>();
+    }
+    for (const auto& v : j.at("occlusion").at("vegetation"))
+        t.bushes.emplace_back(vector_of(v.at("centre")), vector_of(v.at("radii")));
     for (const auto& b : j.at("terrain").at("blocks")) {
         TruthBlock k;
         k.name = b.at("name").get<std::string>();
@@ -192,6 +224,48 @@ void print_planes(const PlaneMeasurement& m, const Truth& t0) {
     }
 }
 
+// The stable-area mask against the truth: a supervoxel on the pier whose true change along
+// its normal exceeds 3·LoD must be unstable; one on ground or a block that did not move must
+// be stable; none in a bush may be stable. Also how often the LoD covers the true change.
+struct MaskScore {
+    int moving = 0, moving_unstable = 0, still = 0, still_stable = 0, bush_stable = 0, bush = 0;
+    int with_change = 0, change_covered = 0;
+};
+
+MaskScore score_mask(const StableAreaMeasurement& m, const ReferenceSupervoxels& ref,
+                     const Truth& t0, const Truth& t) {
+    MaskScore s;
+    const Eigen::Matrix3d R0 = t0.header_to_true.linear();
+    for (std::size_t k = 0; k < m.states.size(); ++k) {
+        const SupervoxelState st = m.states[k];
+        if (st != SupervoxelState::stable && st != SupervoxelState::unstable) continue;
+        const Eigen::Vector3d P = t0.header_to_true * ref.patches[k].centroid;
+        const Eigen::Vector3d n = R0 * ref.patches[k].normal;
+        if (t0.in_bush(P)) {
+            ++s.bush;
+            s.bush_stable += st == SupervoxelState::stable;
+            continue;
+        }
+        double truth = 0;
+        bool moved_block = false;
+        if (t0.on_pier(P)) {
+            truth = n.dot(t.pier_displacement(P) - t0.pier_displacement(P));
+        } else {
+            for (const auto& b : t.blocks) moved_block = moved_block || (b.moved && b.holds(P));
+        }
+        ++s.with_change;
+        s.change_covered += std::fabs(m.changes[k] - truth) <= m.lods[k];
+        if (std::fabs(truth) > 3 * m.lods[k]) {
+            ++s.moving;
+            s.moving_unstable += st == SupervoxelState::unstable;
+        } else if (!t0.on_pier(P) && !moved_block && (t0.deck.isEmpty() || !t0.deck.contains(P))) {
+            ++s.still;
+            s.still_stable += st == SupervoxelState::stable;
+        }
+    }
+    return s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -209,7 +283,7 @@ int main(int argc, char** argv) {
     if (argc < 3 || files.size() < 2) {
         std::fprintf(stderr,
                      "usage: bench_registration_truth SITE.toml E0.ptx E1.ptx ... [--truth-air] "
-                     "[--method targets|planes|targets+planes]\n");
+                     "[--method targets|planes|stable_areas|targets+planes|...]\n");
         return 2;
     }
     try {
@@ -224,6 +298,8 @@ int main(int argc, char** argv) {
         std::vector<Truth> truths;
         ReferenceTargets reference;
         ReferencePlanes reference_planes;
+        ReferenceSupervoxels supervoxels;
+        MaskScore mask_total;
         // Over the later epochs: the pier's RMS errors, the components within 2σ, the planes.
         std::vector<double> pier_rms;
         int components = 0, within_2sigma = 0, registered = 0;
@@ -252,11 +328,108 @@ int main(int argc, char** argv) {
                 }
                 if (config.uses_planes())
                     reference_planes = detect_scan_planes(config.planes, scans);
+                if (config.uses_stable_areas()) {
+                    supervoxels = build_supervoxels(config.stable_areas, scans);
+                    std::size_t planar = 0;
+                    for (const auto& q : supervoxels.patches)
+                        planar += is_planar(config.stable_areas, q, supervoxels.viewpoint);
+                    std::printf("  supervoxels: %zu (%zu planar) of %zu voxels, %.1f s\n",
+                                supervoxels.patches.size(), planar, supervoxels.samples.size(),
+                                1e-3 * supervoxels.milliseconds);
+                }
                 continue;
             }
             RegistrationResult r = register_epoch(targets_config, reference, scans, {}, scales);
             // As the daemon: from the last accepted registration's pose.
             apply_planes(config, reference_planes, scans, scales, r, prior);
+            apply_stable_areas(config, supervoxels, scans, scales, r, prior);
+            if (config.uses_stable_areas() && std::getenv("STABLE_UNDER_TRUTH")) {
+                // The changes under the exact transformation: what the LoD model alone does.
+                const Eigen::Affine3d X =
+                    truths.front().header_to_true.inverse() * t.header_to_true;
+                const auto T = registration::rigid_transform_from(
+                    X.linear(), X.translation(), registration::Covariance6::Zero());
+                const StableAreaMeasurement m =
+                    supervoxel_changes(config, supervoxels, scans, T, scales);
+                const MaskScore ms = score_mask(m, supervoxels, truths.front(), t);
+                std::printf("    under the truth: still %d/%d stable, change within LoD %d/%d\n",
+                            ms.still_stable, ms.still, ms.change_covered, ms.with_change);
+                std::vector<std::pair<double, std::size_t>> worst;
+                for (std::size_t k = 0; k < m.states.size(); ++k)
+                    if (m.states[k] == SupervoxelState::unstable &&
+                        !truths.front().on_pier(truths.front().header_to_true *
+                                                supervoxels.patches[k].centroid))
+                        worst.emplace_back(std::fabs(m.changes[k]) / m.lods[k], k);
+                std::sort(worst.rbegin(), worst.rend());
+                for (std::size_t w = 0; w < std::min<std::size_t>(12, worst.size()); ++w) {
+                    const auto& q = supervoxels.patches[worst[w].second];
+                    const Eigen::Vector3d v = (q.centroid - supervoxels.viewpoint).normalized();
+                    std::printf(
+                        "      at (%.1f %.1f %.1f) n (%.2f %.2f %.2f) incidence %.0f° %zu voxels σ "
+                        "%.2f mm: change %+.2f LoD %.2f mm\n",
+                        q.centroid.x(), q.centroid.y(), q.centroid.z(), q.normal.x(), q.normal.y(),
+                        q.normal.z(), std::acos(std::fabs(v.dot(q.normal))) * 180 / M_PI, q.samples,
+                        1e3 * q.sigma, 1e3 * m.changes[worst[w].second],
+                        1e3 * m.lods[worst[w].second]);
+                }
+            }
+            if (const auto& m = r.stable_areas; m && std::getenv("STABLE_WHERE")) {
+                std::map<std::string, std::array<int, 4>> where;
+                for (std::size_t k = 0; k < m->states.size(); ++k) {
+                    const Eigen::Vector3d P =
+                        truths.front().header_to_true * supervoxels.patches[k].centroid;
+                    std::string name = truths.front().on_pier(P) ? "pier" : "";
+                    for (const auto& b : t.blocks)
+                        if (name.empty() && b.holds(P)) name = b.name;
+                    if (name.empty() && !truths.front().deck.isEmpty() &&
+                        truths.front().deck.contains(P))
+                        name = "deck";
+                    if (name.empty())
+                        name = P.z() < 0.3 ? "ground" : (P.y() > 60 ? "valley side" : "other");
+                    ++where[name][static_cast<int>(m->states[k])];
+                }
+                for (const auto& [name, c] : where)
+                    std::printf("      %-12s stable %5d unstable %5d unknown %5d not planar %5d\n",
+                                name.c_str(), c[0], c[1], c[2], c[3]);
+            }
+            if (const auto& m = r.stable_areas; m && std::getenv("STABLE_X")) {
+                for (std::size_t k = 0; k < m->states.size(); ++k) {
+                    const auto& q = supervoxels.patches[k];
+                    if (m->states[k] != SupervoxelState::stable || std::fabs(q.normal.x()) < 0.3)
+                        continue;
+                    const Eigen::Vector3d v = (q.centroid - supervoxels.viewpoint).normalized();
+                    std::printf(
+                        "      x-holder at (%.1f %.1f %.1f) n (%.2f %.2f %.2f) incidence %.0f° %zu "
+                        "voxels σ %.2f mm: change %+.2f LoD %.2f mm\n",
+                        q.centroid.x(), q.centroid.y(), q.centroid.z(), q.normal.x(), q.normal.y(),
+                        q.normal.z(), std::acos(std::fabs(v.dot(q.normal))) * 180 / M_PI, q.samples,
+                        1e3 * q.sigma, 1e3 * m->changes[k], 1e3 * m->lods[k]);
+                }
+            }
+            if (const auto& m = r.stable_areas) {
+                const MaskScore ms = score_mask(*m, supervoxels, truths.front(), t);
+                std::printf(
+                    "  stable areas (%s, from %s): %s%s; %zu stable, %zu unstable, %zu unknown, "
+                    "%zu not planar; share %.2f; %d rounds%s; %zu pairs (%zu outliers), RMS %.3f "
+                    "mm, conditioning %.2g, inflation %.2f; %.2f s\n"
+                    "    mask: moving %d/%d unstable, still %d/%d stable, bush %d/%d stable; "
+                    "change within LoD %d/%d\n",
+                    m->role.c_str(), m->start.c_str(),
+                    m->used ? "used" : "not used: ", m->refused.c_str(), m->stable, m->unstable,
+                    m->unknown, m->not_planar, m->stable_share, m->iterations,
+                    m->settled ? "" : " (not settled)", m->pairs, m->outliers, 1e3 * m->rms,
+                    m->conditioning, m->inflation, 1e-3 * m->milliseconds, ms.moving_unstable,
+                    ms.moving, ms.still_stable, ms.still, ms.bush_stable, ms.bush,
+                    ms.change_covered, ms.with_change);
+                mask_total.moving += ms.moving;
+                mask_total.moving_unstable += ms.moving_unstable;
+                mask_total.still += ms.still;
+                mask_total.still_stable += ms.still_stable;
+                mask_total.bush += ms.bush;
+                mask_total.bush_stable += ms.bush_stable;
+                mask_total.with_change += ms.with_change;
+                mask_total.change_covered += ms.change_covered;
+            }
             if (r.planes && r.planes->station_change) {
                 ++station_changes;
                 std::printf("  %s\n", describe(*r.planes->station_change).c_str());
@@ -330,6 +503,18 @@ int main(int argc, char** argv) {
             registered, files.size() - 1,
             pier_rms.empty() ? 0.0 : 1e3 * std::sqrt(sum / pier_rms.size()), 1e3 * worst,
             within_2sigma, components, components ? 100.0 * within_2sigma / components : 0.0);
+        if (config.uses_stable_areas()) {
+            const auto pct = [](int a, int b) { return b ? 100.0 * a / b : 0.0; };
+            std::printf(
+                "summary stable areas: moving supervoxels marked unstable %d/%d (%.1f %%); still "
+                "ones marked stable %d/%d (%.1f %%); bush in the stable set %d/%d; change within "
+                "its LoD95 %d/%d (%.1f %%)\n",
+                mask_total.moving_unstable, mask_total.moving,
+                pct(mask_total.moving_unstable, mask_total.moving), mask_total.still_stable,
+                mask_total.still, pct(mask_total.still_stable, mask_total.still),
+                mask_total.bush_stable, mask_total.bush, mask_total.change_covered,
+                mask_total.with_change, pct(mask_total.change_covered, mask_total.with_change));
+        }
         if (config.uses_planes()) {
             std::printf(
                 "summary planes: %d epochs with a moved block: all its matched planes flagged in "

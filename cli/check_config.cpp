@@ -18,6 +18,9 @@ int run_check_config(const CheckConfigOptions& options) {
         if (!can_register(pipeline_config(config).registration)) {
             std::cerr << "tlsmon check-config: warning: " << kNoRegistrationWarning << '\n';
         }
+        if (stable_areas_alone(pipeline_config(config).registration)) {
+            std::cerr << "tlsmon check-config: warning: " << kStableAreasAloneWarning << '\n';
+        }
         for (const auto& m : missing) {
             std::cerr << "tlsmon check-config: warning: " << m.key << ": " << m.path.string()
                       << " does not exist; tlsmon run will create it\n";

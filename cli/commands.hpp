@@ -109,6 +109,14 @@ struct PlanesQueryOptions {
 };
 int run_query_planes(const PlanesQueryOptions& options);
 
+// `tlsmon query stable-areas --epoch N [--state S]`
+struct StableAreasQueryOptions {
+    ReadOptions read;
+    std::int64_t epoch = 0;
+    std::string state;  // "" = every supervoxel; else stable, unstable, unknown, not_planar
+};
+int run_query_stable_areas(const StableAreasQueryOptions& options);
+
 // `tlsmon events [--kind K]`
 struct EventsOptions {
     ReadOptions read;

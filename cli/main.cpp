@@ -65,6 +65,8 @@ struct CommandLine {
     CorePointsOptions corepoints;
     ReadOptionsOnTheCommandLine planes_read;
     PlanesQueryOptions planes;
+    ReadOptionsOnTheCommandLine stable_areas_read;
+    StableAreasQueryOptions stable_areas;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
@@ -239,6 +241,22 @@ void add_query(CLI::App& app, CommandLine& c) {
         planes_options.read = planes_read.finish();
         c.code = run_query_planes(planes_options);
     });
+
+    auto& stable_read = c.stable_areas_read;
+    auto& stable_options = c.stable_areas;
+    auto* stable = query->add_subcommand(
+        "stable-areas",
+        "One epoch's stable-area mask from the registration on stable areas: each supervoxel of "
+        "the reference with its state (stable, unstable, unknown, not_planar), change along its "
+        "normal and LoD95 (docs/registration.md)");
+    stable->add_option("--epoch", stable_options.epoch, "Epoch id")->required();
+    stable->add_option("--state", stable_options.state, "Only the supervoxels in this state")
+        ->check(CLI::IsMember({"stable", "unstable", "unknown", "not_planar"}));
+    stable_read.add_to(stable, false);
+    stable->callback([&] {
+        stable_options.read = stable_read.finish();
+        c.code = run_query_stable_areas(stable_options);
+    });
 }
 
 void add_register(CLI::App& app, CommandLine& c) {
@@ -254,7 +272,9 @@ void add_register(CLI::App& app, CommandLine& c) {
     cmd->add_option("--method", o.method,
                     "What the datum rests on, in place of the configuration's "
                     "registration.method")
-        ->check(CLI::IsMember({"targets", "planes", "targets+planes"}));
+        ->check(CLI::IsMember({"targets", "planes", "targets+planes", "stable_areas",
+                               "targets+stable_areas", "planes+stable_areas",
+                               "targets+planes+stable_areas"}));
     cmd->add_option("--format", c.register_format, "Output format")
         ->check(CLI::IsMember({"table", "json"}));
     cmd->callback([&] {

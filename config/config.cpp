@@ -487,6 +487,7 @@ RegistrationConfig with_zones(const Config& config) {
     RegistrationConfig r = config.registration;
     r.icp = config.icp;
     r.planes = config.planes;
+    r.stable_areas = config.stable_areas;
     r.zones = with_zone_shapes(config).zones;
     return r;
 }

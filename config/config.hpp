@@ -116,6 +116,7 @@ struct Config {
     KeypointConfig keypoints;         // likewise
     IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
     PlaneConfig planes;  // [registration] plane_* keys
+    StableAreaConfig stable_areas;  // [registration] stable_* keys
     ModbusConfig modbus;
     AlarmConfig alarm;
     std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]

@@ -29,6 +29,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "registration", &Config::registration, registration_keys());
     collect(keys, "registration", &Config::icp, icp_keys());
     collect(keys, "registration", &Config::planes, plane_keys());
+    collect(keys, "registration", &Config::stable_areas, stable_area_keys());
     collect(keys, "m3c2", &Config::m3c2, m3c2_keys());
     collect(keys, "keypoints", &Config::keypoints, keypoint_keys());
     collect(keys, "modbus", &Config::modbus, modbus_keys());

@@ -202,6 +202,9 @@ void Daemon::store_site() {
     if (!can_register(pipeline_config_.registration)) {
         events_.record(db_, "warning", "no_registration", kNoRegistrationWarning);
     }
+    if (stable_areas_alone(pipeline_config_.registration)) {
+        events_.record(db_, "warning", "stable_areas_alone", kStableAreasAloneWarning);
+    }
     auto ctx = pipeline();
     ensure_reference(ctx);
     events_.wrote();

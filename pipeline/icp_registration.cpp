@@ -21,8 +21,6 @@ constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
 // (edges, corners, leaves) leaves a point out of the reference surface.
 constexpr double kNormalRadiusVoxels = 3.0;
 constexpr double kMaxCurvature = 0.02;
-// Two estimates of the transformation disagree beyond χ²(6, 0.999).
-constexpr double kAgreementAlpha = 0.001;
 
 std::string region_parameters(const IcpConfig& c) {
     std::string s = fmt::format("voxel={:.17g};normals={:.17g};curvature={:.17g}", c.voxel_size,
@@ -45,7 +43,8 @@ bool in_regions(const IcpConfig& c, const Eigen::Vector3d& p) {
 bool too_few_targets(const RegistrationResult& r) {
     return r.tested.status == reg::RegistrationStatus::too_few_targets ||
            r.tested.status == reg::RegistrationStatus::degenerate_geometry ||
-           r.tested.status == reg::RegistrationStatus::planes_refused;
+           r.tested.status == reg::RegistrationStatus::planes_refused ||
+           r.tested.status == reg::RegistrationStatus::stable_areas_refused;
 }
 
 }  // namespace
@@ -223,20 +222,8 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
     m.role = refine ? "refine" : "fallback";
     if (refine) {
         if (m.refused.empty()) {
-            const reg::RigidTransform& Tt = *result.tested.transform;
-            const reg::RigidTransform combined = reg::combine_transforms(Tt, *m.transform);
-            m.agreement = reg::transform_difference_statistic(Tt, *m.transform);
-            const double limit = reg::chi_square_quantile(1.0 - kAgreementAlpha, 6);
-            if (*m.agreement > limit) {
-                m.refused = fmt::format(
-                    "disagrees with the targets: χ² {:.1f} of the difference above {:.1f} "
-                    "(α {}); the targets' transformation is kept",
-                    *m.agreement, limit, kAgreementAlpha);
-            } else {
-                result.tested.transform = combined;
-                result.gate = sigma_gate(config, combined);
-                m.used = true;
-            }
+            m.refused = join_estimate(config, result, *m.transform, "targets", m.agreement);
+            m.used = m.refused.empty();
         }
     } else {
         m.targets_status = std::string(name_of(result.tested.status)) + ": " + result.tested.reason;
@@ -271,6 +258,9 @@ void apply_icp(const RegistrationConfig& config, const EpochInput& input, Refere
 std::string registration_method(const RegistrationResult& r) {
     std::string m = "targets";
     if (r.planes && r.planes->used) m = r.planes->role == "joint" ? "targets+planes" : "planes";
+    if (r.stable_areas && r.stable_areas->used) {
+        m = r.stable_areas->role == "joint" ? m + "+stable_areas" : "stable_areas";
+    }
     if (r.icp && r.icp->used) m = r.icp->role == "fallback" ? "icp" : m + "+icp";
     if (r.epoch_range_scale) m += "+atmosphere";
     return m;

@@ -7,7 +7,7 @@
 // Only points inside a [[stable_region]] box take part: the reference's, cropped, thinned to
 // voxel centroids and given normals once (a reference-cache product), and the epoch's,
 // cropped after the starting transformation and thinned alike. PCL's point-to-plane ICP
-// (pipeline/icp_adapter.hpp) finds the pairs; the adjustment and its cluster-robust covariance
+// (pipeline/pcl_adapter.hpp) finds the pairs; the adjustment and its cluster-robust covariance
 // are algorithms/registration/point_to_plane.hpp's.
 //   refine:   from the targets' transformation; combined with it by weights when the two
 //             agree (χ² of their difference), else the targets' is kept;
@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/icp_adapter.hpp"
+#include "pipeline/pcl_adapter.hpp"
 #include "pipeline/registration_stage.hpp"
 
 namespace tlsmon {
@@ -60,7 +60,8 @@ void apply_icp(const RegistrationConfig& config, const StableSurface& surface,
 void apply_icp(const RegistrationConfig& config, const EpochInput& input, ReferenceEpoch& reference,
                ReferenceCache& cache, const RangeScales& scales, RegistrationResult& result);
 
-// "targets", "planes", "targets+planes" or "icp", with "+icp" for a refinement and
+// "targets", "planes", "targets+planes", "stable_areas" (or "+stable_areas" when joint) or "icp",
+// with "+icp" for a refinement and
 // "+atmosphere" when the ranges were corrected.
 std::string registration_method(const RegistrationResult& result);
 

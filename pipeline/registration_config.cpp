@@ -10,10 +10,14 @@ const char* to_string(TargetKind kind) {
 
 namespace {
 
-constexpr std::array<Named<RegistrationMethod>, 3> kMethods{{
+constexpr std::array<Named<RegistrationMethod>, 7> kMethods{{
     {RegistrationMethod::targets, "targets"},
     {RegistrationMethod::planes, "planes"},
     {RegistrationMethod::targets_planes, "targets+planes"},
+    {RegistrationMethod::stable_areas, "stable_areas"},
+    {RegistrationMethod::targets_stable_areas, "targets+stable_areas"},
+    {RegistrationMethod::planes_stable_areas, "planes+stable_areas"},
+    {RegistrationMethod::targets_planes_stable_areas, "targets+planes+stable_areas"},
 }};
 
 constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
@@ -53,7 +57,11 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
                   "moved, and planes inside a [[zone]] never enter the datum "
                   "(docs/registration.md, \"Registration on planes\"). `targets+planes`: both, "
                   "their estimates combined by their covariances when they agree; planes alone "
-                  "when the targets are too few."),
+                  "when the targets are too few. `stable_areas`: targetless, on the supervoxels "
+                  "of the reference whose change is not significant, found while registering "
+                  "(docs/registration.md, \"Registration on stable areas\"); with `targets+` or "
+                  "`planes+` it starts from their transformation and is combined with it when "
+                  "the two agree, and stands alone when they are refused."),
         K::number(&RegistrationConfig::search_radius, "search_radius", 0.05, 5, "m",
                   "A target's points are taken within this of its predicted centre (its centre in "
                   "the reference epoch), through the scan grid's angular window."),
@@ -161,6 +169,48 @@ std::vector<SectionKey<PlaneConfig>> plane_keys() {
         K::integer(&PlaneConfig::min_planes, "plane_min_planes", 3, 100000, "",
                    "Planes that must stay in the datum; fewer: the epoch is not registered on "
                    "planes."),
+    };
+}
+
+std::vector<SectionKey<StableAreaConfig>> stable_area_keys() {
+    using K = Keys<StableAreaConfig>;
+    return {
+        K::number(&StableAreaConfig::voxel, "stable_voxel", 0.01, 2, "m",
+                  "The reference is voxelised at this before its supervoxels (VCCS) are grown, "
+                  "and each epoch thinned to one centroid per voxel of this side."),
+        K::number(&StableAreaConfig::seed, "stable_seed", 0.05, 20, "m",
+                  "The supervoxels' seed resolution: their size, the unit that is stable or not."),
+        K::integer(&StableAreaConfig::min_samples, "stable_min_samples", 4, 1000000, "",
+                   "A supervoxel with fewer voxels (in the reference, or in the epoch) has no "
+                   "change and stays out of the datum."),
+        K::number(&StableAreaConfig::max_roughness, "stable_max_roughness", 0, 1, "m",
+                  "A supervoxel whose voxels' RMS distance from its plane is larger is no patch "
+                  "of plane (leaves, edges, corners, a wall with the ground at its foot) and "
+                  "never enters the datum."),
+        K::number(&StableAreaConfig::max_correspondence_distance,
+                  "stable_max_correspondence_distance", 0.001, 1, "m",
+                  "An epoch voxel pairs with the supervoxel of the nearest reference voxel within "
+                  "this; beyond, it is new (a passer-by) and left out."),
+        K::number(&StableAreaConfig::alpha, "stable_alpha", 1e-6, 0.5, "",
+                  "A supervoxel whose change exceeds its LoD at this level leaves the stable set "
+                  "(and returns when it no longer does)."),
+        K::integer(&StableAreaConfig::max_iterations, "stable_max_iterations", 1, 100, "",
+                   "Rounds of register, test, drop at most; the set not settled by then: the "
+                   "last round's registration, and the row says so."),
+        K::number(&StableAreaConfig::cluster_size, "stable_cluster_size", 1e-3, 1000, "m",
+                  "The covariance of the registration on stable areas lets the residuals of all "
+                  "supervoxels whose centroids share a cell of this side be correlated "
+                  "(cluster-robust, docs/registration.md); no factor is applied."),
+        K::number(&StableAreaConfig::min_share, "stable_min_share", 0, 1, "",
+                  "Guard: the stable supervoxels' share of the voxels with a change; fewer: "
+                  "the epoch is rejected, never analysed on a weak datum."),
+        K::number(&StableAreaConfig::min_conditioning, "stable_min_conditioning", 0, 1, "",
+                  "Guard: the smallest eigenvalue of the adjustment's normal matrix over its "
+                  "largest, rotations as the movement at the stable set's RMS radius; below it "
+                  "the stable set does not hold all six parameters (all in one plane, or planes "
+                  "in only two directions) and the epoch is rejected."),
+        K::integer(&StableAreaConfig::min_supervoxels, "stable_min_supervoxels", 3, 1000000, "",
+                   "Guard: stable supervoxels at least."),
     };
 }
 

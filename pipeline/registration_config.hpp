@@ -11,6 +11,7 @@
 #include "core/config_key.hpp"
 #include "pipeline/icp_config.hpp"
 #include "pipeline/plane_config.hpp"
+#include "pipeline/stable_area_config.hpp"
 
 namespace tlsmon {
 
@@ -29,8 +30,17 @@ struct TargetConfig {
 };
 
 // What the datum rests on: the targets; the scene's own planes (the congruence test keeps the
-// planes that stayed); or both, their estimates combined by their covariances.
-enum class RegistrationMethod { targets, planes, targets_planes };
+// planes that stayed); the stable areas found in the scene itself (supervoxels whose change is
+// not significant); or several, their estimates combined by their covariances. Bit flags.
+enum class RegistrationMethod {
+    targets = 1,
+    planes = 2,
+    targets_planes = 3,
+    stable_areas = 4,
+    targets_stable_areas = 5,
+    planes_stable_areas = 6,
+    targets_planes_stable_areas = 7,
+};
 const char* to_string(RegistrationMethod method);
 // The method of that name ("targets", "planes", "targets+planes"); absent for another name.
 std::optional<RegistrationMethod> registration_method_named(std::string_view name);
@@ -66,14 +76,20 @@ struct RegistrationConfig {
     IcpConfig icp;
     // The registration on planes (pipeline/registration_on_planes.hpp).
     PlaneConfig planes;
-    bool uses_targets() const { return method != RegistrationMethod::planes; }
-    bool uses_planes() const { return method != RegistrationMethod::targets; }
+    // The registration on stable areas (pipeline/stable_area_registration.hpp).
+    StableAreaConfig stable_areas;
+    bool uses(RegistrationMethod m) const {
+        return (static_cast<int>(method) & static_cast<int>(m)) != 0;
+    }
+    bool uses_targets() const { return uses(RegistrationMethod::targets); }
+    bool uses_planes() const { return uses(RegistrationMethod::planes); }
+    bool uses_stable_areas() const { return uses(RegistrationMethod::stable_areas); }
 };
 
 // Whether an epoch can be registered at all: on targets, on planes, or by the ICP fallback
 // on the stable regions (which also runs where no target is configured).
 inline bool can_register(const RegistrationConfig& c) {
-    return (c.uses_targets() && !c.targets.empty()) || c.uses_planes() ||
+    return (c.uses_targets() && !c.targets.empty()) || c.uses_planes() || c.uses_stable_areas() ||
            (c.icp.falls_back() && !c.icp.regions.empty());
 }
 
@@ -84,9 +100,23 @@ inline constexpr const char* kNoRegistrationWarning =
     "\"both\"); every epoch but the reference "
     "is stored `unregistered` and its values raise no alarm";
 
+// The registration on stable areas as the only datum is not yet safe on every site: where the
+// stable areas hold a direction weakly and a block that holds it moves, the datum follows the
+// block by a fraction of a millimetre while its σ says less (docs/registration.md,
+// "Registration on stable areas"). Said by check-config and as an event at start.
+inline bool stable_areas_alone(const RegistrationConfig& c) {
+    return c.method == RegistrationMethod::stable_areas;
+}
+inline constexpr const char* kStableAreasAloneWarning =
+    "registration.method = \"stable_areas\" alone: not yet validated as a site's only datum (a "
+    "moved block that holds a weak direction pulls the datum by up to a millimetre with a σ "
+    "that does not show it; docs/registration.md); combine it with targets or planes "
+    "(\"targets+stable_areas\") where they exist";
+
 // The keys of [registration]: its own, then the ICP's (`icp`, `icp_*`; core/config_key.hpp).
 std::vector<SectionKey<RegistrationConfig>> registration_keys();
 std::vector<SectionKey<IcpConfig>> icp_keys();
 std::vector<SectionKey<PlaneConfig>> plane_keys();
+std::vector<SectionKey<StableAreaConfig>> stable_area_keys();
 
 }  // namespace tlsmon

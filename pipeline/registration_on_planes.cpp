@@ -16,9 +16,6 @@ namespace reg = registration;
 
 namespace {
 
-// Two estimates disagree beyond χ²(6, 0.999), as for the ICP's refinement.
-constexpr double kAgreementAlpha = 0.001;
-
 double milliseconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -244,27 +241,16 @@ void apply_planes(const RegistrationConfig& config, const ReferencePlanes& refer
     if (!config.uses_planes()) return;
     // A targets' RMS beyond the gate is not mended by combining; a σ beyond it may be.
     const bool rms_gate = result.gate.rfind("RMS", 0) == 0;
-    const bool joint = config.method == RegistrationMethod::targets_planes &&
-                       result.tested.accepted() && result.tested.transform && !rms_gate;
+    const bool joint =
+        config.uses_targets() && result.tested.accepted() && result.tested.transform && !rms_gate;
     reg::RigidTransform start = prior.value_or(reg::RigidTransform{});
     if (joint) start = *result.tested.transform;
     PlaneMeasurement m = measure_planes(config, reference, scans, scales, start);
     m.role = joint ? "joint" : "alone";
     if (joint) {
         if (m.refused.empty()) {
-            const reg::RigidTransform& Tt = *result.tested.transform;
-            m.agreement = reg::transform_difference_statistic(Tt, *m.transform);
-            const double limit = reg::chi_square_quantile(1.0 - kAgreementAlpha, 6);
-            if (*m.agreement > limit) {
-                m.refused = fmt::format(
-                    "disagrees with the targets: χ² {:.1f} of the difference above {:.1f} (α "
-                    "{}); the targets' transformation is kept",
-                    *m.agreement, limit, kAgreementAlpha);
-            } else {
-                result.tested.transform = reg::combine_transforms(Tt, *m.transform);
-                result.gate = sigma_gate(config, *result.tested.transform);
-                m.used = true;
-            }
+            m.refused = join_estimate(config, result, *m.transform, "targets", m.agreement);
+            m.used = m.refused.empty();
         }
     } else {
         if (config.uses_targets()) {

@@ -7,6 +7,7 @@
 #include "core/utc_time.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/registration_on_planes.hpp"
+#include "pipeline/stable_area_registration.hpp"
 
 namespace tlsmon {
 
@@ -23,6 +24,25 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                            {"reference_ppm", ppm(r.reference_range_scale)}};
     if (r.icp) quality["icp"] = icp_quality(*r.icp);
     if (r.planes) quality["planes"] = plane_quality(*r.planes);
+    if (r.stable_areas) quality["stable_areas"] = stable_area_quality(*r.stable_areas);
+    if (const auto& m = r.stable_areas; m && m->patches.size() == m->states.size()) {
+        StableAreaMask mask;
+        mask.reference_epoch = m->reference_epoch;
+        mask.segmentation = m->segmentation;
+        for (const auto& p : m->patches) {
+            mask.supervoxels.push_back({{p.centroid.x(), p.centroid.y(), p.centroid.z()},
+                                        {p.normal.x(), p.normal.y(), p.normal.z()},
+                                        static_cast<std::int64_t>(p.samples),
+                                        p.sigma});
+        }
+        for (const auto st : m->states) mask.states.push_back(static_cast<std::uint8_t>(st));
+        mask.changes = m->changes;
+        mask.lods = m->lods;
+        mask.stable = static_cast<std::int64_t>(m->stable);
+        mask.unstable = static_cast<std::int64_t>(m->unstable);
+        mask.stable_share = m->stable_share;
+        results.stable_areas = std::move(mask);
+    }
     row.quality_json = quality.dump();
     row.status = name_of(r.tested.status);
     // Accepted with a scaled covariance: the reason says by how much, and why.

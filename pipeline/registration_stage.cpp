@@ -7,6 +7,8 @@
 #include <functional>
 
 #include "algorithms/registration/checkerboard_centre.hpp"
+#include "algorithms/registration/distribution_quantiles.hpp"
+#include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "algorithms/registration/sphere_fit.hpp"
 #include "core/error.hpp"
@@ -15,6 +17,7 @@
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/registration_on_planes.hpp"
 #include "pipeline/registration_rows.hpp"
+#include "pipeline/stable_area_registration.hpp"
 #include "pipeline/target_window.hpp"
 
 namespace tlsmon {
@@ -53,6 +56,8 @@ const char* name_of(reg::RegistrationStatus status) {
             return "outlier_not_identifiable";
         case reg::RegistrationStatus::planes_refused:
             return "planes_refused";
+        case reg::RegistrationStatus::stable_areas_refused:
+            return "stable_areas_refused";
     }
     return "unknown";
 }
@@ -342,6 +347,24 @@ std::vector<ZoneRegistrationSigma> zone_sigmas(const RegistrationConfig& config,
     return out;
 }
 
+std::string join_estimate(const RegistrationConfig& config, RegistrationResult& result,
+                          const reg::RigidTransform& other, const std::string& kept,
+                          std::optional<double>& agreement) {
+    constexpr double kAgreementAlpha = 0.001;
+    const reg::RigidTransform& accepted = *result.tested.transform;
+    agreement = reg::transform_difference_statistic(accepted, other);
+    const double limit = reg::chi_square_quantile(1.0 - kAgreementAlpha, 6);
+    if (*agreement > limit) {
+        return fmt::format(
+            "disagrees with the {}: χ² {:.1f} of the difference above {:.1f} (α {}); the {}' "
+            "transformation is kept",
+            kept, *agreement, limit, kAgreementAlpha, kept);
+    }
+    result.tested.transform = reg::combine_transforms(accepted, other);
+    result.gate = sigma_gate(config, *result.tested.transform);
+    return "";
+}
+
 std::optional<double> measured_range_scale(const RegistrationConfig& config,
                                            const std::optional<MeteoSidecar>& meteo) {
     if (config.atmosphere == AtmosphereCorrection::off || !meteo || !meteo->values) {
@@ -403,6 +426,8 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     // registration.method on planes, then registration.icp.
     apply_planes(config, ctx.input, ctx.reference, ctx.cache, scales, result,
                  ctx.history.last_transform);
+    apply_stable_areas(config, ctx.input, ctx.reference, ctx.cache, scales, result,
+                       ctx.history.last_transform);
     apply_icp(config, ctx.input, ctx.reference, ctx.cache, scales, result);
     StageVerdict verdict;
     std::string not_found;
@@ -426,7 +451,13 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     }
     const auto sig = result.tested.transform->sigmas();
     const auto& planes = result.planes;
-    if (planes && planes->used && planes->role == "alone") {
+    const auto& stable = result.stable_areas;
+    if (stable && stable->used && stable->role == "alone") {
+        verdict.note = fmt::format(
+            "stable areas: {} of {} supervoxels stable ({:.0f} % of the voxels), {} rounds",
+            stable->stable, stable->stable + stable->unstable, 100.0 * stable->stable_share,
+            stable->iterations);
+    } else if (planes && planes->used && planes->role == "alone") {
         verdict.note =
             fmt::format("{} planes ({} moved, {} in zones), Ω {:.1f} ≤ {:.1f}", planes->in_datum,
                         planes->moved, planes->monitored, planes->last_omega, planes->last_limit);
@@ -444,6 +475,10 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     }
     if (!not_found.empty()) verdict.note += " [" + not_found + "]";
     if (planes && !planes->used) verdict.note += "; planes not used: " + planes->refused;
+    if (stable && stable->used && stable->role == "joint") {
+        verdict.note += fmt::format(" + stable areas ({} supervoxels)", stable->stable);
+    }
+    if (stable && !stable->used) verdict.note += "; stable areas not used: " + stable->refused;
     verdict.note += "; atmosphere " + result.atmosphere;
     if (result.icp) verdict.note += "; " + registration_method(result);
     return verdict;

@@ -19,6 +19,7 @@
 #include "pipeline/plane_measurement.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/registration_config.hpp"
+#include "pipeline/stable_area_measurement.hpp"
 #include "pipeline/stage.hpp"
 
 namespace tlsmon {
@@ -89,8 +90,19 @@ struct RegistrationResult {
     std::optional<IcpMeasurement> icp;
     // The registration on planes, when it ran (pipeline/registration_on_planes.hpp).
     std::optional<PlaneMeasurement> planes;
+    // The registration on stable areas, when it ran (pipeline/stable_area_registration.hpp).
+    std::optional<StableAreaMeasurement> stable_areas;
     bool accepted() const { return tested.accepted() && gate.empty(); }
 };
+
+// A second, independent estimate `other` of an accepted epoch's transformation joined to it:
+// when the two agree (χ² of their difference against the sum of their covariances below
+// χ²(6, 1 − 0.001)) the transformation becomes their combination by weights and the σ gate is
+// evaluated again; otherwise the accepted one is kept. Returns "" when joined, else why not
+// (naming `kept`, the method the accepted one came from); `agreement` receives the χ².
+std::string join_estimate(const RegistrationConfig& config, RegistrationResult& result,
+                          const registration::RigidTransform& other, const std::string& kept,
+                          std::optional<double>& agreement);
 
 // n_true/n_setting for the measured air of `meteo` (IAG 1999, core/group_refractivity.hpp);
 // absent without meteo values or with the correction off.

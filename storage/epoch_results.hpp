@@ -76,6 +76,27 @@ struct PlaneRow {
     bool significant = false;
 };
 
+// A supervoxel of the reference, as the registration on stable areas segmented it
+// (schema 0010_stable_areas.sql).
+struct SupervoxelRow {
+    std::array<double, 3> centroid{}, normal{};  // reference frame
+    std::int64_t voxels = 0;
+    double roughness_m = 0;  // RMS distance of its voxels from its plane
+};
+
+// One epoch's stable-area mask: per supervoxel of its reference's segmentation, its state
+// (0 stable, 1 unstable, 2 unknown, 3 not planar), change along its normal and LoD (m; NaN:
+// none). `supervoxels` is written once per reference and segmentation.
+struct StableAreaMask {
+    std::int64_t reference_epoch = 0;
+    std::string segmentation;  // the supervoxels' parameters
+    std::vector<SupervoxelRow> supervoxels;
+    std::vector<std::uint8_t> states;
+    std::vector<float> changes, lods;
+    std::int64_t stable = 0, unstable = 0;
+    double stable_share = 0;
+};
+
 // Aggregate of one quantity over one zone in one epoch: one point of a time series.
 struct ZoneResult {
     std::string zone;      // zone name (the zone must exist: Site::upsert_zone)
@@ -121,8 +142,9 @@ struct EpochResults {
     std::vector<TargetObservation> targets;
     std::vector<std::string> target_exclusions;  // targets this epoch excluded as moved
     std::vector<RegistrationZoneSigma> registration_zone_sigmas;
-    std::vector<PlaneRow> planes;    // the registration on planes' matched planes
-    std::vector<NewZone> new_zones;  // before zone_results, which may name them
+    std::vector<PlaneRow> planes;                // the registration on planes' matched planes
+    std::optional<StableAreaMask> stable_areas;  // the registration on stable areas' mask
+    std::vector<NewZone> new_zones;              // before zone_results, which may name them
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
     std::vector<KeypointModelRow> keypoint_models;  // d(t, z) refitted with this epoch

@@ -1,9 +1,11 @@
 #include "storage/registration_store.hpp"
 
 #include <cstring>
+#include <limits>
 
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
+#include "storage/storage_error.hpp"
 
 namespace tlsmon {
 
@@ -212,6 +214,77 @@ std::vector<PlaneRow> RegistrationStore::planes_of_epoch(EpochId id) const {
             out.push_back(std::move(p));
         }
         return out;
+    });
+}
+
+namespace {
+
+// The inverse of the writer's encoding: little-endian int16 in 0.01 mm, −32768 for none.
+std::vector<float> metres_from_hundredths(const SQLite::Column& blob, std::size_t n) {
+    std::vector<float> out(n, std::numeric_limits<float>::quiet_NaN());
+    if (static_cast<std::size_t>(blob.getBytes()) != 2 * n) {
+        throw StorageError("stable-area mask: a blob of " + std::to_string(blob.getBytes()) +
+                           " bytes for " + std::to_string(n) + " supervoxels");
+    }
+    const auto* b = static_cast<const unsigned char*>(blob.getBlob());
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto q =
+            static_cast<std::int16_t>(static_cast<std::uint16_t>(b[2 * k] | (b[2 * k + 1] << 8)));
+        if (q != std::numeric_limits<std::int16_t>::min()) out[k] = static_cast<float>(q * 1e-5);
+    }
+    return out;
+}
+
+}  // namespace
+
+std::optional<StableAreaMask> RegistrationStore::stable_areas_of_epoch(EpochId id) const {
+    return guarded(*c_, "reading the stable-area mask", [&]() -> std::optional<StableAreaMask> {
+        SQLite::Statement s(c_->db,
+                            "SELECT reference_epoch_id, segmentation, supervoxels, stable,"
+                            " unstable, stable_share, states, changes, lods"
+                            " FROM stable_area_masks WHERE epoch_id = ?");
+        s.bind(1, id);
+        if (!s.executeStep()) return std::nullopt;
+        StableAreaMask m;
+        m.reference_epoch = s.getColumn(0).getInt64();
+        m.segmentation = s.getColumn(1).getString();
+        const auto n = static_cast<std::size_t>(s.getColumn(2).getInt64());
+        m.stable = s.getColumn(3).getInt64();
+        m.unstable = s.getColumn(4).getInt64();
+        m.stable_share = s.getColumn(5).getDouble();
+        const auto states = s.getColumn(6);
+        if (static_cast<std::size_t>(states.getBytes()) != n) {
+            throw StorageError("stable-area mask of epoch " + std::to_string(id) + ": " +
+                               std::to_string(states.getBytes()) + " states for " +
+                               std::to_string(n) + " supervoxels");
+        }
+        const auto* b = static_cast<const std::uint8_t*>(states.getBlob());
+        m.states.assign(b, b + n);
+        m.changes = metres_from_hundredths(s.getColumn(7), n);
+        m.lods = metres_from_hundredths(s.getColumn(8), n);
+        SQLite::Statement v(
+            c_->db,
+            "SELECT centroid_x, centroid_y, centroid_z, normal_x, normal_y,"
+            " normal_z, voxels, roughness_m FROM stable_area_supervoxels"
+            " WHERE reference_epoch_id = ? AND segmentation = ? ORDER BY supervoxel");
+        v.bind(1, m.reference_epoch);
+        v.bind(2, m.segmentation);
+        while (v.executeStep()) {
+            SupervoxelRow r;
+            for (int k = 0; k < 3; ++k) {
+                r.centroid[k] = v.getColumn(k).getDouble();
+                r.normal[k] = v.getColumn(3 + k).getDouble();
+            }
+            r.voxels = v.getColumn(6).getInt64();
+            r.roughness_m = v.getColumn(7).getDouble();
+            m.supervoxels.push_back(r);
+        }
+        if (m.supervoxels.size() != n) {
+            throw StorageError("stable-area mask of epoch " + std::to_string(id) + ": " +
+                               std::to_string(m.supervoxels.size()) + " supervoxels stored for " +
+                               std::to_string(n));
+        }
+        return m;
     });
 }
 

@@ -51,6 +51,9 @@ class RegistrationStore {
     std::vector<RegistrationZoneSigma> zone_sigmas_of_epoch(EpochId id) const;
     // The registration on planes' matched planes, by reference index.
     std::vector<PlaneRow> planes_of_epoch(EpochId id) const;
+    // The epoch's stable-area mask with its reference's supervoxels (the registration on
+    // stable areas); absent when it did not run.
+    std::optional<StableAreaMask> stable_areas_of_epoch(EpochId id) const;
 
   private:
     Connection* c_;

@@ -3,13 +3,17 @@
 // epoch `processing`, which recover_interrupted() turns back into `pending`.
 #include "storage/results_writer.hpp"
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
 #include "storage/site.hpp"
+#include "storage/storage_error.hpp"
 
 namespace tlsmon {
 
@@ -133,6 +137,72 @@ void write_planes(Connection& c, EpochId id, const std::vector<PlaneRow>& planes
         s.bind(21, p.significant ? 1 : 0);
         s.exec();
     }
+}
+
+// 0.01 mm units, little-endian int16; −32768 for none (NaN), saturated at ±327.67 mm.
+std::vector<char> hundredths_of_mm(const std::vector<float>& metres) {
+    std::vector<char> out;
+    out.reserve(2 * metres.size());
+    for (const float v : metres) {
+        std::int16_t q = std::numeric_limits<std::int16_t>::min();
+        if (!std::isnan(v))
+            q = static_cast<std::int16_t>(std::clamp(std::lround(v * 1e5), -32767L, 32767L));
+        const auto u = static_cast<std::uint16_t>(q);
+        out.push_back(static_cast<char>(u & 0xFF));
+        out.push_back(static_cast<char>(u >> 8));
+    }
+    return out;
+}
+
+void write_stable_areas(Connection& c, EpochId id, const std::optional<StableAreaMask>& mask) {
+    if (!mask) return;
+    const auto& m = *mask;
+    const std::size_t n = m.states.size();
+    if (m.changes.size() != n || m.lods.size() != n || m.supervoxels.size() != n) {
+        throw StorageError("stable-area mask of epoch " + std::to_string(id) +
+                           ": states, changes, LoDs and supervoxels differ in number");
+    }
+    SQLite::Statement known(c.db,
+                            "SELECT count(*) FROM stable_area_supervoxels WHERE"
+                            " reference_epoch_id = ? AND segmentation = ?");
+    known.bind(1, m.reference_epoch);
+    known.bind(2, m.segmentation);
+    known.executeStep();
+    if (known.getColumn(0).getInt64() == 0) {
+        SQLite::Statement s(c.db,
+                            "INSERT INTO stable_area_supervoxels (reference_epoch_id, segmentation,"
+                            " supervoxel, centroid_x, centroid_y, centroid_z, normal_x, normal_y,"
+                            " normal_z, voxels, roughness_m) VALUES (?,?,?,?,?,?,?,?,?,?,?)");
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto& v = m.supervoxels[k];
+            s.reset();
+            s.bind(1, m.reference_epoch);
+            s.bind(2, m.segmentation);
+            s.bind(3, static_cast<std::int64_t>(k));
+            for (int j = 0; j < 3; ++j) s.bind(4 + j, v.centroid[j]);
+            for (int j = 0; j < 3; ++j) s.bind(7 + j, v.normal[j]);
+            s.bind(10, v.voxels);
+            s.bind(11, v.roughness_m);
+            s.exec();
+        }
+    }
+    SQLite::Statement s(c.db,
+                        "INSERT INTO stable_area_masks (epoch_id, reference_epoch_id, segmentation,"
+                        " supervoxels, stable, unstable, stable_share, states, changes, lods)"
+                        " VALUES (?,?,?,?,?,?,?,?,?,?)");
+    s.bind(1, id);
+    s.bind(2, m.reference_epoch);
+    s.bind(3, m.segmentation);
+    s.bind(4, static_cast<std::int64_t>(n));
+    s.bind(5, m.stable);
+    s.bind(6, m.unstable);
+    s.bind(7, m.stable_share);
+    s.bind(8, m.states.data(), static_cast<int>(n));
+    const auto changes = hundredths_of_mm(m.changes);
+    const auto lods = hundredths_of_mm(m.lods);
+    s.bind(9, changes.data(), static_cast<int>(changes.size()));
+    s.bind(10, lods.data(), static_cast<int>(lods.size()));
+    s.exec();
 }
 
 void write_exclusions(Connection& c, EpochId id, const std::vector<std::string>& targets) {
@@ -278,6 +348,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results,
         write_exclusions(*c_, id, results.target_exclusions);
         write_zone_sigmas(*c_, id, results.registration_zone_sigmas);
         write_planes(*c_, id, results.planes);
+        write_stable_areas(*c_, id, results.stable_areas);
         for (const auto& z : results.new_zones) Site(*c_).upsert_zone(z.name, z.definition_json);
         write_zone_results(*c_, id, results.zone_results);
         write_core_point_arrays(*c_, id, results.core_point_arrays);

@@ -109,6 +109,8 @@ const char* describe(RegistrationStatus status) {
             return "refused: outlier cannot be attributed to one target";
         case RegistrationStatus::planes_refused:
             return "refused: no registration on planes";
+        case RegistrationStatus::stable_areas_refused:
+            return "refused: no registration on stable areas";
     }
     return "unknown";
 }

@@ -83,7 +83,8 @@ enum class RegistrationStatus {
     degenerate_geometry,       // refused: the used targets are (nearly) on a line
     outlier_not_excludable,    // refused: a target failed its test and excluding it leaves too few
     outlier_not_identifiable,  // refused: a misfit that another target explains as well
-    planes_refused,  // refused: the registration on planes found too few, or no congruent set
+    planes_refused,        // refused: the registration on planes found too few, or no congruent set
+    stable_areas_refused,  // refused: too small a stable share, or ill-conditioned
 };
 
 const char* describe(RegistrationStatus status);

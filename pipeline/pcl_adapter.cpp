@@ -1,9 +1,10 @@
-#include "pipeline/icp_adapter.hpp"
+#include "pipeline/pcl_adapter.hpp"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
+#include <pcl/segmentation/supervoxel_clustering.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -49,6 +50,19 @@ class CountingIcp
     int iterations() const { return nr_iterations_; }
 };
 
+// Points about `origin`, in float (no normals).
+pcl::PointCloud<pcl::PointXYZ>::Ptr xyz_cloud(std::span<const Eigen::Vector3d> points,
+                                              const Eigen::Vector3d& origin) {
+    auto xyz = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    xyz->resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Eigen::Vector3d p = points[i] - origin;
+        (*xyz)[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                  static_cast<float>(p.z()));
+    }
+    return xyz;
+}
+
 Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (const auto& p : points) c += p;
@@ -57,8 +71,8 @@ Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points,
-                                             double voxel) {
+std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points, double voxel,
+                                             const Eigen::Vector3d& origin) {
     if (!(voxel > 0)) throw Error("voxel centroids: the voxel size must be positive");
     struct Sum {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -70,7 +84,8 @@ std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> po
     for (const auto& p : points) {
         std::uint64_t key = 0;
         for (int k = 0; k < 3; ++k) {
-            const auto c = static_cast<std::int64_t>(std::floor(p(k) / voxel)) + (1 << 20);
+            const auto c =
+                static_cast<std::int64_t>(std::floor((p(k) - origin(k)) / voxel)) + (1 << 20);
             key = (key << 21) | (static_cast<std::uint64_t>(c) & 0x1FFFFF);
         }
         const auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(sums.size()));
@@ -90,13 +105,7 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
     SurfaceSample out;
     if (points.empty()) return out;
     const Eigen::Vector3d origin = centroid(points);
-    auto xyz = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-    xyz->resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const Eigen::Vector3d p = points[i] - origin;
-        (*xyz)[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                  static_cast<float>(p.z()));
-    }
+    const auto xyz = xyz_cloud(points, origin);
     pcl::KdTreeFLANN<pcl::PointXYZ> tree;
     tree.setInputCloud(xyz);
     std::vector<int> k;
@@ -180,6 +189,55 @@ IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
     }
     out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
     return out;
+}
+
+std::vector<std::uint32_t> supervoxel_labels(std::span<const Eigen::Vector3d> points,
+                                             const SupervoxelParams& params) {
+    if (points.empty()) throw Error("supervoxels: no points");
+    const Eigen::Vector3d origin = centroid(points);
+    const auto xyz = xyz_cloud(points, origin);
+    pcl::SupervoxelClustering<pcl::PointXYZ> vccs(static_cast<float>(params.voxel),
+                                                  static_cast<float>(params.seed));
+    vccs.setUseSingleCameraTransform(false);
+    vccs.setColorImportance(0.0f);
+    vccs.setSpatialImportance(static_cast<float>(params.spatial_importance));
+    vccs.setNormalImportance(static_cast<float>(params.normal_importance));
+    vccs.setInputCloud(xyz);
+    std::map<std::uint32_t, pcl::Supervoxel<pcl::PointXYZ>::Ptr> clusters;
+    vccs.extract(clusters);
+    // getLabeledCloud keeps the input's order: one label per input point.
+    const auto labelled = vccs.getLabeledCloud();
+    std::vector<std::uint32_t> labels(points.size(), 0);
+    for (std::size_t i = 0; i < points.size() && i < labelled->size(); ++i) {
+        labels[i] = (*labelled)[i].label;
+    }
+    return labels;
+}
+
+struct NearestPoints::Tree {
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+};
+
+NearestPoints::NearestPoints(std::span<const Eigen::Vector3d> points)
+    : tree_(std::make_unique<Tree>()) {
+    if (points.empty()) return;
+    tree_->origin = centroid(points);
+    tree_->tree.setInputCloud(xyz_cloud(points, tree_->origin));
+}
+
+NearestPoints::~NearestPoints() = default;
+
+std::int64_t NearestPoints::nearest(const Eigen::Vector3d& query, double max_distance) const {
+    if (!tree_->tree.getInputCloud()) return -1;
+    const Eigen::Vector3d q = query - tree_->origin;
+    std::vector<int> k(1);
+    std::vector<float> d2(1);
+    const pcl::PointXYZ p(static_cast<float>(q.x()), static_cast<float>(q.y()),
+                          static_cast<float>(q.z()));
+    if (tree_->tree.nearestKSearch(p, 1, k, d2) != 1) return -1;
+    if (d2[0] > max_distance * max_distance) return -1;
+    return k[0];
 }
 
 }  // namespace tlsmon

@@ -1,0 +1,94 @@
+#pragma once
+// The one adapter to the Point Cloud Library (PCL 1.13): its headers are included by
+// pcl_adapter.cpp alone (they cost about a minute per translation unit), and everything here
+// speaks plain Eigen. It thins a cloud to voxel centroids, estimates the reference surface's
+// normals, runs PCL's point-to-plane ICP (IterativeClosestPointWithNormals with the linear
+// least-squares point-to-plane estimation, Low 2004), returning the final pairs for the
+// adjustment and covariance of algorithms/registration/point_to_plane.hpp, over-segments a
+// cloud into supervoxels (VCCS, Papon et al. 2013) and finds nearest points (a k-d tree).
+//
+// PCL works in float: both clouds are taken about the reference sample's centroid first, so a
+// coordinate of a site a few hundred metres across keeps about 0.01 mm.
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "algorithms/registration/point_to_plane.hpp"
+
+namespace tlsmon {
+
+// Points of a surface with their unit normals (same order, same count).
+struct SurfaceSample {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector3d> normals;
+};
+
+// One centroid per occupied cube of side `voxel` (cells aligned on `origin`).
+std::vector<Eigen::Vector3d> voxel_centroids(
+    std::span<const Eigen::Vector3d> points, double voxel,
+    const Eigen::Vector3d& origin = Eigen::Vector3d::Zero());
+
+// Normals by principal component analysis of the neighbours within `radius` (Hoppe et al.
+// 1992), turned towards `viewpoint`. A point is dropped when its surface variation
+// λ₀/(λ₀ + λ₁ + λ₂) exceeds `max_curvature` (an edge, a corner, vegetation), or its
+// neighbours are fewer than 6 or lie along a line (λ₁ < 0.05·λ₂: one scan row on grazing
+// ground): point-to-plane distances mean nothing there.
+SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
+                                   double max_curvature, const Eigen::Vector3d& viewpoint);
+
+struct IcpParams {
+    double max_correspondence_distance = 0.05;  // m
+    int max_iterations = 50;
+    double translation_epsilon = 1e-5;  // m, a step smaller than this ends the iterations
+};
+
+struct IcpAlignment {
+    Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // epoch -> reference
+    int iterations = 0;
+    bool converged = false;
+    // Each epoch point with its nearest reference point within the correspondence distance
+    // under `transform`, and that point's normal.
+    std::vector<registration::PointPlanePair> pairs;
+    double overlap = 0.0;  // pairs / epoch points
+};
+
+// Throws tlsmon::Error when either cloud is empty.
+IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
+                                  const SurfaceSample& reference, const Eigen::Matrix4d& start,
+                                  const IcpParams& params);
+
+// Voxel Cloud Connectivity Segmentation (Papon et al. 2013, PCL's SupervoxelClustering): the
+// cloud voxelised at `voxel`, seeds on a grid of `seed`, each supervoxel grown over adjacent
+// voxels by a distance of spatial separation (relative to `seed`), and normal difference.
+// Without the single-camera transform: a scanner's points are not a depth image.
+struct SupervoxelParams {
+    double voxel = 0.10;  // m
+    double seed = 1.0;    // m
+    double spatial_importance = 0.4;
+    double normal_importance = 1.0;
+};
+
+// One label per point, 1.. per supervoxel; 0: in none (a voxel the growth did not reach).
+// Throws tlsmon::Error when the points are empty.
+std::vector<std::uint32_t> supervoxel_labels(std::span<const Eigen::Vector3d> points,
+                                             const SupervoxelParams& params);
+
+// The nearest of a fixed set of points (a k-d tree, taken about the set's centroid in float
+// as the ICP does). Queries are const and may run from several threads at once.
+class NearestPoints {
+  public:
+    explicit NearestPoints(std::span<const Eigen::Vector3d> points);
+    ~NearestPoints();
+    NearestPoints(const NearestPoints&) = delete;
+    NearestPoints& operator=(const NearestPoints&) = delete;
+    // The index of the nearest point within `max_distance` of `query`, or −1.
+    std::int64_t nearest(const Eigen::Vector3d& query, double max_distance) const;
+
+  private:
+    struct Tree;
+    std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace tlsmon

@@ -1,0 +1,56 @@
+#pragma once
+// What the registration on stable areas measured in one epoch
+// (pipeline/stable_area_registration.hpp), as the registration row and the stable-area mask
+// record it.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/registration/rigid_transform.hpp"
+#include "algorithms/registration/supervoxel_change.hpp"
+
+namespace tlsmon {
+
+// Each reference supervoxel in one epoch. Stored as one byte per supervoxel.
+enum class SupervoxelState : std::uint8_t {
+    stable = 0,      // in the datum: its change not significant
+    unstable = 1,    // left out: its change significant
+    unknown = 2,     // too few voxels of the epoch on it (occluded, out of view)
+    not_planar = 3,  // no patch of plane (leaves, edges, corners, too small): never in the datum
+};
+const char* name_of(SupervoxelState state);
+
+struct StableAreaMeasurement {
+    std::string role;     // "alone": the epoch's datum; "joint": combined with the targets'/planes'
+    bool used = false;    // entered the epoch's transformation
+    std::string refused;  // why it did not ("" when used)
+    std::string start;    // where the iteration started, in words
+    std::size_t supervoxels = 0;  // of the reference
+    std::size_t stable = 0, unstable = 0, unknown = 0, not_planar = 0;
+    double stable_share = 0;  // the stable supervoxels' share of the voxels with a change
+    int iterations = 0;
+    bool settled = false;           // the stable set no longer changed
+    std::size_t epoch_samples = 0;  // the epoch's voxels
+    std::size_t pairs = 0, outliers = 0, clusters = 0;
+    double rms = 0;  // m, of the point-to-plane distances
+    // λ_min/λ_max of the normal matrix, rotations at the set's RMS radius (1: all held alike).
+    double conditioning = 0;
+    double inflation = 1;             // largest σ ratio, correlated / independent residuals
+    double variance_factor = 0;       // s0², m²
+    std::optional<double> agreement;  // joint: χ² of the difference (6 degrees of freedom)
+    double milliseconds = 0;
+    std::string targets_status;  // the verdict the stable areas replaced, when alone
+    std::optional<registration::RigidTransform> transform;  // its own estimate
+    // The reference's supervoxels and what identifies them (its epoch, the segmentation's
+    // parameters), for the stored mask.
+    std::int64_t reference_epoch = 0;
+    std::string segmentation;
+    std::vector<registration::SupervoxelPatch> patches;
+    // Per reference supervoxel (its index): state, change and LoD (m; NaN without a change).
+    std::vector<SupervoxelState> states;
+    std::vector<float> changes, lods;
+};
+
+}  // namespace tlsmon

@@ -1,0 +1,236 @@
+// Targetless registration on stable areas (pipeline/stable_area_registration.hpp) on the
+// simulator's `pier` preset with drift (standing axis 60″, tilt 10″, translation σ 1.5 mm), no
+// target and no [[stable_region]], against the truth (for epoch i the exact map into epoch 0's
+// frame is H₀⁻¹·Hᵢ, docs/simulator.md). The scan's lower band (floor, valley side, foundation,
+// abutment, the two walls at an angle, the pier's foot and the bush) at 0.03°; the abutment
+// moved by 3 mm and tilted by 20″ from epoch 2: its supervoxels must leave the datum and the
+// datum must not follow it. And a scene of one plane only must be refused as ill-conditioned.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+
+#include "formats/ptx_writer.hpp"
+#include "pipeline/icp_registration.hpp"
+#include "pipeline/stable_area_registration.hpp"
+#include "pipeline_site.hpp"
+#include "simulator/render.hpp"
+
+namespace tlsmon {
+namespace {
+
+constexpr int kMovedFrom = 2;
+
+sim::Site moving_abutment() {
+    sim::Site site = sim::preset_pier();
+    site.drift.yaw_amplitude_arcsec = 60.0;
+    site.drift.tilt_amplitude_arcsec = 10.0;
+    site.drift.translation_sigma = 0.0015;
+    site.atmosphere.enabled = false;
+    site.noise.seed = 9;
+    site.scanner.azimuth_step_deg = 0.03;
+    site.scanner.elevation_step_deg = 0.03;
+    site.scanner.elevation_max_deg = 12.0;
+    for (auto& b : site.terrain.blocks) {
+        if (b.name != "A-north") continue;
+        b.motion.from_epoch = kMovedFrom;
+        b.motion.translation = {0.0012, -0.0025, -0.0012};  // 3.0 mm
+        b.motion.rotation_arcsec = {14.0, 0.0, 14.0};       // 19.8″
+    }
+    return site;
+}
+
+struct RenderedEpoch {
+    std::vector<Scan> scans;
+    Eigen::Affine3d header_to_true;
+};
+
+struct Series {
+    sim::Site site = moving_abutment();
+    std::vector<RenderedEpoch> epochs;
+    ReferenceSupervoxels reference;
+    RegistrationConfig config;
+    Series() {
+        config.method = RegistrationMethod::stable_areas;
+        const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
+        for (int e = 0; e <= kMovedFrom; ++e) {
+            const sim::RenderedScan r = sim::render_epoch(site, e, 2.0 * e, 2);
+            epochs.push_back({{r.scan}, N * r.pose_error.transform() * N.inverse()});
+        }
+        reference = build_supervoxels(config.stable_areas, epochs[0].scans);
+    }
+};
+
+const Series& series() {
+    static const Series s;
+    return s;
+}
+
+// Epoch e registered alone from the identity (a fixed station's prior): accepted, and the
+// RMS error at points on the pier's faces below 2.5 m (what this band sees of it).
+RegistrationResult register_and_score(int e, double max_rms) {
+    const Series& s = series();
+    RegistrationResult r;
+    r.tested.status = registration::RegistrationStatus::too_few_targets;
+    apply_stable_areas(s.config, s.reference, s.epochs[e].scans, {}, r,
+                       registration::RigidTransform{});
+    EXPECT_TRUE(r.accepted()) << r.tested.reason;
+    EXPECT_EQ(registration_method(r), "stable_areas");
+    if (!r.accepted()) return r;
+    const auto& T = *r.tested.transform;
+    const Eigen::Affine3d& H0 = s.epochs[0].header_to_true;
+    const Eigen::Affine3d& Hi = s.epochs[e].header_to_true;
+    const auto& p = s.site.pier;
+    double sum = 0;
+    int n = 0;
+    for (double x = p.x0; x <= p.x1; x += 2.5) {
+        for (double z = 0.5; z <= 2.5; z += 1.0) {
+            const Eigen::Vector3d P(x, p.y0, z);
+            sum += (T.apply(Hi.inverse() * P) - H0.inverse() * P).squaredNorm();
+            ++n;
+        }
+    }
+    const double rms = std::sqrt(sum / n);
+    EXPECT_LT(rms, max_rms) << "RMS error at the pier's foot";
+    std::printf(
+        "epoch %d: RMS error at the pier %.3f mm; %zu stable, %zu unstable, share %.2f; %d "
+        "rounds%s; conditioning %.3g\n",
+        e, 1e3 * rms, r.stable_areas->stable, r.stable_areas->unstable,
+        r.stable_areas->stable_share, r.stable_areas->iterations,
+        r.stable_areas->settled ? "" : " (not settled)", r.stable_areas->conditioning);
+    return r;
+}
+
+TEST(StableAreaRegistration, ADriftedEpochIsRegisteredWithoutTargetsOrRegions) {
+    const RegistrationResult r = register_and_score(1, 0.0005);
+    ASSERT_TRUE(r.stable_areas);
+    EXPECT_GT(r.stable_areas->stable_share, 0.5);
+    EXPECT_GT(r.stable_areas->stable, 100u);
+    // Drift of up to 60″ at 50 m: the voxels were re-assigned and the set settled.
+    EXPECT_GE(r.stable_areas->iterations, 2);
+}
+
+// Most of the abutment's supervoxels leave the set. In this band the abutment is one of few
+// surfaces that hold the horizontal translation, and the datum still follows it: 0.68 mm RMS
+// at the pier (0.02 mm before it moved) — a known weakness (docs/registration.md,
+// "Registration on stable areas"), held here below 1 mm so that it cannot grow unseen.
+TEST(StableAreaRegistration, AMovedAbutmentLeavesTheStableSet) {
+    const RegistrationResult r = register_and_score(kMovedFrom, 0.001);
+    ASSERT_TRUE(r.stable_areas);
+    const Series& s = series();
+    int on_abutment = 0, unstable = 0, bush_stable = 0;
+    for (std::size_t k = 0; k < s.reference.patches.size(); ++k) {
+        const SupervoxelState st = r.stable_areas->states[k];
+        const Eigen::Vector3d c = s.epochs[0].header_to_true * s.reference.patches[k].centroid;
+        // The bush (an ellipsoid about (−3, 36)): never in the datum.
+        if (std::hypot((c.x() + 3.0) / 1.9, (c.y() - 36.0) / 1.3) <= 1.0 && c.z() > 0.05) {
+            bush_stable += st == SupervoxelState::stable;
+        }
+        if (st != SupervoxelState::stable && st != SupervoxelState::unstable) continue;
+        // The abutment's faces (its box 22–30 × 56–62 × up to 2.5 m), off the ground.
+        if (c.x() > 21.9 && c.x() < 30.1 && c.y() > 55.9 && c.y() < 62.1 && c.z() > 0.1) {
+            ++on_abutment;
+            unstable += st == SupervoxelState::unstable;
+        }
+    }
+    ASSERT_GT(on_abutment, 5);
+    EXPECT_GE(3 * unstable, 2 * on_abutment) << unstable << " of " << on_abutment;
+    EXPECT_EQ(bush_stable, 0);
+}
+
+// The series through the epoch pipeline into a real SQLite file: the registration row's
+// method and figures, and each epoch's mask as stored (the supervoxels once per reference).
+TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
+    const Series& s = series();
+    test::PipelineSite ps;
+    ps.config.coverage.min_inside_share = 0.0;
+    ps.config.registration = s.config;
+    ReferenceCache cache(*ps.db);
+    std::vector<EpochId> ids;
+    for (std::size_t e = 0; e < s.epochs.size(); ++e) {
+        const auto file = ps.dir / "ingest" / ("pier_" + std::to_string(e) + ".ptx");
+        {
+            std::ofstream f(file, std::ios::binary);
+            f << ptx_text(s.epochs[e].scans.front());
+        }
+        const EpochInsert ins = ps.db->epochs().insert(
+            NewEpoch{sha256_file(file), 1780293600 + 900 * static_cast<std::int64_t>(e), file,
+                     static_cast<std::int64_t>(std::filesystem::file_size(file)), std::nullopt});
+        ids.push_back(ins.id);
+        EXPECT_EQ(ps.process(*ps.db->epochs().find(ins.id), cache), EpochOutcome::done)
+            << "epoch " << e;
+    }
+    auto& regs = ps.db->registrations();
+    EXPECT_EQ(regs.of_epoch(ids[0])->method, "reference");
+    EXPECT_FALSE(regs.stable_areas_of_epoch(ids[0]));
+    for (std::size_t e = 1; e < ids.size(); ++e) {
+        const auto row = regs.of_epoch(ids[e]);
+        ASSERT_TRUE(row);
+        EXPECT_TRUE(row->accepted);
+        EXPECT_EQ(row->method, "stable_areas");
+        EXPECT_NE(row->quality_json.find("\"stable_areas\""), std::string::npos);
+        const auto mask = regs.stable_areas_of_epoch(ids[e]);
+        ASSERT_TRUE(mask);
+        EXPECT_EQ(mask->reference_epoch, ids[0]);
+        // The reference as the pipeline read it back from its file: supervoxels of its own.
+        ASSERT_GT(mask->supervoxels.size(), 1000u);
+        ASSERT_EQ(mask->states.size(), mask->supervoxels.size());
+        std::int64_t stable = 0, unstable = 0;
+        for (std::size_t k = 0; k < mask->states.size(); ++k) {
+            stable += mask->states[k] == 0;
+            unstable += mask->states[k] == 1;
+            // A change and an LoD where the state is stable or unstable, in 0.01 mm steps.
+            if (mask->states[k] <= 1) {
+                ASSERT_FALSE(std::isnan(mask->changes[k]));
+                EXPECT_GT(mask->lods[k], 0.0f);
+                // Stored to 0.01 mm: the state agrees with its change and LoD within that.
+                if (mask->states[k] == 1) {
+                    EXPECT_GT(std::fabs(mask->changes[k]), mask->lods[k] - 1e-5f) << k;
+                } else {
+                    EXPECT_LE(std::fabs(mask->changes[k]), mask->lods[k] + 1e-5f) << k;
+                }
+            } else {
+                EXPECT_TRUE(std::isnan(mask->changes[k]));
+            }
+            EXPECT_GE(mask->supervoxels[k].voxels, 1);
+        }
+        EXPECT_EQ(stable, mask->stable);
+        EXPECT_EQ(unstable, mask->unstable);
+        EXPECT_GT(mask->stable_share, 0.5);
+    }
+}
+
+// A flat floor alone: nothing holds the horizontal translation or the turn about the vertical.
+TEST(StableAreaRegistration, AStableSetInOnePlaneIsRefusedAsIllConditioned) {
+    Scan floor;
+    floor.pose.translation() = Eigen::Vector3d(0, 0, 1.5);
+    for (double x = -10; x <= 10; x += 0.05)
+        for (double y = 2; y <= 30; y += 0.05)
+            floor.xyz.emplace_back(x, y, 0.0002 * std::sin(7 * x + 3 * y));
+    RegistrationConfig config;
+    config.method = RegistrationMethod::stable_areas;
+    const ReferenceSupervoxels reference = build_supervoxels(config.stable_areas, {floor});
+    ASSERT_GT(reference.patches.size(), 50u);
+    RegistrationResult r;
+    r.tested.status = registration::RegistrationStatus::too_few_targets;
+    apply_stable_areas(config, reference, {floor}, {}, r, std::nullopt);
+    EXPECT_FALSE(r.accepted());
+    EXPECT_EQ(r.tested.status, registration::RegistrationStatus::stable_areas_refused);
+    EXPECT_NE(r.tested.reason.find("ill-conditioned"), std::string::npos) << r.tested.reason;
+}
+
+TEST(StableAreaRegistration, TheMethodCombinesWithTargetsAndPlanes) {
+    EXPECT_EQ(registration_method_named("stable_areas"), RegistrationMethod::stable_areas);
+    const auto m = registration_method_named("targets+planes+stable_areas");
+    ASSERT_TRUE(m);
+    RegistrationConfig c;
+    c.method = *m;
+    EXPECT_TRUE(c.uses_targets() && c.uses_planes() && c.uses_stable_areas());
+    c.method = RegistrationMethod::planes;
+    EXPECT_FALSE(c.uses_stable_areas());
+    EXPECT_FALSE(registration_method_named("stable-areas"));
+}
+
+}  // namespace
+}  // namespace tlsmon
