@@ -38,7 +38,7 @@ int run_query_stable_areas(const StableAreasQueryOptions& o) {
             std::cerr << "epoch " << o.epoch << ": " << mask->stable << " stable, "
                       << mask->unstable << " unstable of " << mask->states.size()
                       << " supervoxels (reference epoch " << mask->reference_epoch
-                      << "); stable share " << mask->stable_share << '\n';
+                      << "); stable share " << std::lround(100 * mask->stable_share) << " %\n";
         }
         Table t{{"supervoxel", "state", "centroid_x_m", "centroid_y_m", "centroid_z_m", "normal_x",
                  "normal_y", "normal_z", "voxels", "roughness_mm", "change_mm", "lod95_mm"},

@@ -257,27 +257,13 @@ void apply_planes(const RegistrationConfig& config, const ReferencePlanes& refer
             m.targets_status =
                 std::string(name_of(result.tested.status)) + ": " + result.tested.reason;
         }
-        if (m.refused.empty()) m.refused = sigma_gate(config, *m.transform);
-        if (m.refused.empty()) {
-            result.tested.transform = *m.transform;
-            result.tested.status = reg::RegistrationStatus::accepted;
-            result.tested.reason = fmt::format("registered on {} planes ({} moved, {} in zones)",
-                                               m.in_datum, m.moved, m.monitored);
-            if (m.station_change) result.tested.reason += "; " + describe(*m.station_change);
-            if (!m.targets_status.empty()) {
-                result.tested.reason += "; targets refused (" + m.targets_status + ")";
-            }
-            result.gate.clear();
-            m.used = true;
-        } else {
-            result.tested.status = reg::RegistrationStatus::planes_refused;
-            result.tested.reason = m.refused;
-            if (!m.targets_status.empty()) {
-                result.tested.reason += "; targets refused (" + m.targets_status + ")";
-            }
-            result.tested.transform.reset();
-            result.gate.clear();
-        }
+        std::string accepted = fmt::format("registered on {} planes ({} moved, {} in zones)",
+                                           m.in_datum, m.moved, m.monitored);
+        if (m.station_change) accepted += "; " + describe(*m.station_change);
+        m.used =
+            stand_in(config, result, m.transform, m.refused, accepted,
+                     reg::RegistrationStatus::planes_refused,
+                     m.targets_status.empty() ? "" : "targets refused (" + m.targets_status + ")");
     }
     if (m.used) result.zones = zone_sigmas(config, *result.tested.transform);
     result.planes = std::move(m);

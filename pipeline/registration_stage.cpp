@@ -365,6 +365,24 @@ std::string join_estimate(const RegistrationConfig& config, RegistrationResult& 
     return "";
 }
 
+bool stand_in(const RegistrationConfig& config, RegistrationResult& result,
+              const std::optional<reg::RigidTransform>& estimate, std::string& refused,
+              const std::string& accepted_reason, reg::RegistrationStatus status,
+              const std::string& before) {
+    if (refused.empty()) refused = sigma_gate(config, *estimate);
+    const bool taken = refused.empty();
+    result.tested.status = taken ? reg::RegistrationStatus::accepted : status;
+    result.tested.reason = taken ? accepted_reason : refused;
+    if (!before.empty()) result.tested.reason += "; " + before;
+    if (taken) {
+        result.tested.transform = estimate;
+    } else {
+        result.tested.transform.reset();
+    }
+    result.gate.clear();
+    return taken;
+}
+
 std::optional<double> measured_range_scale(const RegistrationConfig& config,
                                            const std::optional<MeteoSidecar>& meteo) {
     if (config.atmosphere == AtmosphereCorrection::off || !meteo || !meteo->values) {

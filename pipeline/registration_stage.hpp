@@ -104,6 +104,16 @@ std::string join_estimate(const RegistrationConfig& config, RegistrationResult& 
                           const registration::RigidTransform& other, const std::string& kept,
                           std::optional<double>& agreement);
 
+// An estimate that stands in for a refused registration (`before`: that verdict, "" when
+// there was none; `refused`: why the estimate cannot, "" when it was made): when it passes the
+// σ gate it becomes the epoch's transformation, accepted
+// with `accepted_reason`; otherwise the epoch is refused with `status` and `refused`. Returns
+// whether it was taken.
+bool stand_in(const RegistrationConfig& config, RegistrationResult& result,
+              const std::optional<registration::RigidTransform>& estimate, std::string& refused,
+              const std::string& accepted_reason, registration::RegistrationStatus status,
+              const std::string& before);
+
 // n_true/n_setting for the measured air of `meteo` (IAG 1999, core/group_refractivity.hpp);
 // absent without meteo values or with the correction off.
 std::optional<double> measured_range_scale(const RegistrationConfig& config,

@@ -525,28 +525,14 @@ void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervo
             m.targets_status =
                 std::string(name_of(result.tested.status)) + ": " + result.tested.reason;
         }
-        if (m.refused.empty()) m.refused = sigma_gate(config, *m.transform);
-        if (m.refused.empty()) {
-            result.tested.transform = *m.transform;
-            result.tested.status = reg::RegistrationStatus::accepted;
-            result.tested.reason = fmt::format(
-                "registered on stable areas: {} of {} supervoxels stable ({:.0f} % of the "
-                "voxels), {} unstable",
-                m.stable, m.stable + m.unstable, 100.0 * m.stable_share, m.unstable);
-            if (!m.targets_status.empty()) {
-                result.tested.reason += "; refused before (" + m.targets_status + ")";
-            }
-            result.gate.clear();
-            m.used = true;
-        } else {
-            result.tested.status = reg::RegistrationStatus::stable_areas_refused;
-            result.tested.reason = m.refused;
-            if (!m.targets_status.empty()) {
-                result.tested.reason += "; refused before (" + m.targets_status + ")";
-            }
-            result.tested.transform.reset();
-            result.gate.clear();
-        }
+        const std::string accepted = fmt::format(
+            "registered on stable areas: {} of {} supervoxels stable ({:.0f} % of the voxels), {} "
+            "unstable",
+            m.stable, m.stable + m.unstable, 100.0 * m.stable_share, m.unstable);
+        m.used =
+            stand_in(config, result, m.transform, m.refused, accepted,
+                     reg::RegistrationStatus::stable_areas_refused,
+                     m.targets_status.empty() ? "" : "refused before (" + m.targets_status + ")");
     }
     if (m.used) result.zones = zone_sigmas(config, *result.tested.transform);
     result.stable_areas = std::move(m);
