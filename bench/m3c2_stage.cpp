@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
         t0 = std::chrono::steady_clock::now();
         const double cpu0 = cpu_seconds();
         const M3c2Epoch m = measure_m3c2(config, ref, scans, o);
-        const auto rows = m3c2_zone_results(ref, m);
+        const auto rows = m3c2_zone_results(config, ref, m);
         const auto arrays = m3c2_core_point_arrays(ref, m);
         std::printf(
             "epoch %d: m3c2 stage %.2f s wall, %.2f s cpu (2 threads), peak RSS so far "

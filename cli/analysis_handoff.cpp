@@ -67,6 +67,9 @@ int run_keypoints(const KeypointsOptions&) {
 int run_report(const ReportOptions&) {
     return hand_over_to_analysis();
 }
+int run_calibration(const CalibrationOptions&) {
+    return hand_over_to_analysis();
+}
 int run_demo(const DemoOptions&) {
     return hand_over_to_analysis();
 }

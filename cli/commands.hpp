@@ -202,6 +202,14 @@ struct ReportOptions {
 };
 int run_report(const ReportOptions& options);
 
+// `tlsmon calibration --db DB --truth DIR`: each method's coverage of its true errors by its
+// own σ / LoD95 (docs/calibration.md). 0, or 1 with the error on stderr.
+struct CalibrationOptions {
+    ReadOptions read;
+    std::string truth;
+};
+int run_calibration(const CalibrationOptions& options);
+
 // `tlsmon demo`: the daemon on a simulated day, one scan every few seconds, a line per epoch,
 // then the report.
 struct DemoOptions {
@@ -227,6 +235,7 @@ struct KeypointsOptions {
     std::optional<std::string> detector;
     std::optional<std::string> descriptor;
     std::optional<double> window_deg;
+    std::optional<double> window_m;
     std::optional<double> ratio;
     bool mutual = false;
     bool clahe = false;

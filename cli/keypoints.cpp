@@ -52,6 +52,7 @@ KeypointConfig parameters_of(const KeypointsOptions& o, const std::optional<Conf
     if (o.detector) p.detector = *o.detector;
     if (o.descriptor) p.descriptor = *o.descriptor;
     if (o.window_deg) p.window_deg = *o.window_deg;
+    if (o.window_m) p.window_m = *o.window_m;
     if (o.ratio) p.ratio = *o.ratio;
     if (o.mutual) p.mutual = true;
     if (o.clahe) p.clahe = true;
@@ -206,8 +207,9 @@ int run_keypoints(const KeypointsOptions& o) {
         std::cout << p.detector << " + " << p.descriptor << ": reference " << reference.keypoints()
                   << " keypoints in " << reference.scans.size() << " scan(s); epoch "
                   << epoch.described << " described, " << epoch.pairs << " matched within "
-                  << p.window_deg << " deg, " << epoch.dropped_patch << " without their patch, "
-                  << in_3d << " in 3-D -> " << o.out << "\n";
+                  << p.window_deg << " deg (at least " << p.window_m << " m at the object), "
+                  << epoch.dropped_patch << " without their patch, " << in_3d << " in 3-D -> "
+                  << o.out << "\n";
         std::cout << "epoch steps, s: images " << number(epoch.images_s, 2) << ", detection "
                   << number(epoch.detection_s, 2) << ", description "
                   << number(epoch.description_s, 2) << ", matching " << number(epoch.matching_s, 2)

@@ -77,6 +77,8 @@ struct CommandLine {
     AlarmHistoryOptions alarm_history;
     std::map<std::string, AlarmActionOptions> alarm_actions;
     ReportOptions report;
+    ReadOptionsOnTheCommandLine calibration_read;
+    CalibrationOptions calibration;
     DemoOptions demo;
     ReadOptionsOnTheCommandLine targets;
     TargetResurveyOptions resurvey;
@@ -419,6 +421,11 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
                     "Angular radius of the matching window, degrees" +
                         fallback("keypoints.window_deg", toml_number(defaults.window_deg)))
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--window-m", o.window_m,
+                    "Largest displacement expected at the object, m: the window is at least "
+                    "this over each keypoint's range (0: the angle alone)" +
+                        fallback("keypoints.window_m", toml_number(defaults.window_m)))
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option(
            "--ratio", o.ratio,
            "Lowe's ratio test (0: off)" + fallback("keypoints.ratio", toml_number(defaults.ratio)))
@@ -473,6 +480,21 @@ void add_report(CLI::App& app, CommandLine& c) {
         ->check(CLI::Range(1, 65535))
         ->capture_default_str();
     cmd->callback([&] { c.code = run_report(o); });
+}
+
+void add_calibration(CLI::App& app, CommandLine& c) {
+    auto& read = c.calibration_read;
+    auto& o = c.calibration;
+    auto* cmd = app.add_subcommand(
+        "calibration",
+        "Whether each method's own sigma / LoD95 covers its true error at the nominal 68 % and "
+        "95 % rates, against the simulator's truth files");
+    read.add_to(cmd, false);
+    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")->required();
+    cmd->callback([&] {
+        o.read = read.finish();
+        c.code = run_calibration(o);
+    });
 }
 
 void add_demo(CLI::App& app, CommandLine& c) {
@@ -546,6 +568,7 @@ int main(int argc, char** argv) {
     tlsmon::add_register(app, c);
     tlsmon::add_alarms(app, c);
     tlsmon::add_report(app, c);
+    tlsmon::add_calibration(app, c);
     tlsmon::add_demo(app, c);
     tlsmon::add_targets(app, c);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <set>
 
 #include "algorithms/keypoints/opencv_features.hpp"
@@ -31,6 +32,13 @@ bool is_sha256(const std::string& s) {
                return std::isdigit(c) || (c >= 'a' && c <= 'f');
            });
 }
+
+// Keys of an earlier release that now live in another section.
+const std::map<std::string, std::string> kMovedKeys = {
+    {"plane_range_sigma_a", "station.range_sigma_a"},
+    {"plane_range_sigma_b_ppm", "station.range_sigma_b_ppm"},
+    {"plane_angular_sigma_arcsec", "station.angular_sigma_arcsec"},
+};
 
 // The rules of each section beyond a single key's type and range (config/keys.cpp), checked
 // once the section is read; each names the key it is reported against.
@@ -393,7 +401,7 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         if (section == "alarm") {
             c.alarm.rules = read_alarm_rules(*t, zone_names, stage_quantities(&c));
         }
-        t->reject_unknown_keys();
+        t->reject_unknown_keys(kMovedKeys);
     }
     resolve_paths(c, base);
     std::set<std::string> target_names;
@@ -487,6 +495,7 @@ RegistrationConfig with_zones(const Config& config) {
     RegistrationConfig r = config.registration;
     r.icp = config.icp;
     r.planes = config.planes;
+    r.planes.noise = config.station;
     r.stable_areas = config.stable_areas;
     r.zones = with_zone_shapes(config).zones;
     return r;
@@ -494,6 +503,7 @@ RegistrationConfig with_zones(const Config& config) {
 
 KeypointConfig keypoints_with_zone_shapes(const Config& config) {
     KeypointConfig k = config.keypoints;
+    k.noise = config.station;
     k.zones.clear();
     for (const auto& z : config.zones) k.zones.push_back(zone_shape(z));
     return k;

@@ -17,13 +17,15 @@
 #include "config/modbus_config.hpp"
 #include "config/time_source.hpp"
 #include "core/config_key.hpp"
+#include "core/scanner_noise.hpp"
 #include "core/toml_fields.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
 
-struct StationConfig {
+// The station and its scanner's stochastic model (core/scanner_noise.hpp).
+struct StationConfig : ScannerNoise {
     std::string name = "station";
 };
 

@@ -41,6 +41,14 @@ std::vector<SectionKey<StationConfig>> station_keys() {
         K::text(&StationConfig::name, "name", "non-empty, no `/`",
                 "The scanner station; recorded with every epoch. The simulator names its files "
                 "`<name>_YYYYMMDDTHHMMSSZ.ptx`."),
+        K::number(&StationConfig::range_sigma_a, "range_sigma_a", 0, 0.1, "m",
+                  "The scanner's range noise σ_r = a + b·r, constant part (its data sheet; the "
+                  "simulator's default). The registration on planes tests a block's planarity "
+                  "against it; the keypoints' outlier filters never judge a spread below it."),
+        K::number(&StationConfig::range_sigma_b_ppm, "range_sigma_b_ppm", 0, 1000, "ppm",
+                  "The range noise's part proportional to the range."),
+        K::number(&StationConfig::angular_sigma_arcsec, "angular_sigma_arcsec", 0, 100, "″",
+                  "The σ of the beam's direction."),
     };
 }
 

@@ -262,9 +262,16 @@ void TomlFields::get(const std::string& key, std::vector<std::string>& values) {
 }
 
 void TomlFields::reject_unknown_keys() const {
+    reject_unknown_keys({});
+}
+
+void TomlFields::reject_unknown_keys(const std::map<std::string, std::string>& moved) const {
     for (const auto& [k, node] : *table_) {
         const std::string key(k.str());
-        if (!read_.count(key)) fail(key, "unknown key");
+        if (read_.count(key)) continue;
+        const auto to = moved.find(key);
+        if (to != moved.end()) fail(key, "moved to " + to->second + " (one model for the site)");
+        fail(key, "unknown key");
     }
 }
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -94,6 +95,8 @@ class TomlFields {
 
     // Throws for the first key of this table that no getter asked for.
     void reject_unknown_keys() const;
+    // Keys that moved elsewhere (old name -> "section.key"): the error names the new place.
+    void reject_unknown_keys(const std::map<std::string, std::string>& moved) const;
 
     [[noreturn]] void fail(const std::string& key, const std::string& what) const;
     std::string where(const std::string& key) const;  // "file:line:col: key 'a.b'"

@@ -32,7 +32,12 @@ std::vector<SectionKey<KeypointConfig>> keypoint_keys() {
                 "Equalise the 8-bit intensity image (CLAHE) before detection and description."),
         K::number(&KeypointConfig::window_deg, "window_deg", 0.0001, 5, "°",
                   "Matching window: an epoch keypoint is a candidate for a reference keypoint "
-                  "within this angle of it; the nearest descriptor wins."),
+                  "within this angle of it; the nearest descriptor wins. The floor of the "
+                  "window, and its radius wherever window_m / range is smaller."),
+        K::number(&KeypointConfig::window_m, "window_m", 0, 1, "m",
+                  "The largest displacement expected at the object between the reference and "
+                  "an epoch: the window of a keypoint at range r is at least window_m / r, so a "
+                  "motion near the scanner is matched whole; 0: the angle alone."),
         K::flag(&KeypointConfig::refine, "refine",
                 "Refine each match by least-squares matching of the reference's intensity patch "
                 "around the keypoint's nearest pixel (docs/keypoints.md): the detector's sub-pixel "

@@ -8,6 +8,7 @@
 #include "algorithms/keypoints/parameters.hpp"
 #include "algorithms/zones/zone_shape.hpp"
 #include "core/config_key.hpp"
+#include "core/scanner_noise.hpp"
 
 namespace tlsmon {
 
@@ -22,6 +23,9 @@ struct KeypointConfig : keypoints::Parameters {
     std::vector<std::string> model_quantities{"keypoint_along_surface_h_m",
                                               "keypoint_along_surface_v_m"};
     std::vector<ZoneShape> zones;
+    // The site's scanner model ([station], set by pipeline_config): the outlier filters'
+    // noise floor.
+    ScannerNoise noise;
 };
 
 // The keys of [keypoints] (core/config_key.hpp).

@@ -1,5 +1,7 @@
 #include "pipeline/keypoint_results.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -30,15 +32,18 @@ std::string degrees(double rad) {
 
 std::vector<ZoneResult> keypoint_zone_results(const std::string& zone,
                                               const keypoints::SegmentDisplacement& segment,
-                                              double registration_sigma_m) {
+                                              const Eigen::Matrix3d& registration_covariance) {
     std::vector<ZoneResult> rows;
     const auto n = static_cast<std::int64_t>(segment.count);
     rows.push_back({zone, kKeypointCount, static_cast<double>(segment.count), std::nullopt,
                     static_cast<std::int64_t>(segment.matches), false});
     if (!segment.defined()) return rows;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(registration_covariance,
+                                                             Eigen::EigenvaluesOnly);
+    const double registration_sigma = std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
     const auto add = [&](const char* quantity, double value, double standard_error) {
         if (!std::isfinite(value) || !std::isfinite(standard_error)) return;
-        const double lod = kLod95 * (standard_error + registration_sigma_m);
+        const double lod = kLod95 * (standard_error + registration_sigma);
         rows.push_back({zone, quantity, value, lod, n, std::abs(value) > lod});
     };
     add(kKeypointDx, segment.mean.x(), segment.standard_error.x());

@@ -41,12 +41,17 @@ inline constexpr std::array<const char*, 8> kKeypointQuantities = {kKeypointDx,
 //   keypoint_dx_m, keypoint_dy_m, keypoint_dz_m (project frame) and, when its wall frame is
 //   defined, keypoint_along_normal_m, keypoint_along_surface_h_m, keypoint_along_surface_v_m
 //   and keypoint_height_m (the wall centroid's z, the model's z). Uncertainty: LoD95 =
-//   1.96 · (standard error + registration σ) — Lague 2013, eq. 1, with the standard error of
-//   the segment's mean in place of the cylinders' term; significant when |value| > LoD95.
+//   1.96 · (standard error + σ_reg), σ_reg the registration's σ at the segment in its worst
+//   direction (√ of the largest eigenvalue of `registration_covariance`, m², project frame) —
+//   Lague 2013, eq. 1, with the standard error of the segment's mean in place of the
+//   cylinders' term; significant when |value| > LoD95. Linear and worst-direction on
+//   purpose: the keypoints' vertical component carries an error of its own that neither
+//   term holds (docs/calibration.md, "Findings"), and the quadrature sum along each figure's
+//   direction covered only 69.5 % of the vertical errors at 95 % (demo scene, seed 7).
 // Never a NaN row: an undefined figure is left out.
-std::vector<ZoneResult> keypoint_zone_results(const std::string& zone,
-                                              const keypoints::SegmentDisplacement& segment,
-                                              double registration_sigma_m = 0);
+std::vector<ZoneResult> keypoint_zone_results(
+    const std::string& zone, const keypoints::SegmentDisplacement& segment,
+    const Eigen::Matrix3d& registration_covariance = Eigen::Matrix3d::Zero());
 
 // Vertical-angle band k of `width` (rad) as a zone: "keypoint_band_<lo>_<hi>" in degrees
 // (e.g. keypoint_band_-5_0, keypoint_band_10_15) and its definition JSON

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -104,14 +103,12 @@ Described describe_scan(const KeypointConfig& c, const Scan& scan) {
     return d;
 }
 
-// The registration's σ at a project-frame point in its worst direction: √ of the largest
-// eigenvalue of Σ_p = J·Σ·Jᵀ (registration_error.hpp; Niemeier 2008, §2.4). A segment's
-// components lie along three directions; one σ bounds each of them.
-double registration_sigma_at(const registration::RigidTransform& T, const Eigen::Vector3d& q) {
+// The registration's covariance at a project-frame point: Σ_p = J·Σ·Jᵀ at its place in the
+// epoch's frame (registration_error.hpp; Niemeier 2008, §2.4).
+Eigen::Matrix3d covariance_at_project_point(const registration::RigidTransform& T,
+                                            const Eigen::Vector3d& q) {
     const Eigen::Vector3d x = T.rotation.transpose() * (q - T.translation) / T.scale;
-    const Eigen::Matrix3d S = registration::registration_covariance_at(T, x);
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(S, Eigen::EigenvaluesOnly);
-    return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+    return registration::registration_covariance_at(T, x);
 }
 
 // Scan `k` of the epoch against the reference's scan `k`: images, keypoints, matching in the
@@ -129,10 +126,14 @@ void measure_scan(const KeypointConfig& config, const KeypointReference& referen
     auto t0 = Clock::now();
     MatchingParameters mp;
     mp.window_radius = config.window_deg * kDeg;
+    mp.window_m = config.window_m;
     mp.ratio = config.ratio;
     mp.mutual = config.mutual;
+    std::vector<double> ranges;
+    ranges.reserve(ref.polar.size());
+    for (const Polar& p : ref.polar) ranges.push_back(p.range);
     const auto pairs = match_keypoints(ref.positions, ref.features.descriptors, d.positions,
-                                       d.features.descriptors, mp);
+                                       d.features.descriptors, mp, ranges);
     out.pairs += pairs.size();
     out.matching_s += since(t0);
 
@@ -315,13 +316,19 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
     KeypointSegmentsResult out;
     OutlierParameters op;
     op.k = config.mad_k;
+    op.noise = config.noise;
+    if (config.refine) op.averaged_pixels = std::pow(2.0 * config.patch_radius + 1.0, 2);
+    for (const auto& scan : reference.scans) op.angular_steps.push_back(scan.angular_step);
     SegmentParameters sp;
     sp.min_matches = static_cast<std::size_t>(config.min_matches);
     sp.orientation = m3c2::Orientation::towards(reference.scanner);
-    // The registration's σ at the segment's centroid: its wall's, else its matches' mean
-    // reference point; without a registration, `registration_error`.
-    const auto sigma_at = [&](const SegmentDisplacement& d, std::span<const KeypointMatch> in) {
-        if (!outputs.to_reference) return config.registration_error;
+    // The registration's covariance at the segment's centroid: its wall's, else its matches'
+    // mean reference point; without a registration, `registration_error` in every direction.
+    const auto covariance_at = [&](const SegmentDisplacement& d,
+                                   std::span<const KeypointMatch> in) -> Eigen::Matrix3d {
+        if (!outputs.to_reference)
+            return config.registration_error * config.registration_error *
+                   Eigen::Matrix3d::Identity();
         Eigen::Vector3d c = d.wall.centroid;
         if (!c.allFinite()) {
             c.setZero();
@@ -331,10 +338,10 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                 c += m.reference_point;
                 ++n;
             }
-            if (n == 0) return 0.0;
+            if (n == 0) return Eigen::Matrix3d::Zero();
             c /= double(n);
         }
-        return registration_sigma_at(*outputs.to_reference, c);
+        return covariance_at_project_point(*outputs.to_reference, c);
     };
     // The sampling (config.max_sample_spacing): the median of range × step over the
     // segment's matches; a coarser one makes the segment undefined, whatever its vectors say.
@@ -385,7 +392,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                                                       ? std::optional<WallFrame>(reference.walls[z])
                                                       : std::nullopt);
             check_sampling(r.displacement, in, 0);
-            r.registration_sigma = sigma_at(r.displacement, in);
+            r.registration_covariance = covariance_at(r.displacement, in);
             r.removed_by = filtered.removed_by;
             r.matches = std::move(in);
             out.segments.push_back(std::move(r));
@@ -410,7 +417,7 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
             r.band_definition = keypoint_band_zone_definition(band, width);
             r.displacement = segment_displacement(matches, filtered.removed_by, band, sp);
             check_sampling(r.displacement, matches, band);
-            r.registration_sigma = sigma_at(r.displacement, matches);
+            r.registration_covariance = covariance_at(r.displacement, matches);
             for (std::size_t i = 0; i < matches.size(); ++i) {
                 if (matches[i].segment != band) continue;
                 r.matches.push_back(matches[i]);
@@ -470,7 +477,7 @@ StageVerdict KeypointStage::measure(StageContext& ctx, const KeypointReference& 
     std::vector<ZoneResult> rows;
     for (const auto& s : segments.segments) {
         if (!s.band_definition.empty()) results.new_zones.push_back({s.zone, s.band_definition});
-        auto r = keypoint_zone_results(s.zone, s.displacement, s.registration_sigma);
+        auto r = keypoint_zone_results(s.zone, s.displacement, s.registration_covariance);
         rows.insert(rows.end(), r.begin(), r.end());
         defined += s.displacement.defined();
         kept += s.displacement.count;

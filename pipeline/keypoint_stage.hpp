@@ -62,7 +62,9 @@ struct KeypointSegmentResult {
     std::string zone;
     std::string band_definition;  // bands: the zone's definition JSON; zones: ""
     keypoints::SegmentDisplacement displacement;
-    double registration_sigma = 0;  // m
+    // The registration's covariance at the segment's centroid (m², project frame);
+    // keypoints.registration_error² · I without a registration.
+    Eigen::Matrix3d registration_covariance = Eigen::Matrix3d::Zero();
     // The matches the segment was computed from, each with the filter that removed it
     // (OutlierFilter::none: kept).
     std::vector<keypoints::KeypointMatch> matches;

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "algorithms/m3c2/core_points.hpp"
+#include "algorithms/m3c2/zone_uncertainty.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
@@ -201,17 +202,21 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
     return out;
 }
 
-std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& product, const M3c2Epoch& epoch) {
+std::vector<ZoneResult> m3c2_zone_results(const M3c2Config& config, const M3c2Reference& product,
+                                          const M3c2Epoch& epoch) {
     std::vector<ZoneResult> rows;
+    const auto& ref = product.reference;
     for (std::size_t z = 0; z < product.zone_names.size(); ++z) {
         const std::string& zone = product.zone_names[z];
-        std::vector<double> d, lod;
+        std::vector<double> d, lod, sampling, registration;
         std::int64_t significant = 0;
         for (auto k : product.zone_cores[z]) {
             const auto& r = epoch.distances[k];
             if (!std::isfinite(r.distance)) continue;
             d.push_back(r.distance);
             lod.push_back(r.lod);
+            sampling.push_back(m3c2::sampling_sigma(ref.reference_side[k], epoch.compared[k]));
+            registration.push_back(epoch.registration_sigma[k]);
             significant += r.significant;
         }
         const auto valid = static_cast<std::int64_t>(d.size());
@@ -224,9 +229,15 @@ std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& product, const M3
         const auto [median_d, mad_d] = median_and_mad(d);
         const double lod_median = median(lod);
         const double spread = kMadToSigma * mad_d;
+        // The aggregates' own LoD95 (algorithms/m3c2/zone_uncertainty.hpp), not one core
+        // point's: their sampling part averages out over the zone, the registration's not.
+        const m3c2::ZoneUncertainty u = m3c2::zone_uncertainty(
+            sampling, registration, ref.cylinders.parameters.radius, config.core_spacing);
+        const double lod_of_median = 1.96 * u.median_sigma, lod_of_mean = 1.96 * u.mean_sigma;
+        rows.push_back({zone, "m3c2_median_m", median_d, lod_of_median, valid,
+                        std::abs(median_d) > lod_of_median});
         rows.push_back(
-            {zone, "m3c2_median_m", median_d, lod_median, valid, std::abs(median_d) > lod_median});
-        rows.push_back({zone, "m3c2_mean_m", mean, lod_median, valid, std::abs(mean) > lod_median});
+            {zone, "m3c2_mean_m", mean, lod_of_mean, valid, std::abs(mean) > lod_of_mean});
         rows.push_back({zone, "m3c2_spread_m", spread, std::nullopt, valid, false});
         rows.push_back({zone, "m3c2_lod95_median_m", lod_median, std::nullopt, valid, false});
         rows.push_back({zone, "m3c2_significant_share", double(significant) / double(valid),
@@ -263,7 +274,7 @@ StageVerdict M3c2Stage::measure(StageContext& ctx, const M3c2Reference& referenc
     const M3c2Config& config = config_;
     EpochResults& results = ctx.results;
     const M3c2Epoch epoch = measure_m3c2(config, reference, *ctx.input.scans, ctx.outputs);
-    auto rows = m3c2_zone_results(reference, epoch);
+    auto rows = m3c2_zone_results(config_, reference, epoch);
     auto arrays = m3c2_core_point_arrays(reference, epoch);
     std::size_t valid = 0, rough = 0;
     double reg_max = 0;

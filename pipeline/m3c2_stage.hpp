@@ -68,10 +68,12 @@ struct M3c2Epoch {
 M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& reference,
                        const std::vector<Scan>& scans, const StageOutputs& outputs);
 
-// The zone rows (docs/m3c2.md, "Zones"): m3c2_median_m, m3c2_mean_m, m3c2_spread_m,
+// The zone rows (docs/m3c2.md, "Zones"): m3c2_median_m and m3c2_mean_m with their own LoD95
+// (algorithms/m3c2/zone_uncertainty.hpp; `config` gives the core spacing), m3c2_spread_m,
 // m3c2_valid_count, m3c2_lod95_median_m, m3c2_significant_share; a zone without a valid
 // core point has only m3c2_valid_count (0).
-std::vector<ZoneResult> m3c2_zone_results(const M3c2Reference& reference, const M3c2Epoch& epoch);
+std::vector<ZoneResult> m3c2_zone_results(const M3c2Config& config, const M3c2Reference& reference,
+                                          const M3c2Epoch& epoch);
 
 // The per-core-point float32 arrays: m3c2_distance_m, m3c2_lod95_m, m3c2_n1, m3c2_n2 (NaN:
 // no distance at that core point).

@@ -1,11 +1,13 @@
 #pragma once
 // What the registration on the scene's own planes needs of the site (docs/configuration.md,
-// [registration] plane_* keys; docs/registration.md, "Registration on planes").
+// [registration] plane_* keys and the scanner's noise of [station]; docs/registration.md,
+// "Registration on planes").
 #include <array>
 
 #include "algorithms/registration/plane_detection.hpp"
 #include "algorithms/registration/plane_matching.hpp"
 #include "algorithms/registration/plane_registration.hpp"
+#include "core/scanner_noise.hpp"
 
 namespace tlsmon {
 
@@ -19,12 +21,11 @@ inline constexpr std::array<const char*, 3> kPlaneQuantities = {kPlaneTiltU, kPl
                                                                 kPlaneShift};
 
 struct PlaneConfig {
-    // The scanner's stochastic model, against which a block of the grid is planar.
-    double range_sigma_a = 0.001;       // m
-    double range_sigma_b_ppm = 10.0;    // of the range
-    double angular_sigma_arcsec = 3.0;  // of the beam's direction
-    double flatness = 0.001;            // m, a real surface's own departure from a plane
-    int min_points = 50;                // a plane has at least this many points
+    // The scanner's stochastic model, against which a block of the grid is planar: the
+    // site's ([station], set by pipeline_config), not a key of its own.
+    ScannerNoise noise;
+    double flatness = 0.001;  // m, a real surface's own departure from a plane
+    int min_points = 50;      // a plane has at least this many points
     double max_normal_sigma_arcsec = 60.0;
     // Datum-dependent matching from the approximate transformation.
     double max_angle_deg = 1.0;
@@ -35,9 +36,7 @@ struct PlaneConfig {
 
     registration::PlaneDetectionParams detection() const {
         registration::PlaneDetectionParams p;
-        p.range_sigma_a = range_sigma_a;
-        p.range_sigma_b_ppm = range_sigma_b_ppm;
-        p.angular_sigma_arcsec = angular_sigma_arcsec;
+        p.noise = noise;
         p.flatness = flatness;
         p.min_points = static_cast<std::size_t>(min_points);
         p.max_normal_sigma_arcsec = max_normal_sigma_arcsec;

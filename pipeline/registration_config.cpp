@@ -144,13 +144,6 @@ std::vector<SectionKey<IcpConfig>> icp_keys() {
 std::vector<SectionKey<PlaneConfig>> plane_keys() {
     using K = Keys<PlaneConfig>;
     return {
-        K::number(&PlaneConfig::range_sigma_a, "plane_range_sigma_a", 0, 0.1, "m",
-                  "The scanner's range noise σ_r = a + b·r, constant part: a block of the grid is "
-                  "planar when its scatter agrees with this model (docs/registration.md)."),
-        K::number(&PlaneConfig::range_sigma_b_ppm, "plane_range_sigma_b_ppm", 0, 1000, "ppm",
-                  "The range noise's part proportional to the range."),
-        K::number(&PlaneConfig::angular_sigma_arcsec, "plane_angular_sigma_arcsec", 0, 100, "″",
-                  "The σ of the beam's direction."),
         K::number(&PlaneConfig::flatness, "plane_flatness", 0, 0.05, "m",
                   "A real surface's own departure from a plane (formwork, joints), added to the "
                   "model's σ."),

@@ -25,8 +25,9 @@ std::string detection_parameters(const PlaneConfig& c) {
     return fmt::format(
         "a={:.17g};b={:.17g};angular={:.17g};flatness={:.17g};alpha={:.17g};tile={};"
         "min_cells={};min_points={};normal={:.17g};merge={:.17g};edge={}",
-        p.range_sigma_a, p.range_sigma_b_ppm, p.angular_sigma_arcsec, p.flatness, p.alpha, p.tile,
-        p.min_cells, p.min_points, p.max_normal_sigma_arcsec, p.merge_alpha, p.edge_cells);
+        p.noise.range_sigma_a, p.noise.range_sigma_b_ppm, p.noise.angular_sigma_arcsec, p.flatness,
+        p.alpha, p.tile, p.min_cells, p.min_points, p.max_normal_sigma_arcsec, p.merge_alpha,
+        p.edge_cells);
 }
 
 // The plane with its ranges scaled by 1/scale about the scanner: the centroid moves along its

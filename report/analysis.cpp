@@ -5,8 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
+
+#include "algorithms/registration/rigid_transform.hpp"
 
 namespace tlsmon::report {
+
+using registration::euler_from_rotation;
 
 namespace {
 
@@ -134,6 +139,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
         if (e.registration) {
             const RegistrationRow& r = *e.registration;
             c.registered = r.parameters.has_value();
+            c.method = r.method;
             c.accepted = r.accepted;
             c.targets_used = r.target_count;
             c.target_rms_m = r.rms_m;
@@ -151,6 +157,20 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                     if (s.name == "top_centre") c.top_error = err;
                 }
                 c.max_error = worst;
+                if (r.parameters && r.sigmas) {
+                    const Eigen::Vector3d angles = euler_from_rotation(exact.linear());
+                    const Eigen::Vector3d t = exact.translation();
+                    const std::array<double, 6> truth{angles.x(), angles.y(), angles.z(),
+                                                      t.x(),      t.y(),      t.z()};
+                    std::array<double, 6> error{};
+                    for (std::size_t k = 0; k < 6; ++k) {
+                        error[k] = (*r.parameters)[k] - truth[k];
+                        // angles: the difference wrapped into (−π, π]
+                        if (k < 3) error[k] = std::remainder(error[k], 2 * std::numbers::pi);
+                    }
+                    c.parameter_error = error;
+                    c.parameter_sigma = r.sigmas;
+                }
                 if (c.accepted && !c.is_reference) {
                     max_lengths.push_back(worst);
                     if (c.top_error) {

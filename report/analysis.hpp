@@ -4,6 +4,7 @@
 // and the alarms against the true step event. Without a truth (a real site) the same report
 // holds the run's own figures: the registration's residuals and σ, each zone's series with
 // its LoD95, the alarm events. Pure: plain data in, plain data out.
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -41,6 +42,10 @@ struct RegistrationCheck {
     std::optional<double> zone_sigma_m;        // the registration's own largest zone σ (3-D)
     // Each target's residual length as the registration stored it (found or excluded), m.
     std::vector<std::pair<std::string, double>> target_residuals;
+    // The estimated parameters (ω, φ, κ rad, tx, ty, tz m) minus the exact transformation's,
+    // and their σ as the registration stored them (docs/calibration.md).
+    std::string method;
+    std::optional<std::array<double, 6>> parameter_error, parameter_sigma;
 };
 
 struct ZoneQuantityCheck {

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/utc_time.hpp"
+#include "report/calibration.hpp"
 #include "report/output.hpp"
 
 namespace tlsmon::report {
@@ -72,6 +73,53 @@ std::string registration_own_table(const RunReport& r) {
     }
     md += fmt::format("\nTargets used per accepted epoch: {}–{}.\n", used_min, used_max);
     return md;
+}
+
+std::string percent(double share) {
+    return fmt::format("{:.1f} %", 100 * share);
+}
+
+// One row per method: its pooled row ("all") where it has one, else its only part.
+std::vector<CoverageRow> method_rows(const std::vector<CoverageRow>& rows) {
+    std::vector<CoverageRow> out;
+    for (const CoverageRow& c : rows) {
+        const bool pooled = std::any_of(rows.begin(), rows.end(), [&](const CoverageRow& o) {
+            return o.method == c.method && o.part == "all";
+        });
+        if (!pooled || c.part == "all") out.push_back(c);
+    }
+    return out;
+}
+
+// Every method's coverage of its true errors by its own σ (report/calibration.hpp).
+std::string calibration_section(const RunReport& r) {
+    const auto rows = calibration(r);
+    std::string md =
+        "\n## Calibration: does each σ cover its true error?\n\n"
+        "Each scored figure's error against the truth, and whether it lies within the figure's "
+        "own σ (68 % nominal) and LoD95 = 1.96 σ (95 % nominal); the band is the Wilson 95 % "
+        "interval of the share, and the verdict says whether the nominal rate lies inside it "
+        "(docs/calibration.md). Lengths in mm, registration angles in µrad. The same table: "
+        "`tlsmon calibration --db DB --truth DIR`.\n\n";
+    if (rows.empty()) return md + "No scored figure with an uncertainty.\n";
+    md +=
+        "| method | part | n | bias | RMS | RMS σ | within σ | band | verdict | within "
+        "LoD95 | band | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const CoverageRow& c : rows) {
+        const bool mixed = c.part == "all" && c.method.starts_with("registration:");
+        const double scale = c.part == "omega" || c.part == "phi" || c.part == "kappa" ? 1e6 : 1e3;
+        const auto number = [&](double v) {
+            return mixed ? std::string("–") : fmt::format("{:.3f}", scale * v);
+        };
+        md += fmt::format(
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1f}–{:.1f} | {} | {} | {:.1f}–{:.1f} | {} "
+            "|\n",
+            c.method, c.part, c.n, number(c.error.bias), number(c.error.rms), number(c.rms_sigma),
+            percent(c.coverage68()), 100 * c.band68.lower, 100 * c.band68.upper,
+            to_string(c.verdict68), percent(c.coverage95()), 100 * c.band95.lower,
+            100 * c.band95.upper, to_string(c.verdict95));
+    }
+    return md + "\n";
 }
 
 // The registration against the exact answer of the truth, then its own figures.
@@ -179,6 +227,13 @@ std::vector<std::string> summary_lines(const RunReport& r) {
         }
     }
     if (!any_zone && r.scored) out.push_back("zones (M3C2, keypoints): not computed in this run");
+    for (const CoverageRow& c : method_rows(calibration(r))) {
+        out.push_back(
+            fmt::format("calibration {}: {} of {} within 1 sigma ({}), {} within "
+                        "LoD95 ({})",
+                        c.method, percent(c.coverage68()), c.n, to_string(c.verdict68),
+                        percent(c.coverage95()), to_string(c.verdict95)));
+    }
     for (const AlarmCheck& a : r.alarms) {
         if (!r.scored) {
             out.push_back(fmt::format("alarm {}: raised {} time(s)", a.rule, a.raises));
@@ -347,6 +402,8 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         }
         md += "\n";
     }
+
+    if (r.scored) md += calibration_section(r);
 
     // ---- Alarms ----
     md += r.scored ? "## Alarms against the truth\n\n" : "\n## Alarms\n\n";

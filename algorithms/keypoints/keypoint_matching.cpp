@@ -101,15 +101,29 @@ double descriptor_distance(const Descriptors& a, std::size_t i, const Descriptor
     return unchecked_distance(a, i, b, j);
 }
 
+double window_radius_at(const MatchingParameters& p, double range) {
+    if (!(range > 0.0) || !std::isfinite(range)) return p.window_radius;
+    return std::max(p.window_radius, p.window_m / range);
+}
+
 std::vector<KeypointPair> match_keypoints(const std::vector<AngularPosition>& reference,
                                           const Descriptors& reference_descriptors,
                                           const std::vector<AngularPosition>& epoch,
                                           const Descriptors& epoch_descriptors,
-                                          const MatchingParameters& p) {
+                                          const MatchingParameters& p,
+                                          std::span<const double> reference_ranges) {
     if (reference.size() != reference_descriptors.count() ||
         epoch.size() != epoch_descriptors.count())
         throw Error("keypoint matching: keypoints and descriptors differ in number");
+    if (!reference_ranges.empty() && reference_ranges.size() != reference.size())
+        throw Error("keypoint matching: " + std::to_string(reference_ranges.size()) +
+                    " ranges for " + std::to_string(reference.size()) + " reference keypoints");
     if (!(p.window_radius > 0.0)) throw Error("keypoint matching: the window radius must be > 0");
+    if (!(p.window_m >= 0.0)) throw Error("keypoint matching: window_m must be >= 0");
+    const auto radius_of = [&](std::size_t i) {
+        return reference_ranges.empty() ? p.window_radius
+                                        : window_radius_at(p, reference_ranges[i]);
+    };
     if (!(p.ratio >= 0.0 && p.ratio <= 1.0))
         throw Error("keypoint matching: the ratio must lie in [0, 1] (0: no ratio test)");
     if (reference.empty() || epoch.empty()) return {};
@@ -121,7 +135,7 @@ std::vector<KeypointPair> match_keypoints(const std::vector<AngularPosition>& re
         double best = std::numeric_limits<double>::infinity();
         double second = best;
         std::size_t winner = 0;
-        epoch_index.within(reference[i], p.window_radius, [&](std::size_t j) {
+        epoch_index.within(reference[i], radius_of(i), [&](std::size_t j) {
             const double d = unchecked_distance(reference_descriptors, i, epoch_descriptors, j);
             if (d < best) {
                 second = best;
@@ -143,7 +157,7 @@ std::vector<KeypointPair> match_keypoints(const std::vector<AngularPosition>& re
     std::vector<KeypointPair> mutual;
     for (const auto& pair : pairs) {
         bool nearest = true;
-        reference_index.within(epoch[pair.epoch], p.window_radius, [&](std::size_t i) {
+        reference_index.within(epoch[pair.epoch], radius_of(pair.reference), [&](std::size_t i) {
             if (nearest && unchecked_distance(reference_descriptors, i, epoch_descriptors,
                                               pair.epoch) < pair.distance)
                 nearest = false;

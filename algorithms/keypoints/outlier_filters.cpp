@@ -45,6 +45,13 @@ void validate(const OutlierParameters& p) {
         throw Error("outlier filters: columns_per_turn must be >= 0, got " +
                     std::to_string(p.columns_per_turn));
     if (p.min_matches < 1) throw Error("outlier filters: min_matches must be >= 1");
+    if (p.noise && !(p.noise->range_sigma_a >= 0 && p.noise->range_sigma_b_ppm >= 0 &&
+                     p.noise->angular_sigma_arcsec >= 0 && std::isfinite(p.noise->range_sigma_a) &&
+                     std::isfinite(p.noise->range_sigma_b_ppm) &&
+                     std::isfinite(p.noise->angular_sigma_arcsec)))
+        throw Error("outlier filters: the scanner's noise must be finite and >= 0");
+    if (!(p.averaged_pixels >= 1) || !std::isfinite(p.averaged_pixels))
+        throw Error("outlier filters: averaged_pixels must be >= 1");
 }
 
 // The scalar a filter tests, for the filters other than angle_to_median.
@@ -73,6 +80,52 @@ double quantity(OutlierFilter filter, const KeypointMatch& m, const OutlierParam
     }
 }
 
+// The noise of one match's value of `filter`: the scanner's σ of one measurement at the
+// match's reference range (header); NaN where there is none.
+double single_noise(OutlierFilter filter, const KeypointMatch& m, const OutlierParameters& p,
+                    double median_length) {
+    const ScannerNoise& n = *p.noise;
+    const double r = m.reference_range;
+    const auto step = [&]() {
+        const auto k = static_cast<std::size_t>(m.scan);
+        return m.scan >= 0 && k < p.angular_steps.size() && p.angular_steps[k] > 0
+                   ? p.angular_steps[k]
+                   : std::numeric_limits<double>::quiet_NaN();
+    };
+    switch (filter) {
+        case OutlierFilter::row_difference:
+        case OutlierFilter::column_difference:
+            return n.angular_sigma() / step();
+        case OutlierFilter::range_difference:
+            return n.range_sigma(r);
+        case OutlierFilter::horizontal_angle_difference:
+        case OutlierFilter::vertical_angle_difference:
+            return n.angular_sigma();
+        case OutlierFilter::angle_to_median:
+            return median_length > 0 ? std::min(std::numbers::pi, n.point_sigma(r) / median_length)
+                                     : std::numeric_limits<double>::quiet_NaN();
+        default:
+            return n.point_sigma(r);
+    }
+}
+
+// The floor of σ over the judged matches: √2 · the median of their single measurements'
+// noise (a difference of two) / √averaged_pixels; 0 without a noise model or a defined noise.
+double noise_floor(OutlierFilter filter, std::span<const KeypointMatch> matches,
+                   const std::vector<std::size_t>& kept, const std::vector<double>& value,
+                   const OutlierParameters& p, double median_length) {
+    if (!p.noise) return 0.0;
+    std::vector<double> noise;
+    for (std::size_t j = 0; j < kept.size(); ++j) {
+        if (std::isnan(value[j])) continue;
+        const double s = single_noise(filter, matches[kept[j]], p, median_length);
+        if (std::isfinite(s)) noise.push_back(s);
+    }
+    return noise.empty()
+               ? 0.0
+               : std::numbers::sqrt2 * median(std::move(noise)) / std::sqrt(p.averaged_pixels);
+}
+
 // Whether a value's deviation from the median is beyond the threshold. The angle to the
 // median vector is judged on one side only: an angle below the median is better agreement
 // with the segment's direction, never a reason to remove a match (two-sided, the filter
@@ -96,6 +149,7 @@ FilterStep run_filter(OutlierFilter filter, std::span<const KeypointMatch> match
     }
     // The values tested; NaN marks a match this filter cannot judge (a zero vector's angle).
     std::vector<double> value(kept.size());
+    double median_length = 0;  // |median vector|, for the angle's noise floor
     if (filter == OutlierFilter::angle_to_median) {
         std::vector<double> c(kept.size());
         Eigen::Vector3d median_vector;
@@ -108,6 +162,7 @@ FilterStep run_filter(OutlierFilter filter, std::span<const KeypointMatch> match
             step.skipped = true;
             return step;
         }
+        median_length = median_vector.norm();
         for (std::size_t j = 0; j < kept.size(); ++j) {
             const Eigen::Vector3d d = matches[kept[j]].displacement();
             // atan2(|d × m|, d · m): accurate also for nearly parallel vectors.
@@ -138,10 +193,15 @@ FilterStep run_filter(OutlierFilter filter, std::span<const KeypointMatch> match
         double sum = 0;
         for (double v : judged) sum += std::abs(v - m.median);
         step.sigma = kMeanDeviationToSigma * sum / static_cast<double>(judged.size());
-        if (!(step.sigma > 0)) {
-            step.skipped = true;
-            return step;
-        }
+    }
+    step.floor = noise_floor(filter, matches, kept, value, p, median_length);
+    if (step.sigma < step.floor) {
+        step.sigma = step.floor;
+        step.floored = true;
+    }
+    if (!(step.sigma > 0)) {
+        step.skipped = true;
+        return step;
     }
     step.threshold = p.k * step.sigma;
     std::vector<std::size_t> still;

@@ -19,6 +19,9 @@ struct Distance {
     bool significant = false;
 };
 
+// σ of the distance from the two cylinders' sampling: √(s1²/n1 + s2²/n2); NaN without one.
+double sampling_sigma(const CylinderSide& reference, const CylinderSide& compared);
+
 Distance distance_between(const CylinderSide& reference, const CylinderSide& compared,
                           const DistanceParameters& parameters);
 

@@ -1,5 +1,6 @@
 #include "algorithms/registration/distribution_quantiles.hpp"
 
+#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -88,6 +89,13 @@ double chi_square_upper_tail(double x, double dof) {
     if (x <= 0.0) return 1.0;
     const double a = 0.5 * dof, y = 0.5 * x;
     return y < a + 1.0 ? 1.0 - gamma_series_p(a, y) : gamma_continued_fraction_q(a, y);
+}
+
+double student_t_quantile(double p, double dof) {
+    if (!(p > 0.0 && p < 1.0) || !(dof > 0.0))
+        throw Error("Student's t quantile: needs 0 < p < 1 and dof > 0, got p = " +
+                    std::to_string(p) + ", dof = " + std::to_string(dof));
+    return boost::math::quantile(boost::math::students_t(dof), p);
 }
 
 double chi_square_quantile(double p, double dof) {

@@ -8,6 +8,9 @@ double normal_cdf(double x);
 // Φ⁻¹(p) for 0 < p < 1.
 double normal_quantile(double p);
 
+// Student's t(dof) quantile: the x with F(x) = p, for 0 < p < 1 and dof > 0 (Boost.Math).
+double student_t_quantile(double p, double dof);
+
 // χ²(dof) distribution function: the regularised lower incomplete gamma P(dof/2, x/2).
 double chi_square_cdf(double x, double dof);
 // Its upper tail 1 − F, computed directly so that small tail probabilities keep their digits.

@@ -67,13 +67,13 @@ class Detector {
         } catch (const Error&) {
             return std::nullopt;  // on a line
         }
-        const double sigma_theta = p_.angular_sigma_arcsec * kArcsec;
+        const double sigma_theta = p_.noise.angular_sigma();
         double model = 0.0;  // Σ σᵢ²
         for (const auto i : points) {
             const Eigen::Vector3d beam = scan_.xyz[i] - scanner_;
             const double r = beam.norm();
             const double cos_a = r > 0.0 ? std::min(1.0, std::fabs(f.normal.dot(beam)) / r) : 1.0;
-            const double sigma_r = p_.range_sigma_a + 1e-6 * p_.range_sigma_b_ppm * r;
+            const double sigma_r = p_.noise.range_sigma(r);
             model += std::pow(sigma_r * cos_a, 2) +
                      std::pow(r * sigma_theta, 2) * (1.0 - cos_a * cos_a) +
                      p_.flatness * p_.flatness;

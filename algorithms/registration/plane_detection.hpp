@@ -28,14 +28,12 @@
 
 #include "algorithms/registration/plane_fit.hpp"
 #include "core/scan.hpp"
+#include "core/scanner_noise.hpp"
 
 namespace tlsmon::registration {
 
 struct PlaneDetectionParams {
-    // The scanner's stochastic model (the simulator's `constant` model and its defaults).
-    double range_sigma_a = 0.001;         // m
-    double range_sigma_b_ppm = 10.0;      // of the range
-    double angular_sigma_arcsec = 3.0;    // of the beam's direction
+    ScannerNoise noise;                   // the scanner's stochastic model
     double flatness = 0.001;              // m, the surface's own departure from a plane
     double alpha = 0.01;                  // the planarity test's level
     std::uint32_t tile = 256;             // cells per side of the first blocks

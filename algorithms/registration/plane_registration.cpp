@@ -178,7 +178,7 @@ PlaneAdjustment adjust_planes(std::span<const PlaneCorrespondence> planes,
     }
     T.redundancy = static_cast<int>(3 * n_used) - 6;
     T.variance_factor = T.redundancy > 0 ? T.omega_sq / T.redundancy : 0.0;
-    T.covariance_factor = covariance_factor(params.scaling, T.variance_factor);
+    T.covariance_factor = covariance_factor(params.scaling, T.variance_factor, T.redundancy);
     T.small_rotation_covariance.setZero();
     T.small_rotation_covariance.topLeftCorner<6, 6>() = T.covariance_factor * Qxx;
     finish_parameters(T);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "algorithms/registration/distribution_quantiles.hpp"
 #include "algorithms/registration/so3.hpp"
 #include "core/error.hpp"
 
@@ -48,16 +49,25 @@ void finish_parameters(RigidTransform& T) {
     T.covariance = J * T.small_rotation_covariance * J.transpose();
 }
 
-double covariance_factor(CovarianceScaling scaling, double variance_factor) {
+double t_expansion(int redundancy) {
+    if (redundancy <= 0) return 1.0;
+    const double ratio = student_t_quantile(0.975, redundancy) / normal_quantile(0.975);
+    return ratio * ratio;
+}
+
+double covariance_factor(CovarianceScaling scaling, double variance_factor, int redundancy) {
+    if (redundancy <= 0) return 1.0;
+    const double estimated = variance_factor * t_expansion(redundancy);
     switch (scaling) {
         case CovarianceScaling::a_priori:
             return 1.0;
         case CovarianceScaling::a_posteriori:
-            return variance_factor;
+            return estimated;
         case CovarianceScaling::larger_of:
             break;
     }
-    return std::max(1.0, variance_factor);
+    // The a priori factor when the residuals are no larger than the model says.
+    return variance_factor > 1.0 ? std::max(1.0, estimated) : 1.0;
 }
 
 Eigen::Matrix4d RigidTransform::matrix() const {
@@ -214,7 +224,7 @@ RigidTransform estimate_rigid_transform(std::span<const CentreObservation> centr
     }
     T.redundancy = static_cast<int>(3 * n) - u;
     T.variance_factor = T.redundancy > 0 ? T.omega_sq / T.redundancy : 0.0;
-    T.covariance_factor = covariance_factor(params.scaling, T.variance_factor);
+    T.covariance_factor = covariance_factor(params.scaling, T.variance_factor, T.redundancy);
     T.scale_estimated = params.estimate_scale;
     T.small_rotation_covariance.setZero();
     T.small_rotation_covariance.topLeftCorner(u, u) = T.covariance_factor * Qxx;

@@ -25,11 +25,23 @@ struct CentreObservation {
 enum class CovarianceScaling {
     a_priori,      // σ0² = 1: the centres' covariances are taken as they are
     a_posteriori,  // σ0² = s0² = Ω/r
-    larger_of,     // max(1, s0²): never more optimistic than the centres, nor the residuals
+    // max(1, s0²), the default: never more optimistic than the centres, nor the residuals.
+    // Padded where the centres' covariances are pessimistic (the demo's spheres: s0² ≈ 0.35,
+    // σ 1.7 times the error); docs/calibration.md says why it stays the default for now.
+    larger_of,
 };
 
-// σ0² for `scaling` given the adjustment's s0².
-double covariance_factor(CovarianceScaling scaling, double variance_factor);
+// σ0² for `scaling` given the adjustment's s0² and its redundancy r. Scaling by s0² is honest
+// when the observations' stochastic model is right up to one common factor, which s0²
+// estimates — but with r degrees of freedom, so (x̂ − x)/σ̂ follows Student's t(r), and
+// ±1.96 σ̂ covers only 92 % at r = 9 (five targets). Wherever s0² sets the factor it is
+// therefore multiplied by (t(0.975, r) / 1.96)²: the σ stored is the normal-equivalent one,
+// whose 1.96 σ is the 95 % interval every LoD95 downstream takes it for
+// (tests/algorithms/test_rigid_transform.cpp, ScalingByS0Squared…; docs/calibration.md).
+// r = 0: nothing to estimate s0² from, the a priori factor 1.
+double covariance_factor(CovarianceScaling scaling, double variance_factor, int redundancy);
+// (t(0.975, r) / 1.96)², 1 for r ≤ 0.
+double t_expansion(int redundancy);
 
 struct RigidTransformParams {
     bool estimate_scale = false;

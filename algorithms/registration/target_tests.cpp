@@ -270,12 +270,14 @@ TestedRegistration register_with_tests(std::span<const TargetPair> targets,
         // a mast). The a-posteriori variance factor is the estimate of by how much (Niemeier
         // 2008, §4.5; Koch 1999, §4.2.3), so the covariance is scaled by s0² and the epoch
         // accepted, flagged. The hard limit keeps a gross misfit a refusal.
+        // With the t expansion of its redundancy (rigid_transform.hpp, covariance_factor).
         RigidTransform& S = *out.transform;
-        if (S.covariance_factor < S.variance_factor) {
-            const double k = S.variance_factor / S.covariance_factor;
+        const double wanted = S.variance_factor * t_expansion(S.redundancy);
+        if (S.covariance_factor < wanted) {
+            const double k = wanted / S.covariance_factor;
             S.covariance *= k;
             S.small_rotation_covariance *= k;
-            S.covariance_factor = S.variance_factor;
+            S.covariance_factor = wanted;
         }
         return finish(RegistrationStatus::accepted_scaled,
                       text("Omega %.2f > chi2 critical %.2f: covariance scaled by the variance "

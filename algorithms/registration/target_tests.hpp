@@ -77,7 +77,7 @@ struct TargetVerdict {
 enum class RegistrationStatus {
     accepted,                  // all tests passed
     accepted_scaled,           // no outlier, the global test failed within its hard limit:
-                               // the covariance is scaled by s0² (larger_of or a posteriori)
+                               // the covariance is scaled by s0² (a posteriori or larger_of)
     global_test_failed,        // no target to blame, but the residuals exceed the covariances
     too_few_targets,           // refused: fewer than min_targets usable
     degenerate_geometry,       // refused: the used targets are (nearly) on a line

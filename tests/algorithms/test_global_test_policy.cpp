@@ -70,7 +70,8 @@ TEST(GlobalTestPolicy, GoodEpochsAreRefusedAtMostHalfAPercent) {
                 ++scaled;
                 EXPECT_GT(r.global.omega_sq, r.global.critical);
                 EXPECT_LE(r.global.omega_sq, r.global.hard_limit);
-                EXPECT_DOUBLE_EQ(r.transform->covariance_factor, r.transform->variance_factor);
+                EXPECT_DOUBLE_EQ(r.transform->covariance_factor,
+                                 r.transform->variance_factor * t_expansion(r.global.redundancy));
                 scaled_within += within_two_sigma(*r.transform, truth, scaled_components);
             }
         }

@@ -259,6 +259,61 @@ TEST(KeypointOutlierFilters, MadZeroFallsBackToTheMeanDeviation) {
     EXPECT_EQ(column.tested, 29u);
 }
 
+TEST(KeypointOutlierFilters, SpreadBelowTheNoiseIsFlooredNotCut) {
+    // Two packagings of one scan: 40 vectors that agree to micrometres (26 within 0.1 µm, 14
+    // at ±3 µm: MAD 0.1 µm) and one 30 mm mismatch. Without a noise model the threshold is
+    // 2 · 1.48 · 0.1 µm and the 14 go; with the scanner's model the floor is
+    // √2 · max(σ_r, r·σ_θ) at 30 m = √2 · 1.3 mm: only the mismatch goes.
+    std::vector<KeypointMatch> matches;
+    for (int i = 0; i < 40; ++i) {
+        Differences x;
+        const double dev = i < 26 ? 1e-7 * ((i % 3) - 1) : 3e-6 * (i % 2 ? 1 : -1);
+        x.d = Eigen::Vector3d(0.004 + dev, 0.002, -0.001);
+        x.range = 1e-6 * ((i % 3) - 1);
+        matches.push_back(make_match(0, x));
+    }
+    Differences gross;
+    gross.d = Eigen::Vector3d(0.034, 0.002, -0.001);
+    matches.push_back(make_match(0, gross));
+
+    const auto bare = keypoints::filter_outliers(matches);
+    std::size_t bare_removed = 0;
+    for (std::size_t i = 0; i + 1 < matches.size(); ++i)
+        bare_removed += bare.removed_by[i] != OutlierFilter::none;
+    EXPECT_GT(bare_removed, 10u);  // the defect the floor is for
+
+    keypoints::OutlierParameters p;
+    p.noise = ScannerNoise{};  // 1 mm + 10 ppm, 3″
+    const auto floored = keypoints::filter_outliers(matches, p);
+    for (std::size_t i = 0; i + 1 < matches.size(); ++i)
+        EXPECT_EQ(floored.removed_by[i], OutlierFilter::none) << i;
+    EXPECT_NE(floored.removed_by.back(), OutlierFilter::none);
+    // The dx filter's σ is the floor: √2 · max(1 mm + 10 ppm · 30 m, 30 m · 3″).
+    const auto& dx = floored.segments[0].steps[5];
+    ASSERT_EQ(dx.filter, OutlierFilter::dx);
+    const double single = std::max(0.0013, 30 * 3 * std::numbers::pi / (180 * 3600));
+    EXPECT_NEAR(dx.floor, std::numbers::sqrt2 * single, 1e-12);
+    EXPECT_TRUE(dx.floored);
+    EXPECT_DOUBLE_EQ(dx.sigma, dx.floor);
+    // The range difference's floor is √2 · σ_r(30 m).
+    const auto& range = floored.segments[0].steps[2];
+    EXPECT_NEAR(range.floor, std::numbers::sqrt2 * 0.0013, 1e-12);
+    // A spread above the floor is the spread: the floor does not widen a noisy segment.
+    for (auto& m : matches) m.point.y() += 0.01 * ((&m - matches.data()) % 7 - 3);
+    const auto noisy = keypoints::filter_outliers(matches, p);
+    EXPECT_FALSE(noisy.segments[0].steps[6].floored);  // dy: MAD of ±30 mm
+    // A match estimated from a patch of 15 × 15 pixels: the floor is 15 times lower.
+    p.averaged_pixels = 225;
+    const auto patch = keypoints::filter_outliers(matches, p);
+    EXPECT_NEAR(patch.segments[0].steps[2].floor, std::numbers::sqrt2 * 0.0013 / 15, 1e-12);
+    p.averaged_pixels = 0.5;
+    EXPECT_THROW(keypoints::filter_outliers(matches, p), Error);
+    p.averaged_pixels = 1;
+    // A negative noise is refused.
+    p.noise->range_sigma_a = -1;
+    EXPECT_THROW(keypoints::filter_outliers(matches, p), Error);
+}
+
 TEST(KeypointOutlierFilters, TinySegmentsAreLeftAlone) {
     // Two matches 1 m apart: no median or MAD can say which one is wrong.
     std::vector<KeypointMatch> matches;

@@ -5,6 +5,8 @@
 // the adjustment predicts in ≥ 90 % of them, with RMS(error/σ) near 1.
 #include <gtest/gtest.h>
 
+#include <boost/math/distributions/students_t.hpp>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -159,6 +161,63 @@ TEST(RigidTransform, SigmaIsHonestWithTheAPrioriCovariances) {
 
 TEST(RigidTransform, SigmaIsHonestForAScannerSetUpOnAnotherHeading) {
     expect_honest(100.0 * M_PI / 180.0, CovarianceScaling::larger_of, "heading 100 deg");
+}
+
+// When is scaling the covariance by s0² honest? When the centres' stochastic model is right
+// up to one common factor: s0² estimates that factor, and σ0²·Q_xx is right on average. But s0²
+// is itself an estimate with r degrees of freedom (s0²·r/σ² ~ χ²(r)), so (x̂ − x)/σ̂ follows
+// Student's t(r), not the normal distribution: ±1.96·s0·σ covers less than 95 % (92 % at
+// r = 9, 5 targets). The stored σ carries the t expansion (covariance_factor), so its ±1.96 σ
+// covers 95 %. 4000 epochs whose centres scatter twice their stated σ; the shares within each
+// interval, with their binomial 99.9 % band (±3.3 σ).
+TEST(RigidTransform, ScalingByS0SquaredNeedsTheTQuantileOfItsRedundancy) {
+    constexpr int trials = 4000;
+    const auto truth_centres = target_centres(5);
+    struct Shares {
+        double unscaled = 0, s0_only = 0, stored = 0, stored_68 = 0;
+    } got;
+    for (const auto scaling : {CovarianceScaling::a_priori, CovarianceScaling::a_posteriori}) {
+        RigidTransformParams p;
+        p.scaling = scaling;
+        std::mt19937_64 rng(77);
+        int within = 0, within_s0 = 0, within_68 = 0;
+        for (int t = 0; t < trials; ++t) {
+            const TrueTransform truth = drift(rng);
+            const auto centres = observe(truth_centres, truth, rng, 2.0);
+            const RigidTransform T = estimate_rigid_transform(centres, p);
+            ASSERT_EQ(T.redundancy, 9);
+            const double e = std::fabs(T.translation.x() - truth.translation.x());
+            const double sigma = std::sqrt(T.covariance(3, 3));
+            within += e <= 1.96 * sigma;
+            within_68 += e <= sigma;
+            within_s0 += e <= 1.96 * sigma / std::sqrt(t_expansion(9));
+        }
+        if (scaling == CovarianceScaling::a_priori) {
+            got.unscaled = double(within) / trials;
+        } else {
+            got.stored = double(within) / trials;
+            got.stored_68 = double(within_68) / trials;
+            got.s0_only = double(within_s0) / trials;
+        }
+    }
+    const auto band = [&](double p) { return 3.3 * std::sqrt(p * (1 - p) / trials); };
+    const boost::math::students_t t9(9.0);
+    // P(|Z| ≤ 1.96/2), P(|t9| ≤ 1.96), 0.95 and P(|t9| ≤ 1.96/t(0.975, 9)).
+    const double p_unscaled = std::erf(0.98 / std::sqrt(2.0));
+    const double p_s0 = 2 * boost::math::cdf(t9, 1.96) - 1;
+    const double p_68 = 2 * boost::math::cdf(t9, std::sqrt(t_expansion(9))) - 1;
+    std::printf(
+        "tx within 1.96 sigma: a priori %.3f (expected %.3f), s0 alone %.3f (%.3f), "
+        "stored %.3f (0.950); within 1 sigma stored %.3f (%.3f)\n",
+        got.unscaled, p_unscaled, got.s0_only, p_s0, got.stored, got.stored_68, p_68);
+    EXPECT_NEAR(got.unscaled, p_unscaled, band(p_unscaled));
+    EXPECT_NEAR(got.s0_only, p_s0, band(p_s0));
+    EXPECT_NEAR(got.stored, 0.95, band(0.95));
+    EXPECT_NEAR(got.stored_68, p_68, band(p_68));
+    EXPECT_LT(got.s0_only, 0.95 - band(0.95));  // the shortfall is real, not sampling
+    // The expansion itself: t(0.975, 9) = 2.2622 (tables), 1 without redundancy.
+    EXPECT_NEAR(std::sqrt(t_expansion(9)) * 1.959964, 2.2622, 1e-4);
+    EXPECT_DOUBLE_EQ(t_expansion(0), 1.0);
 }
 
 TEST(RegistrationError, ZoneSummaryIsTheWorstOfItsPoints) {

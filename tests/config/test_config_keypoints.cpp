@@ -38,6 +38,37 @@ model_quantities = ["keypoint_dz_m"]
     EXPECT_TRUE(p.keypoints.zones[0].contains({5, 45, 10}));
 }
 
+TEST(ConfigKeypoints, TheStationsScannerModelReachesPlanesAndKeypoints) {
+    // One stochastic model for the site ([station]); the stages take it from there.
+    const Config c = parse(R"(
+[station]
+range_sigma_a = 0.002
+range_sigma_b_ppm = 20
+angular_sigma_arcsec = 5
+
+[keypoints]
+window_m = 0.05
+)");
+    const PipelineConfig p = pipeline_config(c);
+    EXPECT_EQ(p.keypoints.noise.range_sigma_a, 0.002);
+    EXPECT_EQ(p.keypoints.noise.range_sigma_b_ppm, 20);
+    EXPECT_EQ(p.keypoints.noise.angular_sigma_arcsec, 5);
+    EXPECT_EQ(p.registration.planes.noise.range_sigma_a, 0.002);
+    EXPECT_EQ(p.registration.planes.detection().noise.angular_sigma_arcsec, 5);
+    EXPECT_EQ(p.keypoints.window_m, 0.05);
+    EXPECT_EQ(pipeline_config(parse("")).keypoints.window_m, 0.02);
+    // The model's old place is named in the error, not only "unknown key".
+    const std::string moved = error_of("[registration]\nplane_range_sigma_a = 0.002\n");
+    EXPECT_NE(moved.find("key 'registration.plane_range_sigma_a': moved to "
+                         "station.range_sigma_a"),
+              std::string::npos)
+        << moved;
+    EXPECT_NE(error_of("[station]\nrange_sigma_a = -1\n").find("key 'station.range_sigma_a'"),
+              std::string::npos);
+    EXPECT_NE(error_of("[keypoints]\nwindow_m = 2\n").find("key 'keypoints.window_m'"),
+              std::string::npos);
+}
+
 TEST(ConfigKeypoints, MistakesNameFileLineAndKey) {
     EXPECT_EQ(error_of("[keypoints]\ndetector = \"surf\"\n")
                   .rfind("site.toml:2:12: key 'keypoints.detector': ", 0),

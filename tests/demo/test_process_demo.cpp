@@ -184,6 +184,44 @@ TEST(DemoCommand, RunsTheDaemonOnASimulatedSeriesAndReportsAgainstTheTruth) {
                 "after it moved)"),
         std::string::npos)
         << md;
+    EXPECT_NE(md.find("## Calibration: does each σ cover its true error?"), std::string::npos);
+
+    // `tlsmon calibration` on the same run: the registration's tx row recomputed here from
+    // the stored parameters and the truth's exact transformation.
+    const auto calibration = test::shell(std::string(TLSMON_BINARY) + " calibration --db " +
+                                         (work / "tlsmon.sqlite").string() + " --truth " +
+                                         (work / "truth").string() + " --format csv");
+    ASSERT_EQ(calibration.status, 0) << calibration.output;
+    { std::ofstream(dir.path() / "calibration.csv") << calibration.output; }
+    const auto table = read_csv(dir.path() / "calibration.csv");
+    double sum = 0;
+    int within95 = 0, n = 0;
+    std::string method;
+    for (int i = 1; i < kEpochs; ++i) {
+        const auto reg = db.registrations().of_epoch(epochs[static_cast<std::size_t>(i)].id);
+        const Eigen::Affine3d exact =
+            h0.inverse() * *truth[static_cast<std::size_t>(i)].header_to_true;
+        const double e = (*reg->parameters)[3] - exact.translation().x();
+        sum += e;
+        within95 += std::abs(e) <= 1.96 * (*reg->sigmas)[3];
+        ++n;
+        method = "registration:" + reg->method;
+    }
+    bool found = false;
+    for (const auto& row : table) {
+        if (row.at("method") != method || row.at("part") != "tx") continue;
+        found = true;
+        EXPECT_EQ(std::stoi(row.at("n")), n);
+        EXPECT_NEAR(std::stod(row.at("bias")), 1e3 * sum / n, 1e-6);
+        EXPECT_NEAR(std::stod(row.at("cover95_pct")), 100.0 * within95 / n, 1e-9);
+    }
+    EXPECT_TRUE(found) << calibration.output;
+    // A folder without truth files is refused, naming it.
+    const auto refused =
+        test::shell(std::string(TLSMON_BINARY) + " calibration --db " +
+                    (work / "tlsmon.sqlite").string() + " --truth " + (work / "report").string());
+    EXPECT_EQ(refused.status, 1) << refused.output;
+    EXPECT_NE(refused.output.find((work / "report").string()), std::string::npos) << refused.output;
 }
 
 }  // namespace

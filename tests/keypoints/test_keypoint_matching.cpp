@@ -91,6 +91,33 @@ TEST(KeypointMatching, RatioTestAndMutualCheck) {
     EXPECT_EQ(pairs[0].epoch, 0u);
 }
 
+TEST(KeypointMatching, WindowFollowsTheRange) {
+    // A keypoint at 3 m and one at 150 m, each moved 10 mm across the beam: 0.19° and
+    // 0.0038°. With the defaults (0.05°, 0.02 m) both are matched; the fixed angle alone loses
+    // the near one, whose motion is wider than it.
+    const double near = 3.0, far = 150.0, w = 0.010;
+    const std::vector<AngularPosition> ref = {{10 * deg, 0}, {40 * deg, 0}};
+    const std::vector<AngularPosition> epoch = {{10 * deg + w / near, 0}, {40 * deg + w / far, 0}};
+    const std::vector<double> ranges = {near, far};
+    const MatchingParameters defaults;
+    EXPECT_NEAR(window_radius_at(defaults, near), 0.02 / near, 1e-15);
+    EXPECT_DOUBLE_EQ(window_radius_at(defaults, far), 0.05 * deg);
+    EXPECT_DOUBLE_EQ(window_radius_at(defaults, 0.0), 0.05 * deg);  // no range: the angle
+    const auto pairs = match_keypoints(ref, binary({3, 6}), epoch, binary({3, 6}), {}, ranges);
+    ASSERT_EQ(pairs.size(), 2u);
+    EXPECT_EQ(pairs[0].epoch, 0u);
+    EXPECT_EQ(pairs[1].epoch, 1u);
+    MatchingParameters angle_only;
+    angle_only.window_m = 0;
+    const auto fixed =
+        match_keypoints(ref, binary({3, 6}), epoch, binary({3, 6}), angle_only, ranges);
+    ASSERT_EQ(fixed.size(), 1u);
+    EXPECT_EQ(fixed[0].reference, 1u);
+    // A motion beyond window_m at 3 m is not matched (the window is not unbounded).
+    const std::vector<AngularPosition> too_far = {{10 * deg + 0.025 / near, 0}, epoch[1]};
+    EXPECT_EQ(match_keypoints(ref, binary({3, 6}), too_far, binary({3, 6}), {}, ranges).size(), 1u);
+}
+
 TEST(KeypointMatching, BadParameters) {
     const std::vector<AngularPosition> one = {{0, 0}};
     MatchingParameters p;
@@ -100,6 +127,12 @@ TEST(KeypointMatching, BadParameters) {
     p.ratio = 1.5;
     EXPECT_THROW(match_keypoints(one, binary({1}), one, binary({1}), p), tlsmon::Error);
     EXPECT_THROW(match_keypoints(one, binary({1, 2}), one, binary({1}), {}), tlsmon::Error);
+    p = {};
+    p.window_m = -0.01;
+    EXPECT_THROW(match_keypoints(one, binary({1}), one, binary({1}), p), tlsmon::Error);
+    const std::vector<double> two_ranges = {3.0, 4.0};
+    EXPECT_THROW(match_keypoints(one, binary({1}), one, binary({1}), {}, two_ranges),
+                 tlsmon::Error);
 }
 
 }  // namespace

@@ -11,11 +11,14 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "algorithms/keypoints/keypoint_matching.hpp"
 #include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
+#include "algorithms/keypoints/outlier_filters.hpp"
+#include "algorithms/keypoints/segment_displacement.hpp"
 #include "core/error.hpp"
 #include "tests/keypoints/real_scan.hpp"
 
@@ -105,20 +108,22 @@ TEST(KeypointsRealScan, KnownSubPixelShiftIsRecovered) {
     EXPECT_NEAR(median(dcol), -dc, std::max(3 * se_col, 0.02));
 }
 
-TEST(KeypointsRealScan, KnownRigidMotionGivesTheKeypointVectors) {
-    // The surface moved by a rotation of 0.03° about a tilted axis through the scanner and
-    // a translation of (4, −3, 2) mm, and scanned again on the same lattice: each pixel
-    // (r, c) sees the moved surface point whose direction is the pixel's lattice direction,
-    // found by Newton steps on the reference's sub-pixel position.
-    Eigen::Affine3d motion = Eigen::Affine3d::Identity();
-    motion.rotate(Eigen::AngleAxisd(0.03 * deg, Eigen::Vector3d(0.3, -0.2, 1).normalized()));
-    motion.pretranslate(Eigen::Vector3d(0.004, -0.003, 0.002));
+std::string fmt_mm(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "measured %.2f mm", 1e3 * v);
+    return text;
+}
+
+// The scan's surface moved rigidly by `motion` and scanned again on the same lattice: each
+// pixel sees the moved surface point on its lattice direction (Newton steps on the
+// reference's sub-pixel position).
+Scan moved_scan(const Eigen::Affine3d& motion) {
     const SphericalImages& im = reference().images;
     const auto xyz = [&](Eigen::Index r, Eigen::Index c) {
         Eigen::VectorXd v = test::pixel_point(im, r, c);
         return v;
     };
-    const Scan moved = test::resampled_scan(
+    return test::resampled_scan(
         im,
         [&](Eigen::Index r, Eigen::Index c) -> std::optional<std::array<double, 2>> {
             const double az = im.column_azimuth(c), el = im.row_elevation(r);
@@ -129,14 +134,25 @@ TEST(KeypointsRealScan, KnownRigidMotionGivesTheKeypointVectors) {
                 const Polar q = polar_of(motion * Eigen::Vector3d(*p));
                 const double step_c = wrapped_difference(q.azimuth, az) / im.azimuth_step;
                 const double step_r = (q.elevation - el) / im.elevation_step;
-                cc += step_c;  // azimuth falls with the column
-                rr += step_r;  // elevation falls with the row
+                cc += step_c;
+                rr += step_r;
                 if (std::abs(step_c) < 1e-6 && std::abs(step_r) < 1e-6)
                     return std::array<double, 2>{rr, cc};
             }
             return std::nullopt;
         },
         [&](const Eigen::Vector3d& p) { return motion * p; });
+}
+
+TEST(KeypointsRealScan, KnownRigidMotionGivesTheKeypointVectors) {
+    // The surface moved by a rotation of 0.03° about a tilted axis through the scanner and
+    // a translation of (4, −3, 2) mm, and scanned again on the same lattice: each pixel
+    // (r, c) sees the moved surface point whose direction is the pixel's lattice direction,
+    // found by Newton steps on the reference's sub-pixel position.
+    Eigen::Affine3d motion = Eigen::Affine3d::Identity();
+    motion.rotate(Eigen::AngleAxisd(0.03 * deg, Eigen::Vector3d(0.3, -0.2, 1).normalized()));
+    motion.pretranslate(Eigen::Vector3d(0.004, -0.003, 0.002));
+    const Scan moved = moved_scan(motion);
     const Described epoch = describe(spherical_images_from_grid(moved));
     MatchingParameters mp;
     mp.window_radius = 0.3 * deg;
@@ -195,6 +211,58 @@ TEST(KeypointsRealScan, KnownRigidMotionGivesTheKeypointVectors) {
         std::printf("  ratio %.1f mutual %d: %zu matches, %zu gross, σx %.2f mm\n", ratio,
                     int(mutual), kept.matches.size(), gross, 1000 * robust_sigma(ex));
     }
+}
+
+TEST(KeypointsRealScan, TenMillimetresAtThreeMetresAreMeasuredWhole) {
+    // The surface (2–5.4 m from the scanner) moved 10 mm horizontally across the mean line
+    // of sight: 0.1–0.3° of beam turn, wider than the 0.05° angle. With the default window
+    // (the angle, or 0.02 m over the keypoint's range where that is wider), the filters and
+    // the segment's mean, the motion is measured whole: within 2 standard errors of 10 mm.
+    // The angle alone loses the matches that moved most and measures less.
+    const SphericalImages& im = reference().images;
+    Eigen::Vector3d sight = Eigen::Vector3d::Zero();
+    std::vector<double> ranges;
+    for (const auto& k : reference().features.keypoints) {
+        const PolarAt at = polar_at(im, k.row, k.column);
+        ranges.push_back(at.dropped == Dropped::no ? at.polar.range : 0.0);
+        if (at.dropped == Dropped::no) sight += cartesian_of(at.polar).normalized();
+    }
+    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(sight).normalized();
+    const Eigen::Vector3d truth = 0.010 * across;
+    const Eigen::Affine3d motion = Eigen::Translation3d(truth) * Eigen::Affine3d::Identity();
+    const Described epoch = describe(spherical_images_from_grid(moved_scan(motion)));
+
+    const auto measure = [&](const MatchingParameters& mp) {
+        const auto pairs = match_keypoints(reference().positions, reference().features.descriptors,
+                                           epoch.positions, epoch.features.descriptors, mp, ranges);
+        auto in3d = matches_to_3d(im, reference().features.keypoints, Eigen::Affine3d::Identity(),
+                                  epoch.images, epoch.features.keypoints,
+                                  Eigen::Affine3d::Identity(), pairs);
+        for (auto& m : in3d.matches) m.segment = 0;
+        OutlierParameters op;
+        op.noise = ScannerNoise{};
+        op.angular_steps = {std::max(im.azimuth_step, im.elevation_step)};
+        const auto filtered = filter_outliers(in3d.matches, op);
+        return segment_displacement(in3d.matches, filtered.removed_by, 0, {});
+    };
+    const SegmentDisplacement whole = measure({});
+    ASSERT_TRUE(whole.defined()) << whole.undefined_reason;
+    const double along = whole.mean.dot(across);
+    const double se = std::sqrt(whole.standard_error.cwiseAbs2().dot(across.cwiseAbs2()));
+    std::printf("10 mm across at 2-5 m: %zu kept, measured %.2f mm (se %.2f mm)\n", whole.count,
+                1e3 * along, 1e3 * se);
+    EXPECT_GT(whole.count, 50u);
+    EXPECT_NEAR(along, 0.010, 2 * se);
+    EXPECT_LT(se, 0.002);  // a test that could fail: 2 se is not a metre
+
+    MatchingParameters angle_only;
+    angle_only.window_m = 0;
+    const SegmentDisplacement fixed = measure(angle_only);
+    // Undefined (too few matches) or short of the motion: either way not measured whole.
+    const double fixed_along = fixed.defined() ? fixed.mean.dot(across) : 0.0;
+    std::printf("  the 0.05° angle alone: %zu kept, %s\n", fixed.count,
+                fixed.defined() ? fmt_mm(fixed_along).c_str() : fixed.undefined_reason.c_str());
+    EXPECT_LT(fixed_along, 0.008);
 }
 
 TEST(KeypointsRealScan, BriskDropsBorderKeypointsAndKeepsTheDetectorsPositions) {

@@ -39,7 +39,9 @@ const ZoneResult* row(const std::vector<ZoneResult>& rows, const std::string& qu
 }
 
 TEST(KeypointResults, ZoneRowsOfADefinedSegment) {
-    const auto rows = keypoint_zone_results("band", defined_segment(), 0.0003);
+    // The registration's σ 0.3 mm in every direction.
+    const auto rows = keypoint_zone_results("band", defined_segment(),
+                                            0.0003 * 0.0003 * Eigen::Matrix3d::Identity());
     ASSERT_EQ(rows.size(), 8u);
     for (const auto& r : rows) EXPECT_EQ(r.zone, "band");
     const auto* count = row(rows, "keypoint_count");
@@ -64,6 +66,18 @@ TEST(KeypointResults, ZoneRowsOfADefinedSegment) {
     EXPECT_TRUE(row(rows, "keypoint_along_surface_h_m")->significant);  // > 0.865 mm
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_along_surface_v_m")->value, 0.0030);
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_height_m")->value, 7.5);
+}
+
+TEST(KeypointResults, TheRegistrationEntersInItsWorstDirection) {
+    // A registration uncertain only in z (1 mm): every figure's LoD holds the 1 mm, dx's too —
+    // one σ bounds each component (pipeline/keypoint_results.hpp says why).
+    Eigen::Matrix3d only_z = Eigen::Matrix3d::Zero();
+    only_z(2, 2) = 1e-6;
+    const auto rows = keypoint_zone_results("wall", defined_segment(), only_z);
+    EXPECT_NEAR(*row(rows, "keypoint_dx_m")->uncertainty, 1.96 * (0.001 / std::sqrt(50.0) + 0.001),
+                1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_dz_m")->uncertainty, 1.96 * (0.002 / std::sqrt(50.0) + 0.001),
+                1e-15);
 }
 
 TEST(KeypointResults, UndefinedFiguresAreLeftOutNotStoredAsNaN) {

@@ -13,7 +13,7 @@
 // Truth: the pier's displacement u_i at a kept match's reference point p (sim::
 // pier_displacement; p stands for the material point, u varies by < 1e-5 over the
 // millimetres it moved), (u_i(p) − u_0(p)) along the zone's wall directions, averaged over
-// the matches the filters kept (the same filters, run again here on the zone's matches).
+// the matches the stage's filters kept.
 // Epoch 0 is not undeformed (docs/simulator.md): only differences are scored.
 #include <gtest/gtest.h>
 
@@ -107,13 +107,21 @@ M3c2Config m3c2_config(const Scenario& s) {
 
 using Epoch = test::WindowedEpoch;
 
+// The stage's LoD95 of a zone quantity (keypoint_zone_results); NaN without one.
+double lod_of(const std::string& zone, const keypoints::SegmentDisplacement& d,
+              const Eigen::Matrix3d& registration, const std::string& quantity) {
+    for (const auto& row : keypoint_zone_results(zone, d, registration))
+        if (row.quantity == quantity && row.uncertainty) return *row.uncertainty;
+    return NAN;
+}
+
 // One zone's figures in one epoch, with the truth.
 struct ZoneFigure {
     int epoch = 0;
     std::string zone;
     std::size_t kept = 0;
     keypoints::SegmentDisplacement d;
-    double sigma = 0;                                        // reg σ of the segment
+    Eigen::Matrix3d registration = Eigen::Matrix3d::Zero();  // its covariance at the segment
     Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
     double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
 };
@@ -149,7 +157,6 @@ Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
 
         t0 = std::chrono::steady_clock::now();
         KeypointEpoch measured = measure_keypoints(config, ref, ei.pier, o);
-        const auto matches = measured.matches;
         const KeypointSegmentsResult segments =
             keypoint_segments(config, ref, std::move(measured.matches), o);
         out.keypoint_s += seconds_since(t0);
@@ -168,22 +175,15 @@ Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
             f.zone = s.zone;
             f.d = s.displacement;
             f.kept = s.displacement.count;
-            f.sigma = s.registration_sigma;
-            // The kept matches of the zone, by the same filters.
-            std::vector<keypoints::KeypointMatch> in;
-            for (const auto& mt : matches) {
-                if (config.zones[z].contains(mt.reference_point)) {
-                    in.push_back(mt);
-                    in.back().segment = 0;
-                }
-            }
-            const auto filtered = keypoints::filter_outliers(in, {});
+            f.registration = s.registration_covariance;
+            // The zone's matches the stage's filters kept.
+            const auto& in = s.matches;
             const auto& w = s.displacement.wall;
             if (s.displacement.defined() && w.defined()) {
                 Eigen::Vector3d sum = Eigen::Vector3d::Zero();
                 std::size_t n = 0;
                 for (std::size_t k = 0; k < in.size(); ++k) {
-                    if (filtered.removed_by[k] != keypoints::OutlierFilter::none) continue;
+                    if (s.removed_by[k] != keypoints::OutlierFilter::none) continue;
                     const Eigen::Vector3d u = true_change(in[k].reference_point);
                     sum += Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
                     ++n;
@@ -201,7 +201,7 @@ Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
                 d.push_back(dist.distance);
                 t.push_back(true_change(c).dot(nrm));
             }
-            for (const auto& row : m3c2_zone_results(m3c2_ref, m)) {
+            for (const auto& row : m3c2_zone_results(m3c2, m3c2_ref, m)) {
                 if (row.zone == s.zone && row.quantity == "m3c2_median_m") {
                     f.m3c2_median = row.value;
                     f.m3c2_lod = row.uncertainty.value_or(NAN);
@@ -257,7 +257,7 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
             f.epoch, f.zone.c_str(), f.kept, 1e3 * d.along[1], 1e3 * f.truth[1], 1e3 * d.along[2],
             1e3 * f.truth[2], 1e3 * d.along[0], 1e3 * f.truth[0], 1e3 * f.m3c2_median,
             1e3 * f.m3c2_truth, 1e3 * d.along_standard_error[1],
-            1.96e3 * (d.along_standard_error[1] + f.sigma));
+            1e3 * lod_of(f.zone, d, f.registration, kKeypointAlongSurfaceH));
         kept[f.zone].first += double(f.kept);
         kept[f.zone].second += 1;
         if (f.zone == "west") {
@@ -275,8 +275,9 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
         largest = std::max({largest, std::abs(f.truth[1]), std::abs(f.truth[2])});
         for (int k = 1; k < 3; ++k) {
             ++lod_rows;
-            lod_covers +=
-                std::abs(d.along[k] - f.truth[k]) <= 1.96 * (d.along_standard_error[k] + f.sigma);
+            lod_covers += std::abs(d.along[k] - f.truth[k]) <=
+                          lod_of(f.zone, d, f.registration,
+                                 k == 1 ? kKeypointAlongSurfaceH : kKeypointAlongSurfaceV);
         }
     }
     for (const auto& [zone, sum] : kept)
@@ -294,8 +295,8 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
 }
 
 // Without deformation every stored figure with a σ (the vector's components and along the
-// wall; σ = the standard error plus the registration's, LoD95 / 1.96) within 3σ of zero.
-// Returns the number of figures.
+// wall; σ = LoD95 / 1.96, the standard error and the registration's in quadrature) within 3σ of
+// zero. Returns the number of figures.
 int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
     scenario.site.deformation.enabled = false;
     scenario.site.noise.seed = 5;
@@ -304,10 +305,12 @@ int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
     double worst = 0;
     for (const auto& f : s.figures) {
         EXPECT_EQ(f.d.defined(), f.zone != "west") << f.zone << ": " << f.d.undefined_reason;
+        const Eigen::Vector3d h = f.d.wall.horizontal;
         std::printf("epoch %d %-14s kept %zu: h %+.2f v %+.2f n %+.2f mm (σ_h %.2f, reg %.2f)\n",
                     f.epoch, f.zone.c_str(), f.kept, 1e3 * f.d.along[1], 1e3 * f.d.along[2],
-                    1e3 * f.d.along[0], 1e3 * f.d.along_standard_error[1], 1e3 * f.sigma);
-        for (const auto& row : keypoint_zone_results(f.zone, f.d, f.sigma)) {
+                    1e3 * f.d.along[0], 1e3 * f.d.along_standard_error[1],
+                    h.allFinite() ? 1e3 * std::sqrt(h.dot(f.registration * h)) : NAN);
+        for (const auto& row : keypoint_zone_results(f.zone, f.d, f.registration)) {
             if (!row.uncertainty) continue;
             const double sigma = *row.uncertainty / 1.96;
             const double ratio = std::abs(row.value) / sigma;

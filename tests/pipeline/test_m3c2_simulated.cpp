@@ -108,7 +108,7 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
                 out.south_ratio.push_back(std::abs(d.distance - truth[k]) / d.lod);
             }
         }
-        for (const auto& row : m3c2_zone_results(ref, m)) {
+        for (const auto& row : m3c2_zone_results(config, ref, m)) {
             out.rows.push_back(row);
             out.row_epoch.push_back(static_cast<int>(i));
             double t = std::nan("");

@@ -1,0 +1,65 @@
+#pragma once
+// Is each method's own uncertainty honest? On a series with the simulator's truth, every
+// scored figure (a zone quantity with its LoD95, a registration parameter with its σ) gives an
+// error e = value − truth and a σ (LoD95 / 1.96, or the parameter's σ); the figure's 68 %
+// interval covers the truth when |e| ≤ σ, its 95 % interval when |e| ≤ 1.96·σ. Per method
+// and part (zone, parameter) and pooled over the parts: the counts, the shares covered and
+// their Wilson score intervals (Wilson 1927; Agresti & Coull 1998 recommend it over the
+// normal approximation for shares near 0 or 1), so that a coverage of 90 % from 20 figures
+// is told apart from one from 2000. docs/calibration.md.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "report/analysis.hpp"
+
+namespace tlsmon::report {
+
+// The nominal rates: P(|Z| ≤ 1) and P(|Z| ≤ 1.96) for a normal Z.
+inline constexpr double kNominal68 = 0.6827;
+inline constexpr double kNominal95 = 0.95;
+inline constexpr double kLod95Factor = 1.96;
+
+// The Wilson score interval of a binomial share hits/n at z (1.96: 95 %); [0, 1] for n = 0.
+struct ShareInterval {
+    double lower = 0, upper = 1;
+};
+ShareInterval wilson_interval(std::size_t hits, std::size_t n, double z = 1.96);
+
+// What the coverage says about the σ: the nominal rate inside the interval (consistent),
+// above it (the σ is too small: the truth falls outside too often), or below it (too large:
+// padded, real change hides inside it).
+enum class SigmaVerdict { consistent, too_small, too_large, no_figures };
+SigmaVerdict sigma_verdict(std::size_t hits, std::size_t n, double nominal);
+const char* to_string(SigmaVerdict verdict);
+
+// One scored figure.
+struct ScoredFigure {
+    double error = 0;  // value − truth
+    double sigma = 0;  // the method's own standard deviation of it
+};
+
+struct CoverageRow {
+    std::string method;  // a zone quantity, or "registration:<method>"
+    std::string part;    // the zone, the parameter (omega … tz), or "all"
+    std::size_t n = 0;
+    ErrorSummary error;
+    double rms_sigma = 0;  // RMS of the σ the method gave
+    std::size_t within68 = 0, within95 = 0;
+    ShareInterval band68, band95;
+    SigmaVerdict verdict68 = SigmaVerdict::no_figures, verdict95 = SigmaVerdict::no_figures;
+    double coverage68() const { return n ? double(within68) / double(n) : 0.0; }
+    double coverage95() const { return n ? double(within95) / double(n) : 0.0; }
+};
+
+// The row of a list of figures.
+CoverageRow coverage_of(std::string method, std::string part,
+                        const std::vector<ScoredFigure>& figures);
+
+// Every method of a scored run: the zone quantities with a truth and an LoD (the reference
+// epoch's own rows left out: they are zero by construction), and each registration method's
+// six parameters on its accepted epochs. Per part, then "all" for the method. Empty for a run
+// without truth.
+std::vector<CoverageRow> calibration(const RunReport& report);
+
+}  // namespace tlsmon::report
