@@ -14,25 +14,19 @@ namespace tlsmon {
 
 namespace {
 
-// Lengths in mm, angles in µrad: one unit per row, named in its own column.
-bool is_angle(const report::CoverageRow& row) {
-    return row.part == "omega" || row.part == "phi" || row.part == "kappa";
-}
-
 Table calibration_table(const std::vector<report::CoverageRow>& rows) {
     Table t{{"method", "part", "n", "unit", "bias", "rms", "max_abs", "rms_sigma", "cover68_pct",
              "band68_pct", "verdict68", "cover95_pct", "band95_pct", "verdict95"},
             {}};
+    // Lengths in mm, angles in µrad: one unit per row, named in its own column.
     for (const auto& r : rows) {
-        // A registration's pooled row mixes angles and lengths: coverage only.
-        const bool mixed = r.part == "all" && r.method.starts_with("registration:");
-        const double scale = is_angle(r) ? 1e6 : 1e3;
-        const auto number = [&](double v) { return mixed ? Cell() : Cell(scale * v); };
+        const bool mixed = r.mixed_units();
+        const auto number = [&](double v) { return mixed ? Cell() : Cell(r.display_scale() * v); };
         const auto band = [](const report::ShareInterval& b) {
             return Cell(fmt::format("{:.1f}-{:.1f}", 100 * b.lower, 100 * b.upper));
         };
         t.rows.push_back({r.method, r.part, static_cast<std::int64_t>(r.n),
-                          mixed ? Cell() : Cell(std::string(is_angle(r) ? "urad" : "mm")),
+                          mixed ? Cell() : Cell(std::string(r.angle() ? "urad" : "mm")),
                           number(r.error.bias), number(r.error.rms), number(r.error.max_abs),
                           number(r.rms_sigma), 100 * r.coverage68(), band(r.band68),
                           std::string(to_string(r.verdict68)), 100 * r.coverage95(), band(r.band95),

@@ -50,6 +50,12 @@ struct CoverageRow {
     SigmaVerdict verdict68 = SigmaVerdict::no_figures, verdict95 = SigmaVerdict::no_figures;
     double coverage68() const { return n ? double(within68) / double(n) : 0.0; }
     double coverage95() const { return n ? double(within95) / double(n) : 0.0; }
+    // A registration angle (rad; shown in µrad), else a length (m; shown in mm).
+    bool angle() const { return part == "omega" || part == "phi" || part == "kappa"; }
+    // A registration's pooled row mixes angles and lengths: its coverage only has a meaning.
+    bool mixed_units() const { return part == "all" && method.starts_with("registration:"); }
+    // The factor to the unit shown: 1e6 (µrad) or 1e3 (mm).
+    double display_scale() const { return angle() ? 1e6 : 1e3; }
 };
 
 // The row of a list of figures.

@@ -106,10 +106,9 @@ std::string calibration_section(const RunReport& r) {
         "| method | part | n | bias | RMS | RMS σ | within σ | band | verdict | within "
         "LoD95 | band | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const CoverageRow& c : rows) {
-        const bool mixed = c.part == "all" && c.method.starts_with("registration:");
-        const double scale = c.part == "omega" || c.part == "phi" || c.part == "kappa" ? 1e6 : 1e3;
         const auto number = [&](double v) {
-            return mixed ? std::string("–") : fmt::format("{:.3f}", scale * v);
+            return c.mixed_units() ? std::string("–")
+                                   : fmt::format("{:.3f}", c.display_scale() * v);
         };
         md += fmt::format(
             "| {} | {} | {} | {} | {} | {} | {} | {:.1f}–{:.1f} | {} | {} | {:.1f}–{:.1f} | {} "
