@@ -6,28 +6,12 @@
 #include <limits>
 #include <vector>
 
+#include "algorithms/cubic_convolution.hpp"
 #include "core/error.hpp"
 
 namespace tlsmon {
 
 namespace {
-
-// Keys (1981) cubic convolution kernel, a = −0.5, and its derivative.
-double keys(double t) {
-    constexpr double a = -0.5;
-    const double s = std::abs(t);
-    if (s <= 1.0) return ((a + 2.0) * s - (a + 3.0)) * s * s + 1.0;
-    if (s < 2.0) return ((a * s - 5.0 * a) * s + 8.0 * a) * s - 4.0 * a;
-    return 0.0;
-}
-
-double keys_derivative(double t) {
-    constexpr double a = -0.5;
-    const double s = std::abs(t), sign = t < 0.0 ? -1.0 : 1.0;
-    if (s <= 1.0) return sign * (3.0 * (a + 2.0) * s - 2.0 * (a + 3.0)) * s;
-    if (s < 2.0) return sign * ((3.0 * a * s - 10.0 * a) * s + 8.0 * a);
-    return 0.0;
-}
 
 struct Sample {
     double value = 0.0, d_row = 0.0, d_column = 0.0;

@@ -45,6 +45,11 @@ std::vector<SectionKey<KeypointConfig>> keypoint_keys() {
                 "drifts."),
         K::integer(&KeypointConfig::patch_radius, "patch_radius", 2, 50, "px",
                    "The refinement's patch: (2 · radius + 1)² pixels."),
+        K::number(&KeypointConfig::prefilter_px, "prefilter_px", 0, 5, "px",
+                  "σ of the Gaussian both intensity images are smoothed with before the "
+                  "refinement: the lattice's aliasing, fixed to the scanner's pixels, would "
+                  "otherwise pull every shift of a zone the same way as the scanner drifts "
+                  "(docs/keypoints.md); 0: none."),
         K::number(&KeypointConfig::ratio, "ratio", 0, 1, "",
                   "Lowe's ratio test among the candidates (best < ratio · second best); 0: off."),
         K::flag(&KeypointConfig::mutual, "mutual",

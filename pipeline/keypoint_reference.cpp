@@ -100,6 +100,7 @@ std::string KeypointReference::encode() const {
     PayloadWriter w;
     w.put<std::uint32_t>(kFormatVersion);
     w.put<std::int32_t>(patch_radius);
+    w.put<double>(prefilter_px);
     w.put<std::uint64_t>(scans.size());
     for (const auto& s : scans) put_scan(w, s);
     put_vector(w, scanner);
@@ -129,6 +130,8 @@ KeypointReference KeypointReference::decode(std::string_view payload) {
     KeypointReference r;
     r.patch_radius = in.get<std::int32_t>();
     if (r.patch_radius < 0) throw Error("keypoints stage payload: a negative patch radius");
+    r.prefilter_px = in.get<double>();
+    if (!(r.prefilter_px >= 0)) throw Error("keypoints stage payload: a negative prefilter");
     const auto scans = in.get<std::uint64_t>();
     if (scans > payload.size()) throw Error("keypoints stage payload: too many scans");
     for (std::uint64_t s = 0; s < scans; ++s) r.scans.push_back(get_scan(in, r.patch_radius));

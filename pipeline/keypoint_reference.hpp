@@ -37,11 +37,12 @@ struct KeypointScanReference {
 };
 
 struct KeypointReference {
-    static constexpr int kFormatVersion = 3;
+    static constexpr int kFormatVersion = 4;
     static constexpr const char* kStage = "keypoints";
 
     std::vector<KeypointScanReference> scans;           // the structured scans, in file order
     int patch_radius = 0;                               // 0: no patches (no refinement)
+    double prefilter_px = 0;                            // the patches' Gaussian prefilter, px
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
     std::vector<std::string> zone_names;                // zones mode, in the configuration's order
     std::vector<keypoints::WallFrame> walls;            // per zone, from the reference's points

@@ -142,6 +142,9 @@ void measure_scan(const KeypointConfig& config, const KeypointReference& referen
     const std::size_t patch_size = static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1));
     IntensityPatch patch;
     patch.radius = radius;
+    // The refinement's image (its prefilter; the reference's patches were cut from the same).
+    const Image smooth =
+        radius > 0 ? gaussian_prefiltered(d.images, reference.prefilter_px) : Image{};
     for (const auto& pair : pairs) {
         const Keypoint& a = ref.features.keypoints[pair.reference];
         const Keypoint& b = d.features.keypoints[pair.epoch];
@@ -154,7 +157,7 @@ void measure_scan(const KeypointConfig& config, const KeypointReference& referen
             const auto first =
                 ref.patches.begin() + static_cast<std::ptrdiff_t>(pair.reference * patch_size);
             patch.values.assign(first, first + static_cast<std::ptrdiff_t>(patch_size));
-            const auto found = match_patch(patch, d.images, row, column);
+            const auto found = match_patch(patch, smooth, row, column);
             if (!found) {
                 ++out.dropped_patch;
                 continue;
@@ -212,6 +215,7 @@ std::string keypoint_reference_parameters(const KeypointConfig& c) {
                                 c.detector, c.descriptor, c.clahe ? 1 : 0,
                                 c.segments == KeypointSegments::zones ? "zones" : "bands",
                                 c.refine ? c.patch_radius : 0);
+    if (c.refine) s += fmt::format(";prefilter={:.17g}", c.prefilter_px);
     if (c.segments == KeypointSegments::zones) {
         for (const auto& z : c.zones) {
             s += fmt::format(";zone={}:{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", z.name,
@@ -230,6 +234,8 @@ KeypointScanReference scan_reference(const KeypointConfig& config, const Scan& s
     out.detected = d.detected;
     out.angular_step = std::max(d.images.azimuth_step, d.images.elevation_step);
     // Only keypoints the range image can take to 3-D: the others can never give a vector.
+    const Image smooth =
+        config.refine ? gaussian_prefiltered(d.images, config.prefilter_px) : Image{};
     const auto& kp = d.features.keypoints;
     const auto& desc = d.features.descriptors;
     out.features.descriptors.binary = desc.binary;
@@ -240,7 +246,7 @@ KeypointScanReference scan_reference(const KeypointConfig& config, const Scan& s
         if (config.refine) {
             const int r = static_cast<int>(std::lround(row)),
                       c = static_cast<int>(std::lround(column));
-            const auto patch = intensity_patch(d.images, r, c, config.patch_radius);
+            const auto patch = intensity_patch(smooth, r, c, config.patch_radius);
             if (!patch) continue;
             row = r;
             column = c;
@@ -277,6 +283,7 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
     KeypointReference out;
     out.scanner = structured.front()->scanner_position();
     out.patch_radius = config.refine ? config.patch_radius : 0;
+    out.prefilter_px = config.refine ? config.prefilter_px : 0.0;
     for (const Scan* scan : structured) out.scans.push_back(scan_reference(config, *scan));
     if (config.segments == KeypointSegments::zones) {
         // Each zone's wall: a plane fitted to the reference's points in it, of every scan

@@ -22,6 +22,9 @@ struct Parameters {
     // (patch_refinement.hpp).
     bool refine = true;
     int patch_radius = 7;
+    // σ of the Gaussian both images are smoothed with before the refinement, pixels
+    // (patch_refinement.hpp: it keeps the lattice's aliasing out of the shift).
+    double prefilter_px = 1.5;
     double ratio = 0.0;  // Lowe's ratio test; 0: off
     bool mutual = false;
     double mad_k = 2.0;    // outlier filters: |x − median| > k · 1.4826 · MAD

@@ -1,14 +1,17 @@
 #include "algorithms/keypoints/patch_refinement.hpp"
 
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
+
+#include "algorithms/cubic_convolution.hpp"
+#include "algorithms/image_correlation.hpp"
 
 namespace tlsmon::keypoints {
 
-std::optional<IntensityPatch> intensity_patch(const SphericalImages& im, int row, int column,
-                                              int radius) {
-    if (row - radius < 0 || column - radius < 0 || row + radius >= im.rows ||
-        column + radius >= im.columns)
+std::optional<IntensityPatch> intensity_patch(const Image& im, int row, int column, int radius) {
+    if (row - radius < 0 || column - radius < 0 || row + radius >= im.rows() ||
+        column + radius >= im.columns())
         return std::nullopt;
     IntensityPatch p;
     p.row = row;
@@ -18,7 +21,7 @@ std::optional<IntensityPatch> intensity_patch(const SphericalImages& im, int row
     for (int i = -radius; i <= radius; ++i) {
         for (int j = -radius; j <= radius; ++j) {
             if (!im.valid(row + i, column + j)) return std::nullopt;
-            p.values.push_back(static_cast<float>(im.intensity(row + i, column + j)));
+            p.values.push_back(static_cast<float>(im.value(row + i, column + j)));
         }
     }
     return p;
@@ -26,56 +29,106 @@ std::optional<IntensityPatch> intensity_patch(const SphericalImages& im, int row
 
 namespace {
 
-// E and its gradient (central differences at the pixels) bilinearly interpolated at (y, x);
-// false when a pixel needed is outside the image or empty.
+// One pass of a separable Gaussian along the rows (`down`) or the columns of `a`.
+Eigen::ArrayXXd gaussian_pass(const Eigen::ArrayXXd& a, const std::vector<double>& g, bool down) {
+    const int half = static_cast<int>(g.size() / 2);
+    Eigen::ArrayXXd out = Eigen::ArrayXXd::Zero(a.rows(), a.cols());
+    for (Eigen::Index c = 0; c < a.cols(); ++c) {
+        for (Eigen::Index r = 0; r < a.rows(); ++r) {
+            double sum = 0;
+            for (int k = -half; k <= half; ++k) {
+                const Eigen::Index rr = down ? r + k : r, cc = down ? c : c + k;
+                if (rr >= 0 && cc >= 0 && rr < a.rows() && cc < a.cols())
+                    sum += g[static_cast<std::size_t>(k + half)] * a(rr, cc);
+            }
+            out(r, c) = sum;
+        }
+    }
+    return out;
+}
+
+// E and its gradient at (y, x) from the cubic-convolution interpolant itself (so the gradient
+// is the derivative of the values the adjustment compares); false when one of the 4 × 4
+// pixels is outside the image or empty.
 struct Sample {
     double value = 0, d_row = 0, d_column = 0;
 };
 
-bool sample(const SphericalImages& im, double y, double x, Sample& s) {
-    const int r0 = static_cast<int>(std::floor(y)), c0 = static_cast<int>(std::floor(x));
-    if (r0 < 1 || c0 < 1 || r0 + 2 >= im.rows || c0 + 2 >= im.columns) return false;
-    const double fy = y - r0, fx = x - c0;
+bool sample(const Image& im, double y, double x, Sample& s) {
+    const double fy = std::floor(y), fx = std::floor(x);
+    const auto r0 = static_cast<Eigen::Index>(fy) - 1, c0 = static_cast<Eigen::Index>(fx) - 1;
+    if (r0 < 0 || c0 < 0 || r0 + 3 >= im.rows() || c0 + 3 >= im.columns()) return false;
+    std::array<double, 4> wr{}, dr{}, wc{}, dc{};
+    for (int k = 0; k < 4; ++k) {
+        wr[k] = keys(y - fy - (k - 1));
+        dr[k] = keys_derivative(y - fy - (k - 1));
+        wc[k] = keys(x - fx - (k - 1));
+        dc[k] = keys_derivative(x - fx - (k - 1));
+    }
     s = {};
-    for (int a = 0; a <= 1; ++a) {
-        for (int b = 0; b <= 1; ++b) {
-            const int r = r0 + a, c = c0 + b;
-            if (!im.valid(r, c) || !im.valid(r - 1, c) || !im.valid(r + 1, c) ||
-                !im.valid(r, c - 1) || !im.valid(r, c + 1))
-                return false;
-            const double w = (a ? fy : 1 - fy) * (b ? fx : 1 - fx);
-            s.value += w * im.intensity(r, c);
-            s.d_row += w * 0.5 * (im.intensity(r + 1, c) - im.intensity(r - 1, c));
-            s.d_column += w * 0.5 * (im.intensity(r, c + 1) - im.intensity(r, c - 1));
+    for (int i = 0; i < 4; ++i) {
+        double value = 0, slope = 0;
+        for (int j = 0; j < 4; ++j) {
+            if (!im.valid(r0 + i, c0 + j)) return false;
+            const double e = im.value(r0 + i, c0 + j);
+            value += wc[j] * e;
+            slope += dc[j] * e;
         }
+        s.value += wr[i] * value;
+        s.d_row += dr[i] * value;
+        s.d_column += wr[i] * slope;
     }
     return true;
 }
 
 }  // namespace
 
-std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const SphericalImages& epoch,
-                                      double row, double column,
-                                      const PatchMatchParameters& parameters) {
+Image gaussian_prefiltered(const SphericalImages& im, double sigma) {
+    Image out{im.intensity, im.valid};
+    if (!(sigma > 0)) return out;
+    const int half = static_cast<int>(std::ceil(3 * sigma));
+    std::vector<double> g(static_cast<std::size_t>(2 * half + 1));
+    for (int k = -half; k <= half; ++k)
+        g[static_cast<std::size_t>(k + half)] = std::exp(-0.5 * k * k / (sigma * sigma));
+    // Normalised convolution (Knutsson & Westin 1993): the blurred intensity over the blurred
+    // mask, so an empty pixel neither darkens its neighbours nor is filled.
+    const Eigen::ArrayXXd weight = im.valid.cast<double>();
+    const Eigen::ArrayXXd value =
+        gaussian_pass(gaussian_pass(im.intensity * weight, g, true), g, false);
+    const Eigen::ArrayXXd share = gaussian_pass(gaussian_pass(weight, g, true), g, false);
+    out.value = im.valid.select(value / share.max(1e-300), 0.0);
+    return out;
+}
+
+std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& epoch, double row,
+                                      double column, const PatchMatchParameters& parameters) {
     const int r = patch.radius;
-    const std::size_t n = patch.values.size();
     double dy = row - patch.row, dx = column - patch.column;  // the shift sought
     const double start_y = dy, start_x = dx;
     double gain = 1, offset = 0;
-    std::vector<Sample> e(n);
+    // The reference patch's gradient by central differences, at its interior pixels: the
+    // Jacobian of E(p + s) ≈ g·P(p) + o is taken as g·∇P (Baker & Matthews 2004, "Lucas-Kanade
+    // 20 years on", the inverse formulation), so the epoch's noise never enters it (with ∇E,
+    // Σ v·∇E correlates the noise with its own gradient and pulls the shift).
+    const int side = 2 * r + 1;
+    const auto at = [&](int i, int j) {
+        return double(patch.values[static_cast<std::size_t>((i + r) * side + (j + r))]);
+    };
+    Sample e;
     for (int it = 1; it <= parameters.max_iterations; ++it) {
-        // Normal equations of P − (g·E + o) in (Δy, Δx, g, o).
+        // Normal equations of v = E(p + s) − (g·P + o) in (Δy, Δx, g, o).
         Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
         Eigen::Vector4d u = Eigen::Vector4d::Zero();
-        std::size_t k = 0;
-        for (int i = -r; i <= r; ++i) {
-            for (int j = -r; j <= r; ++j, ++k) {
-                if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, e[k]))
+        for (int i = -r + 1; i < r; ++i) {
+            for (int j = -r + 1; j < r; ++j) {
+                if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, e))
                     return std::nullopt;
-                const Eigen::Vector4d a(gain * e[k].d_row, gain * e[k].d_column, e[k].value, 1.0);
-                const double residual = patch.values[k] - (gain * e[k].value + offset);
+                const double p = at(i, j);
+                const Eigen::Vector4d a(gain * 0.5 * (at(i + 1, j) - at(i - 1, j)),
+                                        gain * 0.5 * (at(i, j + 1) - at(i, j - 1)), -p, -1.0);
+                const double residual = e.value - (gain * p + offset);
                 N.noalias() += a * a.transpose();
-                u.noalias() += a * residual;
+                u.noalias() -= a * residual;
             }
         }
         const Eigen::LDLT<Eigen::Matrix4d> ldlt(N);
@@ -90,25 +143,17 @@ std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Spheric
             return std::nullopt;
         if (std::hypot(step[0], step[1]) < parameters.tolerance) {
             // Normalised cross-correlation at the solution.
-            double sp = 0, se = 0, spp = 0, see = 0, spe = 0;
-            k = 0;
+            Eigen::ArrayXd p(patch.values.size()), q(patch.values.size());
+            Eigen::Index k = 0;
             for (int i = -r; i <= r; ++i) {
                 for (int j = -r; j <= r; ++j, ++k) {
-                    Sample s;
-                    if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, s))
+                    if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, e))
                         return std::nullopt;
-                    const double p = patch.values[k];
-                    sp += p;
-                    se += s.value;
-                    spp += p * p;
-                    see += s.value * s.value;
-                    spe += p * s.value;
+                    p[k] = patch.values[static_cast<std::size_t>(k)];
+                    q[k] = e.value;
                 }
             }
-            const double m = double(n);
-            const double cov = spe - sp * se / m;
-            const double var = (spp - sp * sp / m) * (see - se * se / m);
-            const double correlation = var > 0 ? cov / std::sqrt(var) : 0.0;
+            const double correlation = normalised_cross_correlation(p, q);
             if (correlation < parameters.min_correlation) return std::nullopt;
             return PatchMatch{patch.row + dy, patch.column + dx, correlation, it};
         }

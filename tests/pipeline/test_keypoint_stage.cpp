@@ -144,11 +144,14 @@ TEST(KeypointStage, AFaceSampledCoarserThanMaxSampleSpacingIsUndefined) {
         SCOPED_TRACE(limit);
         test::PipelineSite site;
         site.config.keypoints.max_sample_spacing = limit;
+        // At 39 mm per pixel the refinement's prefilter (1.5 pixels) leaves 8 of the patches
+        // found; 5 are enough here, so that only the sampling decides.
+        site.config.keypoints.min_matches = 5;
         const auto [e0, e1] = process_two_epochs(site, scene);
         const auto count = point_of(*site.db, kKeypointCount, e1.epoch.id);
         ASSERT_TRUE(count);
         std::printf("%.0f matches kept\n", count->value);
-        EXPECT_GE(count->value, 10);  // enough matches: only the sampling decides
+        EXPECT_GE(count->value, 5);  // enough matches: only the sampling decides
         const auto h = point_of(*site.db, kKeypointAlongSurfaceH, e1.epoch.id);
         EXPECT_EQ(h.has_value(), limit > 0.04);
     }
