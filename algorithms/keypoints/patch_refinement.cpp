@@ -29,20 +29,21 @@ std::optional<IntensityPatch> intensity_patch(const Image& im, int row, int colu
 
 namespace {
 
-// One pass of a separable Gaussian along the rows (`down`) or the columns of `a`.
+// One pass of a separable Gaussian along the rows (`down`) or the columns of `a`, as shifted
+// whole-array sums (each a vectorised block operation); zero beyond the edges.
 Eigen::ArrayXXd gaussian_pass(const Eigen::ArrayXXd& a, const std::vector<double>& g, bool down) {
-    const int half = static_cast<int>(g.size() / 2);
+    const auto half = static_cast<Eigen::Index>(g.size() / 2);
+    const Eigen::Index length = down ? a.rows() : a.cols();
     Eigen::ArrayXXd out = Eigen::ArrayXXd::Zero(a.rows(), a.cols());
-    for (Eigen::Index c = 0; c < a.cols(); ++c) {
-        for (Eigen::Index r = 0; r < a.rows(); ++r) {
-            double sum = 0;
-            for (int k = -half; k <= half; ++k) {
-                const Eigen::Index rr = down ? r + k : r, cc = down ? c : c + k;
-                if (rr >= 0 && cc >= 0 && rr < a.rows() && cc < a.cols())
-                    sum += g[static_cast<std::size_t>(k + half)] * a(rr, cc);
-            }
-            out(r, c) = sum;
-        }
+    for (Eigen::Index k = -half; k <= half; ++k) {
+        const Eigen::Index first = std::max<Eigen::Index>(0, -k);
+        const Eigen::Index n = std::min(length, length - k) - first;
+        if (n <= 0) continue;
+        const double w = g[static_cast<std::size_t>(k + half)];
+        if (down)
+            out.middleRows(first, n) += w * a.middleRows(first + k, n);
+        else
+            out.middleCols(first, n) += w * a.middleCols(first + k, n);
     }
     return out;
 }
