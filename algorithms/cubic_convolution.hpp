@@ -1,25 +1,18 @@
 #pragma once
-// Keys' cubic convolution kernel (Keys 1981, "Cubic convolution interpolation for digital
-// image processing", IEEE Trans. ASSP 29(6), eq. 15, a = −0.5) and its derivative: the
-// interpolant of the image correlations (image_correlation.hpp, keypoints/patch_refinement.hpp).
-#include <cmath>
+// Cubic convolution (Keys 1981, "Cubic convolution interpolation for digital image
+// processing", IEEE Trans. ASSP 29(6), eq. 15, a = −0.5): the interpolant of the image
+// correlations (image_correlation.hpp, keypoints/patch_refinement.hpp), with its gradient
+// taken from the same kernel, so that the gradient is the derivative of the values compared.
+#include "algorithms/image.hpp"
 
 namespace tlsmon {
 
-inline double keys(double t) {
-    constexpr double a = -0.5;
-    const double s = std::abs(t);
-    if (s <= 1.0) return ((a + 2.0) * s - (a + 3.0)) * s * s + 1.0;
-    if (s < 2.0) return ((a * s - 5.0 * a) * s + 8.0 * a) * s - 4.0 * a;
-    return 0.0;
-}
+struct CubicSample {
+    double value = 0.0, d_row = 0.0, d_column = 0.0;
+};
 
-inline double keys_derivative(double t) {
-    constexpr double a = -0.5;
-    const double s = std::abs(t), sign = t < 0.0 ? -1.0 : 1.0;
-    if (s <= 1.0) return sign * (3.0 * (a + 2.0) * s - 2.0 * (a + 3.0)) * s;
-    if (s < 2.0) return sign * ((3.0 * a * s - 10.0 * a) * s + 8.0 * a);
-    return 0.0;
-}
+// The interpolant at (row, column) and its gradient; false where any of the 4 × 4 pixels it
+// needs is outside the image or empty.
+bool cubic_interpolate(const Image& image, double row, double column, CubicSample& out);
 
 }  // namespace tlsmon

@@ -1,7 +1,6 @@
 #include "algorithms/image_correlation.hpp"
 
 #include <Eigen/Dense>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -12,37 +11,6 @@
 namespace tlsmon {
 
 namespace {
-
-struct Sample {
-    double value = 0.0, d_row = 0.0, d_column = 0.0;
-};
-
-// The cubic-convolution interpolant of the image at (row, column) and its gradient; false
-// where any of the 4 × 4 pixels it needs is outside or empty.
-bool interpolate(const Image& im, double row, double column, Sample& out) {
-    const double fr = std::floor(row), fc = std::floor(column);
-    const auto r0 = static_cast<Eigen::Index>(fr) - 1, c0 = static_cast<Eigen::Index>(fc) - 1;
-    if (r0 < 0 || c0 < 0 || r0 + 3 >= im.rows() || c0 + 3 >= im.columns()) return false;
-    std::array<double, 4> wr{}, wc{}, dr{}, dc{};
-    for (int k = 0; k < 4; ++k) {
-        const double tr = row - fr - (k - 1), tc = column - fc - (k - 1);
-        wr[k] = keys(tr);
-        dr[k] = keys_derivative(tr);
-        wc[k] = keys(tc);
-        dc[k] = keys_derivative(tc);
-    }
-    out = {};
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j) {
-            if (!im.valid(r0 + i, c0 + j)) return false;
-            const double v = im.value(r0 + i, c0 + j);
-            out.value += wr[i] * wc[j] * v;
-            out.d_row += dr[i] * wc[j] * v;
-            out.d_column += wr[i] * dc[j] * v;
-        }
-    }
-    return true;
-}
 
 void check_shape(const Image& im, const char* what) {
     if (im.valid.rows() != im.value.rows() || im.valid.cols() != im.value.cols()) {
@@ -178,9 +146,9 @@ CorrelationResult correlate_template(const Image& templ, const Image& search,
         tv.clear();
         sv.clear();
         for (const Pixel& px : pixels) {
-            Sample smp;
-            if (!interpolate(search, static_cast<double>(px.r + origin.x()) + s.y(),
-                             static_cast<double>(px.c + origin.y()) + s.x(), smp)) {
+            CubicSample smp;
+            if (!cubic_interpolate(search, static_cast<double>(px.r + origin.x()) + s.y(),
+                                   static_cast<double>(px.c + origin.y()) + s.x(), smp)) {
                 continue;
             }
             const double e = smp.value - gain * px.t - offset;

@@ -1,7 +1,6 @@
 #include "algorithms/keypoints/patch_refinement.hpp"
 
 #include <Eigen/Dense>
-#include <array>
 #include <cmath>
 
 #include "algorithms/cubic_convolution.hpp"
@@ -48,40 +47,6 @@ Eigen::ArrayXXd gaussian_pass(const Eigen::ArrayXXd& a, const std::vector<double
     return out;
 }
 
-// E and its gradient at (y, x) from the cubic-convolution interpolant itself (so the gradient
-// is the derivative of the values the adjustment compares); false when one of the 4 × 4
-// pixels is outside the image or empty.
-struct Sample {
-    double value = 0, d_row = 0, d_column = 0;
-};
-
-bool sample(const Image& im, double y, double x, Sample& s) {
-    const double fy = std::floor(y), fx = std::floor(x);
-    const auto r0 = static_cast<Eigen::Index>(fy) - 1, c0 = static_cast<Eigen::Index>(fx) - 1;
-    if (r0 < 0 || c0 < 0 || r0 + 3 >= im.rows() || c0 + 3 >= im.columns()) return false;
-    std::array<double, 4> wr{}, dr{}, wc{}, dc{};
-    for (int k = 0; k < 4; ++k) {
-        wr[k] = keys(y - fy - (k - 1));
-        dr[k] = keys_derivative(y - fy - (k - 1));
-        wc[k] = keys(x - fx - (k - 1));
-        dc[k] = keys_derivative(x - fx - (k - 1));
-    }
-    s = {};
-    for (int i = 0; i < 4; ++i) {
-        double value = 0, slope = 0;
-        for (int j = 0; j < 4; ++j) {
-            if (!im.valid(r0 + i, c0 + j)) return false;
-            const double e = im.value(r0 + i, c0 + j);
-            value += wc[j] * e;
-            slope += dc[j] * e;
-        }
-        s.value += wr[i] * value;
-        s.d_row += dr[i] * value;
-        s.d_column += wr[i] * slope;
-    }
-    return true;
-}
-
 }  // namespace
 
 Image gaussian_prefiltered(const SphericalImages& im, double sigma) {
@@ -115,14 +80,14 @@ std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& 
     const auto at = [&](int i, int j) {
         return double(patch.values[static_cast<std::size_t>((i + r) * side + (j + r))]);
     };
-    Sample e;
+    CubicSample e;
     for (int it = 1; it <= parameters.max_iterations; ++it) {
         // Normal equations of v = E(p + s) − (g·P + o) in (Δy, Δx, g, o).
         Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
         Eigen::Vector4d u = Eigen::Vector4d::Zero();
         for (int i = -r + 1; i < r; ++i) {
             for (int j = -r + 1; j < r; ++j) {
-                if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, e))
+                if (!cubic_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
                     return std::nullopt;
                 const double p = at(i, j);
                 const Eigen::Vector4d a(gain * 0.5 * (at(i + 1, j) - at(i - 1, j)),
@@ -148,7 +113,7 @@ std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& 
             Eigen::Index k = 0;
             for (int i = -r; i <= r; ++i) {
                 for (int j = -r; j <= r; ++j, ++k) {
-                    if (!sample(epoch, patch.row + i + dy, patch.column + j + dx, e))
+                    if (!cubic_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
                         return std::nullopt;
                     p[k] = patch.values[static_cast<std::size_t>(k)];
                     q[k] = e.value;
