@@ -64,6 +64,13 @@ struct Truth {
     Eigen::AlignedBox3d deck;                            // empty without a deck
     Eigen::Vector3d pier_top = Eigen::Vector3d::Zero();  // thermal displacement at the top
     double exponent = 2.0;
+    // The creeping ground: centre (x, y), radius and how far it has moved (zero without).
+    Eigen::Vector2d creep_centre = Eigen::Vector2d::Zero();
+    double creep_radius = 0;
+    Eigen::Vector3d creep = Eigen::Vector3d::Zero();
+    bool on_creep(const Eigen::Vector3d& p) const {
+        return creep_radius > 0 && (p.head<2>() - creep_centre).norm() <= creep_radius;
+    }
     // The bushes: centre and half-axes of their ellipsoids.
     std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> bushes;
     // The pier's thermal displacement at a point of its faces (simulator/deformation.cpp).
@@ -127,6 +134,12 @@ Truth read_truth(const std::string& ptx) {
         k.pose.translation() = 0.5 * (lo + hi);
         k.moved = b.value("moved", false);
         t.blocks.push_back(k);
+    }
+    if (const auto& tr = j.at("terrain"); tr.contains("creep")) {
+        const auto& c = tr.at("creep");
+        t.creep_centre = {c.at("centre").at(0).get<double>(), c.at("centre").at(1).get<double>()};
+        t.creep_radius = c.at("radius").get<double>();
+        t.creep = vector_of(c.at("displacement_m"));
     }
     if (j.contains("deck") && j.at("deck").value("enabled", false)) {
         const auto& d = j.at("deck");
@@ -230,6 +243,7 @@ void print_planes(const PlaneMeasurement& m, const Truth& t0) {
 struct MaskScore {
     int moving = 0, moving_unstable = 0, still = 0, still_stable = 0, bush_stable = 0, bush = 0;
     int with_change = 0, change_covered = 0;
+    int creeping = 0, creeping_unstable = 0;  // on the creeping ground, moved beyond 3·LoD
 };
 
 MaskScore score_mask(const StableAreaMeasurement& m, const ReferenceSupervoxels& ref,
@@ -250,6 +264,12 @@ MaskScore score_mask(const StableAreaMeasurement& m, const ReferenceSupervoxels&
         bool moved_block = false;
         if (t0.on_pier(P)) {
             truth = n.dot(t.pier_displacement(P) - t0.pier_displacement(P));
+        } else if (t0.on_creep(P)) {
+            truth = n.dot(t.creep - t0.creep);
+            if (std::fabs(truth) > 3 * m.lods[k]) {
+                ++s.creeping;
+                s.creeping_unstable += st == SupervoxelState::unstable;
+            }
         } else {
             for (const auto& b : t.blocks) moved_block = moved_block || (b.moved && b.holds(P));
         }
@@ -300,6 +320,8 @@ int main(int argc, char** argv) {
         ReferencePlanes reference_planes;
         ReferenceSupervoxels supervoxels;
         MaskScore mask_total;
+        std::vector<std::vector<std::uint8_t>>
+            masks;  // each epoch's states as stored, newest first
         // Over the later epochs: the pier's RMS errors, the components within 2σ, the planes.
         std::vector<double> pier_rms;
         int components = 0, within_2sigma = 0, registered = 0;
@@ -421,6 +443,27 @@ int main(int argc, char** argv) {
                     m->conditioning, m->inflation, 1e-3 * m->milliseconds, ms.moving_unstable,
                     ms.moving, ms.still_stable, ms.still, ms.bush_stable, ms.bush,
                     ms.change_covered, ms.with_change);
+                if (ms.creeping > 0) {
+                    std::printf("    creeping ground: %d/%d unstable\n", ms.creeping_unstable,
+                                ms.creeping);
+                }
+                // The unstable areas the stage would report, over this run's own masks.
+                StableAreaMeasurement with_patches = *m;
+                with_patches.patches = supervoxels.patches;
+                for (const auto& a : new_unstable_areas(config, with_patches, masks)) {
+                    std::printf(
+                        "    unstable area: %zu supervoxels about (%.1f %.1f %.1f) m, %.1f m "
+                        "across; change %+.2f to %+.2f mm (LoD95 up to %.2f mm)%s\n",
+                        a.supervoxels.size(), a.centre.x(), a.centre.y(), a.centre.z(),
+                        2 * a.extent, 1e3 * a.min_change, 1e3 * a.max_change, 1e3 * a.max_lod,
+                        truths.front().on_creep(truths.front().header_to_true * a.centre)
+                            ? " (the creeping ground)"
+                            : "");
+                }
+                std::vector<std::uint8_t> states(m->states.size());
+                for (std::size_t k = 0; k < states.size(); ++k)
+                    states[k] = static_cast<std::uint8_t>(m->states[k]);
+                masks.insert(masks.begin(), std::move(states));
                 mask_total.moving += ms.moving;
                 mask_total.moving_unstable += ms.moving_unstable;
                 mask_total.still += ms.still;

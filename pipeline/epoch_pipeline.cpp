@@ -133,6 +133,12 @@ StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference,
         }
         history.last_transform = t;
     }
+    history.stable_area_states = [&db = ctx.db, acquired = epoch.acquired,
+                                  reference = reference.epoch().id](const std::string& segmentation,
+                                                                    int count) {
+        return db.registrations().recent_stable_area_states(acquired, reference, segmentation,
+                                                            count);
+    };
     return history;
 }
 

@@ -204,6 +204,10 @@ std::vector<SectionKey<StableAreaConfig>> stable_area_keys() {
                   "in only two directions) and the epoch is rejected."),
         K::integer(&StableAreaConfig::min_supervoxels, "stable_min_supervoxels", 3, 1000000, "",
                    "Guard: stable supervoxels at least."),
+        K::integer(&StableAreaConfig::persistent_epochs, "stable_persistent_epochs", 1, 10000, "",
+                   "A supervoxel outside the zones unstable in this many consecutive epochs is "
+                   "reported as an unstable area (a creeping slope, a settling fill, a parked "
+                   "vehicle): one `unstable_area` event when it first gets there."),
     };
 }
 

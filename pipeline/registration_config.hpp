@@ -109,8 +109,8 @@ inline bool stable_areas_alone(const RegistrationConfig& c) {
 }
 inline constexpr const char* kStableAreasAloneWarning =
     "registration.method = \"stable_areas\" alone: not yet validated as a site's only datum (a "
-    "moved block that holds a weak direction pulls the datum by up to a millimetre with a σ "
-    "that does not show it; docs/registration.md); combine it with targets or planes "
+    "moved block that holds a weak direction pulls the datum by a few tenths of a millimetre, "
+    "not always within its σ; docs/registration.md); combine it with targets or planes "
     "(\"targets+stable_areas\") where they exist";
 
 // The keys of [registration]: its own, then the ICP's (`icp`, `icp_*`; core/config_key.hpp).

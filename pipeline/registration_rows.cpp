@@ -1,5 +1,7 @@
 #include "pipeline/registration_rows.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -119,6 +121,20 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
             describe(*r.planes->station_change) +
                 "; the reference is unchanged, every later epoch is registered from this pose",
             epoch});
+    }
+    if (r.stable_areas) {
+        for (const auto& a : r.stable_areas->new_unstable_areas) {
+            results.system_events.push_back(SystemEvent{
+                now_utc(), "warning", "unstable_area",
+                fmt::format("unstable area outside the zones: {} supervoxels about ({:.1f}, "
+                            "{:.1f}, {:.1f}) m, {:.1f} m across, unstable in {} epochs in a row; "
+                            "change {:+.2f} to {:+.2f} mm (LoD95 up to {:.2f} mm); tlsmon query "
+                            "stable-areas --state unstable lists them",
+                            a.supervoxels.size(), a.centre.x(), a.centre.y(), a.centre.z(),
+                            2.0 * a.extent, r.stable_areas->persistent_epochs, 1e3 * a.min_change,
+                            1e3 * a.max_change, 1e3 * a.max_lod),
+                epoch});
+        }
     }
     for (const auto& z : r.zones) {
         results.registration_zone_sigmas.push_back({z.zone, z.max_sigma_3d});

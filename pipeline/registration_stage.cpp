@@ -444,8 +444,7 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     // registration.method on planes, then registration.icp.
     apply_planes(config, ctx.input, ctx.reference, ctx.cache, scales, result,
                  ctx.history.last_transform);
-    apply_stable_areas(config, ctx.input, ctx.reference, ctx.cache, scales, result,
-                       ctx.history.last_transform);
+    apply_stable_areas(config, ctx.input, ctx.reference, ctx.cache, scales, result, ctx.history);
     apply_icp(config, ctx.input, ctx.reference, ctx.cache, scales, result);
     StageVerdict verdict;
     std::string not_found;

@@ -27,6 +27,9 @@ struct StableAreaConfig {
     double min_share = 0.10;
     double min_conditioning = 1.0e-4;
     int min_supervoxels = 20;
+    // A supervoxel outside the zones that is unstable in this many consecutive epochs (with a
+    // mask) is an unstable area of its own: a `unstable_area` event when it first gets there.
+    int persistent_epochs = 4;
 };
 
 }  // namespace tlsmon

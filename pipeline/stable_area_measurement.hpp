@@ -2,6 +2,7 @@
 // What the registration on stable areas measured in one epoch
 // (pipeline/stable_area_registration.hpp), as the registration row and the stable-area mask
 // record it.
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -15,12 +16,23 @@ namespace tlsmon {
 
 // Each reference supervoxel in one epoch. Stored as one byte per supervoxel.
 enum class SupervoxelState : std::uint8_t {
-    stable = 0,      // in the datum: its change not significant
-    unstable = 1,    // left out: its change significant
+    stable = 0,      // its change not significant: in the datum, unless inside a [[zone]]
+    unstable = 1,    // its change significant (out of the datum once so for the family)
     unknown = 2,     // too few voxels of the epoch on it (occluded, out of view)
     not_planar = 3,  // no patch of plane (leaves, edges, corners, too small): never in the datum
 };
 const char* name_of(SupervoxelState state);
+
+// Supervoxels outside the zones that have just been unstable for `stable_persistent_epochs`
+// epochs in a row, neighbours (centroids within two seeds) grouped: a creeping slope, a settling
+// fill, a parked vehicle. Reported once, when they get there.
+struct UnstableArea {
+    std::vector<std::uint32_t> supervoxels;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // mean of their centroids (reference frame)
+    double extent = 0;                                 // m, farthest centroid from the centre
+    double min_change = 0, max_change = 0;             // m, this epoch
+    double max_lod = 0;                                // m
+};
 
 struct StableAreaMeasurement {
     std::string role;     // "alone": the epoch's datum; "joint": combined with the targets'/planes'
@@ -28,7 +40,9 @@ struct StableAreaMeasurement {
     std::string refused;  // why it did not ("" when used)
     std::string start;    // where the iteration started, in words
     std::size_t supervoxels = 0;  // of the reference
-    std::size_t stable = 0, unstable = 0, unknown = 0, not_planar = 0;
+    // The counts outside the zones; `monitored`: the planar ones inside (tested, never in the
+    // datum; their states say what they showed).
+    std::size_t stable = 0, unstable = 0, unknown = 0, not_planar = 0, monitored = 0;
     double stable_share = 0;  // the stable supervoxels' share of the voxels with a change
     int iterations = 0;
     bool settled = false;           // the stable set no longer changed
@@ -37,7 +51,11 @@ struct StableAreaMeasurement {
     double rms = 0;  // m, of the point-to-plane distances
     // λ_min/λ_max of the normal matrix, rotations at the set's RMS radius (1: all held alike).
     double conditioning = 0;
-    double inflation = 1;             // largest σ ratio, correlated / independent residuals
+    // Largest σ ratio of the reported covariance to the independent voxels' s0²·N⁻¹: the larger
+    // of the cluster-robust one and the supervoxels' (each one observation with its own σ and
+    // an error common to its cell, of σ `cell_sigma` estimated from this epoch's cells).
+    double inflation = 1;
+    double cell_sigma = 0;            // m
     double variance_factor = 0;       // s0², m²
     std::optional<double> agreement;  // joint: χ² of the difference (6 degrees of freedom)
     double milliseconds = 0;
@@ -51,6 +69,8 @@ struct StableAreaMeasurement {
     // Per reference supervoxel (its index): state, change and LoD (m; NaN without a change).
     std::vector<SupervoxelState> states;
     std::vector<float> changes, lods;
+    int persistent_epochs = 0;  // registration.stable_persistent_epochs
+    std::vector<UnstableArea> new_unstable_areas;
 };
 
 }  // namespace tlsmon

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -75,7 +76,8 @@ double largest_movement(const Eigen::AlignedBox3d& box, const Eigen::Matrix4d& A
     return m;
 }
 
-bool in_regions(const std::vector<StableRegion>& regions, const Eigen::Vector3d& p) {
+template <class Regions>
+bool in_regions(const Regions& regions, const Eigen::Vector3d& p) {
     for (const auto& r : regions) {
         if (r.contains(p)) return true;
     }
@@ -88,6 +90,16 @@ std::string refusal_for_conditioning(double conditioning, double limit) {
         "of the normal matrix below registration.stable_min_conditioning = {:.2g}; e.g. all in "
         "one plane, or planes in only two directions)",
         conditioning, limit);
+}
+
+// A voxel's weight in the adjustment, p = (1 mm / σ_k)²: σ_k the scatter of its supervoxel's
+// reference voxels about their plane (the noise at its range and incidence, and its roughness),
+// at least kMinPatchSigma. Unweighted, the far grazing ground (σ_k 2–2.5 mm) pulled a
+// 140 m pier's top by 0.5 mm with a few per cent of the voxels (docs/registration.md).
+constexpr double kMinPatchSigma = 0.0002;  // m, as the adjustment's own σ̂ floor
+double voxel_weight(const reg::SupervoxelPatch& patch) {
+    const double s = std::max(patch.sigma, kMinPatchSigma) / 0.001;
+    return 1.0 / (s * s);
 }
 
 // λ_min/λ_max of N = Σ a·aᵀ, a = (ρ⁻¹·(x × n), n) about the pairs' centroid, ρ their RMS
@@ -249,8 +261,13 @@ class EpochOnSupervoxels {
             for (auto& p : patches) p.centroid = o + (p.centroid - o) / *scales.reference;
         }
         planar.resize(patches.size());
-        for (std::size_t k = 0; k < patches.size(); ++k)
+        candidate.resize(patches.size());
+        monitored.resize(patches.size());
+        for (std::size_t k = 0; k < patches.size(); ++k) {
             planar[k] = is_planar(config_, patches[k], reference.viewpoint);
+            monitored[k] = in_regions(config.zones, reference.patches[k].centroid);
+            candidate[k] = planar[k] && !monitored[k];
+        }
         voxels = voxel_centroids(all_points(scans, correct ? *scales.epoch : 1.0), config_.voxel,
                                  config_.voxel * kGridOrigin);
         for (const auto& p : samples_) box_.extend(p);
@@ -283,9 +300,10 @@ class EpochOnSupervoxels {
 
     // Every supervoxel's state, change and LoD under T (whose covariance gives σ_T) into m;
     // returns which are stable.
-    std::vector<char> test(const reg::RigidTransform& T, double z, StableAreaMeasurement& m) const {
+    std::vector<char> test(const reg::RigidTransform& T, double z, StableAreaMeasurement& m) {
         const Eigen::Matrix4d H = T.matrix();
         std::vector<char> stable(patches.size(), 0);
+        variance.assign(patches.size(), 0.0);
         parallel_for(patches.size(), [&](std::size_t k) {
             m.changes[k] = m.lods[k] = std::numeric_limits<float>::quiet_NaN();
             if (!planar[k]) {
@@ -307,6 +325,8 @@ class EpochOnSupervoxels {
             mean /= static_cast<double>(members[k].size());
             const double sigma_T = reg::registration_sigma_along(T, mean, q.normal);
             const reg::SupervoxelChange ch = reg::change_of(q, d, sigma_T, z);
+            variance[k] = ch.sigma_epoch * ch.sigma_epoch / static_cast<double>(ch.samples) +
+                          q.sigma * q.sigma / static_cast<double>(q.samples);
             m.changes[k] = static_cast<float>(ch.change);
             m.lods[k] = static_cast<float>(ch.lod);
             stable[k] = !ch.significant();
@@ -318,6 +338,12 @@ class EpochOnSupervoxels {
     std::vector<Eigen::Vector3d> voxels;  // the epoch's, epoch frame
     std::vector<reg::SupervoxelPatch> patches;
     std::vector<char> planar;
+    // Inside a [[zone]]: the monitored structure, tested but never in the datum (as the
+    // planes' congruence test keeps the zones' planes out).
+    std::vector<char> monitored;
+    std::vector<char> candidate;  // planar and outside the zones: may enter the datum
+    // Per supervoxel, of its change at the last test: s_e²/m_e + s_r²/m (m²; 0 without one).
+    std::vector<double> variance;
     std::vector<std::vector<std::uint32_t>> members;  // each supervoxel's voxels
 
   private:
@@ -330,6 +356,68 @@ class EpochOnSupervoxels {
     bool assigned_ = false;
 };
 
+// The covariance of (θ, t) with each supervoxel of the datum as one observation, its change
+// d_k = a_kᵀ·δ + u_c + e_k (a_k = ((c_k − t) × n_k, n_k) as the adjustment's rows): e_k its own
+// error, of variance σ_k² = s_e²/m_e + s_r²/m (the reference plane's error s_r/√m is common to
+// all its voxels, which the voxel-level adjustment takes as independent), and u_c an error
+// common to the supervoxels of a cell of `stable_cluster_size` (a face's systematic change:
+// the beam's footprint on its texture, its incidence), of variance τ² pooled over every cell.
+// With the adjustment's weights W_k (its voxels' weight times their number), the estimator's
+//   C = N⁻¹·(Σ_k W_k²·σ_k²·a_k·a_kᵀ + τ²·Σ_c b_c·b_cᵀ)·N⁻¹,   N = Σ W_k·a_k·a_kᵀ, b_c = Σ_{k∈c}
+//   W_k·a_k,
+// and τ² by moments from the cells' weighted mean residuals r̄_c:
+//   τ² = max(0, C/(C − 6) · mean_c(r̄_c² − v_c)),   v_c = Σ W_k²·σ_k² / (Σ W_k)².
+// Pooled over all cells, τ² reaches a direction that only a few cells hold, which the
+// cluster-robust sandwich of those few cells' own scores may miss.
+std::optional<reg::Covariance6> supervoxel_covariance(const EpochOnSupervoxels& e,
+                                                      const std::vector<char>& in_datum,
+                                                      const Eigen::Vector3d& t, double cell,
+                                                      const StableAreaMeasurement& m, double& tau) {
+    using Vector6 = Eigen::Matrix<double, 6, 1>;
+    struct Cell {
+        Vector6 b = Vector6::Zero();
+        double w = 0, wd = 0, w2s2 = 0;
+    };
+    std::map<std::array<std::int64_t, 3>, Cell> cells;
+    reg::Covariance6 N = reg::Covariance6::Zero(), M = reg::Covariance6::Zero();
+    for (std::size_t k = 0; k < e.patches.size(); ++k) {
+        if (!in_datum[k] || !(e.variance[k] > 0) || !std::isfinite(m.changes[k])) continue;
+        const auto& q = e.patches[k];
+        Vector6 a;
+        a.head<3>() = (q.centroid - t).cross(q.normal);
+        a.tail<3>() = q.normal;
+        const double W = voxel_weight(q) * static_cast<double>(e.members[k].size());
+        N.selfadjointView<Eigen::Lower>().rankUpdate(a, W);
+        M.selfadjointView<Eigen::Lower>().rankUpdate(a, W * W * e.variance[k]);
+        std::array<std::int64_t, 3> key;
+        for (int j = 0; j < 3; ++j)
+            key[static_cast<std::size_t>(j)] =
+                static_cast<std::int64_t>(std::floor(q.centroid(j) / cell));
+        Cell& c = cells[key];
+        c.b += W * a;
+        c.w += W;
+        c.wd += W * m.changes[k];
+        c.w2s2 += W * W * e.variance[k];
+    }
+    if (cells.size() <= 6) return std::nullopt;
+    N = N.selfadjointView<Eigen::Lower>();
+    M = M.selfadjointView<Eigen::Lower>();
+    double excess = 0;
+    for (const auto& [key, c] : cells) {
+        const double r = c.wd / c.w;
+        excess += r * r - c.w2s2 / (c.w * c.w);
+    }
+    const double C = static_cast<double>(cells.size());
+    const double tau2 = std::max(0.0, excess / (C - 6.0));
+    tau = std::sqrt(tau2);
+    for (const auto& [key, c] : cells) M += tau2 * c.b * c.b.transpose();
+    const Eigen::LDLT<reg::Covariance6> ldlt(N);
+    if (ldlt.info() != Eigen::Success) return std::nullopt;
+    const reg::Covariance6 Ninv = ldlt.solve(reg::Covariance6::Identity());
+    const reg::Covariance6 cov = Ninv * M * Ninv;
+    return reg::Covariance6(0.5 * (cov + cov.transpose()));
+}
+
 StableAreaMeasurement empty_measurement(std::size_t supervoxels) {
     StableAreaMeasurement m;
     m.supervoxels = supervoxels;
@@ -339,12 +427,16 @@ StableAreaMeasurement empty_measurement(std::size_t supervoxels) {
     return m;
 }
 
-// The counts and the stable share from the states.
+// The counts and the stable share from the states; the zones' supervoxels apart.
 void count_states(const EpochOnSupervoxels& e, StableAreaMeasurement& m) {
     std::size_t stable_samples = 0, known_samples = 0;
-    m.stable = m.unstable = m.unknown = m.not_planar = 0;
+    m.stable = m.unstable = m.unknown = m.not_planar = m.monitored = 0;
     for (std::size_t k = 0; k < m.states.size(); ++k) {
         const std::size_t n = e.members[k].size();
+        if (e.monitored[k] && e.planar[k]) {
+            ++m.monitored;
+            continue;
+        }
         switch (m.states[k]) {
             case SupervoxelState::stable:
                 ++m.stable;
@@ -406,16 +498,24 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     }
     e.assign(start, true);
     const std::size_t n_patches = e.patches.size();
-    // The first round's set: the planar supervoxels inside the hints when they hold every
-    // direction (tried below), else every planar one.
-    std::vector<char> stable = e.planar;
+    // The first round's set: the candidates inside the hints when they hold every direction
+    // (tried below), else every candidate.
+    std::vector<char> stable = e.candidate;
     std::vector<char> hinted(n_patches, 0);
     bool hints = false;
     for (std::size_t k = 0; k < n_patches; ++k) {
-        hinted[k] = e.planar[k] && in_regions(config.icp.regions, e.patches[k].centroid);
+        hinted[k] = e.candidate[k] && in_regions(config.icp.regions, e.patches[k].centroid);
         hints = hints || hinted[k];
     }
     const double z = reg::normal_quantile(1.0 - c.alpha / 2.0);
+    // Leaving the set takes significance over the whole family of candidates (Bonferroni, α/n):
+    // at α alone about α of the good supervoxels look significant by chance in every round,
+    // and dropping them (more often those a face's common error pushes one way) moved the
+    // datum and kept the rounds from settling. Their state still says what the test at α saw.
+    const auto n_candidates =
+        static_cast<double>(std::count(e.candidate.begin(), e.candidate.end(), char{1}));
+    const double leave_ratio =
+        reg::normal_quantile(1.0 - c.alpha / (2.0 * std::max(n_candidates, 1.0))) / z;
     reg::PointToPlaneParams fp;
     // Every pair of a supervoxel refers to its centroid, so a cell of the cluster-robust
     // covariance holds whole supervoxels: their voxels err together (the supervoxel's own
@@ -432,8 +532,9 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
         pairs.clear();
         for (std::size_t k = 0; k < n_patches; ++k) {
             if (!in_datum[k]) continue;
+            const double w = voxel_weight(e.patches[k]);
             for (const auto i : e.members[k]) {
-                pairs.push_back({e.voxels[i], e.patches[k].centroid, e.patches[k].normal});
+                pairs.push_back({e.voxels[i], e.patches[k].centroid, e.patches[k].normal, w});
             }
         }
         try {
@@ -449,19 +550,28 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
         }
         T = fit->transform.matrix();
         e.assign(T);
-        std::vector<char> next = e.test(fit->transform, z, m);
+        // Tested with σ_T from s0²·N⁻¹, not from the cluster-robust covariance: while moving
+        // parts are still in the set, their own residuals inflate that one, every LoD grows
+        // with it and hides them (a moved abutment stayed in and pulled the `pier` datum by
+        // 1 mm; docs/registration.md).
+        const reg::RigidTransform tested = reg::rigid_transform_from(
+            fit->transform.rotation, fit->transform.translation, fit->independent);
+        std::vector<char> next = e.test(tested, z, m);
+        for (std::size_t k = 0; k < n_patches; ++k) next[k] = next[k] && e.candidate[k];
         // A fit on a set that still holds moving parts is pulled towards them, and the change
         // of good supervoxels looks significant against it: only the worst leave per round,
         // those beyond half the largest |change|/LoD (as the congruence test drops its worst
-        // plane first); a supervoxel within its LoD (re)enters at once.
+        // plane first) and beyond the family's ratio; a supervoxel within its LoD (re)enters
+        // at once.
         double worst = 0;
         for (std::size_t k = 0; k < n_patches; ++k) {
             if (stable[k] && !next[k] && e.planar[k] && m.lods[k] > 0)
                 worst = std::max(worst, double(std::fabs(m.changes[k]) / m.lods[k]));
         }
+        const double leave = std::max(worst > 2.0 ? 0.5 * worst : 0.0, leave_ratio);
         for (std::size_t k = 0; k < n_patches; ++k) {
             if (stable[k] && !next[k] && m.states[k] == SupervoxelState::unstable &&
-                std::fabs(m.changes[k]) / m.lods[k] < 0.5 * worst && worst > 2.0) {
+                std::fabs(m.changes[k]) / m.lods[k] < leave) {
                 next[k] = 1;  // kept this round; its state says what it looks like now
             }
         }
@@ -481,6 +591,18 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     m.inflation = fit->inflation;
     m.variance_factor = fit->variance_factor;
     m.transform = fit->transform;
+    const Eigen::Vector3d t = fit->transform.translation;
+    if (const auto C = supervoxel_covariance(e, stable, t, c.cluster_size, m, m.cell_sigma)) {
+        const reg::Covariance6 reported =
+            reg::larger_of(fit->transform.small_rotation_covariance.topLeftCorner<6, 6>(), *C);
+        m.transform = reg::rigid_transform_from(fit->transform.rotation, t, reported);
+        m.transform->variance_factor = fit->transform.variance_factor;
+        m.transform->redundancy = fit->transform.redundancy;
+        m.transform->iterations = fit->transform.iterations;
+        for (int k = 0; k < 6; ++k) {
+            m.inflation = std::max(m.inflation, std::sqrt(reported(k, k) / fit->independent(k, k)));
+        }
+    }
     count_states(e, m);
     if (m.conditioning < c.min_conditioning) {
         m.refused = refusal_for_conditioning(m.conditioning, c.min_conditioning);
@@ -538,10 +660,71 @@ void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervo
     result.stable_areas = std::move(m);
 }
 
+// An unstable area holds at least this many supervoxels (a few square metres): one patch that
+// stays unstable alone is more often an edge (the top of a block face, mixed returns) than a
+// movement of the ground.
+constexpr std::size_t kMinAreaSupervoxels = 3;
+
+std::vector<UnstableArea> new_unstable_areas(const RegistrationConfig& config,
+                                             const StableAreaMeasurement& m,
+                                             const std::vector<std::vector<std::uint8_t>>& before) {
+    const int K = config.stable_areas.persistent_epochs;
+    const auto unstable = static_cast<std::uint8_t>(SupervoxelState::unstable);
+    if (static_cast<int>(before.size()) < K - 1) return {};
+    for (const auto& b : before) {
+        if (b.size() != m.states.size()) return {};  // another segmentation: start afresh
+    }
+    std::vector<std::uint32_t> found;
+    for (std::size_t k = 0; k < m.states.size() && k < m.patches.size(); ++k) {
+        if (m.states[k] != SupervoxelState::unstable ||
+            in_regions(config.zones, m.patches[k].centroid))
+            continue;
+        bool run = true;
+        for (int j = 0; j < K - 1 && run; ++j)
+            run = before[static_cast<std::size_t>(j)][k] == unstable;
+        const bool reported = static_cast<int>(before.size()) >= K &&
+                              before[static_cast<std::size_t>(K - 1)][k] == unstable;
+        if (run && !reported) found.push_back(static_cast<std::uint32_t>(k));
+    }
+    // Neighbours (centroids within two seeds) into one area: union–find.
+    std::vector<std::size_t> parent(found.size());
+    for (std::size_t i = 0; i < found.size(); ++i) parent[i] = i;
+    const auto root = [&](std::size_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    const double reach2 = std::pow(2.0 * config.stable_areas.seed, 2);
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        for (std::size_t j = i + 1; j < found.size(); ++j) {
+            if ((m.patches[found[i]].centroid - m.patches[found[j]].centroid).squaredNorm() <=
+                reach2)
+                parent[root(i)] = root(j);
+        }
+    }
+    std::map<std::size_t, UnstableArea> areas;
+    for (std::size_t i = 0; i < found.size(); ++i) areas[root(i)].supervoxels.push_back(found[i]);
+    std::vector<UnstableArea> out;
+    for (auto& [r, a] : areas) {
+        if (a.supervoxels.size() < kMinAreaSupervoxels) continue;
+        a.min_change = std::numeric_limits<double>::infinity();
+        a.max_change = -a.min_change;
+        for (const auto k : a.supervoxels) {
+            a.centre += m.patches[k].centroid;
+            a.min_change = std::min(a.min_change, double(m.changes[k]));
+            a.max_change = std::max(a.max_change, double(m.changes[k]));
+            a.max_lod = std::max(a.max_lod, double(m.lods[k]));
+        }
+        a.centre /= static_cast<double>(a.supervoxels.size());
+        for (const auto k : a.supervoxels)
+            a.extent = std::max(a.extent, (m.patches[k].centroid - a.centre).norm());
+        out.push_back(std::move(a));
+    }
+    return out;
+}
+
 void apply_stable_areas(const RegistrationConfig& config, const EpochInput& input,
                         ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
-                        RegistrationResult& result,
-                        const std::optional<reg::RigidTransform>& prior) {
+                        RegistrationResult& result, const StageHistory& history) {
     if (!config.uses_stable_areas() || reference.epoch().id == input.epoch.id) return;
     const auto supervoxels = cache.get<ReferenceSupervoxels>(
         reference,
@@ -549,11 +732,16 @@ void apply_stable_areas(const RegistrationConfig& config, const EpochInput& inpu
         [&](const std::vector<Scan>& scans) {
             return build_supervoxels(config.stable_areas, scans);
         });
-    apply_stable_areas(config, *supervoxels, *input.scans, scales, result, prior);
+    apply_stable_areas(config, *supervoxels, *input.scans, scales, result, history.last_transform);
     if (auto& m = result.stable_areas) {
         m->reference_epoch = reference.epoch().id;
         m->segmentation = supervoxel_parameters(config.stable_areas);
         m->patches = supervoxels->patches;
+        m->persistent_epochs = config.stable_areas.persistent_epochs;
+        if (history.stable_area_states) {
+            m->new_unstable_areas = new_unstable_areas(
+                config, *m, history.stable_area_states(m->segmentation, m->persistent_epochs));
+        }
     }
 }
 
@@ -568,6 +756,7 @@ nlohmann::json stable_area_quality(const StableAreaMeasurement& m) {
         {"unstable", m.unstable},
         {"unknown", m.unknown},
         {"not_planar", m.not_planar},
+        {"monitored", m.monitored},
         {"stable_share", m.stable_share},
         {"iterations", m.iterations},
         {"settled", m.settled},
@@ -578,6 +767,7 @@ nlohmann::json stable_area_quality(const StableAreaMeasurement& m) {
         {"rms_m", m.rms},
         {"conditioning", m.conditioning},
         {"sigma_inflation", m.inflation},
+        {"cell_sigma_m", m.cell_sigma},
         {"variance_factor_m2", m.variance_factor},
         {"agreement_chi2", m.agreement ? nlohmann::json(*m.agreement) : nlohmann::json(nullptr)},
         {"targets_status", m.targets_status},

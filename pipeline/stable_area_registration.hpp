@@ -76,12 +76,19 @@ void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervo
                         RegistrationResult& result,
                         const std::optional<registration::RigidTransform>& prior = std::nullopt);
 
-// The stage's hook: the supervoxels from the reference cache, then apply_stable_areas.
-// Nothing without `stable_areas` in the method, or for the reference epoch itself.
+// The stage's hook: the supervoxels from the reference cache, then apply_stable_areas (from
+// the history's last accepted pose), then the unstable areas new in this epoch (from the
+// history's masks). Nothing without `stable_areas` in the method, or for the reference epoch.
 void apply_stable_areas(const RegistrationConfig& config, const EpochInput& input,
                         ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
-                        RegistrationResult& result,
-                        const std::optional<registration::RigidTransform>& prior);
+                        RegistrationResult& result, const StageHistory& history);
+
+// The supervoxels outside the zones unstable in `m` and in the `persistent_epochs` − 1 masks
+// before it (`before`: state bytes, newest first), and not in the one before those, grouped
+// into areas of neighbours; areas of fewer than three supervoxels are left out.
+std::vector<UnstableArea> new_unstable_areas(const RegistrationConfig& config,
+                                             const StableAreaMeasurement& m,
+                                             const std::vector<std::vector<std::uint8_t>>& before);
 
 // The figures, the `stable_areas` member of the registration row's quality_json.
 nlohmann::json stable_area_quality(const StableAreaMeasurement& m);

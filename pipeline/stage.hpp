@@ -9,6 +9,7 @@
 // site, a registration that fails its quality gate) says why in its verdict; the epoch is
 // then stored `rejected` with that reason — the file was fine (`failed` means the file was
 // not), but nothing of it may feed an analysis or an alarm.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -63,6 +64,11 @@ struct StageHistory {
     // The newest accepted registration before this epoch (rotation and translation only): a
     // fixed station's approximate transformation for the next.
     std::optional<registration::RigidTransform> last_transform;
+    // The state bytes of the newest `count` stable-area masks before this epoch, newest first,
+    // of this reference and a segmentation; unset: this epoch alone.
+    std::function<std::vector<std::vector<std::uint8_t>>(const std::string& segmentation,
+                                                         int count)>
+        stable_area_states;
 };
 
 // Everything one stage sees of one epoch.

@@ -91,6 +91,7 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
         target_geometry.push_back(std::move(g));
     }
     for (const Block& b : s.terrain.blocks) block_poses.push_back(b.pose(e));
+    creep = s.terrain.creep.displacement(e);
     occluders = occluder_states(s, e);
     vegetation = vegetation_states(s, e);
     // A bound on |u| at this epoch ((z/H)^p <= 1), plus 1 mm.
@@ -108,10 +109,9 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
 
     // Terrain: the valley profile (terrain.hpp), then the stable blocks on it.
     {
-        Eigen::Vector3d n;
-        const double t = intersect_terrain(site.terrain, o, d, best.range, n);
+        Eigen::Vector3d n, p;
+        const double t = intersect_terrain(site.terrain, o, d, best.range, n, scene.creep, &p);
         if (t < best.range) {
-            const Eigen::Vector3d p = o + t * d;
             consider(best, {Surface::ground, t, n,
                             terrain_albedo(site.texture, site.terrain, p.x(), p.y()), -1});
         }

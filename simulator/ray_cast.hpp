@@ -78,14 +78,15 @@ struct SceneAtEpoch {
     const Site* site = nullptr;
     int epoch = 0;
     double hours = 0.0;
-    std::vector<Eigen::Vector3d> target_centres;  // true centres at this epoch
-    std::vector<Eigen::Vector3d> target_normals;  // checkerboards: facing the scanner
-    double pier_reach = 0.001;                    // m, bound on |u| at this epoch
-    PierDisplacementField displacement;           // u(q) at this epoch
-    std::vector<TargetGeometry> target_geometry;  // supports and bounds, per target
-    std::vector<OccluderState> occluders;         // where each occluder is at this epoch
-    std::vector<VegetationState> vegetation;      // leaves at this epoch
-    std::vector<Eigen::Isometry3d> block_poses;   // each block's own frame into the site's
+    std::vector<Eigen::Vector3d> target_centres;      // true centres at this epoch
+    std::vector<Eigen::Vector3d> target_normals;      // checkerboards: facing the scanner
+    double pier_reach = 0.001;                        // m, bound on |u| at this epoch
+    PierDisplacementField displacement;               // u(q) at this epoch
+    std::vector<TargetGeometry> target_geometry;      // supports and bounds, per target
+    std::vector<OccluderState> occluders;             // where each occluder is at this epoch
+    std::vector<VegetationState> vegetation;          // leaves at this epoch
+    std::vector<Eigen::Isometry3d> block_poses;       // each block's own frame into the site's
+    Eigen::Vector3d creep = Eigen::Vector3d::Zero();  // the creeping ground's displacement
 
     SceneAtEpoch(const Site& s, const EpochConditions& conditions);
     // At kDefaultStartUtc + hours (epoch_conditions.hpp).

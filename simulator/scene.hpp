@@ -236,11 +236,28 @@ struct Block {
 };
 const char* kind_name(Block::Kind kind);
 
+// A patch of ground that creeps (a slope sliding, a fill settling): the terrain inside the
+// circle of `radius` about `centre` (x, y) moves as a slab by `rate` per epoch from
+// `from_epoch` on (its texture with it; a step opens at its rim). What the registration on
+// stable areas must leave out of its datum once significant, and report.
+struct Creep {
+    int from_epoch = -1;  // below 0: nothing creeps
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    double radius = 5.0;                                       // m
+    Eigen::Vector3d rate = Eigen::Vector3d(0.0, 0.0, -0.001);  // m per epoch
+    // rate·(epoch − from_epoch + 1) from from_epoch on, else zero.
+    Eigen::Vector3d displacement(int epoch) const;
+    bool holds(double x, double y) const {  // (x, y) of the unmoved ground inside the circle
+        return (Eigen::Vector2d(x, y) - centre).squaredNorm() <= radius * radius;
+    }
+};
+
 struct Terrain {
     std::vector<double> profile_y{0.0};  // m, increasing
     std::vector<double> profile_z{0.0};  // m, ground height at profile_y
     double albedo = 0.20;                // mean ground reflectance (soil, grass, gravel)
     std::vector<Block> blocks;
+    Creep creep;
 };
 
 // Occluders: a vehicle (box) or a person (cylinder) standing somewhere on a path between

@@ -202,6 +202,17 @@ sim::Target read_target(TomlFields& f, const sim::Site& site) {
 
 // ---- Terrain, stable blocks, occluders and vegetation (docs/simulator.md "Terrain") ----
 
+void get_vector2(TomlFields& f, const std::string& key, Eigen::Vector2d& v) {
+    if (!f.has(key)) return;
+    std::vector<double> a;
+    f.get(key, a);
+    if (a.size() != 2) f.fail(key, "expected [x, y]");
+    for (const double x : a) {
+        if (std::abs(x) > kBig) f.fail(key, "value outside ±1e6");
+    }
+    v = {a[0], a[1]};
+}
+
 void read_terrain(TomlFields& f, sim::Terrain& t) {
     f.get("profile_y", t.profile_y);
     f.get("profile_z", t.profile_z);
@@ -219,6 +230,10 @@ void read_terrain(TomlFields& f, sim::Terrain& t) {
         if (std::abs(v) > 1e4) f.fail("profile_z", "value outside ±10000");
     }
     f.get("albedo", t.albedo, 0.0, 1.0);
+    f.get("creep_from_epoch", t.creep.from_epoch, -1, 1000000);
+    get_vector2(f, "creep_centre", t.creep.centre);
+    f.get("creep_radius", t.creep.radius, 0.01, 1000.0);
+    get_vector3(f, "creep_rate_m", t.creep.rate, 1.0);
     f.reject_unknown_keys();
 }
 
@@ -242,17 +257,6 @@ sim::Block read_block(TomlFields& f) {
     get_vector3(f, "motion_arcsec", b.motion.rotation_arcsec, 36000.0);
     f.reject_unknown_keys();
     return b;
-}
-
-void get_vector2(TomlFields& f, const std::string& key, Eigen::Vector2d& v) {
-    if (!f.has(key)) return;
-    std::vector<double> a;
-    f.get(key, a);
-    if (a.size() != 2) f.fail(key, "expected [x, y]");
-    for (const double x : a) {
-        if (std::abs(x) > kBig) f.fail(key, "value outside ±1e6");
-    }
-    v = {a[0], a[1]};
 }
 
 sim::Occluder read_occluder(TomlFields& f) {

@@ -88,6 +88,14 @@ void add_scene_truth(nlohmann::json& j, const Site& site, int epoch, double hour
                     {"profile_z", tr.profile_z},
                     {"albedo", tr.albedo},
                     {"blocks", blocks}};
+    if (tr.creep.from_epoch >= 0) {
+        // The creeping patch and how far it has moved by this epoch (every point alike).
+        j["terrain"]["creep"] = {{"from_epoch", tr.creep.from_epoch},
+                                 {"centre", {tr.creep.centre.x(), tr.creep.centre.y()}},
+                                 {"radius", tr.creep.radius},
+                                 {"rate_m", vec(tr.creep.rate)},
+                                 {"displacement_m", vec(tr.creep.displacement(epoch))}};
+    }
 
     const SceneAtEpoch scene(site, epoch, hours);
     json sight = json::array();

@@ -41,7 +41,9 @@ double support_height(const Terrain& t, double x, double y, int* block) {
     return z;
 }
 
-double intersect_terrain(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+namespace {
+
+double intersect_profile(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                          double t_max, Eigen::Vector3d& normal) {
     const auto& ys = t.profile_y;
     const auto& zs = t.profile_z;
@@ -69,6 +71,39 @@ double intersect_terrain(const Terrain& t, const Eigen::Vector3d& o, const Eigen
         if (y < y_lo || y > y_hi) continue;
         best = tt;
         normal = Eigen::Vector3d(0.0, -m, 1.0).normalized();
+    }
+    return best;
+}
+
+}  // namespace
+
+Eigen::Vector3d Creep::displacement(int epoch) const {
+    if (from_epoch < 0 || epoch < from_epoch) return Eigen::Vector3d::Zero();
+    return static_cast<double>(epoch - from_epoch + 1) * rate;
+}
+
+double intersect_terrain(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                         double t_max, Eigen::Vector3d& normal, const Eigen::Vector3d& creep,
+                         Eigen::Vector3d* material) {
+    double best = intersect_profile(t, o, d, t_max, normal);
+    const bool creeping = t.creep.from_epoch >= 0 && creep != Eigen::Vector3d::Zero();
+    if (creeping && best < kNoHit) {
+        const Eigen::Vector3d p = o + best * d;
+        if (t.creep.holds(p.x(), p.y())) best = kNoHit;  // that ground has moved away
+    }
+    if (material && best < kNoHit) *material = o + best * d;
+    if (!creeping) return best;
+    // The moved slab: the ray, moved back by the displacement, against the unmoved profile;
+    // a hit whose unmoved point lies inside the circle.
+    Eigen::Vector3d n;
+    const double tc = intersect_profile(t, o - creep, d, std::min(best, t_max), n);
+    if (tc < best) {
+        const Eigen::Vector3d q = o - creep + tc * d;
+        if (t.creep.holds(q.x(), q.y())) {
+            best = tc;
+            normal = n;
+            if (material) *material = q;
+        }
     }
     return best;
 }
@@ -126,6 +161,9 @@ void validate_terrain(const Terrain& t) {
         if (!(t.profile_y[k] > t.profile_y[k - 1])) {
             throw Error("terrain: profile_y must increase");
         }
+    }
+    if (t.creep.from_epoch >= 0 && !(t.creep.radius > 0)) {
+        throw Error("terrain: the creeping patch needs a radius > 0");
     }
     for (const Block& b : t.blocks) {
         if (!(b.hi.array() > b.lo.array()).all()) {

@@ -22,9 +22,13 @@ double terrain_height(const Terrain& terrain, double y);
 double support_height(const Terrain& terrain, double x, double y, int* block = nullptr);
 
 // Nearest crossing of the ray o + t·d (d unit) from above the ground down into it, with t in
-// (0, t_max); infinity if none. `normal` is the upward unit normal there.
+// (0, t_max); infinity if none. `normal` is the upward unit normal there. `creep`: the creeping
+// patch's displacement at this epoch (terrain.creep); `material` is then set to the hit's
+// point on the unmoved ground (for its texture).
 double intersect_terrain(const Terrain& terrain, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                         double t_max, Eigen::Vector3d& normal);
+                         double t_max, Eigen::Vector3d& normal,
+                         const Eigen::Vector3d& creep = Eigen::Vector3d::Zero(),
+                         Eigen::Vector3d* material = nullptr);
 
 // Ground reflectance at (x, y): soil, grass and gravel patches about the mean
 // `terrain.albedo` (0.1–0.3 at the 1.5 µm of a phase-based scanner), two scales of texture.

@@ -107,6 +107,30 @@ std::optional<std::array<double, 16>> RegistrationStore::last_accepted_transform
     });
 }
 
+std::vector<std::vector<std::uint8_t>> RegistrationStore::recent_stable_area_states(
+    UtcSeconds acquired, EpochId reference_epoch, const std::string& segmentation,
+    int count) const {
+    return guarded(*c_, "reading stable-area masks", [&] {
+        std::vector<std::vector<std::uint8_t>> out;
+        SQLite::Statement s(c_->db,
+                            "SELECT m.reference_epoch_id, m.segmentation, m.states FROM"
+                            " stable_area_masks m JOIN epochs e ON e.id = m.epoch_id"
+                            " WHERE e.acquired < ? ORDER BY e.acquired DESC, m.epoch_id DESC"
+                            " LIMIT ?");
+        s.bind(1, static_cast<std::int64_t>(acquired));
+        s.bind(2, count);
+        while (s.executeStep()) {
+            if (s.getColumn(0).getInt64() != reference_epoch ||
+                s.getColumn(1).getString() != segmentation)
+                break;
+            const auto states = s.getColumn(2);
+            const auto* b = static_cast<const std::uint8_t*>(states.getBlob());
+            out.emplace_back(b, b + states.getBytes());
+        }
+        return out;
+    });
+}
+
 std::optional<RegistrationRow> RegistrationStore::of_epoch(EpochId id) const {
     return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
         SQLite::Statement s(

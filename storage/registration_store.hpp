@@ -45,6 +45,11 @@ class RegistrationStore {
     // The transformation of the newest accepted registration acquired before `acquired`
     // (4×4 row-major, as RegistrationRow::transform): a fixed station's prior for the next.
     std::optional<std::array<double, 16>> last_accepted_transform(UtcSeconds acquired) const;
+    // The state bytes of the newest `count` stable-area masks of epochs acquired before
+    // `acquired`, newest first, stopping at the first on another reference or segmentation.
+    std::vector<std::vector<std::uint8_t>> recent_stable_area_states(
+        UtcSeconds acquired, EpochId reference_epoch, const std::string& segmentation,
+        int count) const;
 
     std::optional<RegistrationRow> of_epoch(EpochId id) const;
     std::vector<TargetObservation> targets_of_epoch(EpochId id) const;

@@ -35,19 +35,6 @@ std::uint64_t cell_key(const Eigen::Vector3d& p, double size) {
     return key;
 }
 
-// The larger of two covariances in the matrix sense: in the frame where `floor` is the
-// identity (whitened by its Cholesky factor L), the eigenvalues of `other` clamped below at 1.
-Covariance6 larger_of(const Covariance6& floor, const Covariance6& other) {
-    const Eigen::LLT<Covariance6> llt(floor);
-    if (llt.info() != Eigen::Success) return other;
-    const Covariance6 L = llt.matrixL();
-    const Covariance6 Linv = L.inverse();
-    const Covariance6 W = Linv * other * Linv.transpose();
-    const Eigen::SelfAdjointEigenSolver<Covariance6> es(0.5 * (W + W.transpose()));
-    const Vector6 d = es.eigenvalues().cwiseMax(1.0);
-    return L * es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose() * L.transpose();
-}
-
 }  // namespace
 
 RigidTransform rigid_transform_from(const Eigen::Matrix3d& rotation,
@@ -85,6 +72,19 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
 
 }  // namespace
 
+// In the frame where `floor` is the identity (whitened by its Cholesky factor L), the
+// eigenvalues of `other` clamped below at 1.
+Covariance6 larger_of(const Covariance6& floor, const Covariance6& other) {
+    const Eigen::LLT<Covariance6> llt(floor);
+    if (llt.info() != Eigen::Success) return other;
+    const Covariance6 L = llt.matrixL();
+    const Covariance6 Linv = L.inverse();
+    const Covariance6 W = Linv * other * Linv.transpose();
+    const Eigen::SelfAdjointEigenSolver<Covariance6> es(0.5 * (W + W.transpose()));
+    const Vector6 d = es.eigenvalues().cwiseMax(1.0);
+    return L * es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose() * L.transpose();
+}
+
 PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
                                    const Eigen::Matrix4d& start, const PointToPlaneParams& params) {
     PointToPlaneFit first = fit_pairs(pairs, start, params);
@@ -94,7 +94,9 @@ PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
     const Eigen::Vector3d t = H.topRightCorner<3, 1>();
     std::vector<double> v;
     v.reserve(pairs.size());
-    for (const auto& p : pairs) v.push_back(p.normal.dot(R * p.epoch + t - p.reference));
+    // Standardised distances √p·v: a pair is an outlier against its own σ.
+    for (const auto& p : pairs)
+        v.push_back(std::sqrt(p.weight) * p.normal.dot(R * p.epoch + t - p.reference));
     std::vector<double> a(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) a[i] = std::fabs(v[i]);
     const double sigma = std::max(params.min_sigma, kMadToSigma * median_high(std::move(a)));
@@ -134,8 +136,8 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         for (const auto& p : pairs) {
             double v = 0;
             const Vector6 a = row(p, v);
-            N.selfadjointView<Eigen::Lower>().rankUpdate(a);
-            b += a * v;
+            N.selfadjointView<Eigen::Lower>().rankUpdate(a, p.weight);
+            b += p.weight * v * a;
         }
         N = N.selfadjointView<Eigen::Lower>();
         if (it == params.iterations) break;  // N at the solution, for the covariance
@@ -163,17 +165,18 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
     const Covariance6 Ninv = N.inverse();
     // Residuals and the clusters' scores g_k = Σ a_i·v_i.
     std::unordered_map<std::uint64_t, Vector6> scores;
-    double vv = 0;
+    double vv = 0, pvv = 0;
     for (const auto& p : pairs) {
         double v = 0;
         const Vector6 a = row(p, v);
         vv += v * v;
+        pvv += p.weight * v * v;
         auto [it, inserted] =
             scores.try_emplace(cell_key(p.reference, params.cluster_size), Vector6::Zero());
-        it->second += a * v;
+        it->second += p.weight * v * a;
     }
     out.rms = std::sqrt(vv / n);
-    out.variance_factor = vv / (n - 6);
+    out.variance_factor = pvv / (n - 6);
     out.independent = out.variance_factor * Ninv;
     const std::size_t c = scores.size();
     out.clusters = c;

@@ -8,6 +8,9 @@
 // linearised in a small rotation θ (R̂ = exp([θ]×)·R, as in rigid_transform.hpp) and a
 // translation increment: design row aᵀ = [ (R·x × n)ᵀ, nᵀ ].
 //
+// Each pair may carry a weight p = σ₀²/σ² (its surface's noise); then N = Σ p·a·aᵀ,
+// s0² = Σ p·v²/(n − 6) is the unit weight's variance and g_k = Σ p·a·v below.
+//
 // Covariance of (θ, t): the classical s0²·N⁻¹ (N = Σ a·aᵀ, s0² = vᵀv/(n − 6)) takes every
 // pair as independent. A scan's residuals are not: the footprint, the grid's phase, mixed
 // returns at edges and the voxel centroids err alike over a patch of surface. The pairs are
@@ -30,14 +33,16 @@ struct PointPlanePair {
     Eigen::Vector3d epoch = Eigen::Vector3d::Zero();      // epoch frame
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // reference frame
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();    // unit, at `reference`
+    // p = σ₀²/σ² of the distance (1: every pair alike); s0² is then the unit weight's variance.
+    double weight = 1.0;
 };
 
 struct PointToPlaneParams {
     double cluster_size = 1.0;  // m, side of the cells whose residuals may be correlated
     int iterations = 3;         // Gauss–Newton steps on the fixed pairs
     // After the first solution, pairs farther than outlier_k·σ̂ from their plane are left out
-    // (σ̂ = 1.4826·MAD of the distances, at least `min_sigma`) and the fit repeated: a pair across
-    // an edge, a leaf, a person. 0: all pairs kept.
+    // (σ̂ = 1.4826·MAD of the distances √p·v, at least `min_sigma`) and the fit repeated: a pair
+    // across an edge, a leaf, a person. 0: all pairs kept.
     double outlier_k = 4.0;
     double min_sigma = 0.0002;  // m
 };
@@ -50,7 +55,7 @@ struct PointToPlaneFit {
     std::size_t outliers = 0;  // left out beyond outlier_k·σ̂
     std::size_t clusters = 0;
     double rms = 0.0;              // m, RMS of the distances v after the fit
-    double variance_factor = 0.0;  // s0² = vᵀv/(n − 6), m²
+    double variance_factor = 0.0;  // s0² = Σ p·v²/(n − 6), m² (per unit weight)
     Covariance6 independent;       // s0²·N⁻¹
     Covariance6 clustered;         // the sandwich Σ_c
     double inflation = 1.0;        // largest σ ratio of the reported covariance to s0²·N⁻¹
@@ -62,6 +67,10 @@ struct PointToPlaneFit {
 // not hold every direction).
 PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
                                    const Eigen::Matrix4d& start, const PointToPlaneParams& params);
+
+// The larger of two covariances in the matrix sense: every direction's variance at least
+// `floor`'s and at least `other`'s.
+Covariance6 larger_of(const Covariance6& floor, const Covariance6& other);
 
 // A RigidTransform from a rotation, a translation and the covariance of (θ, t): the Euler
 // angles, the quaternion and the Euler covariance (Förstner & Wrobel 2016, §8.1.3) derived

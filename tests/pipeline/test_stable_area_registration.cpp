@@ -4,13 +4,17 @@
 // frame is H₀⁻¹·Hᵢ, docs/simulator.md). The scan's lower band (floor, valley side, foundation,
 // abutment, the two walls at an angle, the pier's foot and the bush) at 0.03°; the abutment
 // moved by 3 mm and tilted by 20″ from epoch 2: its supervoxels must leave the datum and the
-// datum must not follow it. And a scene of one plane only must be refused as ill-conditioned.
+// datum must not follow it; a patch of the valley side settles by 1 mm per epoch from epoch 1:
+// an unstable area reported once it has been so for `stable_persistent_epochs`. And a scene of
+// one plane only must be refused as ill-conditioned.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <memory>
 
+#include "algorithms/registration/registration_error.hpp"
 #include "formats/ptx_writer.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/stable_area_registration.hpp"
@@ -21,6 +25,9 @@ namespace tlsmon {
 namespace {
 
 constexpr int kMovedFrom = 2;
+constexpr int kCreepsFrom = 1;
+const Eigen::Vector2d kCreepCentre(-2.0, 80.0);  // on the valley side, 7.1 m up, left of the pier
+constexpr double kCreepRadius = 4.0;
 
 sim::Site moving_abutment() {
     sim::Site site = sim::preset_pier();
@@ -38,6 +45,10 @@ sim::Site moving_abutment() {
         b.motion.translation = {0.0012, -0.0025, -0.0012};  // 3.0 mm
         b.motion.rotation_arcsec = {14.0, 0.0, 14.0};       // 19.8″
     }
+    site.terrain.creep.from_epoch = kCreepsFrom;
+    site.terrain.creep.centre = kCreepCentre;
+    site.terrain.creep.radius = kCreepRadius;
+    site.terrain.creep.rate = {0.0, 0.0, -0.001};
     return site;
 }
 
@@ -67,8 +78,9 @@ const Series& series() {
     return s;
 }
 
-// Epoch e registered alone from the identity (a fixed station's prior): accepted, and the
-// RMS error at points on the pier's faces below 2.5 m (what this band sees of it).
+// Epoch e registered alone from the identity (a fixed station's prior): accepted, the RMS
+// error at points on the pier's faces below 2.5 m (what this band sees of it) below max_rms,
+// and the error at the middle of the foot within 3σ of the reported covariance.
 RegistrationResult register_and_score(int e, double max_rms) {
     const Series& s = series();
     RegistrationResult r;
@@ -93,10 +105,17 @@ RegistrationResult register_and_score(int e, double max_rms) {
     }
     const double rms = std::sqrt(sum / n);
     EXPECT_LT(rms, max_rms) << "RMS error at the pier's foot";
+    // The error at the middle of the south face's foot against the σ the method reports.
+    const Eigen::Vector3d P(0.5 * (p.x0 + p.x1), p.y0, 1.5);
+    const Eigen::Vector3d error = T.apply(Hi.inverse() * P) - H0.inverse() * P;
+    const Eigen::Vector3d sigma =
+        registration::registration_covariance_at(T, Hi.inverse() * P).diagonal().cwiseSqrt();
+    for (int k = 0; k < 3; ++k) EXPECT_LT(std::fabs(error(k)), 3 * sigma(k)) << "component " << k;
     std::printf(
-        "epoch %d: RMS error at the pier %.3f mm; %zu stable, %zu unstable, share %.2f; %d "
-        "rounds%s; conditioning %.3g\n",
-        e, 1e3 * rms, r.stable_areas->stable, r.stable_areas->unstable,
+        "epoch %d: RMS error at the pier %.3f mm; at the foot (%+.3f %+.3f %+.3f) mm, σ (%.3f "
+        "%.3f %.3f) mm; %zu stable, %zu unstable, share %.2f; %d rounds%s; conditioning %.3g\n",
+        e, 1e3 * rms, 1e3 * error.x(), 1e3 * error.y(), 1e3 * error.z(), 1e3 * sigma.x(),
+        1e3 * sigma.y(), 1e3 * sigma.z(), r.stable_areas->stable, r.stable_areas->unstable,
         r.stable_areas->stable_share, r.stable_areas->iterations,
         r.stable_areas->settled ? "" : " (not settled)", r.stable_areas->conditioning);
     return r;
@@ -111,15 +130,16 @@ TEST(StableAreaRegistration, ADriftedEpochIsRegisteredWithoutTargetsOrRegions) {
     EXPECT_GE(r.stable_areas->iterations, 2);
 }
 
-// Most of the abutment's supervoxels leave the set. In this band the abutment is one of few
-// surfaces that hold the horizontal translation, and the datum still follows it: 0.68 mm RMS
-// at the pier (0.02 mm before it moved) — a known weakness (docs/registration.md,
-// "Registration on stable areas"), held here below 1 mm so that it cannot grow unseen.
+// Most of the abutment's supervoxels leave the set, and so does the settling patch. In this
+// band the abutment is one of few surfaces that hold the horizontal translation (conditioning
+// 0.004); unweighted, the datum followed it by 0.68 mm at the pier; now the error is 0.21 mm,
+// within 2σ of what the method reports along x (σ 0.17 mm: the weak direction), and held
+// below 0.3 mm so that it cannot grow unseen (docs/registration.md).
 TEST(StableAreaRegistration, AMovedAbutmentLeavesTheStableSet) {
-    const RegistrationResult r = register_and_score(kMovedFrom, 0.001);
+    const RegistrationResult r = register_and_score(kMovedFrom, 0.0003);
     ASSERT_TRUE(r.stable_areas);
     const Series& s = series();
-    int on_abutment = 0, unstable = 0, bush_stable = 0;
+    int on_abutment = 0, unstable = 0, bush_stable = 0, creeping = 0, creeping_unstable = 0;
     for (std::size_t k = 0; k < s.reference.patches.size(); ++k) {
         const SupervoxelState st = r.stable_areas->states[k];
         const Eigen::Vector3d c = s.epochs[0].header_to_true * s.reference.patches[k].centroid;
@@ -128,6 +148,11 @@ TEST(StableAreaRegistration, AMovedAbutmentLeavesTheStableSet) {
             bush_stable += st == SupervoxelState::stable;
         }
         if (st != SupervoxelState::stable && st != SupervoxelState::unstable) continue;
+        // The settling patch, 2 mm down by now (1.9 mm along its normal).
+        if ((Eigen::Vector2d(c.x(), c.y()) - kCreepCentre).norm() < kCreepRadius - 0.5) {
+            ++creeping;
+            creeping_unstable += st == SupervoxelState::unstable;
+        }
         // The abutment's faces (its box 22–30 × 56–62 × up to 2.5 m), off the ground.
         if (c.x() > 21.9 && c.x() < 30.1 && c.y() > 55.9 && c.y() < 62.1 && c.z() > 0.1) {
             ++on_abutment;
@@ -137,6 +162,52 @@ TEST(StableAreaRegistration, AMovedAbutmentLeavesTheStableSet) {
     ASSERT_GT(on_abutment, 5);
     EXPECT_GE(3 * unstable, 2 * on_abutment) << unstable << " of " << on_abutment;
     EXPECT_EQ(bush_stable, 0);
+    ASSERT_GT(creeping, 5);
+    EXPECT_GE(10 * creeping_unstable, 9 * creeping) << creeping_unstable << " of " << creeping;
+}
+
+// A zone is the monitored structure: its supervoxels are tested (their states say what they
+// showed) but never enter the datum, and the counts and the share leave them out.
+TEST(StableAreaRegistration, SupervoxelsInAZoneAreTestedButNeverInTheDatum) {
+    const Series& s = series();
+    RegistrationConfig config = s.config;
+    // The foundation's south face, the ground before it and the wall beside it: a zone, as if
+    // they were structure.
+    config.zones.push_back(
+        {"foundation",
+         Eigen::AlignedBox3d(Eigen::Vector3d(-1, 38, -1), Eigen::Vector3d(25, 44, 1.2)),
+         {},
+         {}});
+    RegistrationResult r;
+    r.tested.status = registration::RegistrationStatus::too_few_targets;
+    apply_stable_areas(config, s.reference, s.epochs[1].scans, {}, r,
+                       registration::RigidTransform{});
+    ASSERT_TRUE(r.accepted()) << r.tested.reason;
+    const auto& m = *r.stable_areas;
+    std::size_t planar_in_zone = 0, tested_in_zone = 0, stable = 0, unstable = 0;
+    for (std::size_t k = 0; k < m.states.size(); ++k) {
+        const auto& q = s.reference.patches[k];
+        if (config.zones.back().contains(q.centroid)) {
+            planar_in_zone += is_planar(config.stable_areas, q, s.reference.viewpoint);
+            tested_in_zone +=
+                m.states[k] == SupervoxelState::stable || m.states[k] == SupervoxelState::unstable;
+            continue;
+        }
+        stable += m.states[k] == SupervoxelState::stable;
+        unstable += m.states[k] == SupervoxelState::unstable;
+    }
+    EXPECT_GT(tested_in_zone, 10u);
+    EXPECT_EQ(m.monitored, planar_in_zone);
+    EXPECT_EQ(m.stable, stable);
+    EXPECT_EQ(m.unstable, unstable);
+    // The same epoch without the zone: those supervoxels are in the datum, more pairs.
+    RegistrationResult all;
+    all.tested.status = registration::RegistrationStatus::too_few_targets;
+    apply_stable_areas(s.config, s.reference, s.epochs[1].scans, {}, all,
+                       registration::RigidTransform{});
+    ASSERT_TRUE(all.accepted());
+    EXPECT_EQ(all.stable_areas->monitored, 0u);
+    EXPECT_GT(all.stable_areas->pairs, m.pairs + 300);
 }
 
 // The series through the epoch pipeline into a real SQLite file: the registration row's
@@ -146,6 +217,7 @@ TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
     test::PipelineSite ps;
     ps.config.coverage.min_inside_share = 0.0;
     ps.config.registration = s.config;
+    ps.config.registration.stable_areas.persistent_epochs = 2;
     ReferenceCache cache(*ps.db);
     std::vector<EpochId> ids;
     for (std::size_t e = 0; e < s.epochs.size(); ++e) {
@@ -199,6 +271,24 @@ TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
         EXPECT_EQ(unstable, mask->unstable);
         EXPECT_GT(mask->stable_share, 0.5);
     }
+    // The settling patch, unstable in epochs 1 and 2: one unstable area, reported at epoch 2,
+    // about the patch; the abutment (unstable in epoch 2 only) is not one yet.
+    const auto events = ps.db->series().events(TimeRange{}, std::string("unstable_area"));
+    ASSERT_GE(events.size(), 1u);
+    int about_the_patch = 0;
+    for (const auto& ev : events) {
+        EXPECT_EQ(ev.epoch, ids[2]) << ev.message;
+        EXPECT_EQ(ev.level, "warning");
+        EXPECT_NE(ev.message.find("unstable in 2 epochs in a row"), std::string::npos)
+            << ev.message;
+        double x = 0, y = 0, z = 0;
+        const auto at = ev.message.find("about (");
+        ASSERT_NE(at, std::string::npos) << ev.message;
+        ASSERT_EQ(std::sscanf(ev.message.c_str() + at, "about (%lf, %lf, %lf)", &x, &y, &z), 3);
+        about_the_patch += (Eigen::Vector2d(x, y) - kCreepCentre).norm() < kCreepRadius;
+        EXPECT_FALSE(x > 21 && x < 31 && y > 55 && y < 63) << "the abutment: " << ev.message;
+    }
+    EXPECT_EQ(about_the_patch, 1);
 }
 
 // A flat floor alone: nothing holds the horizontal translation or the turn about the vertical.

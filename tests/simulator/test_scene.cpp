@@ -139,6 +139,43 @@ TEST(SimulatorScene, StableBlocksAreSeenWhereTheyStand) {
     EXPECT_GT(n[1], 100u);
 }
 
+// A creeping patch of the slope (a scene file's terrain.creep_*): from its first epoch on,
+// the ground inside its circle is the unmoved profile shifted by rate·(epoch − from + 1),
+// outside it is unmoved, and the truth says how far it has gone.
+TEST(SimulatorScene, ACreepingPatchMovesTheGroundInsideItsCircleOnly) {
+    Site s = exact(parse_scene_file(R"(preset = "small"
+[terrain]
+creep_from_epoch = 1
+creep_centre = [-3.0, 75.0]
+creep_radius = 4.0
+creep_rate_m = [0.0, -0.003, -0.002]
+)",
+                                    "scene.toml", std::nullopt));
+    const Eigen::Vector3d v = 3.0 * Eigen::Vector3d(0.0, -0.003, -0.002);
+    EXPECT_TRUE(s.terrain.creep.displacement(0).isZero());
+    EXPECT_TRUE(s.terrain.creep.displacement(3).isApprox(v));
+    const RenderedScan r = render_epoch(s, 3, 6.0, 2);
+    int inside = 0, outside = 0;
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {
+        if (surface_of(r, i) != Surface::ground) continue;
+        const Eigen::Vector3d& p = r.scan.xyz[i];
+        const double d = (Eigen::Vector2d(p.x(), p.y()) - s.terrain.creep.centre).norm();
+        if (d < 3.9) {
+            EXPECT_NEAR(p.z() - v.z(), terrain_height(s.terrain, p.y() - v.y()), 1e-9) << i;
+            ++inside;
+        } else if (d > 4.1) {
+            EXPECT_NEAR(p.z(), terrain_height(s.terrain, p.y()), 1e-9) << i;
+            ++outside;
+        }
+    }
+    EXPECT_GT(inside, 50);
+    EXPECT_GT(outside, 1000);
+    const EpochFiles f = simulate_epoch(s, 3, kStart, 2);
+    const auto& creep = f.truth["terrain"]["creep"];
+    EXPECT_EQ(creep["from_epoch"].get<int>(), 1);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(creep["displacement_m"][k].get<double>(), v(k), 1e-15);
+}
+
 // T1 of `small` is a sphere on a mast 20 m out at azimuth 92°, 1.0 m above the ground: its
 // mast is hit below the sphere, on the mast's surface, and the sphere's points and the
 // truth's centre are those of the sphere alone.
