@@ -112,6 +112,22 @@ void match_and_test(const RegistrationConfig& config, const std::vector<reg::Fit
     }
 }
 
+StationChange station_change_from(const reg::RigidTransform& start, const reg::RigidTransform& T,
+                                  std::size_t support) {
+    return {(T.translation - start.translation).norm(),
+            Eigen::AngleAxisd(T.rotation * start.rotation.transpose()).angle() * 180.0 /
+                3.141592653589793,
+            support};
+}
+
+std::shared_ptr<const ReferencePlanes> reference_planes(const RegistrationConfig& config,
+                                                        ReferenceEpoch& reference,
+                                                        ReferenceCache& cache) {
+    return cache.get<ReferencePlanes>(
+        reference, ProductKey{"registration.planes", detection_parameters(config.planes), 1},
+        [&](const std::vector<Scan>& scans) { return detect_scan_planes(config.planes, scans); });
+}
+
 // The planes' own estimate from `start`; when that fails, from the matching without a prior,
 // which is a station change if it puts the scanner beyond the matching's tolerances from
 // `start`.
@@ -141,11 +157,7 @@ PlaneMeasurement measure_planes(const RegistrationConfig& config, const Referenc
     if (!m.refused.empty()) {
         if (const auto free = reg::match_planes_without_prior(ref, epoch.planes)) {
             const reg::RigidTransform& T = free->approximate;
-            StationChange change{
-                (T.translation - start.translation).norm(),
-                Eigen::AngleAxisd(T.rotation * start.rotation.transpose()).angle() * 180.0 /
-                    3.141592653589793,
-                free->support};
+            const StationChange change = station_change_from(start, T, free->support);
             PlaneMeasurement retry = empty;
             match_and_test(config, ref, epoch.planes, T, retry);
             if (retry.refused.empty() &&
@@ -274,10 +286,31 @@ void apply_planes(const RegistrationConfig& config, const EpochInput& input,
                   ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
                   RegistrationResult& result, const std::optional<reg::RigidTransform>& prior) {
     if (!config.uses_planes() || reference.epoch().id == input.epoch.id) return;
-    const auto planes = cache.get<ReferencePlanes>(
-        reference, ProductKey{"registration.planes", detection_parameters(config.planes), 1},
-        [&](const std::vector<Scan>& scans) { return detect_scan_planes(config.planes, scans); });
-    apply_planes(config, *planes, *input.scans, scales, result, prior);
+    apply_planes(config, *reference_planes(config, reference, cache), *input.scans, scales, result,
+                 prior);
+}
+
+std::optional<CoarsePose> coarse_pose_from_planes(const RegistrationConfig& config,
+                                                  const EpochInput& input,
+                                                  ReferenceEpoch& reference, ReferenceCache& cache,
+                                                  const RangeScales& scales,
+                                                  const reg::RigidTransform& start) {
+    const auto planes = reference_planes(config, reference, cache);
+    std::vector<reg::FittedPlane> ref = planes->planes;
+    ReferencePlanes epoch = detect_scan_planes(config.planes, *input.scans);
+    if (scales.epoch && scales.reference) {
+        for (auto& p : ref) p = range_corrected(p, planes->viewpoint, *scales.reference);
+        for (auto& p : epoch.planes) p = range_corrected(p, epoch.viewpoint, *scales.epoch);
+    }
+    const auto free = reg::match_planes_without_prior(ref, epoch.planes);
+    if (!free) return std::nullopt;
+    return CoarsePose{free->approximate,
+                      station_change_from(start, free->approximate, free->support)};
+}
+
+nlohmann::json station_change_json(const std::optional<StationChange>& c) {
+    if (!c) return nullptr;
+    return {{"shift_m", c->shift_m}, {"turn_deg", c->turn_deg}, {"support", c->support}};
 }
 
 nlohmann::json plane_quality(const PlaneMeasurement& m) {
@@ -298,11 +331,7 @@ nlohmann::json plane_quality(const PlaneMeasurement& m) {
         {"last_limit", m.last_limit},
         {"agreement_chi2", m.agreement ? nlohmann::json(*m.agreement) : nlohmann::json(nullptr)},
         {"targets_status", m.targets_status},
-        {"station_change", m.station_change
-                               ? nlohmann::json{{"shift_m", m.station_change->shift_m},
-                                                {"turn_deg", m.station_change->turn_deg},
-                                                {"support", m.station_change->support}}
-                               : nlohmann::json(nullptr)},
+        {"station_change", station_change_json(m.station_change)},
         {"detection_ms", m.detection_ms},
         {"adjustment_ms", m.adjustment_ms}};
 }

@@ -51,8 +51,26 @@ void apply_planes(const RegistrationConfig& config, const EpochInput& input,
                   RegistrationResult& result,
                   const std::optional<registration::RigidTransform>& prior);
 
+// A coarse pose with no approximate transformation, for another method (the stable areas
+// alone, after they were refused from the last pose): the reference's planes from the cache
+// (the same product as apply_planes'), the epoch's detected, both range-corrected when the
+// scales allow, matched without a prior (plane_matching_without_prior.hpp); the station change
+// it means against `start`. Nothing when no hypothesis explains enough planes.
+struct CoarsePose {
+    registration::RigidTransform approximate;
+    StationChange change;  // against `start`
+};
+std::optional<CoarsePose> coarse_pose_from_planes(const RegistrationConfig& config,
+                                                  const EpochInput& input,
+                                                  ReferenceEpoch& reference, ReferenceCache& cache,
+                                                  const RangeScales& scales,
+                                                  const registration::RigidTransform& start);
+
 // One line for the registration's reason and the `station_change` event.
 std::string describe(const StationChange& change);
+
+// {shift_m, turn_deg, support}, or null: in the planes' and the stable areas' figures.
+nlohmann::json station_change_json(const std::optional<StationChange>& change);
 
 // The registration on planes' figures, the `planes` member of the registration row's
 // quality_json.

@@ -115,10 +115,14 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                         epoch});
     }
     if (!r.accepted()) return;
-    if (r.planes && r.planes->used && r.planes->station_change) {
+    const auto& change = r.planes && r.planes->used && r.planes->station_change
+                             ? r.planes->station_change
+                         : r.stable_areas && r.stable_areas->used ? r.stable_areas->station_change
+                                                                  : std::nullopt;
+    if (change) {
         results.system_events.push_back(SystemEvent{
             now_utc(), "warning", "station_change",
-            describe(*r.planes->station_change) +
+            describe(*change) +
                 "; the reference is unchanged, every later epoch is registered from this pose",
             epoch});
     }

@@ -11,6 +11,7 @@
 
 #include "algorithms/registration/rigid_transform.hpp"
 #include "algorithms/registration/supervoxel_change.hpp"
+#include "pipeline/plane_measurement.hpp"
 
 namespace tlsmon {
 
@@ -69,6 +70,9 @@ struct StableAreaMeasurement {
     // Per reference supervoxel (its index): state, change and LoD (m; NaN without a change).
     std::vector<SupervoxelState> states;
     std::vector<float> changes, lods;
+    // Refused from the last pose, accepted from the planes matched without a prior, which put
+    // the scanner beyond the planes' matching tolerances from it (a knocked or re-set station).
+    std::optional<StationChange> station_change;
     int persistent_epochs = 0;  // registration.stable_persistent_epochs
     std::vector<UnstableArea> new_unstable_areas;
 };

@@ -22,6 +22,7 @@
 #include "core/payload.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/pcl_adapter.hpp"
+#include "pipeline/registration_on_planes.hpp"
 
 namespace tlsmon {
 
@@ -732,7 +733,36 @@ void apply_stable_areas(const RegistrationConfig& config, const EpochInput& inpu
         [&](const std::vector<Scan>& scans) {
             return build_supervoxels(config.stable_areas, scans);
         });
+    const RegistrationResult before = result;
     apply_stable_areas(config, *supervoxels, *input.scans, scales, result, history.last_transform);
+    // Refused alone from the last pose (a knocked or re-set scanner, or no pose yet): the
+    // coarse pose of the planes matched without a prior, and the rounds again from there.
+    if (result.stable_areas && !result.stable_areas->used && result.stable_areas->role == "alone") {
+        const reg::RigidTransform start = history.last_transform.value_or(reg::RigidTransform{});
+        auto& m = *result.stable_areas;
+        if (const auto coarse =
+                coarse_pose_from_planes(config, input, reference, cache, scales, start)) {
+            RegistrationResult retry = before;
+            apply_stable_areas(config, *supervoxels, *input.scans, scales, retry,
+                               coarse->approximate);
+            const StationChange& c = coarse->change;
+            if (retry.stable_areas->used) {
+                retry.stable_areas->start = fmt::format(
+                    "the planes matched without a prior ({} planes explained)", c.support);
+                if (c.shift_m > config.planes.max_offset ||
+                    c.turn_deg > config.planes.max_angle_deg)
+                    retry.stable_areas->station_change = c;
+                result = std::move(retry);
+            } else {
+                m.refused += fmt::format(
+                    "; from the planes matched without a prior ({} planes explained, the scanner "
+                    "{:.3f} m and {:.2f}° away): {}",
+                    c.support, c.shift_m, c.turn_deg, retry.stable_areas->refused);
+            }
+        } else {
+            m.refused += "; the planes matched without a prior found no pose either";
+        }
+    }
     if (auto& m = result.stable_areas) {
         m->reference_epoch = reference.epoch().id;
         m->segmentation = supervoxel_parameters(config.stable_areas);
@@ -771,6 +801,7 @@ nlohmann::json stable_area_quality(const StableAreaMeasurement& m) {
         {"variance_factor_m2", m.variance_factor},
         {"agreement_chi2", m.agreement ? nlohmann::json(*m.agreement) : nlohmann::json(nullptr)},
         {"targets_status", m.targets_status},
+        {"station_change", station_change_json(m.station_change)},
         {"milliseconds", m.milliseconds}};
 }
 

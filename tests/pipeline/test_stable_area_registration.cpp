@@ -210,6 +210,22 @@ TEST(StableAreaRegistration, SupervoxelsInAZoneAreTestedButNeverInTheDatum) {
     EXPECT_GT(all.stable_areas->pairs, m.pairs + 300);
 }
 
+// Epoch e (15 minutes apart) written as a PTX file into the site's ingest folder, recorded
+// and processed by the epoch pipeline; its id.
+EpochId process_epoch(test::PipelineSite& ps, ReferenceCache& cache, const Scan& scan, int e) {
+    const auto file = ps.dir / "ingest" / ("pier_" + std::to_string(e) + ".ptx");
+    {
+        std::ofstream f(file, std::ios::binary);
+        f << ptx_text(scan);
+    }
+    const EpochInsert ins = ps.db->epochs().insert(
+        NewEpoch{sha256_file(file), 1780293600 + 900 * static_cast<std::int64_t>(e), file,
+                 static_cast<std::int64_t>(std::filesystem::file_size(file)), std::nullopt});
+    EXPECT_EQ(ps.process(*ps.db->epochs().find(ins.id), cache), EpochOutcome::done)
+        << "epoch " << e;
+    return ins.id;
+}
+
 // The series through the epoch pipeline into a real SQLite file: the registration row's
 // method and figures, and each epoch's mask as stored (the supervoxels once per reference).
 TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
@@ -220,19 +236,8 @@ TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
     ps.config.registration.stable_areas.persistent_epochs = 2;
     ReferenceCache cache(*ps.db);
     std::vector<EpochId> ids;
-    for (std::size_t e = 0; e < s.epochs.size(); ++e) {
-        const auto file = ps.dir / "ingest" / ("pier_" + std::to_string(e) + ".ptx");
-        {
-            std::ofstream f(file, std::ios::binary);
-            f << ptx_text(s.epochs[e].scans.front());
-        }
-        const EpochInsert ins = ps.db->epochs().insert(
-            NewEpoch{sha256_file(file), 1780293600 + 900 * static_cast<std::int64_t>(e), file,
-                     static_cast<std::int64_t>(std::filesystem::file_size(file)), std::nullopt});
-        ids.push_back(ins.id);
-        EXPECT_EQ(ps.process(*ps.db->epochs().find(ins.id), cache), EpochOutcome::done)
-            << "epoch " << e;
-    }
+    for (std::size_t e = 0; e < s.epochs.size(); ++e)
+        ids.push_back(process_epoch(ps, cache, s.epochs[e].scans.front(), static_cast<int>(e)));
     auto& regs = ps.db->registrations();
     EXPECT_EQ(regs.of_epoch(ids[0])->method, "reference");
     EXPECT_FALSE(regs.stable_areas_of_epoch(ids[0]));
@@ -289,6 +294,52 @@ TEST(StableAreaRegistration, TheStageStoresTheMethodAndTheMask) {
         EXPECT_FALSE(x > 21 && x < 31 && y > 55 && y < 63) << "the abutment: " << ev.message;
     }
     EXPECT_EQ(about_the_patch, 1);
+}
+
+// The scanner knocked 0.2 m and 5° between two epochs: from the last pose the voxels find no
+// supervoxels and the stable areas are refused; the planes matched without a prior give the
+// coarse pose, the rounds run again from it, and the station change is an event.
+TEST(StableAreaRegistration, AKnockedScannerIsFoundAgainFromThePlanes) {
+    sim::Site site = moving_abutment();
+    site.events.station_change_epoch = 1;
+    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
+    test::PipelineSite ps;
+    ps.config.coverage.min_inside_share = 0.0;
+    ps.config.registration = series().config;
+    ReferenceCache cache(*ps.db);
+    std::vector<EpochId> ids;
+    std::vector<Eigen::Affine3d> header_to_true;
+    for (int e = 0; e <= 1; ++e) {
+        const sim::RenderedScan r = sim::render_epoch(site, e, 2.0 * e, 2);
+        header_to_true.push_back(N * r.pose_error.transform() * N.inverse());
+        ids.push_back(process_epoch(ps, cache, r.scan, e));
+    }
+    const auto row = ps.db->registrations().of_epoch(ids[1]);
+    ASSERT_TRUE(row);
+    ASSERT_TRUE(row->accepted) << row->reason;
+    EXPECT_EQ(row->method, "stable_areas");
+    EXPECT_NE(row->quality_json.find("the planes matched without a prior"), std::string::npos);
+    EXPECT_NE(row->quality_json.find("\"station_change\":{"), std::string::npos);
+    Eigen::Matrix4d T;
+    for (int k = 0; k < 16; ++k) T(k / 4, k % 4) = row->transform[static_cast<std::size_t>(k)];
+    // At the pier's foot, as the registration puts it against the truth.
+    const Eigen::Vector3d P(9.5, 45.0, 1.0);
+    const Eigen::Vector3d in_epoch = header_to_true[1].inverse() * P;
+    const Eigen::Vector3d error =
+        (T * in_epoch.homogeneous()).head<3>() - header_to_true[0].inverse() * P;
+    EXPECT_LT(error.norm(), 0.0005) << error.transpose();
+    std::printf("knocked: error at the pier's foot %.3f mm\n", 1e3 * error.norm());
+    const auto events = ps.db->series().events(TimeRange{}, std::string("station_change"));
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].epoch, ids[1]);
+    // The knock (0.2 m, 5°) with the epochs' drift (up to 60″ and a few mm) on top.
+    double shift = 0, turn = 0;
+    ASSERT_EQ(std::sscanf(events[0].message.c_str(),
+                          "station change: the scanner stands %lf m and %lf", &shift, &turn),
+              2)
+        << events[0].message;
+    EXPECT_NEAR(shift, 0.2, 0.01);
+    EXPECT_NEAR(turn, 5.0, 0.05);
 }
 
 // A flat floor alone: nothing holds the horizontal translation or the turn about the vertical.
