@@ -1,8 +1,9 @@
 // `tlsmon query stable-areas --epoch N [--state S]`: the stable-area mask of one epoch
 // (docs/schema.md, "stable_area_masks"): every supervoxel of the reference's segmentation —
-// where it is, its normal, voxels and roughness — with its state in this epoch (stable: in the
-// datum; unstable: its change significant, left out; unknown: too few voxels of the epoch on
-// it; not_planar: never in the datum) and its change along the normal with its LoD95 (mm).
+// where it is, its normal, voxels and roughness — with its state in this epoch (stable: its
+// change within its LoD95, in the datum unless inside a zone; unstable: beyond it; unknown: too
+// few voxels of the epoch on it; not_planar: never in the datum) and its change along the
+// normal with its LoD95 (mm).
 #include <cmath>
 #include <iostream>
 
