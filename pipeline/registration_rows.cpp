@@ -115,10 +115,10 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                         epoch});
     }
     if (!r.accepted()) return;
-    const auto& change = r.planes && r.planes->used && r.planes->station_change
-                             ? r.planes->station_change
-                         : r.stable_areas && r.stable_areas->used ? r.stable_areas->station_change
-                                                                  : std::nullopt;
+    // A station change found by the planes or, refused from the last pose, by the stable areas.
+    std::optional<StationChange> change;
+    if (r.planes && r.planes->used) change = r.planes->station_change;
+    if (!change && r.stable_areas && r.stable_areas->used) change = r.stable_areas->station_change;
     if (change) {
         results.system_events.push_back(SystemEvent{
             now_utc(), "warning", "station_change",

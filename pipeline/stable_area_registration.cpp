@@ -22,7 +22,6 @@
 #include "core/payload.hpp"
 #include "pipeline/icp_registration.hpp"
 #include "pipeline/pcl_adapter.hpp"
-#include "pipeline/registration_on_planes.hpp"
 
 namespace tlsmon {
 
@@ -620,8 +619,8 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
 
 void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervoxels& reference,
                         const std::vector<Scan>& scans, const RangeScales& scales,
-                        RegistrationResult& result,
-                        const std::optional<reg::RigidTransform>& prior) {
+                        RegistrationResult& result, const std::optional<reg::RigidTransform>& prior,
+                        const CoarsePoseSearch& coarse) {
     if (!config.uses_stable_areas()) return;
     const bool rms_gate = result.gate.rfind("RMS", 0) == 0;
     const bool joint = result.tested.accepted() && result.tested.transform && !rms_gate;
@@ -636,6 +635,32 @@ void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervo
     }
     StableAreaMeasurement m = measure_stable_areas(config, reference, scans, start, scales);
     m.start = from;
+    // Refused alone from the last pose (a knocked or re-set scanner, or no pose yet): the
+    // rounds once more from a coarse pose found without a prior.
+    if (!joint && !m.refused.empty() && coarse) {
+        const reg::RigidTransform from_pose = reg::rigid_transform_from(
+            start.topLeftCorner<3, 3>(), start.topRightCorner<3, 1>(), reg::Covariance6::Zero());
+        if (const auto found = coarse(from_pose)) {
+            const StationChange& c = found->change;
+            StableAreaMeasurement again =
+                measure_stable_areas(config, reference, scans, found->approximate.matrix(), scales);
+            if (again.refused.empty()) {
+                again.start = fmt::format(
+                    "the planes matched without a prior ({} planes explained)", c.support);
+                if (c.shift_m > config.planes.max_offset ||
+                    c.turn_deg > config.planes.max_angle_deg)
+                    again.station_change = c;
+                m = std::move(again);
+            } else {
+                m.refused += fmt::format(
+                    "; from the planes matched without a prior ({} planes explained, the scanner "
+                    "{:.3f} m and {:.2f}° away): {}",
+                    c.support, c.shift_m, c.turn_deg, again.refused);
+            }
+        } else {
+            m.refused += "; the planes matched without a prior found no pose either";
+        }
+    }
     m.role = joint ? "joint" : "alone";
     if (joint) {
         if (m.refused.empty()) {
@@ -733,36 +758,11 @@ void apply_stable_areas(const RegistrationConfig& config, const EpochInput& inpu
         [&](const std::vector<Scan>& scans) {
             return build_supervoxels(config.stable_areas, scans);
         });
-    const RegistrationResult before = result;
-    apply_stable_areas(config, *supervoxels, *input.scans, scales, result, history.last_transform);
-    // Refused alone from the last pose (a knocked or re-set scanner, or no pose yet): the
-    // coarse pose of the planes matched without a prior, and the rounds again from there.
-    if (result.stable_areas && !result.stable_areas->used && result.stable_areas->role == "alone") {
-        const reg::RigidTransform start = history.last_transform.value_or(reg::RigidTransform{});
-        auto& m = *result.stable_areas;
-        if (const auto coarse =
-                coarse_pose_from_planes(config, input, reference, cache, scales, start)) {
-            RegistrationResult retry = before;
-            apply_stable_areas(config, *supervoxels, *input.scans, scales, retry,
-                               coarse->approximate);
-            const StationChange& c = coarse->change;
-            if (retry.stable_areas->used) {
-                retry.stable_areas->start = fmt::format(
-                    "the planes matched without a prior ({} planes explained)", c.support);
-                if (c.shift_m > config.planes.max_offset ||
-                    c.turn_deg > config.planes.max_angle_deg)
-                    retry.stable_areas->station_change = c;
-                result = std::move(retry);
-            } else {
-                m.refused += fmt::format(
-                    "; from the planes matched without a prior ({} planes explained, the scanner "
-                    "{:.3f} m and {:.2f}° away): {}",
-                    c.support, c.shift_m, c.turn_deg, retry.stable_areas->refused);
-            }
-        } else {
-            m.refused += "; the planes matched without a prior found no pose either";
-        }
-    }
+    apply_stable_areas(config, *supervoxels, *input.scans, scales, result, history.last_transform,
+                       [&](const reg::RigidTransform& start) {
+                           return coarse_pose_from_planes(config, input, reference, cache, scales,
+                                                          start);
+                       });
     if (auto& m = result.stable_areas) {
         m->reference_epoch = reference.epoch().id;
         m->segmentation = supervoxel_parameters(config.stable_areas);

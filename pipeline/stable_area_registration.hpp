@@ -20,6 +20,7 @@
 //      datum.
 // Configured [[stable_region]] tables are hints: the first round uses only the supervoxels
 // inside them (when they hold all six parameters); every later round tests every supervoxel.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -27,6 +28,7 @@
 #include <vector>
 
 #include "algorithms/registration/supervoxel_change.hpp"
+#include "pipeline/registration_on_planes.hpp"
 #include "pipeline/registration_stage.hpp"
 
 namespace tlsmon {
@@ -68,13 +70,19 @@ StableAreaMeasurement supervoxel_changes(const RegistrationConfig& config,
                                          const registration::RigidTransform& T,
                                          const RangeScales& scales = {});
 
+// A coarse pose found without a prior, and the station change it means against the start it
+// is given (coarse_pose_from_planes); nothing when none was found.
+using CoarsePoseSearch =
+    std::function<std::optional<CoarsePose>(const registration::RigidTransform& start)>;
+
 // On a result of register_epoch (and apply_planes): joint with an accepted transformation
 // (started from it, combined when the two agree), alone otherwise (from `prior`, else the
-// identity).
+// identity; when refused from there, once more from `coarse`'s pose if it finds one).
 void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervoxels& reference,
                         const std::vector<Scan>& scans, const RangeScales& scales,
                         RegistrationResult& result,
-                        const std::optional<registration::RigidTransform>& prior = std::nullopt);
+                        const std::optional<registration::RigidTransform>& prior = std::nullopt,
+                        const CoarsePoseSearch& coarse = {});
 
 // The stage's hook: the supervoxels from the reference cache, then apply_stable_areas (from
 // the history's last accepted pose), then the unstable areas new in this epoch (from the
