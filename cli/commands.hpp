@@ -109,11 +109,12 @@ struct PlanesQueryOptions {
 };
 int run_query_planes(const PlanesQueryOptions& options);
 
-// `tlsmon query stable-areas --epoch N [--state S]`
+// `tlsmon query stable-areas --epoch N [--state S | --as-zones]`
 struct StableAreasQueryOptions {
     ReadOptions read;
     std::int64_t epoch = 0;
-    std::string state;  // "" = every supervoxel; else stable, unstable, unknown, not_planar
+    std::string state;      // "" = every supervoxel; else stable, unstable, unknown, not_planar
+    bool as_zones = false;  // the unstable areas as [[zone]] tables (needs read.config)
 };
 int run_query_stable_areas(const StableAreasQueryOptions& options);
 

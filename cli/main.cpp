@@ -254,6 +254,12 @@ void add_query(CLI::App& app, CommandLine& c) {
     stable->add_option("--epoch", stable_options.epoch, "Epoch id")->required();
     stable->add_option("--state", stable_options.state, "Only the supervoxels in this state")
         ->check(CLI::IsMember({"stable", "unstable", "unknown", "not_planar"}));
+    stable
+        ->add_flag("--as-zones", stable_options.as_zones,
+                   "Instead: the areas outside the zones unstable for stable_persistent_epochs "
+                   "epochs up to this one, as [[zone]] tables to add to the configuration (TOML; "
+                   "needs --config)")
+        ->excludes("--state");
     stable_read.add_to(stable, false);
     stable->callback([&] {
         stable_options.read = stable_read.finish();

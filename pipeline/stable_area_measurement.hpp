@@ -11,6 +11,7 @@
 
 #include "algorithms/registration/rigid_transform.hpp"
 #include "algorithms/registration/supervoxel_change.hpp"
+#include "algorithms/registration/unstable_areas.hpp"
 #include "pipeline/plane_measurement.hpp"
 
 namespace tlsmon {
@@ -23,17 +24,6 @@ enum class SupervoxelState : std::uint8_t {
     not_planar = 3,  // no patch of plane (leaves, edges, corners, too small): never in the datum
 };
 const char* name_of(SupervoxelState state);
-
-// Supervoxels outside the zones that have just been unstable for `stable_persistent_epochs`
-// epochs in a row, neighbours (centroids within two seeds) grouped: a creeping slope, a settling
-// fill, a parked vehicle. Reported once, when they get there.
-struct UnstableArea {
-    std::vector<std::uint32_t> supervoxels;
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // mean of their centroids (reference frame)
-    double extent = 0;                                 // m, farthest centroid from the centre
-    double min_change = 0, max_change = 0;             // m, this epoch
-    double max_lod = 0;                                // m
-};
 
 struct StableAreaMeasurement {
     std::string role;     // "alone": the epoch's datum; "joint": combined with the targets'/planes'
@@ -74,7 +64,10 @@ struct StableAreaMeasurement {
     // the scanner beyond the planes' matching tolerances from it (a knocked or re-set station).
     std::optional<StationChange> station_change;
     int persistent_epochs = 0;  // registration.stable_persistent_epochs
-    std::vector<UnstableArea> new_unstable_areas;
+    // Supervoxels outside the zones that have just been unstable for `stable_persistent_epochs`
+    // epochs in a row, neighbours (centroids within two seeds) grouped: a creeping slope, a
+    // settling fill, a parked vehicle. Reported once, when they get there.
+    std::vector<registration::UnstableArea> new_unstable_areas;
 };
 
 }  // namespace tlsmon

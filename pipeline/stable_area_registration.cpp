@@ -686,66 +686,28 @@ void apply_stable_areas(const RegistrationConfig& config, const ReferenceSupervo
     result.stable_areas = std::move(m);
 }
 
-// An unstable area holds at least this many supervoxels (a few square metres): one patch that
-// stays unstable alone is more often an edge (the top of a block face, mixed returns) than a
-// movement of the ground.
-constexpr std::size_t kMinAreaSupervoxels = 3;
-
-std::vector<UnstableArea> new_unstable_areas(const RegistrationConfig& config,
-                                             const StableAreaMeasurement& m,
-                                             const std::vector<std::vector<std::uint8_t>>& before) {
-    const int K = config.stable_areas.persistent_epochs;
-    const auto unstable = static_cast<std::uint8_t>(SupervoxelState::unstable);
-    if (static_cast<int>(before.size()) < K - 1) return {};
-    for (const auto& b : before) {
-        if (b.size() != m.states.size()) return {};  // another segmentation: start afresh
-    }
-    std::vector<std::uint32_t> found;
-    for (std::size_t k = 0; k < m.states.size() && k < m.patches.size(); ++k) {
-        if (m.states[k] != SupervoxelState::unstable ||
-            in_regions(config.zones, m.patches[k].centroid))
-            continue;
-        bool run = true;
-        for (int j = 0; j < K - 1 && run; ++j)
-            run = before[static_cast<std::size_t>(j)][k] == unstable;
-        const bool reported = static_cast<int>(before.size()) >= K &&
-                              before[static_cast<std::size_t>(K - 1)][k] == unstable;
-        if (run && !reported) found.push_back(static_cast<std::uint32_t>(k));
-    }
-    // Neighbours (centroids within two seeds) into one area: union–find.
-    std::vector<std::size_t> parent(found.size());
-    for (std::size_t i = 0; i < found.size(); ++i) parent[i] = i;
-    const auto root = [&](std::size_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    const double reach2 = std::pow(2.0 * config.stable_areas.seed, 2);
-    for (std::size_t i = 0; i < found.size(); ++i) {
-        for (std::size_t j = i + 1; j < found.size(); ++j) {
-            if ((m.patches[found[i]].centroid - m.patches[found[j]].centroid).squaredNorm() <=
-                reach2)
-                parent[root(i)] = root(j);
-        }
-    }
-    std::map<std::size_t, UnstableArea> areas;
-    for (std::size_t i = 0; i < found.size(); ++i) areas[root(i)].supervoxels.push_back(found[i]);
-    std::vector<UnstableArea> out;
-    for (auto& [r, a] : areas) {
-        if (a.supervoxels.size() < kMinAreaSupervoxels) continue;
-        a.min_change = std::numeric_limits<double>::infinity();
-        a.max_change = -a.min_change;
-        for (const auto k : a.supervoxels) {
-            a.centre += m.patches[k].centroid;
-            a.min_change = std::min(a.min_change, double(m.changes[k]));
-            a.max_change = std::max(a.max_change, double(m.changes[k]));
-            a.max_lod = std::max(a.max_lod, double(m.lods[k]));
-        }
-        a.centre /= static_cast<double>(a.supervoxels.size());
-        for (const auto k : a.supervoxels)
-            a.extent = std::max(a.extent, (m.patches[k].centroid - a.centre).norm());
-        out.push_back(std::move(a));
+// The measurement's supervoxels with this epoch's changes, as the grouping sees them.
+std::vector<registration::AreaPatch> area_patches(const StableAreaMeasurement& m) {
+    std::vector<registration::AreaPatch> out(m.patches.size());
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        out[k] = {m.patches[k].centroid, m.patches[k].normal, m.changes.at(k), m.lods.at(k)};
     }
     return out;
+}
+
+std::vector<registration::UnstableArea> new_unstable_areas(
+    const RegistrationConfig& config, const StableAreaMeasurement& m,
+    const std::vector<std::vector<std::uint8_t>>& before) {
+    std::vector<std::uint8_t> now(m.states.size());
+    for (std::size_t k = 0; k < now.size(); ++k) now[k] = static_cast<std::uint8_t>(m.states[k]);
+    std::vector<std::uint32_t> outside;
+    for (const auto k :
+         registration::unstable_run(now, before, config.stable_areas.persistent_epochs,
+                                    static_cast<std::uint8_t>(SupervoxelState::unstable), true)) {
+        if (k < m.patches.size() && !in_regions(config.zones, m.patches[k].centroid))
+            outside.push_back(k);
+    }
+    return registration::unstable_areas(area_patches(m), outside, 2.0 * config.stable_areas.seed);
 }
 
 void apply_stable_areas(const RegistrationConfig& config, const EpochInput& input,

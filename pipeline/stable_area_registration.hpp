@@ -94,9 +94,9 @@ void apply_stable_areas(const RegistrationConfig& config, const EpochInput& inpu
 // The supervoxels outside the zones unstable in `m` and in the `persistent_epochs` − 1 masks
 // before it (`before`: state bytes, newest first), and not in the one before those, grouped
 // into areas of neighbours; areas of fewer than three supervoxels are left out.
-std::vector<UnstableArea> new_unstable_areas(const RegistrationConfig& config,
-                                             const StableAreaMeasurement& m,
-                                             const std::vector<std::vector<std::uint8_t>>& before);
+std::vector<registration::UnstableArea> new_unstable_areas(
+    const RegistrationConfig& config, const StableAreaMeasurement& m,
+    const std::vector<std::vector<std::uint8_t>>& before);
 
 // The figures, the `stable_areas` member of the registration row's quality_json.
 nlohmann::json stable_area_quality(const StableAreaMeasurement& m);
