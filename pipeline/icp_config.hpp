@@ -31,10 +31,10 @@ struct IcpConfig {
     int min_points = 500;       // pairs at least
     double max_rms = 0.005;     // m, RMS of the point-to-plane distances
     double cluster_size = 1.0;  // m, cells whose residuals may be correlated (covariance)
-    // The ICP's σ multiplied by this: what no residual shows (the beam's footprint on grazing
-    // ground, the grid's phase, the reference's own surface), as centre_sigma_floor is for the
-    // targets; 2 holds RMS(error/σ) near 1 on the simulator (docs/registration.md).
-    double sigma_factor = 2.0;
+    // The ICP's σ multiplied by this; 1: as the epoch's residuals give it, an error common to
+    // each cell included (point_to_plane.hpp), which holds RMS(error/σ) near 1 on the
+    // simulator without a factor (docs/registration.md).
+    double sigma_factor = 1.0;
     std::vector<StableRegion> regions;  // none: ICP cannot run
     bool refines() const { return mode == IcpMode::refine || mode == IcpMode::both; }
     bool falls_back() const { return mode == IcpMode::fallback || mode == IcpMode::both; }

@@ -132,12 +132,12 @@ std::vector<SectionKey<IcpConfig>> icp_keys() {
         K::number(&IcpConfig::max_rms, "icp_max_rms", 0, 0.1, "m",
                   "Quality gate: RMS of the point-to-plane distances."),
         K::number(&IcpConfig::cluster_size, "icp_cluster_size", 0.1, 100, "m",
-                  "The ICP's covariance lets the residuals within cells of this side be correlated "
-                  "(cluster-robust, docs/registration.md)."),
+                  "The ICP's covariance lets the residuals within cells of this side err together "
+                  "(an error common to each cell, its variance estimated from the epoch's own "
+                  "residuals, and cluster-robust; docs/registration.md)."),
         K::number(&IcpConfig::sigma_factor, "icp_sigma_factor", 1, 10, "",
-                  "The ICP's σ is multiplied by this for what no residual shows (the footprint on "
-                  "grazing ground, the grid's phase); 2 is honest on the simulator "
-                  "(docs/registration.md)."),
+                  "The ICP's σ is multiplied by this. 1: as the epoch's residuals give it (honest "
+                  "on the simulator without a factor, docs/registration.md); above 1 pads it."),
     };
 }
 

@@ -522,6 +522,7 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     // plane offset, the beam's footprint over it), and neighbouring supervoxels alike (a
     // slowly moving part that stayed within its LoD).
     fp.cluster_size = c.cluster_size;
+    fp.cell_effect = false;  // supervoxel_covariance models the cells at supervoxel level
     Eigen::Matrix4d T = start;
     std::optional<reg::PointToPlaneFit> fit;
     std::vector<reg::PointPlanePair> pairs;

@@ -18,9 +18,12 @@
 // cluster-robust sandwich
 //   Σ_c = c/(c − 1)·(n − 1)/(n − 6)·N⁻¹·(Σ_k g_k·g_kᵀ)·N⁻¹,   g_k = Σ_{i ∈ k} a_i·v_i
 // (Liang & Zeger 1986; the small-sample factor of Cameron & Miller 2015, §VI.A) lets each
-// cell's residuals be correlated in any way. The reported covariance is the larger of the two
-// in the matrix sense (every direction's variance at least s0²·N⁻¹'s): never more optimistic
-// than independent noise.
+// cell's residuals be correlated in any way. But with few cells in a direction the sandwich
+// itself is noisy and small; so a random-effects model of the cells as well: an error u_c
+// common to the pairs of cell c, of variance τ² estimated by moments from every cell's mean
+// residual, gives N⁻¹·(s0²·N + τ²·Σ_c b_c·b_cᵀ)·N⁻¹ (b_c = Σ_{i ∈ c} p_i·a_i). The reported
+// covariance is the largest of the three in the matrix sense (every direction's variance at
+// least each one's): never more optimistic than independent noise.
 #include <Eigen/Core>
 #include <cstddef>
 #include <span>
@@ -39,7 +42,10 @@ struct PointPlanePair {
 
 struct PointToPlaneParams {
     double cluster_size = 1.0;  // m, side of the cells whose residuals may be correlated
-    int iterations = 3;         // Gauss–Newton steps on the fixed pairs
+    // The cells' random-effects term in the reported covariance (a caller with a model of its
+    // own at another level, as the stable areas' supervoxels, leaves it out).
+    bool cell_effect = true;
+    int iterations = 3;  // Gauss–Newton steps on the fixed pairs
     // After the first solution, pairs farther than outlier_k·σ̂ from their plane are left out
     // (σ̂ = 1.4826·MAD of the distances √p·v, at least `min_sigma`) and the fit repeated: a pair
     // across an edge, a leaf, a person. 0: all pairs kept.
@@ -58,8 +64,10 @@ struct PointToPlaneFit {
     double variance_factor = 0.0;  // s0² = Σ p·v²/(n − 6), m² (per unit weight)
     Covariance6 independent;       // s0²·N⁻¹
     Covariance6 clustered;         // the sandwich Σ_c
-    double inflation = 1.0;        // largest σ ratio of the reported covariance to s0²·N⁻¹
-    double condition = 0.0;        // of N scaled to unit diagonal: large = a direction unheld
+    Covariance6 cell_effect;  // s0²·N⁻¹ + τ²·N⁻¹·Σ b_c·b_cᵀ·N⁻¹ (point_to_plane.cpp)
+    double cell_sigma = 0.0;  // τ, m: the error common to each cell, by moments
+    double inflation = 1.0;   // largest σ ratio of the reported covariance to s0²·N⁻¹
+    double condition = 0.0;   // of N scaled to unit diagonal: large = a direction unheld
 };
 
 // Gauss–Newton on Σ v² from `start` (4×4, epoch -> reference) with the pairs fixed. Throws

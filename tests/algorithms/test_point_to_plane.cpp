@@ -119,13 +119,15 @@ TEST(PointToPlane, CovarianceIsHonestForIndependentNoise) {
 }
 
 // Noise shared by 1 m patches (0.5 mm per patch beside 1 mm per point): s0²·N⁻¹ is
-// optimistic (by up to 2.7 in σ on these planes); the cluster-robust covariance stays honest.
+// optimistic (by up to 2.7 in σ on these planes); the reported covariance stays honest, and
+// so does the cells' random-effects term alone, whose τ finds the patches' 0.5 mm.
 TEST(PointToPlane, ClusteredCovarianceCoversNoiseSharedByPatches) {
     std::mt19937_64 rng(7);
     Eigen::Matrix<double, 6, 1> q2 = Eigen::Matrix<double, 6, 1>::Zero();
     Eigen::Matrix<double, 6, 1> q2_independent = Eigen::Matrix<double, 6, 1>::Zero();
+    Eigen::Matrix<double, 6, 1> q2_cells = Eigen::Matrix<double, 6, 1>::Zero();
     constexpr int draws = 200;
-    double inflation = 0;
+    double inflation = 0, tau = 0;
     for (int d = 0; d < draws; ++d) {
         const Truth truth = drift(rng);
         const auto pairs = pairs_for(truth, rng, 400, 0.001, 0.0005);
@@ -134,16 +136,23 @@ TEST(PointToPlane, ClusteredCovarianceCoversNoiseSharedByPatches) {
         for (int k = 0; k < 6; ++k) {
             q2(k) += e(k) * e(k) / f.transform.small_rotation_covariance(k, k);
             q2_independent(k) += e(k) * e(k) / f.independent(k, k);
+            q2_cells(k) += e(k) * e(k) / f.cell_effect(k, k);
         }
         inflation += f.inflation / draws;
+        tau += f.cell_sigma / draws;
     }
-    std::printf("mean inflation %.2f\n", inflation);
+    std::printf("mean inflation %.2f, mean cell sigma %.3f mm\n", inflation, 1e3 * tau);
+    EXPECT_NEAR(tau, 0.0005, 0.0001);
     double worst_independent = 0;
     for (int k = 0; k < 6; ++k) {
         const double rms = std::sqrt(q2(k) / draws), rms_i = std::sqrt(q2_independent(k) / draws);
-        std::printf("parameter %d: RMS(error/sigma) %.2f, independent %.2f\n", k, rms, rms_i);
+        const double rms_c = std::sqrt(q2_cells(k) / draws);
+        std::printf("parameter %d: RMS(error/sigma) %.2f, independent %.2f, cells %.2f\n", k, rms,
+                    rms_i, rms_c);
         EXPECT_GT(rms, 0.7) << k;
         EXPECT_LT(rms, 1.3) << k;
+        EXPECT_GT(rms_c, 0.7) << k;
+        EXPECT_LT(rms_c, 1.3) << k;
         worst_independent = std::max(worst_independent, rms_i);
     }
     EXPECT_GT(worst_independent, 2.0);
