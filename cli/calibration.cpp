@@ -20,13 +20,13 @@ Table calibration_table(const std::vector<report::CoverageRow>& rows) {
             {}};
     // Lengths in mm, angles in µrad: one unit per row, named in its own column.
     for (const auto& r : rows) {
-        const bool mixed = r.mixed_units();
-        const auto number = [&](double v) { return mixed ? Cell() : Cell(r.display_scale() * v); };
+        const bool blank = r.blank_numbers();
+        const auto number = [&](double v) { return blank ? Cell() : Cell(r.display_scale() * v); };
         const auto band = [](const report::ShareInterval& b) {
             return Cell(fmt::format("{:.1f}-{:.1f}", 100 * b.lower, 100 * b.upper));
         };
         t.rows.push_back({r.method, r.part, static_cast<std::int64_t>(r.n),
-                          mixed ? Cell() : Cell(std::string(r.angle() ? "urad" : "mm")),
+                          blank ? Cell() : Cell(std::string(r.angle() ? "urad" : "mm")),
                           number(r.error.bias), number(r.error.rms), number(r.error.max_abs),
                           number(r.rms_sigma), 100 * r.coverage68(), band(r.band68),
                           std::string(to_string(r.verdict68)), 100 * r.coverage95(), band(r.band95),
@@ -41,10 +41,17 @@ Table calibration_table(const std::vector<report::CoverageRow>& rows) {
 
 int run_calibration(const CalibrationOptions& o) {
     return run_reporting_errors("calibration", [&] {
-        const auto truth = report::read_truth_folder(o.truth);
+        const auto truth = o.truth.empty() ? std::vector<report::TruthEpoch>()
+                                           : report::read_truth_folder(o.truth);
         const auto db = open_for_reading(o.read);
         const report::RunData run = report::read_run(db);
         const auto rows = report::calibration(report::analyse(run, truth, o.truth));
+        if (rows.empty() && o.truth.empty())
+            throw Error(
+                "nothing to check without a truth: no accepted epoch joined two independent "
+                "estimates (registration.method with targets and planes or stable areas, or "
+                "registration.icp = \"refine\"), whose agreement tests need none; give the "
+                "simulator's truth with --truth DIR");
         if (rows.empty())
             throw Error(
                 "no scored figure: the database holds no accepted epoch or zone value "

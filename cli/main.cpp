@@ -494,9 +494,12 @@ void add_calibration(CLI::App& app, CommandLine& c) {
     auto* cmd = app.add_subcommand(
         "calibration",
         "Whether each method's own sigma / LoD95 covers its true error at the nominal 68 % and "
-        "95 % rates, against the simulator's truth files");
+        "95 % rates, against the simulator's truth files; with or without them, whether the "
+        "agreement tests of joined estimates follow chi2(6)");
     read.add_to(cmd, false);
-    cmd->add_option("--truth", o.truth, "Folder of the simulator's *.truth.json files")->required();
+    cmd->add_option("--truth", o.truth,
+                    "Folder of the simulator's *.truth.json files (without: the agreement tests "
+                    "only)");
     cmd->callback([&] {
         o.read = read.finish();
         c.code = run_calibration(o);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "algorithms/registration/rigid_transform.hpp"
@@ -181,6 +182,15 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
             }
         }
         out.registration.push_back(std::move(c));
+        if (e.registration && e.registration->accepted && !e.registration->quality_json.empty()) {
+            const auto q = nlohmann::json::parse(e.registration->quality_json, nullptr, false);
+            for (const char* estimate : {"icp", "planes", "stable_areas"}) {
+                if (!q.is_object() || !q.contains(estimate)) continue;
+                const auto& chi2 = q[estimate].value("agreement_chi2", nlohmann::json());
+                if (chi2.is_number())
+                    out.agreement.push_back({e.epoch.id, estimate, chi2.get<double>()});
+            }
+        }
     }
     out.registration_top_error = summarise(top_lengths);
     out.registration_max_error = summarise(max_lengths);

@@ -88,6 +88,16 @@ struct AlarmCheck {
     std::vector<std::string> events;       // "epoch 65: raise alarm (+11.20 mm)" (database ids)
 };
 
+// A joint registration's test of two independent estimates of one epoch's transformation
+// (the targets' and the ICP's, the planes' or the stable areas'): their difference against the
+// sum of their covariances, χ² with 6 degrees of freedom when both σ are honest and the two
+// independent. A check of the σ that needs no truth (report/calibration.hpp).
+struct AgreementTest {
+    EpochId epoch = 0;
+    std::string estimate;  // the joined one: "icp", "planes" or "stable_areas"
+    double chi2 = 0;
+};
+
 struct RunReport {
     std::filesystem::path database;
     bool scored = false;               // a truth was given: the comparisons below are filled
@@ -106,6 +116,7 @@ struct RunReport {
     std::optional<int> knocked_excluded_from;   // truth epoch the knocked target is first out
     std::vector<ZoneCheck> zones;
     std::vector<AlarmCheck> alarms;
+    std::vector<AgreementTest> agreement;  // of the accepted epochs, truth or not
     std::size_t epochs_done = 0, epochs_rejected = 0, epochs_failed = 0, epochs_pending = 0;
 };
 

@@ -5,6 +5,8 @@
 #include <map>
 #include <utility>
 
+#include "algorithms/registration/distribution_quantiles.hpp"
+
 namespace tlsmon::report {
 
 namespace {
@@ -96,6 +98,26 @@ std::vector<CoverageRow> calibration(const RunReport& report) {
             all.insert(all.end(), figures.begin(), figures.end());
         }
         if (parts.size() > 1) rows.push_back(coverage_of(method, "all", all));
+    }
+    std::map<std::string, std::vector<double>> agreement;
+    for (const AgreementTest& a : report.agreement) agreement[a.estimate].push_back(a.chi2);
+    for (const auto& [estimate, chi2] : agreement) {
+        CoverageRow row;
+        row.method = "agreement:" + estimate;
+        row.part = "chi2(6)";
+        row.statistic_only = true;
+        row.n = chi2.size();
+        const double q68 = registration::chi_square_quantile(kNominal68, 6);
+        const double q95 = registration::chi_square_quantile(kNominal95, 6);
+        for (const double x : chi2) {
+            row.within68 += x <= q68;
+            row.within95 += x <= q95;
+        }
+        row.band68 = wilson_interval(row.within68, row.n);
+        row.band95 = wilson_interval(row.within95, row.n);
+        row.verdict68 = sigma_verdict(row.within68, row.n, kNominal68);
+        row.verdict95 = sigma_verdict(row.within95, row.n, kNominal95);
+        rows.push_back(std::move(row));
     }
     return rows;
 }

@@ -54,6 +54,9 @@ struct CoverageRow {
     bool angle() const { return part == "omega" || part == "phi" || part == "kappa"; }
     // A registration's pooled row mixes angles and lengths: its coverage only has a meaning.
     bool mixed_units() const { return part == "all" && method.starts_with("registration:"); }
+    // A row of test statistics (the agreement tests): shares only, no error or σ.
+    bool statistic_only = false;
+    bool blank_numbers() const { return statistic_only || mixed_units(); }
     // The factor to the unit shown: 1e6 (µrad) or 1e3 (mm).
     double display_scale() const { return angle() ? 1e6 : 1e3; }
 };
@@ -64,8 +67,15 @@ CoverageRow coverage_of(std::string method, std::string part,
 
 // Every method of a scored run: the zone quantities with a truth and an LoD (the reference
 // epoch's own rows left out: they are zero by construction), and each registration method's
-// six parameters on its accepted epochs. Per part, then "all" for the method. Empty for a run
-// without truth.
+// six parameters on its accepted epochs. Per part, then "all" for the method. None of these for
+// a run without truth.
+//
+// And, truth or not, per joined estimate, the agreement tests of the accepted epochs
+// ("agreement:icp", "agreement:planes", "agreement:stable_areas", part "chi2(6)"): the shares
+// of χ² within χ²(6)'s 68.27 % and 95 % quantiles, with their bands and verdicts. Honest σ on
+// both sides give the nominal rates; fewer within: the two σ together are too small; more:
+// too large — or the two estimates share an error (the same air, the same scan's drift),
+// which makes them agree better than their σ say.
 std::vector<CoverageRow> calibration(const RunReport& report);
 
 }  // namespace tlsmon::report

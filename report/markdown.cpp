@@ -99,16 +99,18 @@ std::string calibration_section(const RunReport& r) {
         "Each scored figure's error against the truth, and whether it lies within the figure's "
         "own σ (68 % nominal) and LoD95 = 1.96 σ (95 % nominal); the band is the Wilson 95 % "
         "interval of the share, and the verdict says whether the nominal rate lies inside it "
-        "(docs/calibration.md). Lengths in mm, registration angles in µrad. The same table: "
-        "`tlsmon calibration --db DB --truth DIR`.\n\n";
+        "(docs/calibration.md). Lengths in mm, registration angles in µrad. Rows "
+        "`agreement:…` need no truth: the χ² of two independent estimates of an epoch's "
+        "transformation against their σ, within χ²(6)'s 68 % and 95 % quantiles. The same "
+        "table: `tlsmon calibration --db DB [--truth DIR]`.\n\n";
     if (rows.empty()) return md + "No scored figure with an uncertainty.\n";
     md +=
         "| method | part | n | bias | RMS | RMS σ | within σ | band | verdict | within "
         "LoD95 | band | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const CoverageRow& c : rows) {
         const auto number = [&](double v) {
-            return c.mixed_units() ? std::string("–")
-                                   : fmt::format("{:.3f}", c.display_scale() * v);
+            return c.blank_numbers() ? std::string("–")
+                                     : fmt::format("{:.3f}", c.display_scale() * v);
         };
         md += fmt::format(
             "| {} | {} | {} | {} | {} | {} | {} | {:.1f}–{:.1f} | {} | {} | {:.1f}–{:.1f} | {} "
@@ -402,7 +404,7 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         md += "\n";
     }
 
-    if (r.scored) md += calibration_section(r);
+    if (r.scored || !r.agreement.empty()) md += calibration_section(r);
 
     // ---- Alarms ----
     md += r.scored ? "## Alarms against the truth\n\n" : "\n## Alarms\n\n";

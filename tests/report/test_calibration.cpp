@@ -1,11 +1,13 @@
 // The calibration of each method's own σ against the truth (report/calibration.hpp), on
 // worked cases: the Wilson interval by its defining equation and a published value, the
 // counts of figures within σ and 1.96 σ, the verdicts, and a run whose registration is known
-// to be off by 1 mm with a σ of 0.4 mm (outside its 95 % interval) or 2 mm (inside).
+// to be off by 1 mm with a σ of 0.4 mm (outside its 95 % interval) or 2 mm (inside). Without a
+// truth, the agreement tests of joined estimates against χ²(6)'s quantiles.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "algorithms/registration/distribution_quantiles.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 #include "report/calibration.hpp"
 
@@ -122,6 +124,48 @@ TEST(Calibration, RegistrationParametersAndZonesOfARun) {
     EXPECT_EQ(top.n, 3u);
     EXPECT_EQ(top.within68, 3u);
     EXPECT_NEAR(top.rms_sigma, 0.001, 1e-12);
+}
+
+// No truth: the agreement χ² stored by joined estimates of accepted epochs, per estimate,
+// against χ²(6)'s quantiles 7.04 (68.27 %) and 12.59 (95 %); a rejected epoch's is left out.
+TEST(Calibration, AgreementTestsNeedNoTruth) {
+    RunData run;
+    run.reference = 1;
+    const auto epoch = [&](int id, bool accepted, const std::string& quality) {
+        RunEpoch e;
+        e.epoch.id = id;
+        e.epoch.acquired = 1'000'000 + 900 * id;
+        e.epoch.status = accepted ? EpochStatus::done : EpochStatus::rejected;
+        RegistrationRow r;
+        r.method = "targets+icp";
+        r.accepted = accepted;
+        r.quality_json = quality;
+        e.registration = r;
+        run.epochs.push_back(e);
+    };
+    epoch(1, true, R"({"atmosphere":"not_corrected"})");
+    epoch(2, true, R"({"icp":{"agreement_chi2":1.0},"planes":{"agreement_chi2":null}})");
+    epoch(3, true, R"({"icp":{"agreement_chi2":10.0}})");
+    epoch(4, true, R"({"icp":{"agreement_chi2":20.0},"stable_areas":{"agreement_chi2":3.0}})");
+    epoch(5, false, R"({"icp":{"agreement_chi2":2.0}})");
+    epoch(6, true, "not json");
+    const RunReport report = analyse(run, {}, "");
+    EXPECT_FALSE(report.scored);
+    ASSERT_EQ(report.agreement.size(), 4u);
+    const auto rows = calibration(report);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].method, "agreement:icp");
+    EXPECT_EQ(rows[0].part, "chi2(6)");
+    EXPECT_TRUE(rows[0].statistic_only);
+    EXPECT_TRUE(rows[0].blank_numbers());
+    EXPECT_EQ(rows[0].n, 3u);
+    EXPECT_EQ(rows[0].within68, 1u);  // 1.0 only
+    EXPECT_EQ(rows[0].within95, 2u);  // 1.0 and 10.0
+    EXPECT_EQ(rows[0].verdict95, sigma_verdict(2, 3, kNominal95));
+    EXPECT_EQ(rows[1].method, "agreement:stable_areas");
+    EXPECT_EQ(rows[1].within68, 1u);
+    EXPECT_NEAR(registration::chi_square_quantile(kNominal68, 6), 7.04, 0.01);
+    EXPECT_NEAR(registration::chi_square_quantile(kNominal95, 6), 12.592, 0.001);
 }
 
 }  // namespace
