@@ -1,6 +1,7 @@
-// `tlsmon calibration --db DB --truth DIR`: whether each method's own σ / LoD95 covers its
-// true error at the nominal rate (report/calibration.hpp, docs/calibration.md), per method and
-// part, with the Wilson interval of each coverage and a verdict.
+// `tlsmon calibration --db DB [--truth DIR]`: whether each method's own σ / LoD95 covers its
+// true error (or a check zone's zero change) at the nominal rate (report/calibration.hpp,
+// docs/calibration.md), per method and part, with the Wilson interval of each coverage and a
+// verdict.
 #include "report/calibration.hpp"
 
 #include <fmt/format.h>
@@ -48,7 +49,9 @@ int run_calibration(const CalibrationOptions& o) {
         const auto rows = report::calibration(report::analyse(run, truth, o.truth));
         if (rows.empty() && o.truth.empty())
             throw Error(
-                "nothing to check without a truth: no accepted epoch joined two independent "
+                "nothing to check without a truth: no check zone ([[zone]] no_change = true) "
+                "has a value with an LoD, no accepted epoch used four targets or more, and none "
+                "joined two independent "
                 "estimates (registration.method with targets and planes or stable areas, or "
                 "registration.icp = \"refine\"), whose agreement tests need none; give the "
                 "simulator's truth with --truth DIR");

@@ -243,6 +243,7 @@ struct KeypointsOptions {
     bool no_refine = false;
     std::optional<double> segments_deg;  // bands of the vertical angle this high
     std::string images;                  // folder for the pictures; "": none
+    std::string summary;                 // CSV of the segments' figures; "": none
     double vector_scale = 20.0;
     std::optional<int> scan;  // only the k-th structured scan of each file, from 1
 };

@@ -128,6 +128,7 @@ int demo(const DemoOptions& o) {
     const auto& p = site.pier;
     ds.step_min = {p.x0, p.y0 - 0.5, site.events.step_z_min};
     ds.step_max = {p.x1, p.y0 + 0.5, site.events.step_z_max};
+    ds.check_zone_toml = abutment_check_zone(site);
     ds.modbus_port = o.modbus_port;
     const fs::path config = dir / "tlsmon.toml";
     write_all(config, demo_daemon_config(ds));

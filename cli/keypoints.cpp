@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <string>
@@ -115,6 +116,27 @@ void write_csv(const std::string& path, const KeypointSegmentsResult& segments, 
         throw Error(path + ": write failed: " + std::strerror(errno));
 }
 
+// One row per segment at full precision (metres): the figures the stage stores, the standard
+// errors beside them, and the share of the zone's area they stand for (zone_strata.hpp).
+void write_summary(const std::string& path, const KeypointSegmentsResult& segments) {
+    std::ofstream f(path);
+    if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
+    f << "zone,matches,kept,dx_m,dy_m,dz_m,se_dx_m,se_dy_m,se_dz_m,normal_m,surface_h_m,"
+         "surface_v_m,se_normal_m,se_surface_h_m,se_surface_v_m,covered_area_share,undefined\n";
+    const auto field = [](double v) { return std::isfinite(v) ? csv_number(v) : std::string(); };
+    for (const auto& s : segments.segments) {
+        const SegmentDisplacement& d = s.displacement;
+        std::vector<std::string> row{s.zone, std::to_string(d.matches), std::to_string(d.count)};
+        for (const Eigen::Vector3d* v :
+             {&d.mean, &d.standard_error, &d.along, &d.along_standard_error})
+            for (int k = 0; k < 3; ++k) row.push_back(field((*v)(k)));
+        row.push_back(field(d.covered_area_share));
+        row.push_back(d.undefined_reason);
+        f << csv_line(row);
+    }
+    if (!f.flush()) throw Error(path + ": write failed: " + std::strerror(errno));
+}
+
 // Per segment (docs/keypoints.md, step 6): matches and kept, the mean vector and its spread,
 // the components along the wall's normal and along the surface, their LoD95.
 void print_summary(const KeypointSegmentsResult& segments) {
@@ -202,6 +224,7 @@ int run_keypoints(const KeypointsOptions& o) {
         const KeypointSegmentsResult segments =
             keypoint_segments(p, reference, std::move(epoch.matches), pair.outputs);
         write_csv(o.out, segments, p.segments == KeypointSegments::bands);
+        if (!o.summary.empty()) write_summary(o.summary, segments);
         if (!o.images.empty()) write_pictures(o.images, p, pair, segments, o.vector_scale);
 
         std::cout << p.detector << " + " << p.descriptor << ": reference " << reference.keypoints()

@@ -445,6 +445,9 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
                         fallback("keypoints.band_width_deg", toml_number(defaults.band_width_deg)))
         ->check(CLI::PositiveNumber);
     cmd->add_option("--out", o.out, "Result CSV file, one row per match")->required();
+    cmd->add_option("--summary", o.summary,
+                    "CSV file, one row per segment: its figures at full precision, as the "
+                    "daemon stores them (metres)");
     cmd->add_option("--images", o.images,
                     "Folder for reference.png and epoch.png: the intensity images with the "
                     "matches drawn");
@@ -494,12 +497,13 @@ void add_calibration(CLI::App& app, CommandLine& c) {
     auto* cmd = app.add_subcommand(
         "calibration",
         "Whether each method's own sigma / LoD95 covers its true error at the nominal 68 % and "
-        "95 % rates, against the simulator's truth files; with or without them, whether the "
-        "agreement tests of joined estimates follow chi2(6)");
+        "95 % rates, against the simulator's truth files; with or without them, the no-change "
+        "checks (check zones against zero, each target against the others) and the agreement "
+        "tests of joined estimates");
     read.add_to(cmd, false);
     cmd->add_option("--truth", o.truth,
-                    "Folder of the simulator's *.truth.json files (without: the agreement tests "
-                    "only)");
+                    "Folder of the simulator's *.truth.json files (without: the no-change "
+                    "checks and the agreement tests only)");
     cmd->callback([&] {
         o.read = read.finish();
         c.code = run_calibration(o);

@@ -200,6 +200,7 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     if (z.name.empty()) t.fail("name", "expected a non-empty zone name");
     if (taken.count(z.name)) t.fail("name", "zone '" + z.name + "' is defined twice");
     read_zone_normal(t, z);
+    t.get("no_change", z.no_change);
     if (t.has("polygon")) {
         if (t.has("min") || t.has("max")) {
             t.fail("polygon", "a [[zone]] is a box (min, max) or a prism (polygon, z), not both");
@@ -414,6 +415,13 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         c.icp.regions.push_back(read_stable_region(t, region_names));
         region_names.insert(c.icp.regions.back().name);
     }
+    // The ICP's stable regions leave the check zones out, so their check stays independent
+    // of the datum (the planes and the stable areas leave out every zone).
+    for (const ZoneConfig& z : c.zones) {
+        if (z.no_change && z.band_of.empty())
+            c.icp.excluded.push_back(
+                {z.name, Eigen::Vector3d(z.min.data()), Eigen::Vector3d(z.max.data())});
+    }
     if (c.icp.mode != IcpMode::off && c.icp.regions.empty()) {
         if (auto t = top.table("registration")) {
             t->fail("icp", "needs at least one [[stable_region]] table (ICP runs on them only)");
@@ -461,6 +469,7 @@ std::vector<std::string> describe(const Config& c) {
             line += "], z = [" + toml_number(z.min[2]) + ", " + toml_number(z.max[2]) + "]";
         }
         if (z.normal) line += ", normal = " + triple(*z.normal);
+        if (z.no_change) line += ", no_change = true";
         if (!z.band_of.empty()) {
             line += " (band of " + toml_string(z.band_of) + ", bounds min = " + triple(z.min) +
                     ", max = " + triple(z.max) + ")";

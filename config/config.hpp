@@ -83,6 +83,9 @@ struct ZoneConfig {
     std::vector<std::array<double, 2>> polygon;  // a prism's outline (x, y); empty: a box
     std::string band_of;  // the [[zone]] a [[zone_bands]] table cut it from; "" otherwise
     std::optional<std::array<double, 3>> normal;  // the face's design normal, unit length
+    // A check zone on ground known not to move: its values are scored against zero
+    // (`tlsmon calibration`, docs/calibration.md) and its points never enter the datum.
+    bool no_change = false;
 };
 
 // The zone's geometry (algorithms/zones/zone_shape.hpp).

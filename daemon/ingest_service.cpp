@@ -46,6 +46,7 @@ std::string zone_json(const ZoneConfig& z) {
     if (!z.polygon.empty()) j["polygon"] = z.polygon;
     if (!z.band_of.empty()) j["band_of"] = z.band_of;
     if (z.normal) j["normal"] = *z.normal;
+    if (z.no_change) j["no_change"] = true;
     return j.dump();
 }
 

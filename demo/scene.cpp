@@ -167,7 +167,7 @@ significant_only = true
 )",
         s.modbus_port, kStepZone, v(s.step_min), v(s.step_max), kStepRule, kStepZone, kWestRule,
         s.west_zone);
-    return t;
+    return t + s.check_zone_toml;
 }
 
 }  // namespace tlsmon

@@ -29,6 +29,7 @@ struct DemoSite {
     std::array<double, 3> step_min{};  // the step band as a box around the south face
     std::array<double, 3> step_max{};
     std::string west_zone = "pier_west_face";  // a zone the step does not move
+    std::string check_zone_toml;               // a no-change check zone's [[zone]] table, or ""
     int modbus_port = 1502;
 };
 // The names the configuration gives the step band and its rules.

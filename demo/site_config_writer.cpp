@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "config/keys.hpp"
 #include "simulator/stable_ground.hpp"
+#include "simulator/terrain.hpp"
 
 namespace tlsmon {
 
@@ -62,6 +65,47 @@ std::string site_configuration(const sim::Site& site) {
                "\nmax = " + vec(b.max) + "\n";
     }
     return out;
+}
+
+std::string abutment_check_zone(const sim::Site& site) {
+    constexpr double inset = 0.6, half_depth = 0.3;
+    for (const sim::Block& b : site.terrain.blocks) {
+        if (b.kind != sim::Block::Kind::abutment || b.yaw_deg != 0.0 || b.motion.from_epoch >= 0)
+            continue;
+        // Its four vertical faces (axis k, side ±1); the one whose outward normal points most
+        // towards the scanner.
+        int axis = 0;
+        double side = -1, best = -2;
+        for (int k = 0; k < 2; ++k) {
+            for (const double s : {-1.0, 1.0}) {
+                Eigen::Vector3d centre = b.centre();
+                centre(k) = s < 0 ? b.lo(k) : b.hi(k);
+                const double facing = s * (site.scanner.position - centre).normalized()(k);
+                if (facing > best) std::tie(axis, side, best) = std::tuple(k, s, facing);
+            }
+        }
+        const int along = 1 - axis;
+        const double plane = side < 0 ? b.lo(axis) : b.hi(axis);
+        const double foot = std::max(b.lo.z(), sim::terrain_height(site.terrain, b.centre().y()));
+        Eigen::Vector3d lo, hi, normal = Eigen::Vector3d::Zero();
+        lo(axis) = plane - half_depth;
+        hi(axis) = plane + half_depth;
+        lo(along) = b.lo(along) + inset;
+        hi(along) = b.hi(along) - inset;
+        lo.z() = foot + inset;
+        hi.z() = b.hi.z() - inset;
+        normal(axis) = side;
+        if (!(lo.array() < hi.array()).all()) continue;
+        const auto vec = [](const Eigen::Vector3d& v) {
+            return fmt::format("[{}, {}, {}]", toml_number(v.x()), toml_number(v.y()),
+                               toml_number(v.z()));
+        };
+        return "\n# A check zone: the face of the abutment " + toml_string(b.name) +
+               ", which does not move; its values are scored against zero.\n[[zone]]\nname = " +
+               toml_string("check_" + b.name) + "\nmin = " + vec(lo) + "\nmax = " + vec(hi) +
+               "\nnormal = " + vec(normal) + "\nno_change = true\n";
+    }
+    return "";
 }
 
 }  // namespace tlsmon

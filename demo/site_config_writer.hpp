@@ -13,4 +13,10 @@ namespace tlsmon {
 
 std::string site_configuration(const sim::Site& site);
 
+// A no-change check zone ([[zone]] with no_change = true, docs/calibration.md) on the face of
+// the site's first abutment that never moves, the face the scanner sees most squarely,
+// 0.6 m in from its edges (so that no M3C2 cylinder reaches the ground or the top) and
+// 0.3 m either side of it; "" when the site has no such abutment.
+std::string abutment_check_zone(const sim::Site& site);
+
 }  // namespace tlsmon

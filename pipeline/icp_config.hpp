@@ -36,6 +36,8 @@ struct IcpConfig {
     // simulator without a factor (docs/registration.md).
     double sigma_factor = 1.0;
     std::vector<StableRegion> regions;  // none: ICP cannot run
+    // The bounds of the no-change check zones ([[zone]] no_change): never in the regions.
+    std::vector<StableRegion> excluded;
     bool refines() const { return mode == IcpMode::refine || mode == IcpMode::both; }
     bool falls_back() const { return mode == IcpMode::fallback || mode == IcpMode::both; }
 };

@@ -25,14 +25,22 @@ constexpr double kMaxCurvature = 0.02;
 std::string region_parameters(const IcpConfig& c) {
     std::string s = fmt::format("voxel={:.17g};normals={:.17g};curvature={:.17g}", c.voxel_size,
                                 kNormalRadiusVoxels, kMaxCurvature);
-    for (const auto& r : c.regions) {
-        s += fmt::format(";{}:{:.17g},{:.17g},{:.17g}:{:.17g},{:.17g},{:.17g}", r.name, r.min.x(),
-                         r.min.y(), r.min.z(), r.max.x(), r.max.y(), r.max.z());
-    }
+    const auto boxes = [&s](const std::vector<StableRegion>& list, const char* prefix) {
+        for (const auto& r : list) {
+            s +=
+                fmt::format(";{}{}:{:.17g},{:.17g},{:.17g}:{:.17g},{:.17g},{:.17g}", prefix, r.name,
+                            r.min.x(), r.min.y(), r.min.z(), r.max.x(), r.max.y(), r.max.z());
+        }
+    };
+    boxes(c.regions, "");
+    boxes(c.excluded, "not ");
     return s;
 }
 
 bool in_regions(const IcpConfig& c, const Eigen::Vector3d& p) {
+    for (const auto& r : c.excluded) {
+        if (r.contains(p)) return false;
+    }
     for (const auto& r : c.regions) {
         if (r.contains(p)) return true;
     }

@@ -117,6 +117,10 @@ std::string KeypointReference::encode() const {
         w.put<std::uint64_t>(f.points);
         w.put<std::uint8_t>(f.horizontal_surface ? 1 : 0);
         put_text(w, f.undefined_reason);
+        const std::vector<float> none;
+        const auto& cells = z < wall_cells.size() ? wall_cells[z] : none;
+        w.put<std::uint64_t>(cells.size());
+        for (const float e : cells) w.put<float>(e);
     }
     return w.take();
 }
@@ -151,6 +155,11 @@ KeypointReference KeypointReference::decode(std::string_view payload) {
         f.horizontal_surface = in.get<std::uint8_t>() != 0;
         f.undefined_reason = get_text(in);
         r.walls.push_back(std::move(f));
+        const auto cells = in.get<std::uint64_t>();
+        if (cells > payload.size()) throw Error("keypoints stage payload: too many wall cells");
+        std::vector<float> elevations(cells);
+        for (auto& e : elevations) e = in.get<float>();
+        r.wall_cells.push_back(std::move(elevations));
     }
     in.finish();
     return r;

@@ -37,7 +37,7 @@ struct KeypointScanReference {
 };
 
 struct KeypointReference {
-    static constexpr int kFormatVersion = 4;
+    static constexpr int kFormatVersion = 5;
     static constexpr const char* kStage = "keypoints";
 
     std::vector<KeypointScanReference> scans;           // the structured scans, in file order
@@ -46,7 +46,9 @@ struct KeypointReference {
     Eigen::Vector3d scanner = Eigen::Vector3d::Zero();  // the reference scan's position
     std::vector<std::string> zone_names;                // zones mode, in the configuration's order
     std::vector<keypoints::WallFrame> walls;            // per zone, from the reference's points
-    double seconds = 0;                                 // time it took to build
+    // Per zone, the vertical angle of each wall cell the reference saw (zone_strata.hpp).
+    std::vector<std::vector<float>> wall_cells;
+    double seconds = 0;  // time it took to build
 
     std::size_t keypoints() const;  // kept, over every scan
     std::size_t detected() const;

@@ -13,6 +13,7 @@
 #include "algorithms/keypoints/keypoint_to_3d.hpp"
 #include "algorithms/keypoints/opencv_features.hpp"
 #include "algorithms/keypoints/patch_refinement.hpp"
+#include "algorithms/keypoints/zone_strata.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
 #include "core/statistics.hpp"
@@ -296,6 +297,8 @@ KeypointReference prepare_keypoint_reference(const KeypointConfig& config,
                     if (p.allFinite() && z.contains(p)) inside.push_back(p);
             out.zone_names.push_back(z.name);
             out.walls.push_back(fit_wall_frame(inside, towards));
+            out.wall_cells.push_back(
+                vertical_angles(wall_cell_centres(inside, out.walls.back()), out.scanner));
         }
     }
     out.seconds = since(t0);
@@ -391,13 +394,23 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
                 }
             }
             in = finest_scan_matches(std::move(in), reference);
+            // The filters judge each match against its band of the vertical angle, the case
+            // study's segment, not against the whole zone: over a face that bends, the
+            // displacement grows with the height, and against the zone's median the upper
+            // part's matches were removed as outliers (docs/keypoints.md, "Zones that bend").
+            const double width = config.band_width_deg * kDeg;
+            for (auto& m : in) m.segment = vertical_angle_band(m.reference_elevation, width);
             const OutlierResult filtered = filter_outliers(in, op);
             KeypointSegmentResult r;
             r.zone = reference.zone_names[z];
-            r.displacement = segment_displacement(in, filtered.removed_by, 0, sp,
-                                                  reference.walls[z].defined()
-                                                      ? std::optional<WallFrame>(reference.walls[z])
-                                                      : std::nullopt);
+            if (wall.defined()) {
+                r.displacement = stratified_displacement(
+                    in, filtered.removed_by, wall, reference.wall_cells[z],
+                    {.segment = sp, .min_stratum_matches = sp.min_matches, .band_width = width});
+            }
+            for (auto& m : in) m.segment = 0;
+            if (!wall.defined())
+                r.displacement = segment_displacement(in, filtered.removed_by, 0, sp);
             check_sampling(r.displacement, in, 0);
             r.registration_covariance = covariance_at(r.displacement, in);
             r.removed_by = filtered.removed_by;

@@ -187,8 +187,21 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
             for (const char* estimate : {"icp", "planes", "stable_areas"}) {
                 if (!q.is_object() || !q.contains(estimate)) continue;
                 const auto& chi2 = q[estimate].value("agreement_chi2", nlohmann::json());
-                if (chi2.is_number())
-                    out.agreement.push_back({e.epoch.id, estimate, chi2.get<double>()});
+                if (chi2.is_number()) {
+                    out.chi_square_tests.push_back(
+                        {e.epoch.id, std::string("agreement:") + estimate, chi2.get<double>(), 6});
+                }
+            }
+        }
+        // Each used target against the others' transformation, where at least four were
+        // used (three: T_i has fewer than 3 degrees of freedom; its rank is not stored).
+        const auto used = std::count_if(e.targets.begin(), e.targets.end(),
+                                        [](const TargetObservation& o) { return o.use == "used"; });
+        if (c.accepted && !c.is_reference && used >= 4) {
+            for (const TargetObservation& o : e.targets) {
+                if (o.use == "used" && o.statistic)
+                    out.chi_square_tests.push_back(
+                        {e.epoch.id, "no_change:targets", *o.statistic, 3});
             }
         }
     }
@@ -204,6 +217,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
         ZoneCheck zc;
         zc.id = z.id;
         zc.zone = z.name;
+        zc.no_change = z.no_change;
         if (z.box && out.scored) zc.face = zone_face(truth.front().pier, *z.box);
         if (zc.face && reference) {
             for (const TruthEpoch& t : truth) {
@@ -224,6 +238,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
             const auto kind = truth_kind(quantity);
             q.displacement = kind.has_value();
             if (kind && zc.face && reference) q.truth_kind = *kind;
+            if (kind && z.no_change) q.truth_kind = "zero (a check zone, known not to move)";
             std::vector<double> errors;
             for (const SeriesPoint& p : points) {
                 ZoneQuantityCheck::Row row;
@@ -234,7 +249,10 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
                 row.significant = p.significant;
                 const TruthEpoch* t = truth_at(truth, p.acquired);
                 if (t) row.truth_epoch = t->epoch;
-                if (t && !q.truth_kind.empty()) {
+                if (kind && z.no_change) {
+                    row.truth = 0.0;
+                    if (std::isfinite(p.value)) errors.push_back(p.value);
+                } else if (t && !q.truth_kind.empty()) {
                     row.truth =
                         truth_value(quantity, zone_truth(*reference, *t, *zc.face), *zc.face);
                     if (std::isfinite(p.value)) errors.push_back(p.value - *row.truth);

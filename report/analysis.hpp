@@ -73,6 +73,8 @@ struct ZoneCheck {
     std::vector<ZoneQuantityCheck> quantities;     // stored ones, with their truth
     std::vector<std::pair<int, ZoneTruth>> truth;  // (truth epoch, true change) for plots
     bool step_zone = false;                        // the truth's step moves it along its normal
+    // A check zone on ground known not to move: its displacement quantities' truth is 0.
+    bool no_change = false;
 };
 
 struct AlarmCheck {
@@ -88,14 +90,17 @@ struct AlarmCheck {
     std::vector<std::string> events;       // "epoch 65: raise alarm (+11.20 mm)" (database ids)
 };
 
-// A joint registration's test of two independent estimates of one epoch's transformation
-// (the targets' and the ICP's, the planes' or the stable areas'): their difference against the
-// sum of their covariances, χ² with 6 degrees of freedom when both σ are honest and the two
-// independent. A check of the σ that needs no truth (report/calibration.hpp).
-struct AgreementTest {
+// A statistic that follows χ²(dof) when the σ involved are honest: a check of the σ that
+// needs no truth (report/calibration.hpp). "agreement:<estimate>": a joint registration's two
+// independent estimates of one epoch's transformation (the targets' and the ICP's, the
+// planes' or the stable areas'), their difference against the sum of their covariances, 6
+// degrees of freedom. "no_change:targets": a used target against the transformation of the
+// others, its outlier test's T_i, the drop of Ω when it is left out (Förstner 1983), 3.
+struct ChiSquareTest {
     EpochId epoch = 0;
-    std::string estimate;  // the joined one: "icp", "planes" or "stable_areas"
+    std::string method;
     double chi2 = 0;
+    int dof = 6;
 };
 
 struct RunReport {
@@ -116,7 +121,7 @@ struct RunReport {
     std::optional<int> knocked_excluded_from;   // truth epoch the knocked target is first out
     std::vector<ZoneCheck> zones;
     std::vector<AlarmCheck> alarms;
-    std::vector<AgreementTest> agreement;  // of the accepted epochs, truth or not
+    std::vector<ChiSquareTest> chi_square_tests;  // of the accepted epochs, truth or not
     std::size_t epochs_done = 0, epochs_rejected = 0, epochs_failed = 0, epochs_pending = 0;
 };
 

@@ -79,7 +79,9 @@ std::vector<CoverageRow> calibration(const RunReport& report) {
             for (const auto& row : q.rows) {
                 if (!row.truth || !row.lod || !std::isfinite(row.value)) continue;
                 if (report.reference && row.id == *report.reference) continue;
-                scored[q.quantity][zone.zone].push_back(
+                // A check zone's truth is zero by what it is, truth files or not.
+                const std::string method = (zone.no_change ? "no_change:" : "") + q.quantity;
+                scored[method][zone.zone].push_back(
                     {row.value - *row.truth, *row.lod / kLod95Factor});
             }
         }
@@ -99,16 +101,18 @@ std::vector<CoverageRow> calibration(const RunReport& report) {
         }
         if (parts.size() > 1) rows.push_back(coverage_of(method, "all", all));
     }
-    std::map<std::string, std::vector<double>> agreement;
-    for (const AgreementTest& a : report.agreement) agreement[a.estimate].push_back(a.chi2);
-    for (const auto& [estimate, chi2] : agreement) {
+    std::map<std::pair<std::string, int>, std::vector<double>> tests;
+    for (const ChiSquareTest& a : report.chi_square_tests)
+        tests[{a.method, a.dof}].push_back(a.chi2);
+    for (const auto& [key, chi2] : tests) {
+        const auto& [method, dof] = key;
         CoverageRow row;
-        row.method = "agreement:" + estimate;
-        row.part = "chi2(6)";
+        row.method = method;
+        row.part = "chi2(" + std::to_string(dof) + ")";
         row.statistic_only = true;
         row.n = chi2.size();
-        const double q68 = registration::chi_square_quantile(kNominal68, 6);
-        const double q95 = registration::chi_square_quantile(kNominal95, 6);
+        const double q68 = registration::chi_square_quantile(kNominal68, dof);
+        const double q95 = registration::chi_square_quantile(kNominal95, dof);
         for (const double x : chi2) {
             row.within68 += x <= q68;
             row.within95 += x <= q95;

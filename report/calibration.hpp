@@ -54,7 +54,7 @@ struct CoverageRow {
     bool angle() const { return part == "omega" || part == "phi" || part == "kappa"; }
     // A registration's pooled row mixes angles and lengths: its coverage only has a meaning.
     bool mixed_units() const { return part == "all" && method.starts_with("registration:"); }
-    // A row of test statistics (the agreement tests): shares only, no error or σ.
+    // A row of χ² test statistics: shares only, no error or σ.
     bool statistic_only = false;
     bool blank_numbers() const { return statistic_only || mixed_units(); }
     // The factor to the unit shown: 1e6 (µrad) or 1e3 (mm).
@@ -70,12 +70,17 @@ CoverageRow coverage_of(std::string method, std::string part,
 // six parameters on its accepted epochs. Per part, then "all" for the method. None of these for
 // a run without truth.
 //
-// And, truth or not, per joined estimate, the agreement tests of the accepted epochs
-// ("agreement:icp", "agreement:planes", "agreement:stable_areas", part "chi2(6)"): the shares
-// of χ² within χ²(6)'s 68.27 % and 95 % quantiles, with their bands and verdicts. Honest σ on
-// both sides give the nominal rates; fewer within: the two σ together are too small; more:
-// too large — or the two estimates share an error (the same air, the same scan's drift),
-// which makes them agree better than their σ say.
+// Truth or not, the check zones ([[zone]] no_change: ground known not to move, never in the
+// datum): each displacement quantity with an LoD scored against zero, as
+// "no_change:<quantity>" per zone — the no-change check a real site can make.
+//
+// And, truth or not, the χ² tests of the accepted epochs (analysis.hpp, ChiSquareTest): per
+// joined estimate ("agreement:icp", "agreement:planes", "agreement:stable_areas", part
+// "chi2(6)") and for the used targets ("no_change:targets", "chi2(3)"), the shares within
+// χ²(dof)'s 68.27 % and 95 % quantiles, with their bands and verdicts. Honest σ give the
+// nominal rates; fewer within: the σ are too small; more: too large — or the two sides share
+// an error (the same air, the same scan's drift, an error common to all targets), which
+// makes them agree better than their σ say.
 std::vector<CoverageRow> calibration(const RunReport& report);
 
 }  // namespace tlsmon::report

@@ -22,6 +22,13 @@ std::optional<ZoneBox> parse_zone_box(const std::string& definition_json) {
     return ZoneBox{*lo, *hi};
 }
 
+bool parse_zone_no_change(const std::string& definition_json) {
+    const nlohmann::json j = nlohmann::json::parse(definition_json, nullptr, false);
+    if (!j.is_object() || !j.contains("no_change")) return false;
+    const auto& v = j["no_change"];
+    return v.is_boolean() && v.get<bool>();
+}
+
 RunData read_run(const EpochDatabase& db) {
     RunData r;
     r.database = db.path();
@@ -40,7 +47,9 @@ RunData read_run(const EpochDatabase& db) {
         z.id = id;
         z.name = name;
         for (const auto& [n, definition] : definitions) {
-            if (n == name) z.box = parse_zone_box(definition);
+            if (n != name) continue;
+            z.box = parse_zone_box(definition);
+            z.no_change = parse_zone_no_change(definition);
         }
         for (const std::string& q : db.series().quantities(name)) {
             z.series[q] = db.series().points(name, q, {});

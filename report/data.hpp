@@ -24,6 +24,7 @@ struct RunZone {
     ZoneId id = 0;  // its Modbus slot is id − 1 (docs/modbus.md)
     std::string name;
     std::optional<ZoneBox> box;  // absent for a zone that is not a box
+    bool no_change = false;      // a check zone on ground known not to move ([[zone]])
     // quantity -> its time series, by acquisition time
     std::map<std::string, std::vector<SeriesPoint>> series;
 };
@@ -44,5 +45,7 @@ RunData read_run(const EpochDatabase& db);
 
 // A zone definition as stored ({"type":"box","min":[..],"max":[..]}); nullopt otherwise.
 std::optional<ZoneBox> parse_zone_box(const std::string& definition_json);
+// Whether a stored zone definition marks a no-change check zone ("no_change": true).
+bool parse_zone_no_change(const std::string& definition_json);
 
 }  // namespace tlsmon::report

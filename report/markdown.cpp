@@ -100,8 +100,11 @@ std::string calibration_section(const RunReport& r) {
         "own σ (68 % nominal) and LoD95 = 1.96 σ (95 % nominal); the band is the Wilson 95 % "
         "interval of the share, and the verdict says whether the nominal rate lies inside it "
         "(docs/calibration.md). Lengths in mm, registration angles in µrad. Rows "
-        "`agreement:…` need no truth: the χ² of two independent estimates of an epoch's "
-        "transformation against their σ, within χ²(6)'s 68 % and 95 % quantiles. The same "
+        "`no_change:…` and `agreement:…` need no truth: a check zone's values against zero "
+        "(ground known not to move, never in the datum); each used target against the "
+        "transformation of the others (χ² with 3 degrees of freedom), and two independent "
+        "estimates of an epoch's transformation against their σ (χ² with 6), within χ²'s 68 % "
+        "and 95 % quantiles. The same "
         "table: `tlsmon calibration --db DB [--truth DIR]`.\n\n";
     if (rows.empty()) return md + "No scored figure with an uncertainty.\n";
     md +=
@@ -229,11 +232,13 @@ std::vector<std::string> summary_lines(const RunReport& r) {
     }
     if (!any_zone && r.scored) out.push_back("zones (M3C2, keypoints): not computed in this run");
     for (const CoverageRow& c : method_rows(calibration(r))) {
-        out.push_back(
-            fmt::format("calibration {}: {} of {} within 1 sigma ({}), {} within "
-                        "LoD95 ({})",
-                        c.method, percent(c.coverage68()), c.n, to_string(c.verdict68),
-                        percent(c.coverage95()), to_string(c.verdict95)));
+        // A χ² row's shares are within its distribution's 68 % and 95 % quantiles.
+        const bool chi2 = c.statistic_only;
+        out.push_back(fmt::format("calibration {}: {} of {} within {} ({}), {} within {} ({})",
+                                  c.method, percent(c.coverage68()), c.n,
+                                  chi2 ? c.part + "'s 68 % quantile" : "1 sigma",
+                                  to_string(c.verdict68), percent(c.coverage95()),
+                                  chi2 ? "its 95 % quantile" : "LoD95", to_string(c.verdict95)));
     }
     for (const AlarmCheck& a : r.alarms) {
         if (!r.scored) {
@@ -357,10 +362,15 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
                 "the normal, keypoints along the surface; docs/m3c2.md, docs/keypoints.md).\n\n";
     for (const ZoneCheck& z : r.zones) {
         md += fmt::format("### {}\n\n", z.zone);
+        if (z.no_change) {
+            md +=
+                "A check zone on ground known not to move (`no_change`): its change is zero by "
+                "what it is, and the calibration below scores it so (`no_change:…`).\n\n";
+        }
         if (!r.scored) {
             md += zone_own_table(z);
         } else if (!z.face) {
-            md += "Not on one face of the pier: no truth to compare with.\n\n";
+            if (!z.no_change) md += "Not on one face of the pier: no truth to compare with.\n\n";
         } else {
             std::string moved;
             if (z.step_zone && r.step) {
@@ -404,7 +414,7 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         md += "\n";
     }
 
-    if (r.scored || !r.agreement.empty()) md += calibration_section(r);
+    if (r.scored || !calibration(r).empty()) md += calibration_section(r);
 
     // ---- Alarms ----
     md += r.scored ? "## Alarms against the truth\n\n" : "\n## Alarms\n\n";

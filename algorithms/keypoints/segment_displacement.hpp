@@ -77,6 +77,9 @@ struct SegmentDisplacement {
     Eigen::Vector3d along_std_dev = Eigen::Vector3d::Constant(segment_detail::kNaN);
     Eigen::Vector3d along_standard_error = Eigen::Vector3d::Constant(segment_detail::kNaN);
     std::string undefined_reason;  // empty when defined
+    // The share of the zone's wall area the figures stand for, when stratified by bands
+    // (zone_strata.hpp); NaN: the plain mean of the kept matches.
+    double covered_area_share = segment_detail::kNaN;
 
     bool defined() const { return undefined_reason.empty(); }
     double along_normal() const { return along[0]; }

@@ -128,6 +128,51 @@ normal = [-1, 0, 0]
               std::string::npos);
 }
 
+// A check zone on ground known not to move: marked, inherited by its bands, and its box
+// left out of the ICP's stable regions, so that the datum never holds it still.
+TEST(ConfigZones, NoChangeZonesLeaveTheStableRegions) {
+    const Config c = parse(R"(
+[[zone]]
+name = "abutment check"
+min = [22.6, 55.7, 0.6]
+max = [29.4, 56.3, 1.9]
+no_change = true
+
+[[zone]]
+name = "south"
+min = [2, 44.5, 0]
+max = [17, 45.5, 40]
+
+[[zone_bands]]
+zone = "abutment check"
+axis = "x"
+height = 4
+
+[[stable_region]]
+name = "abutment"
+min = [20, 54, -1]
+max = [32, 64, 3]
+)");
+    ASSERT_EQ(c.zones.size(), 4u);
+    EXPECT_TRUE(c.zones[0].no_change);
+    EXPECT_FALSE(c.zones[1].no_change);
+    EXPECT_TRUE(c.zones[2].no_change);  // "abutment check 22.6–26.6 m"
+    EXPECT_EQ(c.zones[2].band_of, "abutment check");
+    ASSERT_EQ(c.icp.excluded.size(), 1u);  // the zone; its bands lie inside it
+    EXPECT_EQ(c.icp.excluded[0].name, "abutment check");
+    EXPECT_EQ(c.icp.excluded[0].min, Eigen::Vector3d(22.6, 55.7, 0.6));
+    EXPECT_EQ(c.icp.excluded[0].max, Eigen::Vector3d(29.4, 56.3, 1.9));
+    EXPECT_EQ(pipeline_config(c).registration.icp.excluded.size(), 1u);
+    bool described = false;
+    for (const auto& line : describe(c))
+        described = described || line.find("no_change = true") != std::string::npos;
+    EXPECT_TRUE(described);
+    EXPECT_NE(error_of("[[zone]]\nname = \"a\"\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n"
+                       "no_change = \"yes\"\n")
+                  .find("key 'zone[0].no_change'"),
+              std::string::npos);
+}
+
 TEST(ConfigZones, M3c2SectionDefaultsAndValues) {
     const Config d = parse("");
     EXPECT_TRUE(d.m3c2.enabled);

@@ -305,8 +305,8 @@ std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
 
 // The one-shot commands on the two scan files of the reference epoch and of epoch `k`, with
 // the daemon's configuration, give what the daemon stored for epoch k: every core point's
-// M3C2 distance and LoD95 (stored as float32), and every zone's keypoint mean vector (the
-// mean of the matches the command lists as kept; its CSV has full precision).
+// M3C2 distance and LoD95 (stored as float32), and every zone's keypoint vector (the
+// command's --summary, full precision) from the matches its per-match CSV lists as kept.
 void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64_t epoch_id,
                                             const fs::path& config, const fs::path& db,
                                             const fs::path& dir) {
@@ -338,17 +338,16 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     }
     EXPECT_GT(with_distance, 100);
 
-    const auto keypoints = shell(std::string(TLSMON_BINARY) + " keypoints " + pair + " --out " +
-                                 (dir / "keypoints.csv").string());
+    const auto keypoints =
+        shell(std::string(TLSMON_BINARY) + " keypoints " + pair + " --out " +
+              (dir / "keypoints.csv").string() + " --summary " + (dir / "segments.csv").string());
     ASSERT_EQ(keypoints.status, 0) << keypoints.output;
-    std::map<std::string, Eigen::Vector3d> sum;
+    // Each zone's kept matches (the per-match file) and figures (the summary).
     std::map<std::string, int> kept;
-    for (const auto& m : csv_rows(dir / "keypoints.csv")) {
-        if (!m.at("removed_by").empty()) continue;
-        sum.try_emplace(m.at("zone"), Eigen::Vector3d::Zero()).first->second += Eigen::Vector3d(
-            std::stod(m.at("dx_m")), std::stod(m.at("dy_m")), std::stod(m.at("dz_m")));
-        ++kept[m.at("zone")];
-    }
+    for (const auto& m : csv_rows(dir / "keypoints.csv"))
+        if (m.at("removed_by").empty()) ++kept[m.at("zone")];
+    std::map<std::string, std::map<std::string, std::string>> summary;
+    for (const auto& row : csv_rows(dir / "segments.csv")) summary[row.at("zone")] = row;
     int zones = 0;
     for (const auto& row :
          sql(db,
@@ -358,12 +357,14 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
                  std::to_string(epoch_id) +
                  " AND q.name IN ('keypoint_dx_m', 'keypoint_dy_m', 'keypoint_dz_m')")) {
         const std::string zone = row.at("zone");
-        const int axis = row.at("quantity").get<std::string>()[10] - 'x';
-        ASSERT_TRUE(kept.count(zone)) << zone;
+        const std::string quantity = row.at("quantity");
+        ASSERT_TRUE(kept.count(zone) && summary.count(zone)) << zone;
         EXPECT_EQ(row.at("n").get<int>(), kept[zone]) << zone;
-        EXPECT_NEAR(sum[zone](axis) / kept[zone], row.at("value").get<double>(), 1e-12)
-            << zone << " " << row.at("quantity");
-        zones += axis == 0;
+        EXPECT_EQ(std::stoi(summary[zone].at("kept")), kept[zone]) << zone;
+        EXPECT_NEAR(std::stod(summary[zone].at(quantity.substr(9))), row.at("value").get<double>(),
+                    1e-12)
+            << zone << " " << quantity;
+        zones += quantity == "keypoint_dx_m";
     }
     EXPECT_GE(zones, 2);
 }

@@ -216,6 +216,25 @@ TEST(DemoCommand, RunsTheDaemonOnASimulatedSeriesAndReportsAgainstTheTruth) {
         EXPECT_NEAR(std::stod(row.at("cover95_pct")), 100.0 * within95 / n, 1e-9);
     }
     EXPECT_TRUE(found) << calibration.output;
+
+    // Without a truth: the demo's check zone on the abutment, which never moves, against
+    // zero — every epoch but the reference, its change well under a millimetre, and most
+    // of it within its LoD95 (a datum that drifted or an LoD that lied would show here).
+    const auto no_truth = test::shell(std::string(TLSMON_BINARY) + " calibration --db " +
+                                      (work / "tlsmon.sqlite").string() + " --format csv");
+    ASSERT_EQ(no_truth.status, 0) << no_truth.output;
+    { std::ofstream(dir.path() / "no_truth.csv") << no_truth.output; }
+    bool checked = false;
+    for (const auto& row : read_csv(dir.path() / "no_truth.csv")) {
+        EXPECT_TRUE(row.at("method").starts_with("no_change:")) << row.at("method");
+        if (row.at("method") != "no_change:m3c2_median_m") continue;
+        checked = true;
+        EXPECT_EQ(row.at("part"), "check_A-north");
+        EXPECT_EQ(std::stoi(row.at("n")), kEpochs - 1);
+        EXPECT_LT(std::stod(row.at("rms")), 0.5);
+        EXPECT_GE(std::stod(row.at("cover95_pct")), 70.0);
+    }
+    EXPECT_TRUE(checked) << no_truth.output;
     // A folder without truth files is refused, naming it.
     const auto refused =
         test::shell(std::string(TLSMON_BINARY) + " calibration --db " +

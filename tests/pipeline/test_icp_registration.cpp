@@ -224,7 +224,7 @@ TEST(IcpRegistration, RefinementDoesNotMakeAGoodTargetRegistrationWorse) {
 // The structure moves (every point of the pier shifted by 50 mm towards the scanner and 30 mm
 // sideways, as no pier ever should): the ICP's result is the same to the last bit, because no
 // point of the pier is inside a stable region. The control: a box over the pier's foot lets
-// the same movement pull the registration away.
+// the same movement pull the registration away, unless a check zone covers it.
 TEST(IcpRegistration, PointsOfTheStructureNeverEnterTheIcp) {
     const sim::Site site = drifting_pier(7);
     RegistrationConfig config = site_config(site, IcpMode::fallback);
@@ -250,9 +250,10 @@ TEST(IcpRegistration, PointsOfTheStructureNeverEnterTheIcp) {
         const StableSurface surface = build_stable_surface(c.icp, e0.scans);
         // Every point ICP takes lies inside a region.
         for (const auto& x : points_in_stable_regions(c.icp, scans, Eigen::Matrix4d::Identity())) {
-            bool inside = false;
+            bool inside = false, excluded = false;
             for (const auto& r : c.icp.regions) inside = inside || r.contains(x);
-            EXPECT_TRUE(inside);
+            for (const auto& r : c.icp.excluded) excluded = excluded || r.contains(x);
+            EXPECT_TRUE(inside && !excluded);
         }
         IcpMeasurement m = measure_icp(c, surface, scans, Eigen::Matrix4d::Identity());
         EXPECT_TRUE(m.transform);
@@ -274,6 +275,12 @@ TEST(IcpRegistration, PointsOfTheStructureNeverEnterTheIcp) {
     std::printf("a region over the pier's foot: the movement pulls the pier's top by %.2f mm\n",
                 1e3 * pulled);
     EXPECT_GT(pulled, 0.0005);
+
+    // The same box as a check zone ([[zone]] no_change, config.cpp): its points leave the
+    // regions, and the movement pulls nothing again.
+    RegistrationConfig checked = careless;
+    checked.icp.excluded.push_back(careless.icp.regions.back());
+    EXPECT_EQ((run(checked, e1.scans) - run(checked, moved)).cwiseAbs().maxCoeff(), 0.0);
 }
 
 // An unchanged scan keeps its datum: the ICP of the real pump-room scan (shared data) onto

@@ -209,6 +209,7 @@ TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     r.walls.resize(1);
     r.walls[0].normal = Eigen::Vector3d(0, -1, 0);
     r.walls[0].undefined_reason = "";
+    r.wall_cells = {{0.125f, -0.25f, 0.5f}};
     const std::string payload = r.encode();
     const KeypointReference back = KeypointReference::decode(payload);
     ASSERT_EQ(back.scans.size(), 2u);
@@ -219,6 +220,7 @@ TEST(KeypointStage, ReferencePayloadRoundTripsAndRejectsATruncatedOne) {
     EXPECT_EQ(back.scans[1].points[1], Eigen::Vector3d(4, 5, 7));
     EXPECT_EQ(back.scans[0].patches.size(), 18u);
     EXPECT_EQ(back.walls[0].normal, Eigen::Vector3d(0, -1, 0));
+    EXPECT_EQ(back.wall_cells, r.wall_cells);
     EXPECT_EQ(back.scans[1].angular_step, 2.2689e-4 / 2);
     EXPECT_THROW(KeypointReference::decode(payload.substr(0, payload.size() - 3)), Error);
     // Patches that do not fit the radius are refused, not read past.

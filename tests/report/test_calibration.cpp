@@ -2,7 +2,8 @@
 // worked cases: the Wilson interval by its defining equation and a published value, the
 // counts of figures within σ and 1.96 σ, the verdicts, and a run whose registration is known
 // to be off by 1 mm with a σ of 0.4 mm (outside its 95 % interval) or 2 mm (inside). Without a
-// truth, the agreement tests of joined estimates against χ²(6)'s quantiles.
+// truth, the agreement tests of joined estimates against χ²(6)'s quantiles, each used target
+// against the others against χ²(3)'s, and the check zones' values against zero.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "algorithms/registration/distribution_quantiles.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 #include "report/calibration.hpp"
+#include "report/data.hpp"
 
 namespace tlsmon::report {
 namespace {
@@ -151,7 +153,7 @@ TEST(Calibration, AgreementTestsNeedNoTruth) {
     epoch(6, true, "not json");
     const RunReport report = analyse(run, {}, "");
     EXPECT_FALSE(report.scored);
-    ASSERT_EQ(report.agreement.size(), 4u);
+    ASSERT_EQ(report.chi_square_tests.size(), 4u);
     const auto rows = calibration(report);
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_EQ(rows[0].method, "agreement:icp");
@@ -166,6 +168,99 @@ TEST(Calibration, AgreementTestsNeedNoTruth) {
     EXPECT_EQ(rows[1].within68, 1u);
     EXPECT_NEAR(registration::chi_square_quantile(kNominal68, 6), 7.04, 0.01);
     EXPECT_NEAR(registration::chi_square_quantile(kNominal95, 6), 12.592, 0.001);
+}
+
+// No truth: each used target's T_i (its fit against the transformation of the others)
+// against χ²(3)'s quantiles 3.53 (68.27 %) and 7.81 (95 %), in accepted epochs with at least
+// four used targets; the reference epoch, an excluded target and a three-target epoch are
+// left out.
+TEST(Calibration, TargetsAgainstTheOthersNeedNoTruth) {
+    RunData run;
+    run.reference = 1;
+    const auto epoch = [&](int id, const std::vector<double>& used, double excluded) {
+        RunEpoch e;
+        e.epoch.id = id;
+        e.epoch.acquired = 1'000'000 + 900 * id;
+        e.epoch.status = EpochStatus::done;
+        RegistrationRow r;
+        r.method = "targets";
+        r.accepted = true;
+        e.registration = r;
+        for (const double t : used) {
+            TargetObservation o;
+            o.use = "used";
+            o.statistic = t;
+            e.targets.push_back(o);
+        }
+        TargetObservation out;
+        out.use = "excluded_outlier";
+        out.statistic = excluded;
+        e.targets.push_back(out);
+        run.epochs.push_back(e);
+    };
+    epoch(1, {0.1, 0.2, 0.3, 0.4}, 40);  // the reference
+    epoch(2, {1.0, 5.0, 9.0, 2.0}, 30);
+    epoch(3, {0.5, 0.5, 0.5}, 30);  // three used targets
+    const auto rows = calibration(analyse(run, {}, ""));
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].method, "no_change:targets");
+    EXPECT_EQ(rows[0].part, "chi2(3)");
+    EXPECT_TRUE(rows[0].blank_numbers());
+    EXPECT_EQ(rows[0].n, 4u);
+    EXPECT_EQ(rows[0].within68, 2u);  // 1.0 and 2.0
+    EXPECT_EQ(rows[0].within95, 3u);  // and 5.0
+    EXPECT_NEAR(registration::chi_square_quantile(kNominal68, 3), 3.527, 0.001);
+    EXPECT_NEAR(registration::chi_square_quantile(kNominal95, 3), 7.815, 0.001);
+}
+
+// A check zone ([[zone]] no_change): its displacement quantities are scored against zero
+// with no truth at all, the reference epoch's own row and the counts left out; an ordinary
+// zone without a truth is not scored.
+TEST(Calibration, CheckZonesAreScoredAgainstZeroWithoutATruth) {
+    RunData run;
+    run.reference = 1;
+    const auto point = [](EpochId id, double value, std::optional<double> lod) {
+        SeriesPoint p;
+        p.epoch = id;
+        p.acquired = 1'000'000 + 900 * id;
+        p.value = value;
+        p.uncertainty = lod;
+        return p;
+    };
+    RunZone check;
+    check.id = 1;
+    check.name = "abutment";
+    check.no_change = true;
+    // LoD95 1.96 mm (σ 1 mm): 0.0 (reference), 0.5 and −0.9 within σ, 1.5 and −1.9 within
+    // LoD95 only, 2.5 outside both; NaN and a row without an LoD are not figures.
+    check.series["m3c2_median_m"] = {point(1, 0.0, 0.00196),          point(2, 0.0005, 0.00196),
+                                     point(3, -0.0009, 0.00196),      point(4, 0.0015, 0.00196),
+                                     point(5, -0.0019, 0.00196),      point(6, 0.0025, 0.00196),
+                                     point(7, std::nan(""), 0.00196), point(8, 0.0001, {})};
+    check.series["m3c2_valid_count"] = {point(2, 43, {}), point(3, 43, {})};
+    RunZone face = check;
+    face.id = 2;
+    face.name = "pier face";
+    face.no_change = false;
+    run.zones = {check, face};
+    EXPECT_TRUE(
+        parse_zone_no_change(R"({"type":"box","min":[0,0,0],"max":[1,1,1],"no_change":true})"));
+    EXPECT_FALSE(parse_zone_no_change(R"({"type":"box","no_change":"yes"})"));
+    EXPECT_FALSE(parse_zone_no_change("not json"));
+
+    const RunReport report = analyse(run, {}, "");
+    EXPECT_FALSE(report.scored);
+    const auto rows = calibration(report);
+    ASSERT_EQ(rows.size(), 1u);
+    const CoverageRow& r = rows[0];
+    EXPECT_EQ(r.method, "no_change:m3c2_median_m");
+    EXPECT_EQ(r.part, "abutment");
+    EXPECT_EQ(r.n, 5u);
+    EXPECT_EQ(r.within68, 2u);
+    EXPECT_EQ(r.within95, 4u);
+    EXPECT_NEAR(r.error.bias, (0.0005 - 0.0009 + 0.0015 - 0.0019 + 0.0025) / 5, 1e-12);
+    EXPECT_NEAR(r.rms_sigma, 0.001, 1e-12);
+    EXPECT_EQ(r.verdict95, sigma_verdict(4, 5, kNominal95));
 }
 
 }  // namespace
