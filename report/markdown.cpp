@@ -225,9 +225,10 @@ std::vector<std::string> summary_lines(const RunReport& r) {
         for (const ZoneQuantityCheck& q : z.quantities) {
             if (q.error.n == 0) continue;
             any_zone = true;
-            out.push_back(fmt::format(
-                "{} {} vs truth: bias {} mm, RMS {} mm, max {} mm ({} epochs)", z.zone, q.quantity,
-                mm(q.error.bias), mm(q.error.rms), mm(q.error.max_abs), q.error.n));
+            out.push_back(
+                fmt::format("{} {} vs {}: bias {} mm, RMS {} mm, max {} mm ({} epochs)", z.zone,
+                            q.quantity, z.no_change ? "zero (a check zone)" : "truth",
+                            mm(q.error.bias), mm(q.error.rms), mm(q.error.max_abs), q.error.n));
         }
     }
     if (!any_zone && r.scored) out.push_back("zones (M3C2, keypoints): not computed in this run");
