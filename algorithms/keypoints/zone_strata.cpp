@@ -15,12 +15,14 @@ std::vector<Eigen::Vector3d> wall_cell_centres(std::span<const Eigen::Vector3d> 
     std::vector<Eigen::Vector3d> out;
     if (!wall.defined()) return out;
     // A cell's key: its two indices along h and v, packed into one 64-bit number.
-    std::unordered_set<std::int64_t> seen;
+    std::unordered_set<std::uint64_t> seen;
     for (const Eigen::Vector3d& p : points) {
         const Eigen::Vector3d r = p - wall.centroid;
         const auto i = static_cast<std::int64_t>(std::floor(r.dot(wall.horizontal) / cell));
         const auto j = static_cast<std::int64_t>(std::floor(r.dot(wall.vertical) / cell));
-        if (!seen.insert((i << 32) ^ (j & 0xffffffff)).second) continue;
+        const std::uint64_t key =
+            (static_cast<std::uint64_t>(i) << 32) ^ (static_cast<std::uint64_t>(j) & 0xffffffffu);
+        if (!seen.insert(key).second) continue;
         out.push_back(wall.centroid + (double(i) + 0.5) * cell * wall.horizontal +
                       (double(j) + 0.5) * cell * wall.vertical);
     }
@@ -100,6 +102,7 @@ SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> match
         along_pooled += (n - 1) * d.along_std_dev.cwiseAbs2();
         dof += n - 1;
     }
+    if (!(dof > 0)) return out;
     pooled /= dof;
     along_pooled /= dof;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero(), variance = Eigen::Vector3d::Zero();
