@@ -403,14 +403,10 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
             const OutlierResult filtered = filter_outliers(in, op);
             KeypointSegmentResult r;
             r.zone = reference.zone_names[z];
-            if (wall.defined()) {
-                r.displacement = stratified_displacement(
-                    in, filtered.removed_by, wall, reference.wall_cells[z],
-                    {.segment = sp, .min_stratum_matches = sp.min_matches, .band_width = width});
-            }
+            r.displacement = stratified_displacement(
+                in, filtered.removed_by, wall, reference.wall_cells[z],
+                {.segment = sp, .min_stratum_matches = sp.min_matches, .band_width = width});
             for (auto& m : in) m.segment = 0;
-            if (!wall.defined())
-                r.displacement = segment_displacement(in, filtered.removed_by, 0, sp);
             check_sampling(r.displacement, in, 0);
             r.registration_covariance = covariance_at(r.displacement, in);
             r.removed_by = filtered.removed_by;

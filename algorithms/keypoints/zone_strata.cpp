@@ -47,7 +47,10 @@ SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> match
                                             const StratifiedParameters& parameters) {
     std::vector<KeypointMatch> zone(matches.begin(), matches.end());
     for (auto& m : zone) m.segment = 0;
-    SegmentDisplacement out = segment_displacement(zone, removed_by, 0, parameters.segment, wall);
+    // An undefined wall: the plain mean, its frame fitted to the kept matches.
+    SegmentDisplacement out =
+        segment_displacement(zone, removed_by, 0, parameters.segment,
+                             wall.defined() ? std::optional<WallFrame>(wall) : std::nullopt);
     if (!out.defined() || !wall.defined() || cell_elevations.empty()) return out;
 
     // Each band's area (in cells: every cell has the same area) and kept matches.

@@ -44,7 +44,8 @@ struct StratifiedParameters {
 // (vertical_angle_band at `band_width`), every one of them in the zone: counts, spread and
 // wall as segment_displacement over all kept matches; mean, along and their standard errors
 // stratified as above; `covered_area_share`, the area share of the bands with a kept match.
-// Without wall cells it is the plain mean of segment_displacement.
+// Without wall cells, or with an undefined wall (its frame then fitted to the kept matches),
+// it is the plain mean of segment_displacement.
 SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> matches,
                                             std::span<const OutlierFilter> removed_by,
                                             const WallFrame& wall,
