@@ -20,6 +20,11 @@ std::string approximate(const Eigen::Vector3d& p) {
     return fmt::format("[{:.2f}, {:.2f}, {:.2f}]", cm(p.x()), cm(p.y()), cm(p.z()));
 }
 
+// [x, y, z] as TOML numbers.
+std::string vec(const Eigen::Vector3d& v) {
+    return fmt::format("[{}, {}, {}]", toml_number(v.x()), toml_number(v.y()), toml_number(v.z()));
+}
+
 }  // namespace
 
 std::string site_configuration(const sim::Site& site) {
@@ -56,10 +61,6 @@ std::string site_configuration(const sim::Site& site) {
         toml_number(p.y1), toml_number(p.height));
     // Stable ground for the ICP (registration.icp): the foundation and the ground around the
     // pier's foot, the abutments; never the pier.
-    const auto vec = [](const Eigen::Vector3d& v) {
-        return fmt::format("[{}, {}, {}]", toml_number(v.x()), toml_number(v.y()),
-                           toml_number(v.z()));
-    };
     for (const auto& b : sim::stable_ground(site)) {
         out += "\n[[stable_region]]\nname = " + toml_string(b.name) + "\nmin = " + vec(b.min) +
                "\nmax = " + vec(b.max) + "\n";
@@ -96,10 +97,6 @@ std::string abutment_check_zone(const sim::Site& site) {
         hi.z() = b.hi.z() - inset;
         normal(axis) = side;
         if (!(lo.array() < hi.array()).all()) continue;
-        const auto vec = [](const Eigen::Vector3d& v) {
-            return fmt::format("[{}, {}, {}]", toml_number(v.x()), toml_number(v.y()),
-                               toml_number(v.z()));
-        };
         return "\n# A check zone: the face of the abutment " + toml_string(b.name) +
                ", which does not move; its values are scored against zero.\n[[zone]]\nname = " +
                toml_string("check_" + b.name) + "\nmin = " + vec(lo) + "\nmax = " + vec(hi) +
