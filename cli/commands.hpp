@@ -220,6 +220,8 @@ struct DemoOptions {
     std::string preset = "small";
     std::string start;  // ISO-8601 UTC; "" = 00:00 UTC today (the reference at night)
     int modbus_port = 1502;
+    int http_port = 8080;  // the dashboard on 127.0.0.1; 0: none
+    bool serve = false;    // after the report, keep the daemon (and dashboard) until Ctrl-C
     unsigned threads = 2;
 };
 // 0: the run finished and its report was written; 1: an error; 130: interrupted (Ctrl-C).

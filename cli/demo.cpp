@@ -130,6 +130,9 @@ int demo(const DemoOptions& o) {
     ds.step_max = {p.x1, p.y0 + 0.5, site.events.step_z_max};
     ds.check_zone_toml = abutment_check_zone(site);
     ds.modbus_port = o.modbus_port;
+    ds.http_port = o.http_port;
+    const std::string dashboard =
+        o.http_port > 0 ? "http://127.0.0.1:" + std::to_string(o.http_port) + "/" : "";
     const fs::path config = dir / "tlsmon.toml";
     write_all(config, demo_daemon_config(ds));
     const fs::path ingest = dir / "ingest", truth = dir / "truth", log = dir / "daemon.log";
@@ -147,7 +150,10 @@ int demo(const DemoOptions& o) {
               << "  folder " << dir.string() << ": scene.toml, tlsmon.toml, ingest/, truth/, "
               << "tlsmon.sqlite, daemon.log\n"
               << "  daemon: " << own_executable().string() << " run --config " << config.string()
-              << " (Modbus on 127.0.0.1:" << o.modbus_port << ")" << std::endl;
+              << " (Modbus on 127.0.0.1:" << o.modbus_port << ")\n";
+    if (!dashboard.empty())
+        std::cout << "  dashboard: " << dashboard << " (open it in a browser)\n";
+    std::cout << std::flush;
 
     DaemonChild daemon(own_executable(), config, log);
     DemoProgress progress(database, o.epochs, start, site.cadence_seconds,
@@ -179,10 +185,13 @@ int demo(const DemoOptions& o) {
         }
         wait_printing(Clock::now() + std::chrono::milliseconds(200), progress, daemon, log);
     }
-    const int code = daemon.stop();
-    std::cout << "daemon stopped (exit " << code << "), "
-              << std::chrono::duration<double>(Clock::now() - wall_start).count()
-              << " s after the first scan; log " << log.string() << "\n\n";
+    // With --serve the daemon stays up for the dashboard while the report is written.
+    const int code = o.serve ? 0 : daemon.stop();
+    if (!o.serve) {
+        std::cout << "daemon stopped (exit " << code << "), "
+                  << std::chrono::duration<double>(Clock::now() - wall_start).count()
+                  << " s after the first scan; log " << log.string() << "\n\n";
+    }
 
     ReportOptions r;
     r.database = database.string();
@@ -196,7 +205,17 @@ int demo(const DemoOptions& o) {
     std::cout << "\nLook further: tlsmon query registrations --config " << config.string()
               << "\n              tlsmon run --config " << config.string()
               << "   # the daemon again, then: mbpoll -m tcp -p " << o.modbus_port
-              << " -0 -1 -t 3 -r 0 -c 7 127.0.0.1" << std::endl;
+              << " -0 -1 -t 3 -r 0 -c 7 127.0.0.1"
+              << (dashboard.empty() ? "" : "\n              and the dashboard: " + dashboard)
+              << std::endl;
+    if (o.serve) {
+        std::cout << "\nServing the dashboard at " << dashboard << " until Ctrl-C." << std::endl;
+        try {
+            wait_printing(Clock::time_point::max(), progress, daemon, log);
+        } catch (const Interrupted&) {
+            std::cout << "\ndaemon stopped (exit " << daemon.stop() << ")" << std::endl;
+        }
+    }
     return rc == 0 && code == 0 ? 0 : 1;
 }
 

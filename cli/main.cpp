@@ -534,6 +534,11 @@ void add_demo(CLI::App& app, CommandLine& c) {
     cmd->add_option("--modbus-port", o.modbus_port, "Modbus TCP port on 127.0.0.1")
         ->check(CLI::Range(1, 65535))
         ->capture_default_str();
+    cmd->add_option("--http-port", o.http_port, "Dashboard's port on 127.0.0.1 (0: none)")
+        ->check(CLI::Range(0, 65535))
+        ->capture_default_str();
+    cmd->add_flag("--serve", o.serve,
+                  "After the report, keep the daemon and its dashboard running until Ctrl-C");
     cmd->add_option("--threads", o.threads, "Render threads of the simulator")
         ->check(CLI::Range(1, 64))
         ->capture_default_str();

@@ -122,6 +122,14 @@ void check_modbus(TomlFields& t, const ModbusConfig& c) {
     }
 }
 
+void check_http(TomlFields& t, const HttpConfig& c) {
+    if (!is_ipv4(c.address)) t.fail("address", "'" + c.address + "' is not an IPv4 address");
+    if (c.max_event_streams >= c.threads) {
+        t.fail("max_event_streams", "must be less than http.threads (" + std::to_string(c.threads) +
+                                        "), or no thread is left for the pages");
+    }
+}
+
 void check_m3c2(TomlFields& t, const M3c2Config& c) {
     std::set<double> seen;
     for (double r : c.normal_radii) {
@@ -170,6 +178,7 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
     if (section == "modbus") check_modbus(t, c.modbus);
+    if (section == "http") check_http(t, c.http);
     if (section == "m3c2") check_m3c2(t, c.m3c2);
     if (section == "keypoints") check_keypoints(t, c.keypoints);
     if (section == "registration" &&
@@ -397,6 +406,8 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
             if (k.section == section) k.read(*t, c);
         }
         if (section == "paths") resolve_paths(c, base);
+        if (section == "http" && !c.http.web_root.empty())
+            c.http.web_root = resolve(c.http.web_root, base);
         check_section(section, *t, c);
         // [m3c2] and [keypoints] come before [alarm]: a rule names what their stages write.
         if (section == "alarm") {

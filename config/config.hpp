@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/zones/zone_shape.hpp"
+#include "config/http_config.hpp"
 #include "config/modbus_config.hpp"
 #include "config/time_source.hpp"
 #include "core/config_key.hpp"
@@ -123,6 +124,7 @@ struct Config {
     PlaneConfig planes;  // [registration] plane_* keys
     StableAreaConfig stable_areas;  // [registration] stable_* keys
     ModbusConfig modbus;
+    HttpConfig http;
     AlarmConfig alarm;
     std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]
 };

@@ -21,7 +21,7 @@ struct ConfigKey : SectionKey<Config> {
 };
 
 // In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage],
-// [registration], [m3c2], [modbus], [alarm].
+// [registration], [m3c2], [keypoints], [modbus], [http], [alarm].
 const std::vector<ConfigKey>& config_keys();
 
 // The sections of config_keys(), in that order.

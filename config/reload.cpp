@@ -14,10 +14,11 @@ std::vector<std::string> names_of(const std::vector<T>& items) {
     return names;
 }
 
-std::vector<std::string> modbus_lines(const Config& c) {
+// The effective lines of one section ("modbus."), as describe() gives them.
+std::vector<std::string> section_lines(const Config& c, const std::string& prefix) {
     std::vector<std::string> lines;
     for (const auto& line : describe(c)) {
-        if (line.rfind("modbus.", 0) == 0) lines.push_back(line);
+        if (line.rfind(prefix, 0) == 0) lines.push_back(line);
     }
     return lines;
 }
@@ -51,7 +52,8 @@ ReloadChanges compare_for_reload(const Config& current, const Config& fresh) {
             if (!kept.count(name)) out.removed.push_back(std::string(k.what) + " '" + name + "'");
         }
     }
-    out.modbus = modbus_lines(current) != modbus_lines(fresh) ||
+    out.http = section_lines(current, "http.") != section_lines(fresh, "http.");
+    out.modbus = section_lines(current, "modbus.") != section_lines(fresh, "modbus.") ||
                  names_of(current.zones) != names_of(fresh.zones);
     return out;
 }

@@ -14,6 +14,7 @@
 #include "config/reload.hpp"
 #include "daemon/alarm_actions.hpp"
 #include "daemon/alarm_shelving.hpp"
+#include "daemon/http/http_service.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/ingest_meteo.hpp"
@@ -115,6 +116,7 @@ class Daemon {
     void store_site();    // station, zones, rules, the start event, the reference epoch
     void note_disk();     // disk_full_ from the last write, shown on Modbus at once
     void start_modbus();  // (again) as config_.modbus says; the old server stops first
+    void start_http();    // likewise for config_.http
     void reload();
     void ingest_complete_files(Clock::time_point now);
     // Copies of epochs that were not processed yet, once those epochs are.
@@ -159,7 +161,10 @@ class Daemon {
     bool disk_full_ = false;  // the last write failed for lack of space
     static constexpr std::size_t kMaxUnstored = 64;
     std::vector<SystemObservation> unstored_;  // system alarm observations not stored yet
-    // Last member: stopped first, before the database it reads is closed.
+    UtcSeconds started_ = now_utc();
+    std::optional<double> disk_free_share_;  // as last observed
+    // Last members: stopped first, before the database they read is closed.
+    std::unique_ptr<HttpService> http_;
     std::unique_ptr<ModbusService> modbus_;
 };
 
@@ -167,6 +172,7 @@ class Daemon {
 // the rows a start writes are retried with the back-off until the database takes them.
 bool Daemon::start() {
     if (!modbus_) start_modbus();
+    start_http();
     systemd_.ready();
     while (!shutdown_.stop_requested()) {
         try {
@@ -224,6 +230,17 @@ void Daemon::note_disk() {
     if (modbus_) modbus_->set_disk_full(full);
 }
 
+void Daemon::start_http() {
+    http_.reset();
+    if (!config_.http.enabled) return;
+    DashboardSite site;
+    site.station = config_.station.name;
+    for (const auto& z : config_.zones) site.zones.push_back(z.name);
+    site.started = started_;
+    site.disk_free_share = disk_free_share_;
+    http_ = std::make_unique<HttpService>(config_.http, config_.paths.database, std::move(site));
+}
+
 void Daemon::start_modbus() {
     modbus_.reset();
     modbus_ = start_modbus_service(config_);
@@ -252,6 +269,7 @@ void Daemon::reload() {
         }
         setup_logging(fresh.logging);
         const bool restart_modbus = changes.modbus;
+        const bool restart_http = changes.http;
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
@@ -274,6 +292,20 @@ void Daemon::reload() {
                 events_.record(db_, "error", "config_reload",
                                std::string("the Modbus server could not be restarted: ") +
                                    e.what() + "; SCADA has no server until the next reload");
+            }
+        }
+        if (restart_http) {
+            try {
+                start_http();
+                events_.record(db_, "info", "config_reload",
+                               config_.http.enabled
+                                   ? "HTTP server restarted on " + config_.http.address + ":" +
+                                         std::to_string(config_.http.port)
+                                   : std::string("HTTP server stopped (http.enabled = false)"));
+            } catch (const Error& e) {
+                events_.record(db_, "error", "config_reload",
+                               std::string("the HTTP server could not be restarted: ") + e.what() +
+                                   "; no dashboard until the next reload");
             }
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
@@ -405,6 +437,7 @@ void Daemon::process_backlog() {
             events_.wrote();  // the commit went through
             note_disk();
             if (modbus_) modbus_->epoch_committed();
+            if (http_) http_->epoch_committed(epoch.id);
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;
@@ -447,6 +480,7 @@ void Daemon::observe(SystemObservation seen) {
     if (!seen.disk_free_fraction) {
         seen.disk_free_fraction = disk_free_share(config_.paths.database.parent_path());
     }
+    disk_free_share_ = seen.disk_free_fraction;
     // Kept in memory, in order, until the database takes them: an alarm raised while the
     // disk is full is stored with the time it was raised (the first kept is never dropped).
     unstored_.push_back(seen);
@@ -516,6 +550,7 @@ void Daemon::run() {
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();
         report_status();
+        if (http_) http_->heartbeat(now_utc(), disk_free_share_);
         if (once_ && !watcher_.has_candidates_in_time() && retry_files_.empty() &&
             waiting_copies_.empty() && !meteo_wait_ && Clock::now() >= retry_at_) {
             break;

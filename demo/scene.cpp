@@ -138,6 +138,11 @@ port = {}
 # The demo's acquisition times follow a simulated day, not the wall clock.
 stale_seconds = "2d"
 
+[http]
+enabled = {}
+address = "127.0.0.1"
+port = {}
+
 # The band of the south face the simulator's step event moves.
 [[zone]]
 name = "{}"
@@ -165,8 +170,8 @@ alarm = {{ high = 0.005, low = -0.005, deadband = 0.001 }}
 on_delay = 1
 significant_only = true
 )",
-        s.modbus_port, kStepZone, v(s.step_min), v(s.step_max), kStepRule, kStepZone, kWestRule,
-        s.west_zone);
+        s.modbus_port, s.http_port > 0 ? "true" : "false", s.http_port > 0 ? s.http_port : 8080,
+        kStepZone, v(s.step_min), v(s.step_max), kStepRule, kStepZone, kWestRule, s.west_zone);
     return t + s.check_zone_toml;
 }
 

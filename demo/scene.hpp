@@ -31,6 +31,7 @@ struct DemoSite {
     std::string west_zone = "pier_west_face";  // a zone the step does not move
     std::string check_zone_toml;               // a no-change check zone's [[zone]] table, or ""
     int modbus_port = 1502;
+    int http_port = 8080;  // the dashboard on 127.0.0.1; 0: none
 };
 // The names the configuration gives the step band and its rules.
 inline constexpr const char* kStepZone = "pier_south_top";
@@ -39,7 +40,8 @@ inline constexpr const char* kWestRule = "west_face_watch";
 
 // The daemon's configuration: the site, a fresh database and ingest folder beside the file,
 // short ingest timings, no waiting for meteo (the sidecar is written before its scan), Modbus
-// on 127.0.0.1, the step band as a zone and alarm rules on it and on the west face.
+// and the dashboard on 127.0.0.1, the step band as a zone and alarm rules on it and on the west
+// face.
 std::string demo_daemon_config(const DemoSite& site);
 
 }  // namespace tlsmon

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages tlsmon builds and tests with. Idempotent: when every
-# package is already installed it changes nothing and asks no mirror.
+# Installs the Debian 12 packages tlsmon builds and runs with; with --tests also those the
+# test suite drives (a headless browser and its WebDriver). Idempotent: when every package
+# is already installed it changes nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
@@ -10,8 +11,11 @@ packages=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-dev clang-format
-  mbpoll gnuplot-nox
+  mbpoll gnuplot-nox libjs-dygraphs
 )
+if [ "${1:-}" = --tests ]; then
+  packages+=(chromium chromium-driver python3-selenium)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

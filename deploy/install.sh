@@ -21,6 +21,10 @@ id -u tlsmon >/dev/null 2>&1 ||
 
 install -D -m 0755 "$BIN" "$PREFIX/bin/tlsmon"
 install -D -m 0755 "$ANALYSIS" "$PREFIX/bin/tlsmon-analysis"
+# The dashboard's files, where the daemon looks for them (../share/tlsmon/web beside bin/).
+rm -rf "$PREFIX/share/tlsmon/web"
+install -d -m 0755 "$PREFIX/share/tlsmon/web"
+cp -r build/web/. "$PREFIX/share/tlsmon/web/"
 install -d -m 0750 -o tlsmon -g tlsmon "$STATE" "$STATE/ingest" "$STATE/archive" \
   "$STATE/quarantine"
 # The scanner's export user must be able to write into the ingest folder: add it to the

@@ -7,7 +7,7 @@
 # CI also checks that every C++ source is formatted as .clang-format says, before building.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash deploy/install-deps.sh
+bash deploy/install-deps.sh --tests
 if [ "${CI:-}" = true ]; then
   git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
 fi

@@ -114,6 +114,35 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
     });
 }
 
+std::vector<LatestValue> SeriesReader::latest_values() const {
+    return guarded(*c_, "reading the latest values", [&] {
+        // Per zone quantity, the epochs walked newest first (epochs_by_acquired) and the first
+        // with a row taken: a probe of the key (zone_id, quantity_id, epoch_id) per epoch.
+        SQLite::Statement s(
+            c_->db,
+            "SELECT z.name, q.name, e.id, e.acquired, r.value, r.uncertainty, r.n,"
+            " r.significant, coalesce(g.method, 'unregistered'),"
+            " coalesce(g.accepted, 0)"
+            " FROM zones z CROSS JOIN quantities q"
+            " JOIN zone_results r ON r.zone_id = z.id AND r.quantity_id = q.id"
+            " AND r.epoch_id = (SELECT e2.id FROM epochs e2 JOIN zone_results r2"
+            "  ON r2.epoch_id = e2.id AND r2.zone_id = z.id AND r2.quantity_id = q.id"
+            "  ORDER BY e2.acquired DESC, e2.id DESC LIMIT 1)"
+            " JOIN epochs e ON e.id = r.epoch_id"
+            " LEFT JOIN registrations g ON g.epoch_id = e.id"
+            " ORDER BY z.name, q.name");
+        std::vector<LatestValue> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getString(), s.getColumn(1).getString(),
+                           SeriesPoint{s.getColumn(2).getInt64(), s.getColumn(3).getInt64(),
+                                       s.getColumn(4).getDouble(), optional_double(s.getColumn(5)),
+                                       s.getColumn(6).getInt64(), s.getColumn(7).getInt() != 0,
+                                       s.getColumn(8).getString(), s.getColumn(9).getInt() != 0}});
+        }
+        return out;
+    });
+}
+
 std::vector<std::string> SeriesReader::quantities(const std::string& zone) const {
     return guarded(*c_, "listing quantities", [&] {
         SQLite::Statement s(c_->db,

@@ -34,6 +34,13 @@ struct SeriesPoint {
     bool registration_accepted = false;
 };
 
+// The newest point of one zone quantity.
+struct LatestValue {
+    std::string zone;
+    std::string quantity;
+    SeriesPoint point;
+};
+
 // A system or alarm event in one list (tlsmon events).
 struct EventRow {
     UtcSeconds time = 0;
@@ -69,6 +76,9 @@ class SeriesReader {
     // The time series of one quantity in one zone, by acquisition time.
     std::vector<SeriesPoint> points(const std::string& zone, const std::string& quantity,
                                     const TimeRange& range) const;
+    // The newest point (by acquisition time) of every zone quantity stored, by zone and
+    // quantity name.
+    std::vector<LatestValue> latest_values() const;
     // Distinct quantities stored for a zone.
     std::vector<std::string> quantities(const std::string& zone) const;
     // System and alarm events by time; `kind` filters on the event kind when given.

@@ -132,9 +132,10 @@ inline Scenario render_scenario(const fs::path& dir, int epochs, std::int64_t st
 }
 
 // The demo's daemon configuration for this scenario (demo/scene.cpp), in `run`:
-// the site the simulator wrote, the step band as a zone, the two rules.
+// the site the simulator wrote, the step band as a zone, the two rules; the dashboard on
+// `http_port` (0: none).
 inline fs::path write_config(const Scenario& s, const fs::path& run, int modbus_port,
-                             bool modbus = true) {
+                             bool modbus = true, int http_port = 0) {
     fs::create_directories(run / "ingest");
     const json& last = s.truth.back().doc;
     DemoSite ds;
@@ -146,6 +147,7 @@ inline fs::path write_config(const Scenario& s, const fs::path& run, int modbus_
         ds.step_max = {pier.at("x1"), pier.at("y0").get<double>() + 0.5, ev.at("z_max")};
     }
     ds.modbus_port = modbus_port;
+    ds.http_port = http_port;
     std::string text = demo_daemon_config(ds);
     if (!modbus) {
         const std::string on = "[modbus]\nenabled = true";

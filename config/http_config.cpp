@@ -1,0 +1,28 @@
+#include "config/http_config.hpp"
+
+namespace tlsmon {
+
+std::vector<SectionKey<HttpConfig>> http_keys() {
+    using K = Keys<HttpConfig>;
+    return {
+        K::flag(&HttpConfig::enabled, "enabled",
+                "Serve the dashboard and its JSON API (docs/http.md)."),
+        K::text(&HttpConfig::address, "address", "an IPv4 address",
+                "Address the server listens on; `0.0.0.0`: every interface (the site network)."),
+        K::integer(&HttpConfig::port, "port", 1, 65535, "", "TCP port."),
+        K::integer(&HttpConfig::threads, "threads", 2, 64, "",
+                   "Requests served at once; a further connection waits for a free thread."),
+        K::integer(&HttpConfig::max_event_streams, "max_event_streams", 0, 63, "",
+                   "Open live-update streams (`/api/v1/stream`, one per open page), less than "
+                   "`threads`: each holds a thread, so a further one is refused (503) and its page "
+                   "refreshes every 30 s instead."),
+        K::seconds(&HttpConfig::idle_timeout, "idle_timeout", 1, 300, "",
+                   "A connection that sends no request for this long is closed."),
+        K::optional_path(&HttpConfig::web_root, "web_root",
+                         "Folder of the dashboard's files; empty: the files installed with tlsmon "
+                         "(`share/tlsmon/web` beside its `bin/`, or `web/` beside the program in a "
+                         "build tree)."),
+    };
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,367 @@
+#include "daemon/http/dashboard_api.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/csv.hpp"
+#include "daemon/http/series_decimation.hpp"
+#include "pipeline/core_point_map.hpp"
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr UtcSeconds kDay = 86400;
+
+Json optional_number(const std::optional<double>& v) {
+    return v ? Json(*v) : Json(nullptr);
+}
+
+Json time_or_null(const std::optional<UtcSeconds>& t) {
+    return t ? Json(format_utc(*t)) : Json(nullptr);
+}
+
+Json point_json(const SeriesPoint& p) {
+    return Json{{"epoch", p.epoch},
+                {"acquired", format_utc(p.acquired)},
+                {"t", p.acquired},
+                {"value", p.value},
+                {"lod95", optional_number(p.uncertainty)},
+                {"n", p.n},
+                {"significant", p.significant},
+                {"datum", p.datum},
+                {"registration_accepted", p.registration_accepted}};
+}
+
+// The epoch's registration as the overview shows it: method, verdict, targets used and
+// left out, s0 and the σ at each zone.
+Json registration_summary(const EpochDatabase& db, EpochId id) {
+    const auto row = db.registrations().of_epoch(id);
+    if (!row) return nullptr;
+    std::int64_t used = 0, excluded = 0;
+    for (const auto& t : db.registrations().targets_of_epoch(id)) (t.used ? used : excluded)++;
+    Json sigmas = Json::array();
+    for (const auto& s : db.registrations().zone_sigmas_of_epoch(id))
+        sigmas.push_back({{"zone", s.zone}, {"sigma_3d_m", s.max_sigma_3d_m}});
+    return Json{{"method", row->method},   {"accepted", row->accepted},
+                {"status", row->status},   {"reason", row->reason},
+                {"targets_used", used},    {"targets_left_out", excluded},
+                {"rms_m", row->rms_m},     {"sigma0", optional_number(row->sigma0)},
+                {"sigma_at_zones", sigmas}};
+}
+
+Json epoch_summary(const Epoch& e) {
+    return Json{{"id", e.id},
+                {"acquired", format_utc(e.acquired)},
+                {"t", e.acquired},
+                {"status", std::string(to_string(e.status))},
+                {"reason", e.reason},
+                {"file", e.file_path},
+                {"archived_as", e.archive_path ? Json(*e.archive_path) : Json(nullptr)},
+                {"points", e.point_count ? Json(*e.point_count) : Json(nullptr)},
+                {"total_ms", optional_number(e.timings.total_ms)}};
+}
+
+Json alarm_state_json(const AlarmState& a, const std::map<std::string, AlarmRule>& rules) {
+    const auto rule = rules.find(a.rule);
+    return Json{{"rule", a.rule},
+                {"zone", rule == rules.end() ? "" : rule->second.zone},
+                {"quantity", rule == rules.end() ? "" : rule->second.quantity},
+                {"state", a.state},
+                {"level", a.level},
+                {"since", a.since > 0 ? Json(format_utc(a.since)) : Json(nullptr)},
+                {"value", optional_number(a.value)},
+                {"epoch", a.epoch ? Json(*a.epoch) : Json(nullptr)},
+                {"shelved_until", time_or_null(a.shelved_until)}};
+}
+
+std::map<std::string, AlarmRule> rules_by_name(const EpochDatabase& db) {
+    std::map<std::string, AlarmRule> out;
+    for (auto& r : db.alarms().rules()) out.emplace(r.name, r);
+    return out;
+}
+
+// Zones in the configuration's order, then any other stored (keypoint bands).
+std::vector<std::string> zone_order(const EpochDatabase& db, const DashboardSite& site) {
+    std::vector<std::string> out = site.zones;
+    for (const auto& [name, definition] : db.site().zones()) {
+        if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    }
+    return out;
+}
+
+}  // namespace
+
+Json site_overview(const EpochDatabase& db, const DashboardSite& site, UtcSeconds now,
+                   UtcSeconds heartbeat) {
+    const StatusSummary s = db.series().status_summary();
+    Json epochs = Json::object();
+    for (const auto& [status, count] : s.epochs_by_status)
+        epochs[std::string(to_string(status))] = count;
+    Json last = nullptr;
+    if (s.last_done) {
+        last = epoch_summary(*s.last_done);
+        last["registration"] = registration_summary(db, s.last_done->id);
+    }
+    const auto rules = rules_by_name(db);
+    Json alarms = Json::array();
+    for (const auto& a : s.alarm_states) {
+        if (a.state != "normal") alarms.push_back(alarm_state_json(a, rules));
+    }
+    // Each zone quantity's newest value and the day before it (the sparkline).
+    std::map<std::string, Json> zone_rows;
+    for (const auto& v : db.series().latest_values()) {
+        Json spark = Json::array();
+        for (const auto& p :
+             db.series().points(v.zone, v.quantity, {v.point.acquired - kDay, v.point.acquired}))
+            spark.push_back({p.acquired, p.value});
+        auto& z = zone_rows[v.zone];
+        if (z.is_null()) z = Json::array();
+        z.push_back({{"quantity", v.quantity}, {"latest", point_json(v.point)}, {"spark", spark}});
+    }
+    Json zones = Json::array();
+    for (const auto& name : zone_order(db, site)) {
+        const auto it = zone_rows.find(name);
+        zones.push_back(
+            {{"name", name}, {"quantities", it == zone_rows.end() ? Json::array() : it->second}});
+    }
+    return Json{{"station", site.station},
+                {"now", format_utc(now)},
+                {"daemon",
+                 {{"started", format_utc(site.started)},
+                  {"heartbeat", format_utc(heartbeat)},
+                  {"heartbeat_age_s", now - heartbeat}}},
+                {"database", {{"bytes", s.database_bytes}, {"schema_version", s.schema_version}}},
+                {"disk_free_share", optional_number(site.disk_free_share)},
+                {"epochs", epochs},
+                {"backlog", s.backlog},
+                {"oldest_pending", time_or_null(s.oldest_pending)},
+                {"reference_epoch", s.reference_epoch ? Json(*s.reference_epoch) : Json(nullptr)},
+                {"last_epoch", last},
+                {"last_failure", s.last_failure ? epoch_summary(*s.last_failure) : Json(nullptr)},
+                {"alarms_active", s.alarms_active},
+                {"alarms_unacknowledged", s.alarms_unacknowledged},
+                {"alarms", alarms},
+                {"zones", zones}};
+}
+
+Json zone_list(const EpochDatabase& db, const DashboardSite& site) {
+    Json out = Json::array();
+    std::map<std::string, std::string> definitions;
+    for (const auto& [name, definition] : db.site().zones()) definitions[name] = definition;
+    for (const auto& name : zone_order(db, site)) {
+        const auto d = Json::parse(definitions[name], nullptr, false);
+        out.push_back({{"name", name},
+                       {"definition", d.is_discarded() ? Json(nullptr) : d},
+                       {"quantities", db.series().quantities(name)}});
+    }
+    return out;
+}
+
+SeriesView series_view(const EpochDatabase& db, const SeriesRequest& request) {
+    SeriesView v;
+    v.request = request;
+    auto all = db.series().points(request.zone, request.quantity, request.range);
+    v.total = all.size();
+    if (all.empty()) return v;
+    std::vector<std::int64_t> t(all.size());
+    std::vector<double> y(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        t[i] = all[i].acquired;
+        y[i] = all[i].value;
+    }
+    const std::int64_t from = request.range.from.value_or(t.front());
+    const std::int64_t to = request.range.to.value_or(t.back());
+    for (std::size_t i : min_max_decimation(t, y, from, to, request.width))
+        v.points.push_back(all[i]);
+    return v;
+}
+
+Json series_json(const EpochDatabase& db, const SeriesView& view) {
+    const auto& r = view.request;
+    Json points = Json::array();
+    for (const auto& p : view.points) points.push_back(point_json(p));
+    Json rules = Json::array();
+    Json marks = Json::array();
+    for (const auto& rule : db.alarms().rules()) {
+        if (rule.zone != r.zone || rule.quantity != r.quantity) continue;
+        const auto d = Json::parse(rule.definition_json, nullptr, false);
+        rules.push_back({{"name", rule.name},
+                         {"enabled", rule.enabled},
+                         {"definition", d.is_discarded() ? Json(nullptr) : d}});
+        for (const auto& e : db.alarms().events(r.range.from, rule.name)) {
+            if (r.range.to && e.time > *r.range.to) continue;
+            marks.push_back({{"t", e.time},
+                             {"time", format_utc(e.time)},
+                             {"rule", rule.name},
+                             {"kind", e.kind},
+                             {"level", e.level},
+                             {"actor", e.actor},
+                             {"message", e.message}});
+        }
+    }
+    Json rejected = Json::array();
+    for (const auto& e : db.series().epochs_in_range(r.range)) {
+        if (e.status == EpochStatus::rejected)
+            rejected.push_back({{"epoch", e.id}, {"t", e.acquired}, {"reason", e.reason}});
+    }
+    return Json{{"zone", r.zone},
+                {"quantity", r.quantity},
+                {"from", time_or_null(r.range.from)},
+                {"to", time_or_null(r.range.to)},
+                {"width", r.width},
+                {"total", view.total},
+                {"decimated", view.points.size() < view.total},
+                {"points", points},
+                {"alarm_rules", rules},
+                {"alarm_events", marks},
+                {"rejected_epochs", rejected}};
+}
+
+std::string series_csv(const SeriesView& view) {
+    std::string out = "epoch,acquired,value,lod95,n,significant,datum\n";
+    for (const auto& p : view.points) {
+        const std::string fields[] = {std::to_string(p.epoch),
+                                      format_utc(p.acquired),
+                                      csv_number(p.value),
+                                      p.uncertainty ? csv_number(*p.uncertainty) : "",
+                                      std::to_string(p.n),
+                                      p.significant ? "1" : "0",
+                                      p.datum};
+        append_csv_line(out, fields);
+    }
+    return out;
+}
+
+Json events_json(const EpochDatabase& db, const TimeRange& range,
+                 const std::optional<std::string>& kind) {
+    Json out = Json::array();
+    for (const auto& e : db.series().events(range, kind)) {
+        out.push_back({{"time", format_utc(e.time)},
+                       {"t", e.time},
+                       {"source", e.source},
+                       {"level", e.level},
+                       {"kind", e.kind},
+                       {"message", e.message},
+                       {"epoch", e.epoch ? Json(*e.epoch) : Json(nullptr)},
+                       {"rule", e.rule},
+                       {"actor", e.actor}});
+    }
+    return out;
+}
+
+Json alarms_json(const EpochDatabase& db, const TimeRange& history) {
+    const auto rules = rules_by_name(db);
+    Json states = Json::array();
+    for (const auto& a : db.alarms().states()) states.push_back(alarm_state_json(a, rules));
+    Json events = Json::array();
+    for (const auto& e : db.alarms().events(history.from)) {
+        if (history.to && e.time > *history.to) continue;
+        events.push_back({{"time", format_utc(e.time)},
+                          {"t", e.time},
+                          {"rule", e.rule},
+                          {"kind", e.kind},
+                          {"level", e.level},
+                          {"value", optional_number(e.value)},
+                          {"epoch", e.epoch ? Json(*e.epoch) : Json(nullptr)},
+                          {"actor", e.actor},
+                          {"message", e.message}});
+    }
+    return Json{{"states", states}, {"events", events}};
+}
+
+Json epochs_json(const EpochDatabase& db, const TimeRange& range) {
+    Json out = Json::array();
+    for (const auto& e : db.series().epochs_in_range(range)) out.push_back(epoch_summary(e));
+    return out;
+}
+
+std::optional<Json> epoch_json(const EpochDatabase& db, EpochId id) {
+    const auto e = db.epochs().find(id);
+    if (!e) return std::nullopt;
+    Json out = epoch_summary(*e);
+    out["registration"] = registration_summary(db, id);
+    Json stages = Json::array();
+    for (const auto& s : db.series().stages(id)) {
+        stages.push_back(
+            {{"stage", s.stage}, {"ms", s.ms}, {"rejected", s.rejected}, {"note", s.note}});
+    }
+    out["stages"] = stages;
+    Json targets = Json::array();
+    for (const auto& t : db.registrations().targets_of_epoch(id)) {
+        targets.push_back({{"target", t.target},
+                           {"kind", t.kind},
+                           {"status", t.status},
+                           {"use", t.use},
+                           {"reason", t.reason},
+                           {"residual_m", t.residual},
+                           {"stable", t.stable},
+                           {"statistic", optional_number(t.statistic)},
+                           {"critical", optional_number(t.critical)}});
+    }
+    out["targets"] = targets;
+    Json meteo = nullptr;
+    for (const auto& m : db.meteo().of_epoch(id)) {
+        if (!m.values) continue;
+        meteo = {{"time", format_utc(m.values->time)},
+                 {"air_temperature_c", m.values->air_temperature_c},
+                 {"pressure_hpa", m.values->pressure_hpa},
+                 {"relative_humidity_pct", m.values->relative_humidity_pct}};
+    }
+    out["meteo"] = meteo;
+    return out;
+}
+
+Json core_point_map_json(const EpochDatabase& db, EpochId id) {
+    const CorePointMap map = read_core_point_map(db, id);
+    const auto& ref = map.reference.reference;
+    Json zones = Json::array();
+    for (std::size_t z = 0; z < map.reference.zone_names.size(); ++z) {
+        const auto& cores = map.reference.zone_cores[z];
+        // The wall frame: u horizontal along the wall (up × mean normal), v up; a zone
+        // facing up or down (no horizontal normal) is drawn in plan, x and y.
+        Eigen::Vector3d n = Eigen::Vector3d::Zero();
+        for (auto k : cores) {
+            if (ref.normals()[k].allFinite()) n += ref.normals()[k];
+        }
+        Eigen::Vector3d u = Eigen::Vector3d::UnitZ().cross(n);
+        Eigen::Vector3d v = Eigen::Vector3d::UnitZ();
+        const bool plan = u.norm() < 0.2 * n.norm() || n.norm() == 0.0;
+        if (plan) {
+            u = Eigen::Vector3d::UnitX();
+            v = Eigen::Vector3d::UnitY();
+        }
+        u.normalize();
+        Json core = Json::array(), us = Json::array(), vs = Json::array(), d = Json::array(),
+             lod = Json::array(), n1 = Json::array(), n2 = Json::array(), sig = Json::array();
+        for (auto k : cores) {
+            if (!std::isfinite(map.distance[k])) continue;
+            const Eigen::Vector3d p = ref.core_points()[k];
+            core.push_back(k);
+            us.push_back(std::round(u.dot(p) * 1000.0) / 1000.0);
+            vs.push_back(std::round(v.dot(p) * 1000.0) / 1000.0);
+            d.push_back(map.distance[k]);
+            lod.push_back(map.lod95[k]);
+            n1.push_back(static_cast<std::int64_t>(map.n1[k]));
+            n2.push_back(static_cast<std::int64_t>(map.n2[k]));
+            sig.push_back(std::abs(map.distance[k]) > map.lod95[k]);
+        }
+        zones.push_back({{"zone", map.reference.zone_names[z]},
+                         {"frame", plan ? "plan" : "wall"},
+                         {"core_points", cores.size()},
+                         {"core", core},
+                         {"u", us},
+                         {"v", vs},
+                         {"distance_m", d},
+                         {"lod95_m", lod},
+                         {"n1", n1},
+                         {"n2", n2},
+                         {"significant", sig}});
+    }
+    return Json{{"epoch", id}, {"core_points", ref.size()}, {"zones", zones}};
+}
+
+}  // namespace tlsmon

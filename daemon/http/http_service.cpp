@@ -1,0 +1,377 @@
+// The only file that includes cpp-httplib (its header costs seconds per file).
+#include "daemon/http/http_service.hpp"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "core/error.hpp"
+#include "daemon/http/web_files.hpp"
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::size_t kMaxBody = 64 * 1024;  // no request of the read-only API has a body
+// A comment line this often: the write after a page was closed fails, so its thread is
+// freed within two of these (a closed peer is not seen otherwise until a write).
+constexpr int kStreamKeepAliveSeconds = 1;
+
+// A request's parameter that is not what it must be: answered 400 with this text.
+struct BadRequest : Error {
+    using Error::Error;
+};
+
+void send_json(httplib::Response& res, const Json& body, int status = 200) {
+    res.status = status;
+    res.set_content(body.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
+}
+
+void send_error(httplib::Response& res, int status, const std::string& message) {
+    send_json(res, Json{{"error", message}, {"status", status}}, status);
+}
+
+std::optional<UtcSeconds> time_parameter(const httplib::Request& req, const char* name) {
+    if (!req.has_param(name)) return std::nullopt;
+    const std::string text = req.get_param_value(name);
+    if (text.empty()) return std::nullopt;
+    if (text.find_first_not_of("-0123456789") == std::string::npos) {
+        try {
+            return std::stoll(text);  // Unix seconds
+        } catch (const std::exception&) {
+        }
+    } else {
+        try {
+            return parse_utc(text);
+        } catch (const std::exception&) {
+        }
+    }
+    throw BadRequest(std::string("parameter '") + name + "': expected an ISO 8601 UTC time " +
+                     "(2026-11-29T06:00:00Z) or Unix seconds, not '" + text + "'");
+}
+
+TimeRange range_parameters(const httplib::Request& req) {
+    TimeRange r{time_parameter(req, "from"), time_parameter(req, "to")};
+    if (r.from && r.to && *r.from > *r.to) throw BadRequest("'from' is after 'to'");
+    return r;
+}
+
+std::string required_parameter(const httplib::Request& req, const char* name) {
+    const std::string v = req.has_param(name) ? req.get_param_value(name) : "";
+    if (v.empty()) throw BadRequest(std::string("parameter '") + name + "' is required");
+    return v;
+}
+
+std::size_t width_parameter(const httplib::Request& req) {
+    if (!req.has_param("width")) return 0;
+    const std::string text = req.get_param_value("width");
+    if (text.empty() || text.size() > 6 ||
+        text.find_first_not_of("0123456789") != std::string::npos)
+        throw BadRequest("parameter 'width': expected pixels, 0 to 100000, not '" + text + "'");
+    const auto w = std::stoul(text);
+    if (w > 100000) throw BadRequest("parameter 'width': at most 100000");
+    return w;
+}
+
+}  // namespace
+
+struct HttpService::State {
+    HttpConfig config;
+    std::filesystem::path database;
+    DashboardSite site;
+    WebFiles files;
+    httplib::Server server;
+    std::thread thread;
+    int port = 0;
+
+    std::mutex mutex;  // guards what follows
+    std::vector<std::unique_ptr<EpochDatabase>> idle_connections;
+    std::condition_variable committed;
+    std::uint64_t commits = 0;
+    EpochId last_epoch = 0;
+    bool stopping = false;
+    int streams = 0;
+    UtcSeconds heartbeat = 0;
+
+    // `read` on a read-only connection of the pool (opened when none is idle); a connection
+    // whose read failed is dropped, not reused.
+    template <class F>
+    auto with_database(F read) {
+        std::unique_ptr<EpochDatabase> db;
+        {
+            std::lock_guard lock(mutex);
+            if (!idle_connections.empty()) {
+                db = std::move(idle_connections.back());
+                idle_connections.pop_back();
+            }
+        }
+        if (!db) {
+            db = std::make_unique<EpochDatabase>(
+                EpochDatabase::open(database, EpochDatabase::Mode::read_only));
+        }
+        auto result = read(static_cast<const EpochDatabase&>(*db));
+        std::lock_guard lock(mutex);
+        idle_connections.push_back(std::move(db));
+        return result;
+    }
+
+    void routes();
+    void page(const std::string& pattern, const std::string& file);
+    void api(const std::string& pattern,
+             std::function<void(const httplib::Request&, httplib::Response&)> handler);
+    void stream(const httplib::Request& req, httplib::Response& res);
+};
+
+void HttpService::State::page(const std::string& pattern, const std::string& file) {
+    server.Get(pattern, [this, file](const httplib::Request&, httplib::Response& res) {
+        const WebFile* f = files.find(file);
+        if (!f) return send_error(res, 404, "the dashboard has no " + file);
+        res.set_content(f->body, f->content_type);
+    });
+}
+
+// Every API answer: JSON, 400 with the reason for a bad parameter, 503 when the database
+// cannot be read (the daemon's problem is its own; this side only reports it).
+void HttpService::State::api(
+    const std::string& pattern,
+    std::function<void(const httplib::Request&, httplib::Response&)> handler) {
+    server.Get(pattern, [handler](const httplib::Request& req, httplib::Response& res) {
+        try {
+            handler(req, res);
+        } catch (const BadRequest& e) {
+            send_error(res, 400, e.what());
+        } catch (const StorageError& e) {
+            spdlog::warn("http {}: {}", req.path, e.what());
+            send_error(res, 503, std::string("the epoch database cannot be read: ") + e.what());
+        }
+    });
+}
+
+void HttpService::State::routes() {
+    page("/", "index.html");
+    page(R"(/zones/[^/]+)", "zone.html");
+    page(R"(/epochs/\d+)", "epoch.html");
+    page("/alarms", "alarms.html");
+    page("/events", "events.html");
+    server.Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
+        const WebFile* f = files.find(req.matches[1].str());
+        if (!f) return send_error(res, 404, "no such file");
+        res.set_content(f->body, f->content_type);
+        res.set_header("Cache-Control", "max-age=300");
+    });
+    api("/api/v1/site", [this](const httplib::Request&, httplib::Response& res) {
+        UtcSeconds beat;
+        DashboardSite s;
+        {
+            std::lock_guard lock(mutex);
+            beat = heartbeat;
+            s = site;
+        }
+        send_json(res, with_database([&](const EpochDatabase& db) {
+                      return site_overview(db, s, now_utc(), beat);
+                  }));
+    });
+    api("/api/v1/zones", [this](const httplib::Request&, httplib::Response& res) {
+        send_json(res, with_database([&](const EpochDatabase& db) { return zone_list(db, site); }));
+    });
+    api("/api/v1/series", [this](const httplib::Request& req, httplib::Response& res) {
+        const SeriesRequest r{required_parameter(req, "zone"), required_parameter(req, "quantity"),
+                              range_parameters(req), width_parameter(req)};
+        const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+        if (format != "json" && format != "csv")
+            throw BadRequest("parameter 'format': expected json or csv, not '" + format + "'");
+        with_database([&](const EpochDatabase& db) {
+            const SeriesView view = series_view(db, r);
+            if (format == "csv") {
+                res.set_content(series_csv(view), "text/csv; charset=utf-8");
+                res.set_header("Content-Disposition", "attachment; filename=\"series.csv\"");
+            } else {
+                send_json(res, series_json(db, view));
+            }
+            return 0;
+        });
+    });
+    api("/api/v1/events", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        std::optional<std::string> kind;
+        if (req.has_param("kind") && !req.get_param_value("kind").empty())
+            kind = req.get_param_value("kind");
+        send_json(res, with_database(
+                           [&](const EpochDatabase& db) { return events_json(db, range, kind); }));
+    });
+    api("/api/v1/alarms", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        send_json(res,
+                  with_database([&](const EpochDatabase& db) { return alarms_json(db, range); }));
+    });
+    api("/api/v1/epochs", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        send_json(res,
+                  with_database([&](const EpochDatabase& db) { return epochs_json(db, range); }));
+    });
+    api(R"(/api/v1/epochs/(\d{1,18}))",
+        [this](const httplib::Request& req, httplib::Response& res) {
+            const EpochId id = std::stoll(req.matches[1].str());
+            const auto body =
+                with_database([&](const EpochDatabase& db) { return epoch_json(db, id); });
+            if (!body) return send_error(res, 404, "no epoch " + std::to_string(id));
+            send_json(res, *body);
+        });
+    api(R"(/api/v1/epochs/(\d{1,18})/corepoints)",
+        [this](const httplib::Request& req, httplib::Response& res) {
+            const EpochId id = std::stoll(req.matches[1].str());
+            try {
+                send_json(res, with_database([&](const EpochDatabase& db) {
+                              return core_point_map_json(db, id);
+                          }));
+            } catch (const StorageError&) {
+                throw;
+            } catch (const Error& e) {  // no such epoch, or no M3C2 result in it
+                send_error(res, 404, e.what());
+            }
+        });
+    server.Get("/api/v1/stream",
+               [this](const httplib::Request& req, httplib::Response& res) { stream(req, res); });
+}
+
+// Server-sent events: `epoch` with {"epoch": N} after each commit, a comment every second
+// (so a client that went away is noticed and its thread freed). Each stream holds one of
+// the server's threads, hence the bound (http.max_event_streams).
+void HttpService::State::stream(const httplib::Request&, httplib::Response& res) {
+    std::uint64_t seen;
+    {
+        std::lock_guard lock(mutex);
+        if (streams >= config.max_event_streams) {
+            res.set_header("Retry-After", "60");
+            return send_error(res, 503,
+                              "too many live-update streams open (http.max_event_streams)");
+        }
+        ++streams;
+        seen = commits;
+    }
+    res.set_header("Cache-Control", "no-store");
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [this, seen, first = true](std::size_t, httplib::DataSink& sink) mutable {
+            if (first) {  // at once: the page knows its stream is open
+                first = false;
+                const std::string hello = "retry: 5000\n: connected\n\n";
+                return sink.write(hello.data(), hello.size());
+            }
+            std::string message;
+            {
+                std::unique_lock lock(mutex);
+                committed.wait_for(lock, std::chrono::seconds(kStreamKeepAliveSeconds),
+                                   [&] { return stopping || commits != seen; });
+                if (stopping) return false;
+                if (commits != seen) {
+                    seen = commits;
+                    message =
+                        "event: epoch\ndata: {\"epoch\":" + std::to_string(last_epoch) + "}\n\n";
+                } else {
+                    message = ": alive\n\n";
+                }
+            }
+            return sink.write(message.data(), message.size());
+        },
+        [this](bool) {
+            std::lock_guard lock(mutex);
+            --streams;
+        });
+}
+
+HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& database,
+                         DashboardSite site)
+    : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.config = config;
+    s.database = database;
+    s.site = std::move(site);
+    s.heartbeat = now_utc();
+    s.files = WebFiles::load(find_web_root(config.web_root));
+    const auto threads = static_cast<std::size_t>(config.threads);
+    s.server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    const auto idle = static_cast<time_t>(config.idle_timeout);
+    s.server.set_keep_alive_timeout(idle);
+    s.server.set_read_timeout(idle, 0);
+    s.server.set_write_timeout(5, 0);
+    s.server.set_payload_max_length(kMaxBody);
+    s.server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                                  {"X-Frame-Options", "DENY"},
+                                  {"Referrer-Policy", "no-referrer"},
+                                  {"Content-Security-Policy",
+                                   "default-src 'self'; style-src 'self' 'unsafe-inline'; "
+                                   "img-src 'self' data:; frame-ancestors 'none'"}});
+    // Read-only: anything but GET and HEAD is refused before routing.
+    s.server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+        if (req.method == "GET" || req.method == "HEAD")
+            return httplib::Server::HandlerResponse::Unhandled;
+        res.set_header("Allow", "GET, HEAD");
+        send_error(res, 405, "method " + req.method + " not allowed");
+        return httplib::Server::HandlerResponse::Handled;
+    });
+    s.server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return;
+        send_error(res, res.status,
+                   res.status == 404 ? "no such page: " + req.path
+                                     : "request refused (" + std::to_string(res.status) + ")");
+    });
+    s.server.set_exception_handler(
+        [](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+            std::string what = "unknown error";
+            try {
+                std::rethrow_exception(ep);
+            } catch (const std::exception& e) {
+                what = e.what();
+            } catch (...) {
+            }
+            spdlog::error("http {} {}: {}", req.method, req.path, what);
+            send_error(res, 500, what);
+        });
+    s.routes();
+    if (!s.server.bind_to_port(config.address, config.port)) {
+        throw Error("the HTTP server cannot listen on " + config.address + ":" +
+                    std::to_string(config.port) + " (address in use, or not this machine's)");
+    }
+    s.port = config.port;
+    s.thread = std::thread([&s] { s.server.listen_after_bind(); });
+    spdlog::info("dashboard on http://{}:{}/ ({} files from {})", config.address, s.port,
+                 s.files.size(), s.files.root().string());
+}
+
+HttpService::~HttpService() {
+    {
+        std::lock_guard lock(state_->mutex);
+        state_->stopping = true;
+    }
+    state_->committed.notify_all();
+    state_->server.stop();
+    if (state_->thread.joinable()) state_->thread.join();
+}
+
+void HttpService::epoch_committed(EpochId epoch) {
+    {
+        std::lock_guard lock(state_->mutex);
+        ++state_->commits;
+        state_->last_epoch = epoch;
+    }
+    state_->committed.notify_all();
+}
+
+void HttpService::heartbeat(UtcSeconds now, std::optional<double> disk_free_share) {
+    std::lock_guard lock(state_->mutex);
+    state_->heartbeat = now;
+    state_->site.disk_free_share = disk_free_share;
+}
+
+int HttpService::port() const {
+    return state_->port;
+}
+
+}  // namespace tlsmon

@@ -1,0 +1,19 @@
+#pragma once
+// One epoch's M3C2 map as stored: the m3c2 stage's reference product (core points, normals,
+// zones; the reference cache) with the epoch's float32 core point arrays (distance, LoD95,
+// n1, n2). Read by `tlsmon query corepoints` and the dashboard's epoch view.
+#include "pipeline/m3c2_reference.hpp"
+#include "storage/epoch_database.hpp"
+
+namespace tlsmon {
+
+struct CorePointMap {
+    M3c2Reference reference;
+    std::vector<float> distance, lod95, n1, n2;  // one per core point; distance NaN: none
+};
+
+// Error naming the epoch and what is missing: no such epoch, no M3C2 result, arrays of
+// another length, no reference product, one measured with other parameters.
+CorePointMap read_core_point_map(const EpochDatabase& db, EpochId epoch);
+
+}  // namespace tlsmon

@@ -1,0 +1,262 @@
+// The dashboard in a real browser (issue 26): Debian's chromium, headless, driven through
+// chromium-driver by tests/web/dashboard_browser.py, over a daemon fed the demo's scenario
+// (the `small` scene, 8 epochs: target knocked at epoch 2, the south face's top band
+// stepped 25 mm at epoch 4, so its rule is raised). What each page shows is read from the
+// page (its DOM and its chart's own data) and compared with the database read by the
+// sqlite3 program, not through tlsmon's storage code:
+//   - overview: every zone quantity's latest value and epoch, the last epoch, the active
+//     alarms; then, left open, it shows the next epoch by itself when it commits;
+//   - zone page: the chart holds exactly the database's points of the quantity;
+//   - epoch view: one map mark per core point with a distance;
+//   - alarms and events pages: every rule's state, every event;
+//   - no console error on any page; a screenshot of each in build/test-artifacts/dashboard.
+// And the server under hostile requests (path traversal in its encoded forms, a 1 MB header,
+// methods that would write, malformed parameters), each refused while the daemon goes on.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <future>
+#include <map>
+#include <set>
+
+#include "tests/support/e2e_scenario.hpp"
+#include "tests/support/modbus_client.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace tlsmon::test::e2e {
+namespace {
+
+constexpr int kEpochs = 8;
+
+fs::path artifacts() {
+    const fs::path dir = fs::path(TLSMON_BINARY).parent_path() / "test-artifacts" / "dashboard";
+    fs::create_directories(dir);
+    return dir;
+}
+
+// HTTP status and body of `curl` on `path` (as is: no normalisation of /../).
+struct Answer {
+    int status = 0;
+    std::string body;
+};
+Answer curl(int port, const std::string& path, const std::string& options = "") {
+    const auto r = shell("curl -s --path-as-is -m 10 -w '\\n%{http_code}' " + options + " " +
+                         quoted("http://127.0.0.1:" + std::to_string(port) + path));
+    Answer a;
+    const auto cut = r.output.find_last_of('\n');
+    if (cut == std::string::npos) return a;
+    a.body = r.output.substr(0, cut);
+    a.status = std::atoi(r.output.c_str() + cut + 1);
+    return a;
+}
+
+// One raw request on a fresh connection; the first line of the answer ("" when the server
+// closed without one).
+std::string raw_request(int port, const std::string& request) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+        ::close(fd);
+        return "connect failed";
+    }
+    timeval tv{10, 0};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    std::size_t sent = 0;
+    while (sent < request.size()) {
+        const auto n = ::send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) break;  // the server may stop reading and close: that is a refusal too
+        sent += static_cast<std::size_t>(n);
+    }
+    char buf[512];
+    const auto n = ::recv(fd, buf, sizeof buf - 1, 0);
+    ::close(fd);
+    if (n <= 0) return "";
+    const std::string answer(buf, static_cast<std::size_t>(n));
+    return answer.substr(0, answer.find("\r\n"));
+}
+
+// The float32 values of one core point array, decoded from the hex of its blob.
+std::vector<float> core_point_array(const fs::path& db, std::int64_t epoch, const char* quantity) {
+    const json rows = sql(db, "SELECT hex(data) AS h FROM core_point_arrays WHERE epoch_id = " +
+                                  std::to_string(epoch) + " AND quantity = '" + quantity + "'");
+    std::vector<float> out;
+    if (rows.empty()) return out;
+    const std::string hex = rows.at(0).at("h");
+    std::vector<unsigned char> bytes;
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+        bytes.push_back(static_cast<unsigned char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+    out.resize(bytes.size() / 4);
+    std::memcpy(out.data(), bytes.data(), out.size() * 4);  // little-endian, as x86 stores it
+    return out;
+}
+
+json browser(const std::string& arguments) {
+    const auto r =
+        shell("timeout 240 /usr/bin/python3 " +
+              quoted(std::string(TLSMON_SOURCE_DIR) + "/tests/web/dashboard_browser.py") + " " +
+              arguments + " 2>" + quoted((artifacts() / "browser.log").string()));
+    if (r.status != 0) {
+        throw std::runtime_error("dashboard_browser.py " + arguments + " exit " +
+                                 std::to_string(r.status) + ": " + r.output + "\n" +
+                                 read_text(artifacts() / "browser.log"));
+    }
+    return json::parse(r.output);
+}
+
+TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
+    TempDir tmp("dashboard");
+    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, start_now());
+    const fs::path run = tmp.path() / "run";
+    const int modbus_port = free_tcp_port();
+    int http_port = free_tcp_port();
+    while (http_port == modbus_port) http_port = free_tcp_port();
+    const fs::path config = write_config(s, run, modbus_port, true, http_port);
+    const fs::path db = run / "tlsmon.sqlite", log = run / "daemon.log";
+    DaemonProcess daemon(config, log);
+    ASSERT_TRUE(wait_until([&] { return curl(http_port, "/api/v1/site").status == 200; }, 60))
+        << read_text(log);
+    for (int k = 0; k + 1 < kEpochs; ++k) {
+        feed(s, k, run / "ingest");
+        ASSERT_TRUE(wait_until([&] { return processed(db) == k + 1; }, 120))
+            << "epoch " << k << "\n"
+            << read_text(log);
+    }
+
+    const json last = sql(db,
+                          "SELECT id FROM epochs WHERE status = 'done' ORDER BY acquired "
+                          "DESC, id DESC LIMIT 1");
+    ASSERT_EQ(last.size(), 1u);
+    const std::int64_t last_id = last.at(0).at("id");
+    const std::string base = "http://127.0.0.1:" + std::to_string(http_port);
+    const json page = browser("pages " + quoted(base) + " " + quoted(artifacts().string()) + " " +
+                              quoted(kStepZone) + " m3c2_median_m " + std::to_string(last_id));
+
+    for (const auto& [name, errors] : page.at("errors").items())
+        EXPECT_TRUE(errors.empty()) << name << " page console errors: " << errors.dump(1);
+
+    // Overview: every zone quantity's newest row, as the database has it.
+    const json latest = sql(db,
+                            "SELECT z.name AS zone, q.name AS quantity, r.epoch_id AS epoch, "
+                            "r.value AS value FROM zone_results r JOIN zones z ON z.id = "
+                            "r.zone_id JOIN quantities q ON q.id = r.quantity_id JOIN epochs e "
+                            "ON e.id = r.epoch_id WHERE e.acquired = (SELECT max(e2.acquired) "
+                            "FROM zone_results r2 JOIN epochs e2 ON e2.id = r2.epoch_id WHERE "
+                            "r2.zone_id = r.zone_id AND r2.quantity_id = r.quantity_id)");
+    std::map<std::pair<std::string, std::string>, json> shown;
+    for (const auto& v : page.at("overview").at("values"))
+        shown[{v.at("zone"), v.at("quantity")}] = v;
+    ASSERT_GT(latest.size(), 3u);
+    EXPECT_EQ(shown.size(), latest.size());
+    for (const auto& row : latest) {
+        const auto it = shown.find({row.at("zone"), row.at("quantity")});
+        ASSERT_NE(it, shown.end()) << "not on the overview: " << row.dump();
+        EXPECT_EQ(it->second.at("epoch").get<std::int64_t>(), row.at("epoch").get<std::int64_t>());
+        EXPECT_EQ(it->second.at("value").get<double>(), row.at("value").get<double>())
+            << row.dump();
+    }
+    EXPECT_EQ(page.at("overview").at("last_epoch"), "#" + std::to_string(last_id));
+    const json active = sql(db,
+                            "SELECT r.name AS rule, s.state AS state FROM alarm_states s "
+                            "JOIN alarm_rules r ON r.id = s.rule_id WHERE s.state != "
+                            "'normal' ORDER BY r.name");
+    std::set<std::string> rules_active, rules_shown;
+    for (const auto& a : active)
+        rules_active.insert(a.at("rule").get<std::string>() + " " +
+                            a.at("state").get<std::string>());
+    for (const auto& a : page.at("overview").at("alarms"))
+        rules_shown.insert(a.at("rule").get<std::string>() + " " +
+                           a.at("state").get<std::string>());
+    EXPECT_EQ(rules_shown, rules_active);
+    EXPECT_TRUE(rules_active.count(std::string(kStepRule) + " unack"))
+        << "the step's rule is raised and shown";
+
+    // Zone page: the chart's own rows are the database's points (time in ms, value in mm).
+    const json points = sql(db,
+                            "SELECT e.acquired AS t, r.value AS value FROM zone_results r "
+                            "JOIN epochs e ON e.id = r.epoch_id WHERE r.zone_id = (SELECT id "
+                            "FROM zones WHERE name = '" +
+                                std::string(kStepZone) +
+                                "') AND r.quantity_id = (SELECT id FROM quantities WHERE "
+                                "name = 'm3c2_median_m') ORDER BY e.acquired");
+    const json& rows = page.at("zone").at("rows");
+    ASSERT_EQ(rows.size(), points.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_EQ(rows[i][0].get<double>(), 1000.0 * points[i].at("t").get<double>());
+        EXPECT_NEAR(rows[i][1].get<double>(), 1000.0 * points[i].at("value").get<double>(), 1e-9);
+    }
+    // The CSV link downloads exactly what is shown.
+    const std::string csv_path = page.at("zone").at("csv").get<std::string>().substr(base.size());
+    const Answer csv = curl(http_port, csv_path);
+    EXPECT_EQ(csv.status, 200);
+    EXPECT_EQ(std::count(csv.body.begin(), csv.body.end(), '\n'),
+              static_cast<long>(points.size()) + 1);
+
+    // Epoch view: one mark per core point with a distance.
+    const auto distance = core_point_array(db, last_id, "m3c2_distance_m");
+    const auto defined =
+        std::count_if(distance.begin(), distance.end(), [](float d) { return std::isfinite(d); });
+    ASSERT_GT(defined, 100);
+    EXPECT_EQ(page.at("epoch").at("distinct_core_points").get<long>(), defined);
+
+    // Alarms and events pages.
+    const json states = sql(db, "SELECT count(*) AS n FROM alarm_states");
+    EXPECT_EQ(page.at("alarms").size(), states.at(0).at("n").get<std::size_t>());
+    const json events = sql(db,
+                            "SELECT (SELECT count(*) FROM system_events) + (SELECT count(*) "
+                            "FROM alarm_events) AS n");
+    EXPECT_EQ(page.at("events").get<int>(), events.at(0).at("n").get<int>());
+
+    // Hostile requests, each refused; the daemon answers and ingests throughout.
+    for (const char* path :
+         {"/static/../tlsmon.toml", "/static/%2e%2e/tlsmon.toml", "/static/..%2f..%2ftlsmon.toml",
+          "/static/%2e%2e%2f%2e%2e%2fetc/passwd", "/static//etc/passwd", "/../../etc/passwd"}) {
+        const Answer a = curl(http_port, path);
+        EXPECT_TRUE(a.status == 404 || a.status == 400) << path << ": " << a.status;
+        EXPECT_EQ(a.body.find("[paths]"), std::string::npos) << path;
+        EXPECT_EQ(a.body.find("root:"), std::string::npos) << path;
+    }
+    EXPECT_EQ(curl(http_port, "/api/v1/site", "-X POST -d x=1").status, 405);
+    EXPECT_EQ(curl(http_port, "/api/v1/site", "-X DELETE").status, 405);
+    const Answer bad = curl(http_port, "/api/v1/series?zone=a&quantity=b&from=yesterday");
+    EXPECT_EQ(bad.status, 400);
+    EXPECT_NE(bad.body.find("'from'"), std::string::npos) << bad.body;
+    EXPECT_EQ(curl(http_port, "/api/v1/series?zone=a").status, 400);
+    EXPECT_EQ(curl(http_port, "/api/v1/series?zone=a&quantity=b&width=-3").status, 400);
+    EXPECT_EQ(curl(http_port, "/api/v1/epochs/999999").status, 404);
+    const std::string big =
+        "GET /api/v1/site HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(1 << 20, 'a') + "\r\n\r\n";
+    const std::string refused = raw_request(http_port, big);
+    EXPECT_TRUE(refused.empty() || refused.find(" 400 ") != std::string::npos)
+        << "a 1 MB header is refused: " << refused;
+    EXPECT_EQ(curl(http_port, "/api/v1/site").status, 200);
+
+    // Live: the overview, left open, shows the last epoch once it commits, with no reload.
+    const fs::path ready = tmp.path() / "browser_ready";
+    auto live = std::async(std::launch::async, [&] {
+        return browser("live " + quoted(base) + " " + quoted(artifacts().string()) + " " +
+                       quoted(ready.string()) + " 120");
+    });
+    ASSERT_TRUE(wait_until([&] { return fs::exists(ready); }, 60));
+    feed(s, kEpochs - 1, run / "ingest");
+    ASSERT_TRUE(wait_until([&] { return processed(db) == kEpochs; }, 120)) << read_text(log);
+    const json seen = live.get();
+    const json newest = sql(db,
+                            "SELECT id FROM epochs WHERE status = 'done' ORDER BY acquired "
+                            "DESC, id DESC LIMIT 1");
+    EXPECT_EQ(seen.at("before"), "#" + std::to_string(last_id));
+    EXPECT_EQ(seen.at("after"), "#" + std::to_string(newest.at(0).at("id").get<std::int64_t>()));
+    EXPECT_EQ(seen.at("navigations"), 1) << "updated without a reload";
+    EXPECT_TRUE(seen.at("errors").empty()) << seen.at("errors").dump(1);
+    EXPECT_TRUE(daemon.running());
+}
+
+}  // namespace
+}  // namespace tlsmon::test::e2e

@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""Drives Debian's chromium (headless, through chromium-driver and python3-selenium) over
+the dashboard and prints, as one JSON document, what each page shows: the values read from
+the page's DOM and its chart's own data (never a screenshot), the browser console's errors,
+and a screenshot per page in OUT_DIR. The comparison with the database is the caller's
+(tests/daemon/test_process_dashboard.cpp).
+
+  dashboard_browser.py pages BASE OUT_DIR ZONE QUANTITY EPOCH
+  dashboard_browser.py live BASE OUT_DIR READY_FILE TIMEOUT_S
+"""
+import json
+import sys
+import time
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+
+
+def browser():
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    for a in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu",
+              "--window-size=1400,1000", "--lang=en-GB"):
+        options.add_argument(a)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+
+
+def wait_for(driver, script, seconds=20):
+    """Polls a JavaScript expression until it is truthy; returns its value."""
+    end = time.time() + seconds
+    while time.time() < end:
+        value = driver.execute_script("return " + script)
+        if value:
+            return value
+        time.sleep(0.1)
+    raise TimeoutError(f"{driver.current_url}: not true within {seconds} s: {script}")
+
+
+def console_errors(driver):
+    return [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
+
+
+def visit(driver, url, ready, out_dir, name):
+    driver.get(url)
+    wait_for(driver, ready)
+    time.sleep(0.3)  # the last paint
+    driver.save_screenshot(f"{out_dir}/{name}.png")
+    return console_errors(driver)
+
+
+def pages(base, out_dir, zone, quantity, epoch):
+    d = browser()
+    report = {"errors": {}}
+    try:
+        report["errors"]["overview"] = visit(
+            d, base + "/", "document.querySelectorAll('td.value').length > 0", out_dir, "overview")
+        report["overview"] = d.execute_script("""
+            return {
+              values: [...document.querySelectorAll('td.value')].map(td => ({
+                zone: td.dataset.zone, quantity: td.dataset.quantity,
+                epoch: Number(td.dataset.epoch), value: Number(td.dataset.value),
+                text: td.textContent})),
+              last_epoch: document.querySelector('#last-epoch a').textContent,
+              alarms: [...document.querySelectorAll('#alarms tr[data-rule]')].map(tr => ({
+                rule: tr.dataset.rule, state: tr.querySelector('.state').textContent})),
+              station: document.querySelector('header .station').textContent };""")
+
+        from urllib.parse import quote
+        report["errors"]["zone"] = visit(
+            d, f"{base}/zones/{quote(zone)}?quantity={quote(quantity)}&window=0",
+            "window.tlsmonChart && window.tlsmonChart.numRows() > 0", out_dir, "zone")
+        report["zone"] = d.execute_script("""
+            const g = window.tlsmonChart, rows = [];
+            for (let i = 0; i < g.numRows(); ++i) {
+              const v = g.getValue(i, 1);  // [value - LoD95, value, value + LoD95]
+              rows.push([g.getValue(i, 0), Array.isArray(v) ? v[1] : v]);
+            }
+            return { rows, total: window.tlsmonSeries.total,
+                     note: document.querySelector('#chart-note').textContent,
+                     csv: document.querySelector('#csv').href };""")
+
+        report["errors"]["epoch"] = visit(
+            d, f"{base}/epochs/{epoch}", "window.tlsmonMap && document.querySelectorAll('canvas.map').length > 0",
+            out_dir, "epoch")
+        report["epoch"] = d.execute_script("""
+            const cores = new Set();
+            for (const z of window.tlsmonMap.zones) for (const k of z.core) cores.add(k);
+            return { marks: [...document.querySelectorAll('canvas.map')].map(c => Number(c.dataset.marks)),
+                     zones: window.tlsmonMap.zones.map(z => z.zone),
+                     distinct_core_points: cores.size,
+                     title: document.querySelector('#title').textContent };""")
+
+        report["errors"]["alarms"] = visit(
+            d, base + "/alarms", "document.querySelectorAll('#states tr[data-rule]').length > 0",
+            out_dir, "alarms")
+        report["alarms"] = d.execute_script("""
+            return [...document.querySelectorAll('#states tr[data-rule]')].map(tr => ({
+              rule: tr.dataset.rule, state: tr.querySelector('.state').textContent}));""")
+
+        report["errors"]["events"] = visit(
+            d, base + "/events", "document.querySelectorAll('#events tr').length > 1", out_dir, "events")
+        report["events"] = d.execute_script(
+            "return document.querySelectorAll('#events tr').length - 1;")
+    finally:
+        d.quit()
+    return report
+
+
+def live(base, out_dir, ready_file, timeout):
+    """The overview, left open: the last epoch it shows before and after the next commit,
+    with no reload by the script."""
+    d = browser()
+    try:
+        d.get(base + "/")
+        before = wait_for(d, "document.querySelector('#last-epoch a') && document.querySelector('#last-epoch a').textContent")
+        wait_for(d, "window.tlsmonStreamOpen === true")
+        with open(ready_file, "w") as f:
+            f.write(before)
+        end = time.time() + timeout
+        after = before
+        while time.time() < end and after == before:
+            time.sleep(0.2)
+            after = d.execute_script("return document.querySelector('#last-epoch a').textContent")
+        d.save_screenshot(f"{out_dir}/overview_live.png")
+        return {"before": before, "after": after, "errors": console_errors(d),
+                "navigations": d.execute_script("return performance.getEntriesByType('navigation').length")}
+    finally:
+        d.quit()
+
+
+if __name__ == "__main__":
+    mode, base, out_dir = sys.argv[1:4]
+    if mode == "pages":
+        result = pages(base, out_dir, sys.argv[4], sys.argv[5], int(sys.argv[6]))
+    else:
+        result = live(base, out_dir, sys.argv[4], float(sys.argv[5]))
+    print(json.dumps(result))

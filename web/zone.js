@@ -1,0 +1,170 @@
+// A zone's series (/zones/NAME): one quantity at a time over a window, the LoD95 as a band,
+// the alarm levels as lines, alarm raises and acknowledgements and rejected epochs as marks.
+// Drag to zoom (the server is asked again for the zoomed window, at full resolution when
+// it fits the chart's width), shift-drag to pan, double-click to return to the window.
+import {
+  displayValue, element, formatTime, getJson, header, onEpochCommitted, showError, unit,
+} from './common.js';
+
+const zone = decodeURIComponent(location.pathname.replace(/^\/zones\//, ''));
+const params = new URLSearchParams(location.search);
+const windows = [['1 day', 86400], ['7 days', 7 * 86400], ['30 days', 30 * 86400],
+  ['1 year', 365 * 86400], ['all', 0]];
+let quantity = params.get('quantity');
+let span = Number(params.get('window') ?? 7 * 86400);
+let view = null;  // [from, to] in Unix seconds when zoomed in
+let chart = null;
+let series = null;
+
+// The window: the zoomed view, else the chosen span back from the newest epoch.
+function seriesUrl(format) {
+  const q = new URLSearchParams({ zone, quantity, format });
+  q.set('width', String(Math.max(100, document.querySelector('#chart').clientWidth)));
+  if (view) {
+    q.set('from', String(Math.floor(view[0])));
+    q.set('to', String(Math.ceil(view[1])));
+  } else if (span > 0) {
+    q.set('from', String(window.tlsmonNewest - span));
+  }
+  return `/api/v1/series?${q}`;
+}
+
+// The alarm levels of the rules watching the value (not its rate), as horizontal lines.
+function levelLines(rules) {
+  const lines = [];
+  for (const r of rules) {
+    const d = r.definition;
+    if (!r.enabled || !d || d.rate_window_seconds !== null) continue;
+    for (const [name, l] of Object.entries(d.levels)) {
+      for (const side of ['high', 'low']) {
+        if (l[side] !== null) lines.push({ rule: r.name, level: name, value: displayValue(quantity, l[side]) });
+      }
+    }
+  }
+  return lines;
+}
+
+const levelColour = { warning: '#d4a017', alert: '#e07000', alarm: '#c62828' };
+
+function draw() {
+  const rows = series.points.map((p) => {
+    const v = displayValue(quantity, p.value);
+    const lod = p.lod95 === null ? 0 : displayValue(quantity, p.lod95);
+    return [new Date(p.t * 1000), [v - lod, v, v + lod]];
+  });
+  const lines = levelLines(series.alarm_rules);
+  const marks = series.alarm_events.filter((e) => ['raise', 'ack', 'clear', 'rtn'].some((k) => e.kind.startsWith(k)));
+  const rejected = series.rejected_epochs;
+  const underlay = (canvas, area, g) => {
+    canvas.save();
+    for (const l of lines) {
+      const y = g.toDomYCoord(l.value);
+      canvas.strokeStyle = levelColour[l.level] || '#888';
+      canvas.setLineDash([6, 4]);
+      canvas.beginPath();
+      canvas.moveTo(area.x, y);
+      canvas.lineTo(area.x + area.w, y);
+      canvas.stroke();
+    }
+    canvas.setLineDash([]);
+    for (const m of marks) {
+      const x = g.toDomXCoord(new Date(m.t * 1000));
+      canvas.strokeStyle = m.kind.startsWith('raise') ? '#c62828' : '#2e7d32';
+      canvas.beginPath();
+      canvas.moveTo(x, area.y);
+      canvas.lineTo(x, area.y + area.h);
+      canvas.stroke();
+    }
+    canvas.fillStyle = 'rgba(120,120,120,0.35)';
+    for (const r of rejected) {
+      const x = g.toDomXCoord(new Date(r.t * 1000));
+      canvas.fillRect(x - 1, area.y, 3, area.h);
+    }
+    canvas.restore();
+  };
+  const options = {
+    labels: ['time', `${quantity} [${unit(quantity)}]`],
+    customBars: true,
+    labelsUTC: true,
+    drawPoints: rows.length < 400,
+    pointSize: 2,
+    ylabel: `${quantity} (${unit(quantity) || '1'})`,
+    legend: 'follow',
+    labelsDiv: document.querySelector('#legend'),
+    underlayCallback: underlay,
+    zoomCallback: (minX, maxX) => {
+      view = chart && chart.isZoomed('x') ? [minX / 1000, maxX / 1000] : null;
+      load();
+    },
+    colors: ['#1f5fa8'],
+  };
+  if (rows.length === 0) {
+    document.querySelector('#chart').replaceChildren(element('p', { class: 'quiet', text: 'No point in this window.' }));
+    chart = null;
+    return;
+  }
+  if (chart && document.querySelector('#chart canvas')) {
+    chart.updateOptions({ file: rows, ...options, dateWindow: view ? [view[0] * 1000, view[1] * 1000] : null });
+  } else {
+    document.querySelector('#chart').replaceChildren();
+    chart = new Dygraph(document.querySelector('#chart'), rows, options);
+    window.tlsmonChart = chart;  // the chart's own data, for scripts and tests
+  }
+  const n = series.points.length;
+  document.querySelector('#chart-note').textContent =
+    `${n} point(s) shown of ${series.total} in the window` +
+    (series.decimated ? ' (lowest and highest per pixel: zoom in for every epoch)' : ' (every epoch)') +
+    `; ${lines.length} alarm level line(s), ${marks.length} alarm mark(s), ${rejected.length} rejected epoch(s).`;
+}
+
+async function load() {
+  try {
+    series = await getJson(seriesUrl('json'));
+    window.tlsmonSeries = series;  // what the chart holds, for scripts and tests
+    draw();
+    document.querySelector('#csv').href = seriesUrl('csv');
+  } catch (e) {
+    showError('#chart', e);
+  }
+}
+
+function buttons(where, items, isCurrent, choose) {
+  const box = document.querySelector(where);
+  box.replaceChildren(...items.map(([label, value]) => {
+    const b = element('button', { text: label, class: isCurrent(value) ? 'current' : '' });
+    b.addEventListener('click', () => choose(value));
+    return b;
+  }));
+}
+
+async function start() {
+  try {
+    const [site, zones] = await Promise.all([getJson('/api/v1/site'), getJson('/api/v1/zones')]);
+    header(site.station, '');
+    const z = zones.find((x) => x.name === zone);
+    document.querySelector('#zone-name').textContent = `Zone ${zone}`;
+    document.title = `tlsmon — ${zone}`;
+    if (!z || z.quantities.length === 0) {
+      showError('#chart', new Error(z ? 'no result stored for this zone yet' : `no zone named ${zone}`));
+      return;
+    }
+    if (!quantity || !z.quantities.includes(quantity)) quantity = z.quantities[0];
+    const newest = site.last_epoch ? site.last_epoch.t : Math.floor(Date.now() / 1000);
+    window.tlsmonNewest = newest;
+    const pick = () => {
+      buttons('#quantities', z.quantities.map((q) => [q, q]), (q) => q === quantity, (q) => { quantity = q; view = null; pick(); load(); });
+      buttons('#windows', windows, (s) => s === span, (s) => { span = s; view = null; pick(); load(); });
+    };
+    pick();
+    await load();
+    onEpochCommitted(async () => {
+      const s = await getJson('/api/v1/site');
+      if (s.last_epoch) window.tlsmonNewest = s.last_epoch.t;
+      if (!view) load();
+    });
+  } catch (e) {
+    showError('#chart', e);
+  }
+}
+
+start();
