@@ -49,6 +49,8 @@ std::string_view to_string(AlarmActorKind a) {
             return "SCADA";
         case AlarmActorKind::cli:
             return "CLI";
+        case AlarmActorKind::web:
+            return "web";
     }
     return "rule";
 }

@@ -25,10 +25,10 @@ namespace tlsmon {
 
 enum class IsaState { normal, unack, ack, rtn_unack, shelved, out_of_service };
 enum class AlarmLevel { none = 0, warning = 1, alert = 2, alarm = 3 };
-enum class AlarmActorKind { rule, scada, cli };
+enum class AlarmActorKind { rule, scada, cli, web };
 
 // Storage names: "normal", "unack", "ack", "rtn_unack", "shelved", "out_of_service";
-// levels "", "warning", "alert", "alarm"; actors "rule", "SCADA", "CLI".
+// levels "", "warning", "alert", "alarm"; actors "rule", "SCADA", "CLI", "web".
 std::string_view to_string(IsaState s);
 std::string_view to_string(AlarmLevel l);
 std::string_view to_string(AlarmActorKind a);

@@ -255,4 +255,15 @@ int run_keypoints(const KeypointsOptions& options);
 // `tlsmon run`: the ingest daemon (run_daemon, daemon/ingest_service.hpp).
 int run_ingest(const RunOptions& options);
 
+// `tlsmon users add NAME --role ROLE | remove NAME | list`: the dashboard's users file.
+struct UsersOptions {
+    std::string action;  // add, remove, list
+    std::string name;
+    std::string role = "viewer";
+    std::string file;  // the users file; "" = the configuration's http.users_file
+    std::string config;
+    bool password_stdin = false;
+};
+int run_users(const UsersOptions& options);
+
 }  // namespace tlsmon

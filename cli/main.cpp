@@ -82,6 +82,7 @@ struct CommandLine {
     DemoOptions demo;
     ReadOptionsOnTheCommandLine targets;
     TargetResurveyOptions resurvey;
+    UsersOptions users;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -565,6 +566,43 @@ void add_targets(CLI::App& app, CommandLine& c) {
     });
 }
 
+void add_users(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "users", "The dashboard's users: add NAME --role ROLE, remove NAME, list (docs/http.md)");
+    cmd->require_subcommand(1);
+    auto& o = c.users;
+    const auto common = [&](CLI::App* sub) {
+        auto* file = sub->add_option("--file", o.file, "The users file");
+        sub->add_option("--config", o.config, "Configuration naming it (http.users_file)")
+            ->excludes(file);
+    };
+    auto* add = cmd->add_subcommand("add", "Add a user, or give one a new password or role");
+    add->add_option("NAME", o.name, "User name")->required();
+    add->add_option("--role", o.role, "viewer (reads), operator (acts on alarms) or admin")
+        ->check(CLI::IsMember({"viewer", "operator", "admin"}))
+        ->capture_default_str();
+    add->add_flag("--password-stdin", o.password_stdin,
+                  "Read the password from standard input (one line) instead of the terminal");
+    common(add);
+    add->callback([&] {
+        o.action = "add";
+        c.code = run_users(o);
+    });
+    auto* remove = cmd->add_subcommand("remove", "Remove a user");
+    remove->add_option("NAME", o.name, "User name")->required();
+    common(remove);
+    remove->callback([&] {
+        o.action = "remove";
+        c.code = run_users(o);
+    });
+    auto* list = cmd->add_subcommand("list", "List the users and their roles");
+    common(list);
+    list->callback([&] {
+        o.action = "list";
+        c.code = run_users(o);
+    });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -589,6 +627,7 @@ int main(int argc, char** argv) {
     tlsmon::add_calibration(app, c);
     tlsmon::add_demo(app, c);
     tlsmon::add_targets(app, c);
+    tlsmon::add_users(app, c);
 
     tlsmon::remember_program_arguments(argc, argv);
     try {

@@ -408,6 +408,8 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         if (section == "paths") resolve_paths(c, base);
         if (section == "http" && !c.http.web_root.empty())
             c.http.web_root = resolve(c.http.web_root, base);
+        if (section == "http" && !c.http.users_file.empty())
+            c.http.users_file = resolve(c.http.users_file, base);
         check_section(section, *t, c);
         // [m3c2] and [keypoints] come before [alarm]: a rule names what their stages write.
         if (section == "alarm") {

@@ -17,11 +17,20 @@ std::vector<SectionKey<HttpConfig>> http_keys() {
                    "`threads`: each holds a thread, so a further one is refused (503) and its page "
                    "refreshes every 30 s instead."),
         K::seconds(&HttpConfig::idle_timeout, "idle_timeout", 1, 300, "",
-                   "A connection that sends no request for this long is closed."),
+                   "A connection that has not sent its whole request within this long is closed."),
         K::optional_path(&HttpConfig::web_root, "web_root",
                          "Folder of the dashboard's files; empty: the files installed with tlsmon "
                          "(`share/tlsmon/web` beside its `bin/`, or `web/` beside the program in a "
                          "build tree)."),
+        K::optional_path(&HttpConfig::users_file, "users_file",
+                         "Who may log in, with their role (viewer, operator, admin) and password "
+                         "hash, made by `tlsmon users add`; empty: nobody, the dashboard is "
+                         "read-only (docs/http.md)."),
+        K::seconds(&HttpConfig::session_lifetime, "session_lifetime", 300, 7 * 86400.0, "",
+                   "How long a login lasts."),
+        K::flag(&HttpConfig::anonymous_read, "anonymous_read",
+                "Whether the pages' data may be read without a login; `false`: a viewer's "
+                "login at least."),
     };
 }
 

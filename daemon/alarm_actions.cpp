@@ -24,6 +24,8 @@ AlarmActorKind kind_of(AlarmActor a) {
             return AlarmActorKind::scada;
         case AlarmActor::cli:
             return AlarmActorKind::cli;
+        case AlarmActor::web:
+            return AlarmActorKind::web;
     }
     return AlarmActorKind::rule;
 }
@@ -33,7 +35,7 @@ using Action = std::function<AlarmStep(const AlarmMachineState&)>;
 // Applies `action` to the rule named (every rule when "*"); rules without a state row are
 // normal. Returns how many changed.
 int apply(EpochDatabase& db, const std::string& rule, const Action& action,
-          const std::string& who = "") {
+          const std::string& who = "", const std::string& comment = "") {
     std::map<std::string, bool> known;
     for (const auto& r : db.alarms().rules()) known[r.name] = true;
     if (rule != "*" && !known.count(rule)) {
@@ -65,6 +67,7 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action,
                     out.events.back().actor += " " + who;
                     out.events.back().message += " (" + who + ")";
                 }
+                if (!comment.empty()) out.events.back().message += ": " + comment;
             }
             ++changed;
         }
@@ -76,24 +79,26 @@ int apply(EpochDatabase& db, const std::string& rule, const Action& action,
 }  // namespace
 
 int acknowledge_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now,
-                      const std::string& who) {
+                      const std::string& who, const std::string& comment) {
     return apply(
         db, rule,
-        [&](const AlarmMachineState& s) { return on_acknowledge(s, kind_of(actor), now); }, who);
+        [&](const AlarmMachineState& s) { return on_acknowledge(s, kind_of(actor), now); }, who,
+        comment);
 }
 
 int shelve_alarm(EpochDatabase& db, const std::string& rule, UtcSeconds until, AlarmActor actor,
-                 UtcSeconds now, const std::string& who) {
+                 UtcSeconds now, const std::string& who, const std::string& comment) {
     return apply(
         db, rule,
-        [&](const AlarmMachineState& s) { return on_shelve(s, until, kind_of(actor), now); }, who);
+        [&](const AlarmMachineState& s) { return on_shelve(s, until, kind_of(actor), now); }, who,
+        comment);
 }
 
 int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now,
-                   const std::string& who) {
+                   const std::string& who, const std::string& comment) {
     return apply(
         db, rule, [&](const AlarmMachineState& s) { return on_unshelve(s, kind_of(actor), now); },
-        who);
+        who, comment);
 }
 
 int expire_due_shelves(EpochDatabase& db, UtcSeconds now) {
@@ -101,19 +106,19 @@ int expire_due_shelves(EpochDatabase& db, UtcSeconds now) {
 }
 
 int remove_alarm_from_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                              UtcSeconds now, const std::string& who) {
+                              UtcSeconds now, const std::string& who, const std::string& comment) {
     return apply(
         db, rule,
         [&](const AlarmMachineState& s) { return on_remove_from_service(s, kind_of(actor), now); },
-        who);
+        who, comment);
 }
 
 int return_alarm_to_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                            UtcSeconds now, const std::string& who) {
+                            UtcSeconds now, const std::string& who, const std::string& comment) {
     return apply(
         db, rule,
         [&](const AlarmMachineState& s) { return on_return_to_service(s, kind_of(actor), now); },
-        who);
+        who, comment);
 }
 
 }  // namespace tlsmon

@@ -14,10 +14,10 @@ namespace tlsmon {
 // if its condition still stands. An unknown rule is an Error naming the rules there are.
 // Returns how many rules changed.
 int shelve_alarm(EpochDatabase& db, const std::string& rule, UtcSeconds until, AlarmActor actor,
-                 UtcSeconds now, const std::string& who = "");
+                 UtcSeconds now, const std::string& who = "", const std::string& comment = "");
 // Ends a shelve early. Returns how many rules changed (0 when none was shelved).
 int unshelve_alarm(EpochDatabase& db, const std::string& rule, AlarmActor actor, UtcSeconds now,
-                   const std::string& who = "");
+                   const std::string& who = "", const std::string& comment = "");
 // Ends every shelve whose expiry is <= now (event `shelve_expired`, by the rule): the
 // daemon calls it every `daemon.status_interval`, so an expiry does not wait for the rule's
 // next epoch. Returns how many rules changed.
@@ -27,9 +27,11 @@ int expire_due_shelves(EpochDatabase& db, UtcSeconds now);
 // keeps following its condition without annunciating it until returned to service, with no
 // expiry. Returns how many rules changed (0 when already out of service).
 int remove_alarm_from_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                              UtcSeconds now, const std::string& who = "");
+                              UtcSeconds now, const std::string& who = "",
+                              const std::string& comment = "");
 // Returns it to service: annunciated afresh (unack) if its condition stands, else normal.
 int return_alarm_to_service(EpochDatabase& db, const std::string& rule, AlarmActor actor,
-                            UtcSeconds now, const std::string& who = "");
+                            UtcSeconds now, const std::string& who = "",
+                            const std::string& comment = "");
 
 }  // namespace tlsmon

@@ -77,6 +77,21 @@ std::unique_ptr<ModbusService> start_modbus_service(const Config& config) {
         });
 }
 
+// The dashboard's door to the alarm actions: the same functions as `tlsmon alarms` and the
+// Modbus coils.
+int carry_out_operator_action(EpochDatabase& db, const OperatorAction& a, UtcSeconds now) {
+    const auto web = AlarmActor::web;
+    if (a.action == "ack") return acknowledge_alarm(db, a.rule, web, now, a.who, a.comment);
+    if (a.action == "shelve")
+        return shelve_alarm(db, a.rule, a.until.value_or(now), web, now, a.who, a.comment);
+    if (a.action == "unshelve") return unshelve_alarm(db, a.rule, web, now, a.who, a.comment);
+    if (a.action == "out-of-service")
+        return remove_alarm_from_service(db, a.rule, web, now, a.who, a.comment);
+    if (a.action == "in-service")
+        return return_alarm_to_service(db, a.rule, web, now, a.who, a.comment);
+    throw Error("unknown alarm action '" + a.action + "'");
+}
+
 void log_config(const Config& config) {
     spdlog::info("configuration {}:", config.file.string());
     for (const auto& line : describe(config)) spdlog::info("  {}", line);
@@ -238,7 +253,8 @@ void Daemon::start_http() {
     for (const auto& z : config_.zones) site.zones.push_back(z.name);
     site.started = started_;
     site.disk_free_share = disk_free_share_;
-    http_ = std::make_unique<HttpService>(config_.http, config_.paths.database, std::move(site));
+    http_ = std::make_unique<HttpService>(config_.http, config_.paths.database, std::move(site),
+                                          carry_out_operator_action);
 }
 
 void Daemon::start_modbus() {

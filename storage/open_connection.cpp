@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cstdio>
 #include <initializer_list>
+#include <mutex>
 
 #include "storage/file_access.hpp"
 #include "storage/migrations.hpp"
@@ -20,8 +21,23 @@ namespace {
 
 using Mode = EpochDatabase::Mode;
 
+// Once per process, before SQLite initialises: each connection is used by one thread at a
+// time (epoch_database.hpp), so the multi-thread mode drops the per-connection mutex, and
+// without the memory statistics every allocation skips a process-wide mutex that the
+// dashboard's threads, each reading on its own connection, would otherwise queue on. A
+// call after SQLite was initialised (by another user of the library) is refused by SQLite
+// and changes nothing, which is safe.
+void configure_sqlite() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        sqlite3_config(SQLITE_CONFIG_MULTITHREAD);
+        sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
+    });
+}
+
 std::unique_ptr<Connection> connect(const fs::path& path, const std::string& filename, Mode mode,
                                     int flags, std::chrono::milliseconds busy_timeout) {
+    configure_sqlite();
     try {
         return std::make_unique<Connection>(
             path, mode, SQLite::Database(filename, flags, static_cast<int>(busy_timeout.count())));

@@ -248,9 +248,14 @@ void write_zone_results(Connection& c, EpochId id, const std::vector<ZoneResult>
     if (results.empty()) return;
     std::map<std::string, ZoneId> zone_ids;
     std::map<std::string, std::int64_t> quantity_ids;
+    // The epoch's acquisition time is part of the series' key (0011_series_by_time.sql).
+    SQLite::Statement when(c.db, "SELECT acquired FROM epochs WHERE id = ?");
+    when.bind(1, id);
+    if (!when.executeStep()) throw_storage(c, "epoch " + std::to_string(id) + " vanished");
+    const std::int64_t acquired = when.getColumn(0).getInt64();
     SQLite::Statement s(c.db,
-                        "INSERT INTO zone_results (zone_id, quantity_id, epoch_id, value,"
-                        " uncertainty, n, significant) VALUES (?,?,?,?,?,?,?)");
+                        "INSERT INTO zone_results (zone_id, quantity_id, acquired, epoch_id,"
+                        " value, uncertainty, n, significant) VALUES (?,?,?,?,?,?,?,?)");
     for (const auto& r : results) {
         auto zone = zone_ids.find(r.zone);
         if (zone == zone_ids.end()) {
@@ -263,11 +268,12 @@ void write_zone_results(Connection& c, EpochId id, const std::vector<ZoneResult>
         s.reset();
         s.bind(1, zone->second);
         s.bind(2, quantity->second);
-        s.bind(3, id);
-        s.bind(4, r.value);
-        bind_optional(s, 5, r.uncertainty);
-        s.bind(6, static_cast<std::int64_t>(r.n));
-        s.bind(7, r.significant ? 1 : 0);
+        s.bind(3, acquired);
+        s.bind(4, id);
+        s.bind(5, r.value);
+        bind_optional(s, 6, r.uncertainty);
+        s.bind(7, static_cast<std::int64_t>(r.n));
+        s.bind(8, r.significant ? 1 : 0);
         s.exec();
     }
 }

@@ -72,13 +72,17 @@ StatusSummary SeriesReader::status_summary() const {
     return out;
 }
 
-std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range) const {
+std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range,
+                                                 std::optional<EpochStatus> status) const {
     return guarded(*c_, "listing epochs", [&] {
+        // With a status: the index epochs_by_status (status, acquired, id).
         SQLite::Statement s(c_->db, std::string("SELECT ") + kEpochColumns +
-                                        " FROM epochs WHERE acquired BETWEEN ? AND ?"
+                                        " FROM epochs WHERE acquired BETWEEN ? AND ?" +
+                                        (status ? " AND status = ?" : "") +
                                         " ORDER BY acquired, id");
         s.bind(1, range_from(range));
         s.bind(2, range_to(range));
+        if (status) s.bind(3, std::string(to_string(*status)));
         std::vector<Epoch> out;
         while (s.executeStep()) out.push_back(read_epoch(s));
         return out;
@@ -88,17 +92,17 @@ std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range) const {
 std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std::string& quantity,
                                               const TimeRange& range) const {
     return guarded(*c_, "reading a time series", [&] {
-        // Served by the key (zone_id, quantity_id, epoch_id) of zone_results and the epochs
-        // key.
+        // One range scan of the key (zone_id, quantity_id, acquired, epoch_id).
         SQLite::Statement s(c_->db,
-                            "SELECT e.id, e.acquired, r.value, r.uncertainty, r.n, r.significant,"
-                            " coalesce(g.method, 'unregistered'), coalesce(g.accepted, 0)"
-                            " FROM zone_results r JOIN epochs e ON e.id = r.epoch_id"
-                            " LEFT JOIN registrations g ON g.epoch_id = e.id"
+                            "SELECT r.epoch_id, r.acquired, r.value, r.uncertainty, r.n,"
+                            " r.significant, coalesce(g.method, 'unregistered'),"
+                            " coalesce(g.accepted, 0)"
+                            " FROM zone_results r LEFT JOIN registrations g ON g.epoch_id ="
+                            " r.epoch_id"
                             " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
                             " AND r.quantity_id = (SELECT id FROM quantities WHERE name = ?)"
-                            " AND e.acquired BETWEEN ? AND ?"
-                            " ORDER BY e.acquired, e.id");
+                            " AND r.acquired BETWEEN ? AND ?"
+                            " ORDER BY r.acquired, r.epoch_id");
         s.bind(1, zone);
         s.bind(2, quantity);
         s.bind(3, range_from(range));
@@ -116,21 +120,20 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
 
 std::vector<LatestValue> SeriesReader::latest_values() const {
     return guarded(*c_, "reading the latest values", [&] {
-        // Per zone quantity, the epochs walked newest first (epochs_by_acquired) and the first
-        // with a row taken: a probe of the key (zone_id, quantity_id, epoch_id) per epoch.
-        SQLite::Statement s(
-            c_->db,
-            "SELECT z.name, q.name, e.id, e.acquired, r.value, r.uncertainty, r.n,"
-            " r.significant, coalesce(g.method, 'unregistered'),"
-            " coalesce(g.accepted, 0)"
-            " FROM zones z CROSS JOIN quantities q"
-            " JOIN zone_results r ON r.zone_id = z.id AND r.quantity_id = q.id"
-            " AND r.epoch_id = (SELECT e2.id FROM epochs e2 JOIN zone_results r2"
-            "  ON r2.epoch_id = e2.id AND r2.zone_id = z.id AND r2.quantity_id = q.id"
-            "  ORDER BY e2.acquired DESC, e2.id DESC LIMIT 1)"
-            " JOIN epochs e ON e.id = r.epoch_id"
-            " LEFT JOIN registrations g ON g.epoch_id = e.id"
-            " ORDER BY z.name, q.name");
+        // Per zone quantity, one seek to the end of its key (zone_id, quantity_id, acquired,
+        // epoch_id); CROSS JOIN keeps zones x quantities the outer loops (SQLite's planner
+        // otherwise scans every row of zone_results).
+        SQLite::Statement s(c_->db,
+                            "SELECT z.name, q.name, r.epoch_id, r.acquired, r.value, r.uncertainty,"
+                            " r.n, r.significant, coalesce(g.method, 'unregistered'),"
+                            " coalesce(g.accepted, 0)"
+                            " FROM zones z CROSS JOIN quantities q CROSS JOIN zone_results r"
+                            " LEFT JOIN registrations g ON g.epoch_id = r.epoch_id"
+                            " WHERE r.zone_id = z.id AND r.quantity_id = q.id"
+                            " AND (r.acquired, r.epoch_id) = (SELECT r2.acquired, r2.epoch_id"
+                            "  FROM zone_results r2 WHERE r2.zone_id = z.id AND r2.quantity_id ="
+                            "  q.id ORDER BY r2.acquired DESC, r2.epoch_id DESC LIMIT 1)"
+                            " ORDER BY z.name, q.name");
         std::vector<LatestValue> out;
         while (s.executeStep()) {
             out.push_back({s.getColumn(0).getString(), s.getColumn(1).getString(),

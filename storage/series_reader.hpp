@@ -72,7 +72,9 @@ class SeriesReader {
     explicit SeriesReader(Connection& connection) : c_(&connection) {}
 
     StatusSummary status_summary() const;
-    std::vector<Epoch> epochs_in_range(const TimeRange& range) const;  // by acquisition time
+    // By acquisition time; only those of `status` when given.
+    std::vector<Epoch> epochs_in_range(const TimeRange& range,
+                                       std::optional<EpochStatus> status = std::nullopt) const;
     // The time series of one quantity in one zone, by acquisition time.
     std::vector<SeriesPoint> points(const std::string& zone, const std::string& quantity,
                                     const TimeRange& range) const;

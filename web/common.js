@@ -82,6 +82,7 @@ export function onEpochCommitted(refresh) {
   const source = new EventSource('/api/v1/stream');
   source.onopen = () => { window.tlsmonStreamOpen = true; };
   source.addEventListener('epoch', (e) => refresh(JSON.parse(e.data)));
+  source.addEventListener('alarm', (e) => refresh(JSON.parse(e.data)));
   source.onerror = () => {
     if (source.readyState === EventSource.CLOSED) poll();
   };

@@ -15,6 +15,7 @@ namespace tlsmon {
 namespace {
 
 constexpr UtcSeconds kDay = 86400;
+constexpr std::size_t kSparkBuckets = 24;
 
 Json optional_number(const std::optional<double>& v) {
     return v ? Json(*v) : Json(nullptr);
@@ -24,16 +25,19 @@ Json time_or_null(const std::optional<UtcSeconds>& t) {
     return t ? Json(format_utc(*t)) : Json(nullptr);
 }
 
-Json point_json(const SeriesPoint& p) {
-    return Json{{"epoch", p.epoch},
-                {"acquired", format_utc(p.acquired)},
-                {"t", p.acquired},
-                {"value", p.value},
-                {"lod95", optional_number(p.uncertainty)},
-                {"n", p.n},
-                {"significant", p.significant},
-                {"datum", p.datum},
-                {"registration_accepted", p.registration_accepted}};
+// A point of a series; `with_time_text` adds the ISO time beside the Unix seconds (the
+// overview's latest values; a long series leaves it out, its CSV has it).
+Json point_json(const SeriesPoint& p, bool with_time_text = true) {
+    Json j{{"epoch", p.epoch}};
+    if (with_time_text) j["acquired"] = format_utc(p.acquired);
+    j["t"] = p.acquired;
+    j["value"] = p.value;
+    j["lod95"] = optional_number(p.uncertainty);
+    j["n"] = p.n;
+    j["significant"] = p.significant;
+    j["datum"] = p.datum;
+    j["registration_accepted"] = p.registration_accepted;
+    return j;
 }
 
 // The epoch's registration as the overview shows it: method, verdict, targets used and
@@ -95,8 +99,31 @@ std::vector<std::string> zone_order(const EpochDatabase& db, const DashboardSite
 
 }  // namespace
 
+Json zone_overview(const EpochDatabase& db, const DashboardSite& site) {
+    // Each zone quantity's newest value and the day before it (the sparkline: its lowest and
+    // highest per 1/24 of the day, at 0.1 µm).
+    std::map<std::string, Json> zone_rows;
+    for (const auto& v : db.series().latest_values()) {
+        const TimeRange day{v.point.acquired - kDay, v.point.acquired};
+        const SeriesView last_day = series_view(db, {v.zone, v.quantity, day, kSparkBuckets});
+        Json spark = Json::array();
+        for (const auto& p : last_day.points)
+            spark.push_back({p.acquired, std::round(p.value * 1e7) / 1e7});
+        auto& z = zone_rows[v.zone];
+        if (z.is_null()) z = Json::array();
+        z.push_back({{"quantity", v.quantity}, {"latest", point_json(v.point)}, {"spark", spark}});
+    }
+    Json zones = Json::array();
+    for (const auto& name : zone_order(db, site)) {
+        const auto it = zone_rows.find(name);
+        zones.push_back(
+            {{"name", name}, {"quantities", it == zone_rows.end() ? Json::array() : it->second}});
+    }
+    return zones;
+}
+
 Json site_overview(const EpochDatabase& db, const DashboardSite& site, UtcSeconds now,
-                   UtcSeconds heartbeat) {
+                   UtcSeconds heartbeat, Json zones) {
     const StatusSummary s = db.series().status_summary();
     Json epochs = Json::object();
     for (const auto& [status, count] : s.epochs_by_status)
@@ -110,23 +137,6 @@ Json site_overview(const EpochDatabase& db, const DashboardSite& site, UtcSecond
     Json alarms = Json::array();
     for (const auto& a : s.alarm_states) {
         if (a.state != "normal") alarms.push_back(alarm_state_json(a, rules));
-    }
-    // Each zone quantity's newest value and the day before it (the sparkline).
-    std::map<std::string, Json> zone_rows;
-    for (const auto& v : db.series().latest_values()) {
-        Json spark = Json::array();
-        for (const auto& p :
-             db.series().points(v.zone, v.quantity, {v.point.acquired - kDay, v.point.acquired}))
-            spark.push_back({p.acquired, p.value});
-        auto& z = zone_rows[v.zone];
-        if (z.is_null()) z = Json::array();
-        z.push_back({{"quantity", v.quantity}, {"latest", point_json(v.point)}, {"spark", spark}});
-    }
-    Json zones = Json::array();
-    for (const auto& name : zone_order(db, site)) {
-        const auto it = zone_rows.find(name);
-        zones.push_back(
-            {{"name", name}, {"quantities", it == zone_rows.end() ? Json::array() : it->second}});
     }
     return Json{{"station", site.station},
                 {"now", format_utc(now)},
@@ -145,7 +155,7 @@ Json site_overview(const EpochDatabase& db, const DashboardSite& site, UtcSecond
                 {"alarms_active", s.alarms_active},
                 {"alarms_unacknowledged", s.alarms_unacknowledged},
                 {"alarms", alarms},
-                {"zones", zones}};
+                {"zones", std::move(zones)}};
 }
 
 Json zone_list(const EpochDatabase& db, const DashboardSite& site) {
@@ -183,7 +193,7 @@ SeriesView series_view(const EpochDatabase& db, const SeriesRequest& request) {
 Json series_json(const EpochDatabase& db, const SeriesView& view) {
     const auto& r = view.request;
     Json points = Json::array();
-    for (const auto& p : view.points) points.push_back(point_json(p));
+    for (const auto& p : view.points) points.push_back(point_json(p, false));
     Json rules = Json::array();
     Json marks = Json::array();
     for (const auto& rule : db.alarms().rules()) {
@@ -204,10 +214,8 @@ Json series_json(const EpochDatabase& db, const SeriesView& view) {
         }
     }
     Json rejected = Json::array();
-    for (const auto& e : db.series().epochs_in_range(r.range)) {
-        if (e.status == EpochStatus::rejected)
-            rejected.push_back({{"epoch", e.id}, {"t", e.acquired}, {"reason", e.reason}});
-    }
+    for (const auto& e : db.series().epochs_in_range(r.range, EpochStatus::rejected))
+        rejected.push_back({{"epoch", e.id}, {"t", e.acquired}, {"reason", e.reason}});
     return Json{{"zone", r.zone},
                 {"quantity", r.quantity},
                 {"from", time_or_null(r.range.from)},

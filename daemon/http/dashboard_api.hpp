@@ -26,9 +26,12 @@ struct DashboardSite {
 };
 
 // `/api/v1/site`: station, daemon, epochs and backlog, the last epoch with its registration,
-// the active alarms, every zone quantity's latest value with a day's sparkline.
+// the active alarms, and `zones` as zone_overview made them.
 Json site_overview(const EpochDatabase& db, const DashboardSite& site, UtcSeconds now,
-                   UtcSeconds heartbeat);
+                   UtcSeconds heartbeat, Json zones);
+// Every zone quantity's latest value with a day's sparkline: it changes only when an epoch
+// commits, so the server keeps it from one commit to the next.
+Json zone_overview(const EpochDatabase& db, const DashboardSite& site);
 
 // `/api/v1/zones`: every zone with its stored quantities.
 Json zone_list(const EpochDatabase& db, const DashboardSite& site);

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "daemon/http/sessions.hpp"
+#include "daemon/http/users.hpp"
 #include "daemon/http/web_files.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -79,12 +81,61 @@ std::size_t width_parameter(const httplib::Request& req) {
     return w;
 }
 
+constexpr const char* kSessionCookie = "tlsmon_session";
+constexpr std::size_t kMaxComment = 500;
+
+// The value of cookie `name` in the request's Cookie header ("" when absent).
+std::string cookie(const httplib::Request& req, const std::string& name) {
+    const std::string header = req.get_header_value("Cookie");
+    std::size_t at = 0;
+    while (at < header.size()) {
+        const auto end = std::min(header.find(';', at), header.size());
+        std::string pair = header.substr(at, end - at);
+        pair.erase(0, pair.find_first_not_of(' '));
+        if (pair.rfind(name + "=", 0) == 0) return pair.substr(name.size() + 1);
+        at = end + 1;
+    }
+    return "";
+}
+
+// The JSON object of a POST's body; 400 for anything else.
+Json json_body(const httplib::Request& req) {
+    Json body = Json::parse(req.body, nullptr, false);
+    if (body.is_discarded() || !body.is_object())
+        throw BadRequest("the request body is not a JSON object");
+    return body;
+}
+
+std::string string_field(const Json& body, const char* name, std::size_t max_length) {
+    const auto it = body.find(name);
+    if (it == body.end() || it->is_null()) return "";
+    if (!it->is_string()) throw BadRequest(std::string("'") + name + "' must be a string");
+    const std::string v = it->get<std::string>();
+    if (v.size() > max_length)
+        throw BadRequest(std::string("'") + name + "' is longer than " +
+                         std::to_string(max_length) + " characters");
+    return v;
+}
+
+bool may_act_on_alarms(UserRole role) {
+    return role == UserRole::operator_ || role == UserRole::admin;
+}
+
+// The paths that take a POST: the login and the operators' actions.
+bool takes_post(const std::string& path) {
+    return path == "/api/v1/login" || path == "/api/v1/logout" ||
+           path.rfind("/api/v1/alarms/", 0) == 0;
+}
+
 }  // namespace
 
 struct HttpService::State {
     HttpConfig config;
     std::filesystem::path database;
     DashboardSite site;
+    AlarmActionHandler actions;
+    Sessions sessions;
+    LoginThrottle throttle;
     WebFiles files;
     httplib::Server server;
     std::thread thread;
@@ -95,6 +146,10 @@ struct HttpService::State {
     std::condition_variable committed;
     std::uint64_t commits = 0;
     EpochId last_epoch = 0;
+    std::string last_change = "epoch";  // what the last of `commits` was: "epoch" or "alarm"
+    // The overview's zones as they were after commit number `zones_cached_at`.
+    Json zones_cache;
+    std::optional<std::uint64_t> zones_cached_at;
     bool stopping = false;
     int streams = 0;
     UtcSeconds heartbeat = 0;
@@ -121,7 +176,46 @@ struct HttpService::State {
         return result;
     }
 
+    // `write` on the one read-write connection (opened at the first write, dropped after a
+    // storage error); writes are few: logins and the operators' actions.
+    std::mutex write_mutex;
+    std::unique_ptr<EpochDatabase> writer;
+    template <class F>
+    auto with_writer(F write) {
+        std::lock_guard lock(write_mutex);
+        if (!writer) {
+            writer = std::make_unique<EpochDatabase>(
+                EpochDatabase::open(database, EpochDatabase::Mode::read_write));
+        }
+        try {
+            return write(*writer);
+        } catch (const StorageError&) {
+            writer.reset();
+            throw;
+        }
+    }
+    // An event naming who did what; a failure to store it is logged, not fatal to the answer.
+    void audit(const std::string& level, const std::string& kind, const std::string& message) {
+        spdlog::info("http {}: {}", kind, message);
+        try {
+            with_writer([&](EpochDatabase& db) {
+                db.events().record({now_utc(), level, kind, message, std::nullopt});
+                return 0;
+            });
+        } catch (const std::exception& e) {
+            spdlog::error("http: the event '{}' could not be stored: {}", message, e.what());
+        }
+    }
+    std::optional<Session> session_of(const httplib::Request& req) {
+        const std::string token = cookie(req, kSessionCookie);
+        return token.empty() ? std::nullopt : sessions.find(token, now_utc());
+    }
+
     void routes();
+    void operator_routes();
+    void login(const httplib::Request& req, httplib::Response& res);
+    void alarm_action(const std::string& action, const httplib::Request& req,
+                      httplib::Response& res);
     void page(const std::string& pattern, const std::string& file);
     void api(const std::string& pattern,
              std::function<void(const httplib::Request&, httplib::Response&)> handler);
@@ -141,7 +235,9 @@ void HttpService::State::page(const std::string& pattern, const std::string& fil
 void HttpService::State::api(
     const std::string& pattern,
     std::function<void(const httplib::Request&, httplib::Response&)> handler) {
-    server.Get(pattern, [handler](const httplib::Request& req, httplib::Response& res) {
+    server.Get(pattern, [this, handler](const httplib::Request& req, httplib::Response& res) {
+        if (!config.anonymous_read && !session_of(req))
+            return send_error(res, 401, "log in to read (http.anonymous_read = false)");
         try {
             handler(req, res);
         } catch (const BadRequest& e) {
@@ -168,13 +264,23 @@ void HttpService::State::routes() {
     api("/api/v1/site", [this](const httplib::Request&, httplib::Response& res) {
         UtcSeconds beat;
         DashboardSite s;
+        std::uint64_t seen;
+        std::optional<Json> zones;
         {
             std::lock_guard lock(mutex);
             beat = heartbeat;
             s = site;
+            seen = commits;
+            if (zones_cached_at == seen) zones = zones_cache;
         }
         send_json(res, with_database([&](const EpochDatabase& db) {
-                      return site_overview(db, s, now_utc(), beat);
+                      if (!zones) {
+                          zones = zone_overview(db, s);
+                          std::lock_guard lock(mutex);
+                          zones_cache = *zones;
+                          zones_cached_at = seen;
+                      }
+                      return site_overview(db, s, now_utc(), beat, std::move(*zones));
                   }));
     });
     api("/api/v1/zones", [this](const httplib::Request&, httplib::Response& res) {
@@ -238,9 +344,149 @@ void HttpService::State::routes() {
         });
     server.Get("/api/v1/stream",
                [this](const httplib::Request& req, httplib::Response& res) { stream(req, res); });
+    operator_routes();
 }
 
-// Server-sent events: `epoch` with {"epoch": N} after each commit, a comment every second
+// Who is logged in ({"user": null} when nobody: not an error for a page that asks): the page
+// shows the actions the role allows and sends the CSRF token back with each of them.
+void HttpService::State::operator_routes() {
+    server.Get("/api/v1/session", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto s = session_of(req);
+        if (!s) return send_json(res, Json{{"user", nullptr}, {"role", nullptr}});
+        send_json(res, Json{{"user", s->user},
+                            {"role", std::string(to_string(s->role))},
+                            {"csrf", s->csrf},
+                            {"expires", format_utc(s->expires)}});
+    });
+    server.Post("/api/v1/login", [this](const httplib::Request& req, httplib::Response& res) {
+        try {
+            login(req, res);
+        } catch (const BadRequest& e) {
+            send_error(res, 400, e.what());
+        }
+    });
+    server.Post("/api/v1/logout", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto s = session_of(req);
+        if (!s) return send_error(res, 401, "not logged in");
+        if (req.get_header_value("X-CSRF-Token") != s->csrf)
+            return send_error(res, 403, "missing or wrong X-CSRF-Token");
+        sessions.close(s->token);
+        res.set_header("Set-Cookie", std::string(kSessionCookie) +
+                                         "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+        audit("info", "http_logout", "user " + s->user + " logged out from " + req.remote_addr);
+        send_json(res, Json{{"user", s->user}, {"logged_out", true}});
+    });
+    for (const char* action : {"ack", "shelve", "unshelve", "out-of-service", "in-service"}) {
+        server.Post(std::string("/api/v1/alarms/") + action,
+                    [this, action](const httplib::Request& req, httplib::Response& res) {
+                        try {
+                            alarm_action(action, req, res);
+                        } catch (const BadRequest& e) {
+                            send_error(res, 400, e.what());
+                        }
+                    });
+    }
+}
+
+// POST /api/v1/login {"user", "password"}: a session cookie (HttpOnly, SameSite=Strict) and
+// the CSRF token. Every attempt is an event; a client address with 5 failures in 5 minutes
+// is refused (429) without its password being checked until the oldest leaves the window.
+void HttpService::State::login(const httplib::Request& req, httplib::Response& res) {
+    const UtcSeconds now = now_utc();
+    const std::string& from = req.remote_addr;
+    if (const UtcSeconds wait = throttle.wait_before_login(from, now)) {
+        res.set_header("Retry-After", std::to_string(wait));
+        spdlog::warn("http: login from {} refused, too many failures", from);
+        return send_error(res, 429,
+                          "too many failed logins from " + from + "; try again in " +
+                              std::to_string(wait) + " s");
+    }
+    const Json body = json_body(req);
+    const std::string name = string_field(body, "user", 64);
+    const std::string password = string_field(body, "password", 1024);
+    if (config.users_file.empty())
+        return send_error(res, 403, "nobody may log in: http.users_file is not set (read-only)");
+    std::vector<UserEntry> users;
+    try {
+        users = read_users(config.users_file);
+    } catch (const Error& e) {
+        spdlog::error("http: {}", e.what());
+        return send_error(res, 503, "the users file cannot be read; see the daemon's log");
+    }
+    const auto user = std::find_if(users.begin(), users.end(),
+                                   [&](const UserEntry& u) { return u.name == name; });
+    // An unknown name costs the same hashing as a known one: the time does not tell names.
+    static const UserEntry nobody = make_user("nobody", UserRole::viewer, random_token());
+    const bool known = user != users.end();
+    const bool matches = password_matches(known ? *user : nobody, password);
+    if (!known || !matches) {
+        throttle.failed(from, now);
+        audit("warning", "http_login", "failed login as '" + name + "' from " + from);
+        return send_error(res, 401, "wrong user name or password");
+    }
+    throttle.succeeded(from);
+    const Session s = sessions.open(user->name, user->role, now,
+                                    static_cast<UtcSeconds>(config.session_lifetime));
+    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + s.token +
+                                     "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
+                                     std::to_string(s.expires - now));
+    audit("info", "http_login",
+          "user " + s.user + " (" + std::string(to_string(s.role)) + ") logged in from " + from);
+    send_json(res, Json{{"user", s.user},
+                        {"role", std::string(to_string(s.role))},
+                        {"csrf", s.csrf},
+                        {"expires", format_utc(s.expires)}});
+}
+
+// POST /api/v1/alarms/ACTION {"rule", "comment", "until"}: 401 without a login, 403 for a
+// viewer or without the session's X-CSRF-Token, 400 for a bad request or an unknown rule.
+void HttpService::State::alarm_action(const std::string& action, const httplib::Request& req,
+                                      httplib::Response& res) {
+    const auto s = session_of(req);
+    if (!s) return send_error(res, 401, "log in as an operator to act on alarms");
+    if (req.get_header_value("X-CSRF-Token") != s->csrf)
+        return send_error(res, 403, "missing or wrong X-CSRF-Token");
+    if (!may_act_on_alarms(s->role)) {
+        audit("warning", "http_refused",
+              "user " + s->user + " (viewer) may not " + action + " alarms; refused");
+        return send_error(res, 403,
+                          "user " + s->user + " is a viewer: only operators act on alarms");
+    }
+    const Json body = json_body(req);
+    OperatorAction a{action, string_field(body, "rule", 200), std::nullopt, "user " + s->user,
+                     string_field(body, "comment", kMaxComment)};
+    if (a.rule.empty()) throw BadRequest("'rule' is required (\"*\": every rule)");
+    if ((action == "shelve" || action == "out-of-service") && a.comment.empty())
+        throw BadRequest("a comment is required to " + action + " an alarm: the reason");
+    if (action == "shelve") {
+        const std::string until = string_field(body, "until", 40);
+        try {
+            a.until = parse_utc(until);
+        } catch (const std::exception&) {
+            throw BadRequest("'until' must be an ISO 8601 UTC time, not '" + until + "'");
+        }
+    }
+    int changed = 0;
+    try {
+        changed = with_writer([&](EpochDatabase& db) { return actions(db, a, now_utc()); });
+    } catch (const StorageError& e) {
+        spdlog::error("http {}: {}", req.path, e.what());
+        return send_error(res, 503, std::string("not stored: ") + e.what());
+    } catch (const Error& e) {  // an unknown rule, a shelve into the past
+        return send_error(res, 400, e.what());
+    }
+    {
+        std::lock_guard lock(mutex);
+        ++commits;  // open pages refresh: the alarm's state changed
+        last_change = "alarm";
+    }
+    committed.notify_all();
+    send_json(res,
+              Json{{"action", action}, {"rule", a.rule}, {"changed", changed}, {"by", s->user}});
+}
+
+// Server-sent events: `epoch` with {"epoch": N} after each commit, `alarm` after an operator's
+// action on an alarm, a comment every second
 // (so a client that went away is noticed and its thread freed). Each stream holds one of
 // the server's threads, hence the bound (http.max_event_streams).
 void HttpService::State::stream(const httplib::Request&, httplib::Response& res) {
@@ -272,8 +518,8 @@ void HttpService::State::stream(const httplib::Request&, httplib::Response& res)
                 if (stopping) return false;
                 if (commits != seen) {
                     seen = commits;
-                    message =
-                        "event: epoch\ndata: {\"epoch\":" + std::to_string(last_epoch) + "}\n\n";
+                    message = "event: " + last_change +
+                              "\ndata: {\"epoch\":" + std::to_string(last_epoch) + "}\n\n";
                 } else {
                     message = ": alive\n\n";
                 }
@@ -287,19 +533,28 @@ void HttpService::State::stream(const httplib::Request&, httplib::Response& res)
 }
 
 HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& database,
-                         DashboardSite site)
+                         DashboardSite site, AlarmActionHandler actions)
     : state_(std::make_unique<State>()) {
     State& s = *state_;
     s.config = config;
     s.database = database;
     s.site = std::move(site);
+    s.actions = std::move(actions);
+    if (!config.users_file.empty()) {  // a malformed file stops the start, naming the line
+        const auto users = read_users(config.users_file);
+        spdlog::info("dashboard users: {} in {}", users.size(), config.users_file.string());
+    }
     s.heartbeat = now_utc();
     s.files = WebFiles::load(find_web_root(config.web_root));
     const auto threads = static_cast<std::size_t>(config.threads);
     s.server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-    const auto idle = static_cast<time_t>(config.idle_timeout);
-    s.server.set_keep_alive_timeout(idle);
-    s.server.set_read_timeout(idle, 0);
+    // One request per connection: cpp-httplib gives each connection a thread for as long as
+    // it stays open, so a browser's idle kept-alive connection would hold a thread and 16
+    // open pages would starve the 17th (measured: p99 3.2 s for 20 pages polling once a
+    // second with keep-alive, bench/http_dashboard.cpp). A new TCP connection on the site
+    // network costs a fraction of a millisecond.
+    s.server.set_keep_alive_max_count(1);
+    s.server.set_read_timeout(static_cast<time_t>(config.idle_timeout), 0);
     s.server.set_write_timeout(5, 0);
     s.server.set_payload_max_length(kMaxBody);
     s.server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
@@ -310,9 +565,10 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
                                    "img-src 'self' data:; frame-ancestors 'none'"}});
     // Read-only: anything but GET and HEAD is refused before routing.
     s.server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
-        if (req.method == "GET" || req.method == "HEAD")
+        if (req.method == "GET" || req.method == "HEAD" ||
+            (req.method == "POST" && takes_post(req.path)))
             return httplib::Server::HandlerResponse::Unhandled;
-        res.set_header("Allow", "GET, HEAD");
+        res.set_header("Allow", takes_post(req.path) ? "POST" : "GET, HEAD");
         send_error(res, 405, "method " + req.method + " not allowed");
         return httplib::Server::HandlerResponse::Handled;
     });
@@ -360,6 +616,7 @@ void HttpService::epoch_committed(EpochId epoch) {
         std::lock_guard lock(state_->mutex);
         ++state_->commits;
         state_->last_epoch = epoch;
+        state_->last_change = "epoch";
     }
     state_->committed.notify_all();
 }

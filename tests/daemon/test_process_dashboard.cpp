@@ -9,9 +9,14 @@
 //   - zone page: the chart holds exactly the database's points of the quantity;
 //   - epoch view: one map mark per core point with a distance;
 //   - alarms and events pages: every rule's state, every event;
+//   - an operator logs in on the alarms page and acknowledges the step's alarm with a
+//     comment: the database's state and history name the user, the Modbus unacknowledged
+//     bit (read with mbpoll) clears; a viewer's, an anonymous and a CSRF-less request are
+//     refused (403, 401, 403) and change nothing;
 //   - no console error on any page; a screenshot of each in build/test-artifacts/dashboard.
 // And the server under hostile requests (path traversal in its encoded forms, a 1 MB header,
-// methods that would write, malformed parameters), each refused while the daemon goes on.
+// methods that would write, malformed parameters and JSON, 100 wrong passwords while an
+// epoch commits), each refused while the daemon goes on.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -118,7 +123,19 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     const int modbus_port = free_tcp_port();
     int http_port = free_tcp_port();
     while (http_port == modbus_port) http_port = free_tcp_port();
-    const fs::path config = write_config(s, run, modbus_port, true, http_port);
+    fs::path config = write_config(s, run, modbus_port, true, http_port);
+    for (const auto& [user, role] : {std::pair{"alice", "operator"}, std::pair{"bob", "viewer"}}) {
+        const auto r = shell("echo " + std::string(user) + "-pass | " + TLSMON_BINARY +
+                             " users add " + user + " --role " + role +
+                             " --password-stdin --file " + quoted((run / "users.txt").string()));
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    {
+        std::string text = read_text(config);
+        const std::string http = "[http]\n";
+        text.insert(text.find(http) + http.size(), "users_file = \"users.txt\"\n");
+        write_text(config, text);
+    }
     const fs::path db = run / "tlsmon.sqlite", log = run / "daemon.log";
     DaemonProcess daemon(config, log);
     ASSERT_TRUE(wait_until([&] { return curl(http_port, "/api/v1/site").status == 200; }, 60))
@@ -238,7 +255,72 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         << "a 1 MB header is refused: " << refused;
     EXPECT_EQ(curl(http_port, "/api/v1/site").status, 200);
 
-    // Live: the overview, left open, shows the last epoch once it commits, with no reload.
+    // Operators: refusals first, each changing nothing; then alice acknowledges in the browser.
+    const std::string rule_row =
+        "SELECT s.state AS state, (SELECT count(*) FROM alarm_events e "
+        "WHERE e.rule_id = r.id) AS events FROM alarm_rules r JOIN "
+        "alarm_states s ON s.rule_id = r.id WHERE r.name = '" +
+        std::string(kStepRule) + "'";
+    const json before = sql(db, rule_row);
+    ASSERT_EQ(before.at(0).at("state"), "unack");
+    const fs::path jar = tmp.path() / "cookies";
+    const std::string ack_body = std::string("{\"rule\":\"") + kStepRule + "\"}";
+    const auto login = [&](const std::string& user, const std::string& password) {
+        return curl(http_port, "/api/v1/login",
+                    "-c " + quoted(jar.string()) +
+                        " -X POST -H 'Content-Type: application/json' -d " +
+                        quoted("{\"user\":\"" + user + "\",\"password\":\"" + password + "\"}"));
+    };
+    EXPECT_EQ(curl(http_port, "/api/v1/alarms/ack", "-X POST -d " + quoted(ack_body)).status, 401);
+    const Answer viewer = login("bob", "bob-pass");
+    ASSERT_EQ(viewer.status, 200) << viewer.body;
+    const std::string viewer_csrf = json::parse(viewer.body).at("csrf");
+    EXPECT_EQ(curl(http_port, "/api/v1/alarms/ack",
+                   "-b " + quoted(jar.string()) + " -H 'X-CSRF-Token: " + viewer_csrf +
+                       "' -X POST -d " + quoted(ack_body))
+                  .status,
+              403);
+    ASSERT_EQ(login("alice", "alice-pass").status, 200);
+    EXPECT_EQ(curl(http_port, "/api/v1/alarms/ack",
+                   "-b " + quoted(jar.string()) + " -X POST -d " + quoted(ack_body))
+                  .status,
+              403)
+        << "no X-CSRF-Token";
+    EXPECT_EQ(curl(http_port, "/api/v1/alarms/ack",
+                   "-b " + quoted(jar.string()) + " -H 'X-CSRF-Token: forged' -X POST -d " +
+                       quoted(ack_body))
+                  .status,
+              403);
+    EXPECT_EQ(sql(db, rule_row), before) << "a refused request changed the alarm";
+
+    const json acted = browser("operator " + quoted(base) + " " + quoted(artifacts().string()) +
+                               " alice alice-pass " + quoted(kStepRule) + " 'seen on site'");
+    EXPECT_EQ(acted.at("state"), "ack");
+    EXPECT_TRUE(acted.at("errors").empty()) << acted.at("errors").dump(1);
+    const json ack = sql(db,
+                         "SELECT e.actor AS actor, e.message AS message, s.state AS state, "
+                         "r.id AS id FROM alarm_events e JOIN alarm_rules r ON r.id = "
+                         "e.rule_id JOIN alarm_states s ON s.rule_id = r.id WHERE r.name = '" +
+                             std::string(kStepRule) + "' AND e.kind = 'ack'");
+    ASSERT_EQ(ack.size(), 1u);
+    EXPECT_EQ(ack.at(0).at("state"), "ack");
+    EXPECT_EQ(ack.at(0).at("actor"), "web user alice");
+    EXPECT_NE(ack.at(0).at("message").get<std::string>().find("seen on site"), std::string::npos);
+    EXPECT_EQ(sql(db,
+                  "SELECT 1 FROM system_events WHERE kind = 'http_login' AND message LIKE "
+                  "'user alice (operator) logged in from 127.0.0.1'")
+                  .size(),
+              2u)  // by curl, then in the browser
+        << "each login is an event naming the user";
+    // The step rule's block of discrete inputs (docs/modbus.md): its unacknowledged bit clears.
+    const int bit = 16 + 4 * (ack.at(0).at("id").get<int>() - 1);
+    EXPECT_TRUE(wait_until(
+        [&] { return mbpoll_read(modbus_port, "1", bit + 3, 1) == std::vector<std::uint32_t>{0}; },
+        15))
+        << "the Modbus unacknowledged bit did not clear";
+
+    // Live: the overview, left open, shows the last epoch once it commits, with no reload;
+    // meanwhile 100 wrong passwords from one address: 5 are checked, the rest refused.
     const fs::path ready = tmp.path() / "browser_ready";
     auto live = std::async(std::launch::async, [&] {
         return browser("live " + quoted(base) + " " + quoted(artifacts().string()) + " " +
@@ -246,6 +328,10 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     });
     ASSERT_TRUE(wait_until([&] { return fs::exists(ready); }, 60));
     feed(s, kEpochs - 1, run / "ingest");
+    std::map<int, int> answers;
+    for (int k = 0; k < 100; ++k) ++answers[login("alice", "wrong-" + std::to_string(k)).status];
+    EXPECT_EQ(answers[401], 5);
+    EXPECT_EQ(answers[429], 95);
     ASSERT_TRUE(wait_until([&] { return processed(db) == kEpochs; }, 120)) << read_text(log);
     const json seen = live.get();
     const json newest = sql(db,

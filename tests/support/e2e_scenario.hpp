@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,24 @@ inline json sql(const fs::path& database, const std::string& query) {
     } catch (const json::exception& e) {
         throw std::runtime_error(std::string(e.what()) + "\nfor: " + query);
     }
+}
+
+// Modbus through mbpoll (0-based addresses, one poll): the raw 16-bit words (input
+// registers, `-t 3:hex`) or bits (discrete inputs `-t 1`, coils `-t 0`) from `address`,
+// `count` of them; empty when mbpoll failed.
+inline std::vector<std::uint32_t> mbpoll_read(int port, const std::string& table, int address,
+                                              int count) {
+    const auto r = shell("timeout 10 mbpoll -m tcp -a 1 -p " + std::to_string(port) +
+                         " -0 -1 -o 2 -t " + table + " -r " + std::to_string(address) + " -c " +
+                         std::to_string(count) + " 127.0.0.1");
+    std::vector<std::uint32_t> out;
+    if (r.status != 0) return out;
+    const std::regex row(R"(\[(\d+)\]:\s+(\S+))");
+    for (std::sregex_iterator it(r.output.begin(), r.output.end(), row), end; it != end; ++it) {
+        out.push_back(static_cast<std::uint32_t>(std::stoul((*it)[2], nullptr, 0)));
+    }
+    if (static_cast<int>(out.size()) != count) out.clear();
+    return out;
 }
 
 // One epoch's truth file (docs/simulator.md, "Truth").

@@ -6,6 +6,7 @@ and a screenshot per page in OUT_DIR. The comparison with the database is the ca
 (tests/daemon/test_process_dashboard.cpp).
 
   dashboard_browser.py pages BASE OUT_DIR ZONE QUANTITY EPOCH
+  dashboard_browser.py operator BASE OUT_DIR USER PASSWORD RULE COMMENT
   dashboard_browser.py live BASE OUT_DIR READY_FILE TIMEOUT_S
 """
 import json
@@ -107,6 +108,30 @@ def pages(base, out_dir, zone, quantity, epoch):
     return report
 
 
+def operator(base, out_dir, user, password, rule, comment):
+    """On /alarms: logs in through the form, acknowledges RULE with COMMENT by its button,
+    and waits until the page shows the rule acknowledged."""
+    d = browser()
+    try:
+        d.get(base + "/alarms")
+        wait_for(d, "!document.querySelector('#login').hidden")
+        d.find_element("id", "login-user").send_keys(user)
+        d.find_element("id", "login-password").send_keys(password)
+        d.find_element("id", "login-submit").click()
+        row = f"document.querySelector('#states tr[data-rule=\"{rule}\"]')"
+        wait_for(d, f"{row} && {row}.querySelector('button.action-ack')")
+        d.find_element("id", "comment").send_keys(comment)
+        d.execute_script(f"{row}.querySelector('button.action-ack').click()")
+        state = wait_for(d, f"{row} && {row}.querySelector('.state').textContent === 'ack' && 'ack'")
+        time.sleep(0.3)
+        d.save_screenshot(f"{out_dir}/alarms_acknowledged.png")
+        return {"state": state, "who": d.find_element("id", "who").text,
+                "result": d.find_element("id", "action-result").text,
+                "errors": console_errors(d)}
+    finally:
+        d.quit()
+
+
 def live(base, out_dir, ready_file, timeout):
     """The overview, left open: the last epoch it shows before and after the next commit,
     with no reload by the script."""
@@ -133,6 +158,8 @@ if __name__ == "__main__":
     mode, base, out_dir = sys.argv[1:4]
     if mode == "pages":
         result = pages(base, out_dir, sys.argv[4], sys.argv[5], int(sys.argv[6]))
+    elif mode == "operator":
+        result = operator(base, out_dir, *sys.argv[4:8])
     else:
         result = live(base, out_dir, sys.argv[4], float(sys.argv[5]))
     print(json.dumps(result))
