@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -132,6 +133,11 @@ class Daemon {
     void note_disk();     // disk_full_ from the last write, shown on Modbus at once
     void start_modbus();  // (again) as config_.modbus says; the old server stops first
     void start_http();    // likewise for config_.http
+    // After a reload: `start` (again), each outcome an event ("Modbus server restarted on
+    // ADDRESS:PORT", or why it could not be and what is `without` it meanwhile).
+    void restart_server(const std::string& name, const std::string& section,
+                        const std::function<void()>& start, bool enabled,
+                        const std::string& address, int port, const std::string& without);
     void reload();
     void ingest_complete_files(Clock::time_point now);
     // Copies of epochs that were not processed yet, once those epochs are.
@@ -257,6 +263,22 @@ void Daemon::start_http() {
                                           carry_out_operator_action);
 }
 
+void Daemon::restart_server(const std::string& name, const std::string& section,
+                            const std::function<void()>& start, bool enabled,
+                            const std::string& address, int port, const std::string& without) {
+    try {
+        start();
+        events_.record(db_, "info", "config_reload",
+                       enabled
+                           ? name + " server restarted on " + address + ":" + std::to_string(port)
+                           : name + " server stopped (" + section + ".enabled = false)");
+    } catch (const Error& e) {
+        events_.record(db_, "error", "config_reload",
+                       "the " + name + " server could not be restarted: " + e.what() + "; " +
+                           without + " until the next reload");
+    }
+}
+
 void Daemon::start_modbus() {
     modbus_.reset();
     modbus_ = start_modbus_service(config_);
@@ -297,32 +319,14 @@ void Daemon::reload() {
             events_.record(db_, "warning", "config_reload", "reload removes " + removed);
         }
         if (restart_modbus) {
-            try {
-                start_modbus();
-                events_.record(db_, "info", "config_reload",
-                               config_.modbus.enabled
-                                   ? "Modbus server restarted on " + config_.modbus.address + ":" +
-                                         std::to_string(config_.modbus.port)
-                                   : std::string("Modbus server stopped (modbus.enabled = false)"));
-            } catch (const Error& e) {
-                events_.record(db_, "error", "config_reload",
-                               std::string("the Modbus server could not be restarted: ") +
-                                   e.what() + "; SCADA has no server until the next reload");
-            }
+            restart_server(
+                "Modbus", "modbus", [this] { start_modbus(); }, config_.modbus.enabled,
+                config_.modbus.address, config_.modbus.port, "SCADA has no server");
         }
         if (restart_http) {
-            try {
-                start_http();
-                events_.record(db_, "info", "config_reload",
-                               config_.http.enabled
-                                   ? "HTTP server restarted on " + config_.http.address + ":" +
-                                         std::to_string(config_.http.port)
-                                   : std::string("HTTP server stopped (http.enabled = false)"));
-            } catch (const Error& e) {
-                events_.record(db_, "error", "config_reload",
-                               std::string("the HTTP server could not be restarted: ") + e.what() +
-                                   "; no dashboard until the next reload");
-            }
+            restart_server(
+                "HTTP", "http", [this] { start_http(); }, config_.http.enabled,
+                config_.http.address, config_.http.port, "no dashboard");
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {

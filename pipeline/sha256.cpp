@@ -11,6 +11,8 @@
 #include <memory>
 #include <vector>
 
+#include "core/hex.hpp"
+
 namespace tlsmon {
 
 namespace {
@@ -30,13 +32,7 @@ class Digest {
         unsigned char md[EVP_MAX_MD_SIZE];
         unsigned int n = 0;
         if (EVP_DigestFinal_ex(ctx_.get(), md, &n) != 1) throw Error("SHA-256: final failed");
-        static const char* digits = "0123456789abcdef";
-        std::string out;
-        for (unsigned int i = 0; i < n; ++i) {
-            out += digits[md[i] >> 4];
-            out += digits[md[i] & 15];
-        }
-        return out;
+        return to_hex({md, n});
     }
 
   private:

@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include "core/hex.hpp"
 #include "storage/storage_error.hpp"
 
 namespace tlsmon {
@@ -12,14 +13,7 @@ std::string payload_sha256(std::string_view bytes) {
     if (EVP_Digest(bytes.data(), bytes.size(), md, &n, EVP_sha256(), nullptr) != 1) {
         throw StorageError("SHA-256 of a reference cache payload: OpenSSL failed");
     }
-    static const char* digits = "0123456789abcdef";
-    std::string out;
-    out.reserve(2 * n);
-    for (unsigned int i = 0; i < n; ++i) {
-        out += digits[md[i] >> 4];
-        out += digits[md[i] & 15];
-    }
-    return out;
+    return to_hex({md, n});
 }
 
 }  // namespace tlsmon

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/hex.hpp"
 
 namespace tlsmon {
 
@@ -12,13 +13,7 @@ std::string random_token(std::size_t n) {
     std::vector<unsigned char> bytes(n);
     if (RAND_bytes(bytes.data(), static_cast<int>(n)) != 1)
         throw Error("no random bytes for a session token (OpenSSL)");
-    static const char* digits = "0123456789abcdef";
-    std::string out;
-    for (unsigned char b : bytes) {
-        out += digits[b >> 4];
-        out += digits[b & 15];
-    }
-    return out;
+    return to_hex(bytes);
 }
 
 Session Sessions::open(const std::string& user, UserRole role, UtcSeconds now,

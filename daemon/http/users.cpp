@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/hex.hpp"
 
 namespace tlsmon {
 
@@ -18,30 +19,6 @@ namespace {
 
 constexpr std::size_t kSaltBytes = 16;
 constexpr std::size_t kKeyBytes = 32;
-
-std::string hex(const unsigned char* bytes, std::size_t n) {
-    static const char* digits = "0123456789abcdef";
-    std::string out;
-    for (std::size_t i = 0; i < n; ++i) {
-        out += digits[bytes[i] >> 4];
-        out += digits[bytes[i] & 15];
-    }
-    return out;
-}
-
-std::vector<unsigned char> unhex(const std::string& text) {
-    std::vector<unsigned char> out;
-    if (text.size() % 2 != 0) return {};
-    for (std::size_t i = 0; i < text.size(); i += 2) {
-        const auto v = [](char c) {
-            return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
-        };
-        const int hi = v(text[i]), lo = v(text[i + 1]);
-        if (hi < 0 || lo < 0) return {};
-        out.push_back(static_cast<unsigned char>(hi * 16 + lo));
-    }
-    return out;
-}
 
 // PBKDF2-HMAC-SHA256 (RFC 8018, section 5.2).
 std::vector<unsigned char> derive(const std::string& password,
@@ -97,16 +74,16 @@ UserEntry make_user(const std::string& name, UserRole role, const std::string& p
     if (RAND_bytes(salt.data(), static_cast<int>(salt.size())) != 1)
         throw Error("no random bytes for the salt (OpenSSL)");
     const auto key = derive(password, salt, iterations);
-    return UserEntry{name, role, iterations, hex(salt.data(), salt.size()),
-                     hex(key.data(), key.size())};
+    return UserEntry{name, role, iterations, to_hex(salt), to_hex(key)};
 }
 
 bool password_matches(const UserEntry& user, const std::string& password) {
-    const auto salt = unhex(user.salt_hex);
-    const auto stored = unhex(user.hash_hex);
-    if (salt.empty() || stored.size() != kKeyBytes || user.iterations < 1) return false;
-    const auto key = derive(password, salt, user.iterations);
-    return CRYPTO_memcmp(key.data(), stored.data(), kKeyBytes) == 0;
+    const auto salt = from_hex(user.salt_hex);
+    const auto stored = from_hex(user.hash_hex);
+    if (!salt || salt->empty() || !stored || stored->size() != kKeyBytes || user.iterations < 1)
+        return false;
+    const auto key = derive(password, *salt, user.iterations);
+    return CRYPTO_memcmp(key.data(), stored->data(), kKeyBytes) == 0;
 }
 
 std::vector<UserEntry> read_users(const fs::path& file) {
