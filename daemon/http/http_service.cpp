@@ -139,7 +139,6 @@ struct HttpService::State {
     WebFiles files;
     httplib::Server server;
     std::thread thread;
-    int port = 0;
 
     std::mutex mutex;  // guards what follows
     std::vector<std::unique_ptr<EpochDatabase>> idle_connections;
@@ -595,9 +594,8 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
         throw Error("the HTTP server cannot listen on " + config.address + ":" +
                     std::to_string(config.port) + " (address in use, or not this machine's)");
     }
-    s.port = config.port;
     s.thread = std::thread([&s] { s.server.listen_after_bind(); });
-    spdlog::info("dashboard on http://{}:{}/ ({} files from {})", config.address, s.port,
+    spdlog::info("dashboard on http://{}:{}/ ({} files from {})", config.address, config.port,
                  s.files.size(), s.files.root().string());
 }
 
@@ -625,10 +623,6 @@ void HttpService::heartbeat(UtcSeconds now, std::optional<double> disk_free_shar
     std::lock_guard lock(state_->mutex);
     state_->heartbeat = now;
     state_->site.disk_free_share = disk_free_share;
-}
-
-int HttpService::port() const {
-    return state_->port;
 }
 
 }  // namespace tlsmon

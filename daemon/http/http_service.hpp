@@ -46,8 +46,6 @@ class HttpService {
     // The daemon's main loop is alive (shown as its heartbeat), with the disk's free share.
     void heartbeat(UtcSeconds now, std::optional<double> disk_free_share);
 
-    int port() const;  // the port bound
-
   private:
     struct State;
     std::unique_ptr<State> state_;
