@@ -45,17 +45,14 @@ std::string quality_of(const SeriesPoint& p) {
     return p.registration_accepted ? "accepted" : "degraded";
 }
 
-// The value and its uncertainty are in the quantity's unit, which its name ends with.
-Table series_table(const std::vector<SeriesPoint>& points, const std::string& quantity) {
-    Table t{{"epoch", "acquired", "value", "uncertainty", "n", "significant", "quality", "datum"},
-            {},
-            {"", "", quantity, quantity}};
-    t.rows.reserve(points.size());
-    for (const auto& p : points) {
-        t.rows.push_back({p.epoch, format_utc(p.acquired), p.value, optional_cell(p.uncertainty),
-                          p.n, p.significant, quality_of(p), p.datum});
-    }
-    return t;
+// One row of a series; the value and its uncertainty are in the quantity's unit, which its
+// name ends with.
+const std::vector<std::string> kSeriesColumns{"epoch", "acquired",    "value",   "uncertainty",
+                                              "n",     "significant", "quality", "datum"};
+
+void series_row(const SeriesPoint& p, std::vector<Cell>& row) {
+    row = {p.epoch, format_utc(p.acquired), p.value,       optional_cell(p.uncertainty),
+           p.n,     p.significant,          quality_of(p), p.datum};
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -96,8 +93,15 @@ int run_query_series(const SeriesOptions& o) {
         const auto range = time_range(o.read);
         const auto db = open_for_reading(o.read);
         check_series_names(db, o.zone, o.quantity);
-        print(std::cout, series_table(db.series().points(o.zone, o.quantity, range), o.quantity),
-              o.read.format);
+        // Printed as they are read: a year of one series is 35,040 rows.
+        RowPrinter printer(std::cout, kSeriesColumns, {"", "", o.quantity, o.quantity},
+                           o.read.format);
+        std::vector<Cell> row;
+        db.series().for_each_point(o.zone, o.quantity, range, [&](const SeriesPoint& p) {
+            series_row(p, row);
+            printer.row(row);
+        });
+        printer.finish();
     });
 }
 

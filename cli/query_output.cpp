@@ -1,8 +1,7 @@
 // Shared by the reading commands: database location, time options, output formats.
 #include "cli/query_output.hpp"
 
-#include <fmt/format.h>
-
+#include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -35,6 +34,10 @@ TimeRange time_range(const ReadOptions& options) {
     return range;
 }
 
+Cell structured_cell(Structured value) {
+    return std::make_shared<const Structured>(std::move(value));
+}
+
 Cell optional_cell(const std::optional<double>& v) {
     return v ? Cell(*v) : Cell();
 }
@@ -60,7 +63,11 @@ std::optional<int> table_decimals(std::string_view column) {
 std::string table_number(double v, std::string_view column) {
     if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
     const auto decimals = table_decimals(column);
-    std::string text = decimals ? fmt::format("{:.{}f}", v, *decimals) : fmt::format("{:.6g}", v);
+    char buf[400];  // a fixed-point double needs at most 309 digits before the point
+    const auto written =
+        decimals ? std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, *decimals)
+                 : std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6);
+    std::string text(buf, written.ptr);
     if (text.front() == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
     return text;
 }
@@ -77,8 +84,8 @@ std::string cell_text(const Cell& c, std::string_view column, OutputFormat forma
         std::string operator()(std::int64_t i) const { return std::to_string(i); }
         std::string operator()(double d) const { return csv_number(d); }
         std::string operator()(bool b) const { return b ? "true" : "false"; }
-        std::string operator()(const Structured& s) const {
-            return escape_control_characters(s.text);
+        std::string operator()(const StructuredCell& s) const {
+            return escape_control_characters(s->text);
         }
     } visitor;
     return std::visit(visitor, c);
@@ -91,8 +98,8 @@ nlohmann::ordered_json cell_json(const Cell& c) {
         nlohmann::ordered_json operator()(std::int64_t i) const { return i; }
         nlohmann::ordered_json operator()(double d) const { return d; }  // NaN: null
         nlohmann::ordered_json operator()(bool b) const { return b; }
-        nlohmann::ordered_json operator()(const Structured& s) const {
-            return nlohmann::ordered_json::parse(s.json);
+        nlohmann::ordered_json operator()(const StructuredCell& s) const {
+            return nlohmann::ordered_json::parse(s->json);
         }
     } visitor;
     return std::visit(visitor, c);
@@ -112,8 +119,8 @@ void append_json(std::string& buf, const Cell& c) {
         buf += json_string(*s);
     } else if (std::holds_alternative<std::monostate>(c)) {
         buf += "null";
-    } else if (const auto* structured = std::get_if<Structured>(&c)) {
-        buf += structured->json;
+    } else if (const auto* structured = std::get_if<StructuredCell>(&c)) {
+        buf += (*structured)->json;
     } else {
         buf += cell_text(c, {}, OutputFormat::json);  // integer or true/false
     }
@@ -121,58 +128,108 @@ void append_json(std::string& buf, const Cell& c) {
 
 }  // namespace
 
-// Everything is formatted into one buffer and written once: a year of 15-minute epochs is
-// 35,040 rows.
-void print(std::ostream& out, const Table& table, OutputFormat format) {
-    const std::size_t columns = table.columns.size();
-    std::string buf;
-    buf.reserve(table.rows.size() * 100 + 256);
-    if (format == OutputFormat::json) {
-        std::vector<std::string> keys;
-        for (const auto& c : table.columns) keys.push_back(json_string(c) + ": ");
-        buf += '[';
-        for (std::size_t r = 0; r < table.rows.size(); ++r) {
-            buf += r ? ",\n  {" : "\n  {";
-            for (std::size_t i = 0; i < columns; ++i) {
-                if (i) buf += ", ";
-                buf += keys[i];
-                append_json(buf, table.rows[r][i]);
+RowPrinter::RowPrinter(std::ostream& out, std::vector<std::string> columns,
+                       std::vector<std::string> rounded_as, OutputFormat format)
+    : out_(out), columns_(std::move(columns)), format_(format) {
+    rounding_.resize(columns_.size());
+    for (std::size_t i = 0; i < columns_.size(); ++i) {
+        const bool own = i >= rounded_as.size() || rounded_as[i].empty();
+        rounding_[i] = own ? columns_[i] : rounded_as[i];
+    }
+    buf_.reserve(kBlock + 4096);
+    if (format_ == OutputFormat::json) {
+        for (const auto& c : columns_) keys_.push_back(json_string(c) + ": ");
+        buf_ += '[';
+    } else if (format_ == OutputFormat::csv) {
+        for (std::size_t i = 0; i < columns_.size(); ++i) {
+            if (i) buf_ += ',';
+            buf_ += csv_field(columns_[i]);
+        }
+        end_line();
+    } else {
+        width_.assign(columns_.size(), 0);
+        for (const auto& c : columns_) add_cell_text(c);
+    }
+}
+
+void RowPrinter::row(std::span<const Cell> cells) {
+    if (format_ == OutputFormat::json) {
+        if (rows_) buf_ += ',';
+        end_line();
+        buf_ += "  {";
+        for (std::size_t i = 0; i < columns_.size(); ++i) {
+            if (i) buf_ += ", ";
+            buf_ += keys_[i];
+            append_json(buf_, cells[i]);
+        }
+        buf_ += '}';
+    } else if (format_ == OutputFormat::csv) {
+        for (std::size_t i = 0; i < columns_.size(); ++i) {
+            if (i) buf_ += ',';
+            buf_ += csv_field(cell_text(cells[i], rounding_[i], format_));
+        }
+        end_line();
+    } else {
+        for (std::size_t i = 0; i < columns_.size(); ++i) {
+            add_cell_text(cell_text(cells[i], rounding_[i], format_));
+        }
+    }
+    ++rows_;
+}
+
+// A table's cells are kept as text, each ended by a NUL (escaped text holds none), in
+// blocks of 1 MiB: no object per cell, and no copy of the whole when it grows.
+void RowPrinter::add_cell_text(std::string_view text) {
+    const std::size_t column = cells_ % columns_.size();
+    width_[column] = std::max(width_[column], text.size());
+    if (text_.empty() || text_.back().size() + text.size() + 1 > text_.back().capacity()) {
+        text_.emplace_back().reserve(std::max(kTextBlock, text.size() + 1));
+    }
+    text_.back() += text;
+    text_.back() += '\0';
+    ++cells_;
+}
+
+void RowPrinter::finish() {
+    if (format_ == OutputFormat::json) {
+        if (rows_) end_line();
+        buf_ += ']';
+        end_line();
+    } else if (format_ == OutputFormat::table) {
+        const std::size_t columns = columns_.size();
+        std::size_t k = 0;
+        for (const auto& block : text_) {
+            for (std::size_t at = 0; at < block.size(); ++k) {
+                const std::size_t end = block.find('\0', at);
+                const auto c = std::string_view(block).substr(at, end - at);
+                at = end + 1;
+                buf_ += c;
+                const std::size_t i = k % columns;
+                if (i + 1 < columns) {
+                    buf_.append(width_[i] - c.size() + 2, ' ');
+                } else {
+                    end_line();
+                }
             }
-            buf += '}';
-        }
-        buf += table.rows.empty() ? "]\n" : "\n]\n";
-        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-        return;
-    }
-    std::vector<std::string> text;  // header, then the rows, row-major
-    text.reserve((table.rows.size() + 1) * columns);
-    for (const auto& c : table.columns) text.push_back(c);
-    for (const auto& row : table.rows) {
-        for (std::size_t i = 0; i < columns; ++i) {
-            const bool own = i >= table.rounded_as.size() || table.rounded_as[i].empty();
-            text.push_back(cell_text(row[i], own ? table.columns[i] : table.rounded_as[i], format));
         }
     }
-    const std::size_t lines = table.rows.size() + 1;
-    if (format == OutputFormat::csv) {
-        for (std::size_t l = 0; l < lines; ++l)
-            append_csv_line(buf, std::span(text).subspan(l * columns, columns));
-        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-        return;
-    }
-    std::vector<std::size_t> width(columns, 0);
-    for (std::size_t k = 0; k < text.size(); ++k) {
-        width[k % columns] = std::max(width[k % columns], text[k].size());
-    }
-    for (std::size_t l = 0; l < lines; ++l) {
-        for (std::size_t i = 0; i < columns; ++i) {
-            const auto& cell = text[l * columns + i];
-            buf += cell;
-            if (i + 1 < columns) buf.append(width[i] - cell.size() + 2, ' ');
-        }
-        buf += '\n';
-    }
-    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+    flush();
+}
+
+void RowPrinter::end_line() {
+    buf_ += '\n';
+    if (buf_.size() >= kBlock) flush();
+}
+
+void RowPrinter::flush() {
+    out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    buf_.clear();
+}
+
+void print(std::ostream& out, const Table& table, OutputFormat format) {
+    RowPrinter printer(out, table.columns, table.rounded_as, format);
+    for (const auto& row : table.rows) printer.row(row);
+    printer.finish();
 }
 
 void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Cell>>& fields,

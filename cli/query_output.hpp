@@ -7,7 +7,9 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -26,8 +28,11 @@ struct Structured {
 };
 
 // A printed value: null, text, integer, real, flag or structured. Times are ISO-8601 UTC
-// text.
-using Cell = std::variant<std::monostate, std::string, std::int64_t, double, bool, Structured>;
+// text. A structured value is held by pointer, so a cell is no larger than a string (a year
+// of one series is 280,000 cells).
+using StructuredCell = std::shared_ptr<const Structured>;
+using Cell = std::variant<std::monostate, std::string, std::int64_t, double, bool, StructuredCell>;
+Cell structured_cell(Structured value);
 
 struct Table {
     std::vector<std::string> columns;
@@ -55,6 +60,37 @@ Cell optional_cell(const std::optional<std::int64_t>& v);
 
 // Rows as an aligned table, CSV with a header line, or a JSON array of objects.
 void print(std::ostream& out, const Table& table, OutputFormat format);
+
+// The same, row by row, for a command with many rows (a year of one series is 35,040): CSV
+// and JSON go out in blocks of 64 KiB as the rows come, an aligned table keeps only its
+// text until finish() knows every column's width. No row is kept as cells.
+class RowPrinter {
+  public:
+    RowPrinter(std::ostream& out, std::vector<std::string> columns,
+               std::vector<std::string> rounded_as, OutputFormat format);
+    RowPrinter(const RowPrinter&) = delete;
+    RowPrinter& operator=(const RowPrinter&) = delete;
+    void row(std::span<const Cell> cells);  // one cell per column
+    void finish();                          // the table, or the end of the JSON array
+
+  private:
+    static constexpr std::size_t kBlock = 64 * 1024;
+    void add_cell_text(std::string_view text);
+    void end_line();
+    void flush();
+
+    std::ostream& out_;
+    std::vector<std::string> columns_;
+    std::vector<std::string> rounding_;  // the name whose unit rounds each column
+    OutputFormat format_;
+    std::vector<std::string> keys_;  // JSON: "column": per column
+    std::string buf_;                // the block being written
+    static constexpr std::size_t kTextBlock = 1024 * 1024;
+    std::vector<std::string> text_;   // table: the cells' text, row-major from the header
+    std::size_t cells_ = 0;           // table: cells in text_
+    std::vector<std::size_t> width_;  // table: widest text per column
+    std::size_t rows_ = 0;
+};
 // Key/value pairs as "key  value" lines, CSV "key,value" lines, or one JSON object.
 void print_fields(std::ostream& out, const std::vector<std::pair<std::string, Cell>>& fields,
                   OutputFormat format);

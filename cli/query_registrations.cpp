@@ -84,8 +84,8 @@ Table registrations_table(const EpochDatabase& db, const std::vector<Epoch>& epo
         }
         row.push_back(optional_cell(r->variance_factor));
         row.push_back(optional_cell(r->redundancy));
-        row.push_back(target_summary(db.registrations().targets_of_epoch(e.id)));
-        row.push_back(zone_summary(db.registrations().zone_sigmas_of_epoch(e.id)));
+        row.push_back(structured_cell(target_summary(db.registrations().targets_of_epoch(e.id))));
+        row.push_back(structured_cell(zone_summary(db.registrations().zone_sigmas_of_epoch(e.id))));
         row.push_back(r->reason);
         t.rows.push_back(std::move(row));
     }

@@ -54,7 +54,7 @@ std::vector<std::pair<std::string, Cell>> status_fields(const EpochDatabase& db,
                         {"since", format_utc(a.since)}});
     }
     active.json = list.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
-    f.emplace_back("alarm_states", active);
+    f.emplace_back("alarm_states", structured_cell(std::move(active)));
     return f;
 }
 

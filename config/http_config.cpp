@@ -11,7 +11,8 @@ std::vector<SectionKey<HttpConfig>> http_keys() {
                 "Address the server listens on; `0.0.0.0`: every interface (the site network)."),
         K::integer(&HttpConfig::port, "port", 1, 65535, "", "TCP port."),
         K::integer(&HttpConfig::threads, "threads", 2, 64, "",
-                   "Requests served at once; a further connection waits for a free thread."),
+                   "Connections served at once; as many more wait for a free thread, and further "
+                   "ones wait in the kernel, holding no descriptor of the daemon."),
         K::integer(&HttpConfig::max_event_streams, "max_event_streams", 0, 63, "",
                    "Open live-update streams (`/api/v1/stream`, one per open page), less than "
                    "`threads`: each holds a thread, so a further one is refused (503) and its page "

@@ -47,6 +47,13 @@ void append_byte(std::string& out, unsigned char c) {
 }  // namespace
 
 std::string escape_control_characters(std::string_view text) {
+    // Most text (names, times, statuses) is printable ASCII without a backslash: as it is.
+    bool plain = true;
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        plain = plain && c >= 0x20 && c < 0x7F && c != '\\';
+    }
+    if (plain) return std::string(text);
     std::string out;
     out.reserve(text.size());
     for (std::size_t i = 0; i < text.size();) {

@@ -74,12 +74,27 @@ std::string format_utc(UtcSeconds t) {
     const auto day = floor<days>(tp);
     const year_month_day ymd{day};
     const hh_mm_ss hms{tp - day};
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%04d-%02u-%02uT%02d:%02d:%02dZ", static_cast<int>(ymd.year()),
-                  static_cast<unsigned>(ymd.month()), static_cast<unsigned>(ymd.day()),
-                  static_cast<int>(hms.hours().count()), static_cast<int>(hms.minutes().count()),
-                  static_cast<int>(hms.seconds().count()));
-    return buf;
+    const int y = static_cast<int>(ymd.year());
+    if (y < 0 || y > 9999) {  // outside ISO 8601's four digits: the rare, slow way
+        char buf[48];
+        std::snprintf(
+            buf, sizeof buf, "%d-%02u-%02uT%02d:%02d:%02dZ", y, static_cast<unsigned>(ymd.month()),
+            static_cast<unsigned>(ymd.day()), static_cast<int>(hms.hours().count()),
+            static_cast<int>(hms.minutes().count()), static_cast<int>(hms.seconds().count()));
+        return buf;
+    }
+    // Digit by digit: a year of series is 35,040 of these, and snprintf was most of its print.
+    std::string out = "0000-00-00T00:00:00Z";
+    const auto put = [&](std::size_t at, int value, int digits) {
+        for (int i = digits - 1; i >= 0; --i, value /= 10) out[at + i] = char('0' + value % 10);
+    };
+    put(0, y, 4);
+    put(5, static_cast<int>(static_cast<unsigned>(ymd.month())), 2);
+    put(8, static_cast<int>(static_cast<unsigned>(ymd.day())), 2);
+    put(11, static_cast<int>(hms.hours().count()), 2);
+    put(14, static_cast<int>(hms.minutes().count()), 2);
+    put(17, static_cast<int>(hms.seconds().count()), 2);
+    return out;
 }
 
 UtcSeconds parse_utc(std::string_view text) {

@@ -14,7 +14,7 @@ packages=(
   mbpoll gnuplot-nox libjs-dygraphs
 )
 if [ "${1:-}" = --tests ]; then
-  packages+=(chromium chromium-driver python3-selenium)
+  packages+=(chromium chromium-driver python3-selenium python3-jsonschema)
 fi
 
 missing=()

@@ -2,6 +2,7 @@
 #include "storage/series_reader.hpp"
 
 #include <cstring>
+#include <functional>
 #include <limits>
 
 #include "storage/alarm_store.hpp"
@@ -47,7 +48,8 @@ StatusSummary SeriesReader::status_summary() const {
         }
         // One read transaction: every figure from the same snapshot.
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::DEFERRED);
-        SQLite::Statement counts(c_->db, "SELECT status, count(*) FROM epochs GROUP BY status");
+        // Kept by triggers (0012_epoch_status_counts.sql): one page, not the whole index.
+        SQLite::Statement counts(c_->db, "SELECT status, n FROM epoch_status_counts");
         while (counts.executeStep()) {
             out.epochs_by_status[epoch_status_from_string(counts.getColumn(0).getString())] =
                 counts.getColumn(1).getInt64();
@@ -91,14 +93,23 @@ std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range,
 
 std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std::string& quantity,
                                               const TimeRange& range) const {
-    return guarded(*c_, "reading a time series", [&] {
-        // One range scan of the key (zone_id, quantity_id, acquired, epoch_id).
+    std::vector<SeriesPoint> out;
+    for_each_point(zone, quantity, range, [&](const SeriesPoint& p) { out.push_back(p); });
+    return out;
+}
+
+void SeriesReader::for_each_point(const std::string& zone, const std::string& quantity,
+                                  const TimeRange& range,
+                                  const std::function<void(const SeriesPoint&)>& visit) const {
+    guarded(*c_, "reading a time series", [&] {
+        // One range scan of the key (zone_id, quantity_id, acquired, epoch_id); the datum
+        // from the covering index of 0013_registrations_datum.sql, not the large rows.
         SQLite::Statement s(c_->db,
                             "SELECT r.epoch_id, r.acquired, r.value, r.uncertainty, r.n,"
                             " r.significant, coalesce(g.method, 'unregistered'),"
                             " coalesce(g.accepted, 0)"
-                            " FROM zone_results r LEFT JOIN registrations g ON g.epoch_id ="
-                            " r.epoch_id"
+                            " FROM zone_results r LEFT JOIN registrations g"
+                            " INDEXED BY registrations_datum ON g.epoch_id = r.epoch_id"
                             " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
                             " AND r.quantity_id = (SELECT id FROM quantities WHERE name = ?)"
                             " AND r.acquired BETWEEN ? AND ?"
@@ -107,14 +118,18 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
         s.bind(2, quantity);
         s.bind(3, range_from(range));
         s.bind(4, range_to(range));
-        std::vector<SeriesPoint> out;
+        SeriesPoint p;
         while (s.executeStep()) {
-            out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),
-                           s.getColumn(2).getDouble(), optional_double(s.getColumn(3)),
-                           s.getColumn(4).getInt64(), s.getColumn(5).getInt() != 0,
-                           s.getColumn(6).getString(), s.getColumn(7).getInt() != 0});
+            p.epoch = s.getColumn(0).getInt64();
+            p.acquired = s.getColumn(1).getInt64();
+            p.value = s.getColumn(2).getDouble();
+            p.uncertainty = optional_double(s.getColumn(3));
+            p.n = s.getColumn(4).getInt64();
+            p.significant = s.getColumn(5).getInt() != 0;
+            p.datum = s.getColumn(6).getText();
+            p.registration_accepted = s.getColumn(7).getInt() != 0;
+            visit(p);
         }
-        return out;
     });
 }
 
@@ -128,7 +143,8 @@ std::vector<LatestValue> SeriesReader::latest_values() const {
                             " r.n, r.significant, coalesce(g.method, 'unregistered'),"
                             " coalesce(g.accepted, 0)"
                             " FROM zones z CROSS JOIN quantities q CROSS JOIN zone_results r"
-                            " LEFT JOIN registrations g ON g.epoch_id = r.epoch_id"
+                            " LEFT JOIN registrations g INDEXED BY registrations_datum"
+                            " ON g.epoch_id = r.epoch_id"
                             " WHERE r.zone_id = z.id AND r.quantity_id = q.id"
                             " AND (r.acquired, r.epoch_id) = (SELECT r2.acquired, r2.epoch_id"
                             "  FROM zone_results r2 WHERE r2.zone_id = z.id AND r2.quantity_id ="

@@ -2,6 +2,7 @@
 // Reads for `tlsmon status|query|events` and the HTTP API: the status summary, epochs and
 // time series by acquisition time, events, and the per-epoch results.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -78,6 +79,10 @@ class SeriesReader {
     // The time series of one quantity in one zone, by acquisition time.
     std::vector<SeriesPoint> points(const std::string& zone, const std::string& quantity,
                                     const TimeRange& range) const;
+    // The same, one point at a time, for a reader that does not keep them all.
+    void for_each_point(const std::string& zone, const std::string& quantity,
+                        const TimeRange& range,
+                        const std::function<void(const SeriesPoint&)>& visit) const;
     // The newest point (by acquisition time) of every zone quantity stored, by zone and
     // quantity name.
     std::vector<LatestValue> latest_values() const;

@@ -36,7 +36,7 @@ Json zone_overview(const EpochDatabase& db, const DashboardSite& site);
 // `/api/v1/zones`: every zone with its stored quantities.
 Json zone_list(const EpochDatabase& db, const DashboardSite& site);
 
-// `/api/v1/zones/NAME/series?quantity=Q&from=T&to=T&width=W`.
+// `/api/v1/series?zone=Z&quantity=Q&from=T&to=T&width=W`.
 struct SeriesRequest {
     std::string zone;
     std::string quantity;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "daemon/http/connection_queue.hpp"
 #include "daemon/http/sessions.hpp"
 #include "daemon/http/users.hpp"
 #include "daemon/http/web_files.hpp"
@@ -20,7 +21,7 @@ namespace tlsmon {
 
 namespace {
 
-constexpr std::size_t kMaxBody = 64 * 1024;  // no request of the read-only API has a body
+constexpr std::size_t kMaxBody = 64 * 1024;  // a login or an alarm action is a few hundred bytes
 // A comment line this often: the write after a page was closed fails, so its thread is
 // freed within two of these (a closed peer is not seen otherwise until a write).
 constexpr int kStreamKeepAliveSeconds = 1;
@@ -43,7 +44,11 @@ std::optional<UtcSeconds> time_parameter(const httplib::Request& req, const char
     if (!req.has_param(name)) return std::nullopt;
     const std::string text = req.get_param_value(name);
     if (text.empty()) return std::nullopt;
-    if (text.find_first_not_of("-0123456789") == std::string::npos) {
+    // Unix seconds are digits with at most a leading minus; anything else is a date or time
+    // ("2026-11-29" is a date, not the number 2026).
+    const bool seconds =
+        text.find_first_not_of("0123456789", text[0] == '-' ? 1 : 0) == std::string::npos;
+    if (seconds && text != "-") {
         try {
             return std::stoll(text);  // Unix seconds
         } catch (const std::exception&) {
@@ -367,7 +372,7 @@ void HttpService::State::operator_routes() {
     server.Post("/api/v1/logout", [this](const httplib::Request& req, httplib::Response& res) {
         const auto s = session_of(req);
         if (!s) return send_error(res, 401, "not logged in");
-        if (req.get_header_value("X-CSRF-Token") != s->csrf)
+        if (!same_token(req.get_header_value("X-CSRF-Token"), s->csrf))
             return send_error(res, 403, "missing or wrong X-CSRF-Token");
         sessions.close(s->token);
         res.set_header("Set-Cookie", std::string(kSessionCookie) +
@@ -443,7 +448,7 @@ void HttpService::State::alarm_action(const std::string& action, const httplib::
                                       httplib::Response& res) {
     const auto s = session_of(req);
     if (!s) return send_error(res, 401, "log in as an operator to act on alarms");
-    if (req.get_header_value("X-CSRF-Token") != s->csrf)
+    if (!same_token(req.get_header_value("X-CSRF-Token"), s->csrf))
         return send_error(res, 403, "missing or wrong X-CSRF-Token");
     if (!may_act_on_alarms(s->role)) {
         audit("warning", "http_refused",
@@ -488,7 +493,9 @@ void HttpService::State::alarm_action(const std::string& action, const httplib::
 // action on an alarm, a comment every second
 // (so a client that went away is noticed and its thread freed). Each stream holds one of
 // the server's threads, hence the bound (http.max_event_streams).
-void HttpService::State::stream(const httplib::Request&, httplib::Response& res) {
+void HttpService::State::stream(const httplib::Request& req, httplib::Response& res) {
+    if (!config.anonymous_read && !session_of(req))
+        return send_error(res, 401, "log in to read (http.anonymous_read = false)");
     std::uint64_t seen;
     {
         std::lock_guard lock(mutex);
@@ -531,6 +538,22 @@ void HttpService::State::stream(const httplib::Request&, httplib::Response& res)
         });
 }
 
+namespace {
+
+// cpp-httplib's task queue on ConnectionQueue: its own ThreadPool queues every accepted
+// connection without bound, each holding a file descriptor.
+class BoundedTaskQueue : public httplib::TaskQueue {
+  public:
+    BoundedTaskQueue(std::size_t threads, std::size_t waiting) : queue_(threads, waiting) {}
+    void enqueue(std::function<void()> fn) override { queue_.enqueue(std::move(fn)); }
+    void shutdown() override { queue_.shutdown(); }
+
+  private:
+    ConnectionQueue queue_;
+};
+
+}  // namespace
+
 HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& database,
                          DashboardSite site, AlarmActionHandler actions)
     : state_(std::make_unique<State>()) {
@@ -545,8 +568,10 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
     }
     s.heartbeat = now_utc();
     s.files = WebFiles::load(find_web_root(config.web_root));
+    // http.threads connections served, as many waiting; the rest wait in the kernel
+    // (daemon/http/connection_queue.hpp).
     const auto threads = static_cast<std::size_t>(config.threads);
-    s.server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    s.server.new_task_queue = [threads] { return new BoundedTaskQueue(threads, threads); };
     // One request per connection: cpp-httplib gives each connection a thread for as long as
     // it stays open, so a browser's idle kept-alive connection would hold a thread and 16
     // open pages would starve the 17th (measured: p99 3.2 s for 20 pages polling once a

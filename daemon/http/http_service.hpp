@@ -2,8 +2,8 @@
 // The daemon's HTTP side (docs/http.md): the dashboard's pages and the JSON API under
 // /api/v1/, served by cpp-httplib on its own threads, each request reading the epoch
 // database through a read-only connection of its own (WAL: readers never block the
-// ingest). Nothing here writes. Live updates: /api/v1/stream, server-sent events, one
-// `epoch` event per committed epoch. Writes only the operators' actions on alarms (through
+// ingest). Live updates: /api/v1/stream, server-sent events, one `epoch` event per
+// committed epoch. Writes only the operators' actions on alarms (through
 // the daemon's alarm code, the same path as `tlsmon alarms` and the Modbus coils) and their
 // logins, each as an event naming the user.
 #include <filesystem>

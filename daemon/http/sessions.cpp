@@ -1,5 +1,6 @@
 #include "daemon/http/sessions.hpp"
 
+#include <openssl/crypto.h>
 #include <openssl/rand.h>
 
 #include <algorithm>
@@ -14,6 +15,11 @@ std::string random_token(std::size_t n) {
     if (RAND_bytes(bytes.data(), static_cast<int>(n)) != 1)
         throw Error("no random bytes for a session token (OpenSSL)");
     return to_hex(bytes);
+}
+
+bool same_token(std::string_view sent, std::string_view expected) {
+    return sent.size() == expected.size() &&
+           CRYPTO_memcmp(sent.data(), expected.data(), expected.size()) == 0;
 }
 
 Session Sessions::open(const std::string& user, UserRole role, UtcSeconds now,

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/utc_time.hpp"
@@ -52,5 +53,8 @@ class LoginThrottle {
 
 // `n` random bytes (OpenSSL's RAND_bytes) as hex.
 std::string random_token(std::size_t n = 32);
+// Whether a token sent by a client is `expected`, in time that does not depend on where
+// they differ (OpenSSL's CRYPTO_memcmp), so the answer's timing does not leak the token.
+bool same_token(std::string_view sent, std::string_view expected);
 
 }  // namespace tlsmon

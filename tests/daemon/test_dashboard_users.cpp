@@ -72,6 +72,19 @@ TEST(DashboardSessions, ExpireAndClose) {
     EXPECT_FALSE(s.find("", 2001));
 }
 
+TEST(DashboardSessions, TokensCompareWholeAndExact) {
+    const std::string token = random_token();
+    EXPECT_EQ(token.size(), 64u);
+    EXPECT_NE(random_token(), token);
+    EXPECT_TRUE(same_token(token, token));
+    EXPECT_FALSE(same_token(token.substr(0, 63), token));
+    EXPECT_FALSE(same_token(token + "0", token));
+    EXPECT_FALSE(same_token("", token));
+    std::string last = token;
+    last.back() = last.back() == '0' ? '1' : '0';
+    EXPECT_FALSE(same_token(last, token));
+}
+
 TEST(DashboardSessions, FiveFailuresBrakeLoginsForTheRestOfTheWindow) {
     LoginThrottle t;
     for (int k = 0; k < 4; ++k) t.failed("192.0.2.1", 100 + k);

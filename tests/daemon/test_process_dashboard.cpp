@@ -20,6 +20,7 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -246,6 +247,11 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     EXPECT_EQ(bad.status, 400);
     EXPECT_NE(bad.body.find("'from'"), std::string::npos) << bad.body;
     EXPECT_EQ(curl(http_port, "/api/v1/series?zone=a").status, 400);
+    // A date alone is a date, not a number of seconds: nothing after the year 2100.
+    const Answer later = curl(http_port, "/api/v1/series?zone=" + std::string(kStepZone) +
+                                             "&quantity=m3c2_median_m&from=2100-01-01");
+    ASSERT_EQ(later.status, 200) << later.body;
+    EXPECT_EQ(json::parse(later.body).at("total"), 0) << later.body;
     EXPECT_EQ(curl(http_port, "/api/v1/series?zone=a&quantity=b&width=-3").status, 400);
     EXPECT_EQ(curl(http_port, "/api/v1/epochs/999999").status, 404);
     const std::string big =
@@ -319,6 +325,22 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         15))
         << "the Modbus unacknowledged bit did not clear";
 
+    // The API against its OpenAPI description (docs/openapi.yaml): every operation
+    // exercised, every answer's status, content type and JSON body as described. Alice
+    // takes the step's rule out of service and back, shelves and unshelves it.
+    const auto openapi =
+        shell("timeout 120 /usr/bin/python3 " +
+              quoted(std::string(TLSMON_SOURCE_DIR) + "/tests/web/openapi_check.py") + " " +
+              quoted(std::string(TLSMON_SOURCE_DIR) + "/docs/openapi.yaml") + " " + quoted(base) +
+              " " + quoted(kStepZone) + " m3c2_median_m " + std::to_string(last_id) +
+              " alice alice-pass " + quoted(kStepRule) + " 2>&1");
+    EXPECT_EQ(openapi.status, 0) << openapi.output;
+    if (openapi.status == 0) {
+        const json verdict = json::parse(openapi.output);
+        EXPECT_GE(verdict.at("checked").get<int>(), 25);
+        EXPECT_EQ(verdict.at("operations").get<int>(), 17);
+    }
+
     // Live: the overview, left open, shows the last epoch once it commits, with no reload;
     // meanwhile 100 wrong passwords from one address: 5 are checked, the rest refused.
     const fs::path ready = tmp.path() / "browser_ready";
@@ -341,6 +363,88 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     EXPECT_EQ(seen.at("after"), "#" + std::to_string(newest.at(0).at("id").get<std::int64_t>()));
     EXPECT_EQ(seen.at("navigations"), 1) << "updated without a reload";
     EXPECT_TRUE(seen.at("errors").empty()) << seen.at("errors").dump(1);
+    EXPECT_TRUE(daemon.running());
+}
+
+// Count of the entries of /proc/PID/<what> (fd: open descriptors, task: threads).
+long proc_entries(pid_t pid, const char* what) {
+    std::error_code ec;
+    const fs::path dir = fs::path("/proc") / std::to_string(pid) / what;
+    long n = 0;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) ++n;
+    return n;
+}
+
+// 10,000 connections opened and left idle: the daemon holds at most http.threads served and
+// as many waiting (daemon/http/connection_queue.hpp), its threads do not grow, an epoch
+// commits meanwhile, and once the connections close the dashboard answers again.
+TEST(Dashboard, TenThousandIdleConnectionsStayWithinTheConfiguredLimits) {
+    constexpr int kThreads = 4, kConnections = 10000;
+    TempDir tmp("dashboard-flood");
+    const Scenario s = render_scenario(tmp.path() / "scenario", 2, start_now());
+    const fs::path run = tmp.path() / "run";
+    const int http_port = free_tcp_port();
+    fs::path config = write_config(s, run, http_port + 1, false, http_port);  // Modbus off
+    {
+        std::string text = read_text(config);
+        const std::string http = "[http]\n";
+        text.insert(text.find(http) + http.size(),
+                    "threads = " + std::to_string(kThreads) +
+                        "\nmax_event_streams = 2\nidle_timeout = 2\n");
+        write_text(config, text);
+    }
+    const fs::path db = run / "tlsmon.sqlite", log = run / "daemon.log";
+    DaemonProcess daemon(config, log);
+    ASSERT_TRUE(wait_until([&] { return curl(http_port, "/api/v1/site").status == 200; }, 60))
+        << read_text(log);
+    feed(s, 0, run / "ingest");
+    ASSERT_TRUE(wait_until([&] { return processed(db) == 1; }, 120)) << read_text(log);
+    const long fds_before = proc_entries(daemon.pid(), "fd");
+    const long threads_before = proc_entries(daemon.pid(), "task");
+
+    rlimit limit{};
+    ASSERT_EQ(::getrlimit(RLIMIT_NOFILE, &limit), 0);
+    const rlim_t wanted = kConnections + 1000;
+    if (limit.rlim_cur < wanted) {
+        limit.rlim_cur = wanted;
+        limit.rlim_max = std::max(limit.rlim_max, wanted);
+        ASSERT_EQ(::setrlimit(RLIMIT_NOFILE, &limit), 0) << "the test opens 10,000 sockets";
+    }
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(http_port));
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    std::vector<int> idle;
+    idle.reserve(kConnections);
+    for (int i = 0; i < kConnections; ++i) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+        ASSERT_GE(fd, 0) << "socket " << i << ": " << std::strerror(errno);
+        idle.push_back(fd);
+        const int r = ::connect(fd, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+        ASSERT_TRUE(r == 0 || errno == EINPROGRESS)
+            << "connect " << i << ": " << std::strerror(errno);
+    }
+    // An epoch during the flood; the daemon's descriptors and threads sampled meanwhile.
+    feed(s, 1, run / "ingest");
+    long fds_most = 0, threads_most = 0;
+    const bool committed = wait_until(
+        [&] {
+            fds_most = std::max(fds_most, proc_entries(daemon.pid(), "fd"));
+            threads_most = std::max(threads_most, proc_entries(daemon.pid(), "task"));
+            return processed(db) == 2;
+        },
+        120);
+    for (int fd : idle) ::close(fd);
+    EXPECT_TRUE(committed) << read_text(log);
+    EXPECT_EQ(sql(db, "SELECT count(*) AS n FROM epochs WHERE status = 'done'").at(0).at("n"), 2);
+    // Served and waiting connections, one more in the accepting thread's hand, and a few the
+    // epoch's own processing opens (its scan, the database's journal).
+    EXPECT_LE(fds_most - fds_before, 2 * kThreads + 1 + 6)
+        << "descriptors before " << fds_before << ", at most " << fds_most;
+    EXPECT_LE(threads_most - threads_before, 4)
+        << "threads before " << threads_before << ", at most " << threads_most;
+    EXPECT_TRUE(wait_until([&] { return curl(http_port, "/api/v1/site").status == 200; }, 60))
+        << "the dashboard answers again once the connections are gone";
     EXPECT_TRUE(daemon.running());
 }
 

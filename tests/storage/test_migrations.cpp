@@ -146,5 +146,68 @@ TEST(Migrations, NotADatabaseIsAClearError) {
     }
 }
 
+// The counters of 0012 start from the epochs already there and follow every insert, status
+// change and delete: after each, they equal a count of the epochs table itself.
+TEST(Migrations, EpochStatusCountsFollowEveryChange) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    const auto counters_match_epochs = [&](SQLite::Database& raw) {
+        const char* sql =
+            "SELECT count(*) FROM epoch_status_counts c WHERE c.n <>"
+            " (SELECT count(*) FROM epochs e WHERE e.status = c.status)";
+        return raw.execAndGet(sql).getInt() == 0 &&
+               raw.execAndGet("SELECT sum(n) FROM epoch_status_counts").getInt() ==
+                   raw.execAndGet("SELECT count(*) FROM epochs").getInt();
+    };
+    {  // a database at 0011 with epochs in three states
+        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+        raw.exec(
+            "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT NULL,"
+            " applied INTEGER NOT NULL)");
+        for (const auto& m : schema_migrations()) {
+            if (m.version > 11) break;
+            raw.exec(m.sql);
+            SQLite::Statement s(raw, "INSERT INTO schema_migrations VALUES (?, ?, 0)");
+            s.bind(1, m.version);
+            s.bind(2, m.name);
+            s.exec();
+        }
+        int i = 0;
+        for (const char* status : {"done", "done", "done", "rejected", "pending"}) {
+            ++i;
+            raw.exec(
+                "INSERT INTO epochs (sha256, acquired, discovered, updated, file_path,"
+                " file_size, status) VALUES ('" +
+                test::fake_sha256(i) + "', " + std::to_string(100 * i) + ", 0, 0, 'f', 1, '" +
+                status + "')");
+        }
+    }
+    {
+        auto db = EpochDatabase::open(path, Mode::read_write);
+        const auto s = db.series().status_summary();
+        EXPECT_EQ(s.epochs_by_status.at(EpochStatus::done), 3);
+        EXPECT_EQ(s.epochs_by_status.at(EpochStatus::rejected), 1);
+        EXPECT_EQ(s.epochs_by_status.at(EpochStatus::pending), 1);
+        EXPECT_EQ(s.epochs_by_status.at(EpochStatus::failed), 0);
+        EXPECT_EQ(s.backlog, 1);
+        db.epochs().insert({test::fake_sha256(9), 900, "/ingest/b.ptx", 10, std::nullopt});
+        EXPECT_EQ(db.series().status_summary().epochs_by_status.at(EpochStatus::pending), 2);
+    }
+    SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE);
+    EXPECT_TRUE(counters_match_epochs(raw));
+    raw.exec("UPDATE epochs SET status = 'processing' WHERE status = 'pending'");
+    EXPECT_EQ(
+        raw.execAndGet("SELECT n FROM epoch_status_counts WHERE status = 'processing'").getInt(),
+        2);
+    EXPECT_TRUE(counters_match_epochs(raw));
+    raw.exec("UPDATE epochs SET status = 'failed', reason = 'x' WHERE status = 'processing'");
+    raw.exec("UPDATE epochs SET reason = 'again' WHERE status = 'failed'");  // no status change
+    EXPECT_TRUE(counters_match_epochs(raw));
+    raw.exec("DELETE FROM epochs WHERE status = 'done' AND acquired < 250");
+    EXPECT_EQ(raw.execAndGet("SELECT n FROM epoch_status_counts WHERE status = 'done'").getInt(),
+              1);
+    EXPECT_TRUE(counters_match_epochs(raw));
+}
+
 }  // namespace
 }  // namespace tlsmon
