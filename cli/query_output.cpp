@@ -1,6 +1,7 @@
 // Shared by the reading commands: database location, time options, output formats.
 #include "cli/query_output.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -108,6 +109,11 @@ nlohmann::ordered_json cell_json(const Cell& c) {
 // A JSON string literal; bytes that are not UTF-8 (a Latin-1 file name) become U+FFFD
 // instead of an exception.
 std::string json_string(const std::string& s) {
+    // Printable ASCII without a quote or backslash is its own JSON text (a time, a status):
+    // the common case, without a JSON value per cell (a year of one series has 105,000).
+    if (std::all_of(s.begin(), s.end(),
+                    [](char c) { return c >= 0x20 && c < 0x7F && c != '"' && c != '\\'; }))
+        return '"' + s + '"';
     return nlohmann::ordered_json(s).dump(-1, ' ', false,
                                           nlohmann::ordered_json::error_handler_t::replace);
 }

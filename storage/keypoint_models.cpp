@@ -43,6 +43,18 @@ void check_model(Connection& c, EpochId id, const KeypointModelRow& m) {
 
 }  // namespace
 
+std::optional<double> KeypointModelRow::at(double t, double z) const {
+    if (!defined || !coefficients || !t_centre || !t_scale || !z_centre || !z_scale)
+        return std::nullopt;
+    const double u = (t - *t_centre) / *t_scale, w = (z - *z_centre) / *z_scale;
+    // Terms by total degree, then falling power of u: 00 10 01 20 11 02 30 21 12 03.
+    static constexpr int kP[10] = {0, 1, 0, 2, 1, 0, 3, 2, 1, 0};
+    static constexpr int kQ[10] = {0, 0, 1, 0, 1, 2, 0, 1, 2, 3};
+    double d = 0;
+    for (int k = 0; k < 10; ++k) d += (*coefficients)[k] * std::pow(u, kP[k]) * std::pow(w, kQ[k]);
+    return d;
+}
+
 void write_keypoint_models(Connection& c, EpochId id, const std::vector<KeypointModelRow>& models) {
     if (models.empty()) return;
     for (const auto& m : models) check_model(c, id, m);
@@ -90,61 +102,84 @@ void write_keypoint_models(Connection& c, EpochId id, const std::vector<Keypoint
     }
 }
 
+namespace {
+
+constexpr const char* kModelSelect =
+    "SELECT m.epoch_id, e.acquired, m.quantity, m.variable, m.defined, m.reason,"
+    " m.observations, m.iterations, m.converged, m.t_centre, m.t_scale, m.z_centre, m.z_scale,"
+    " a00, a10, a01, a20, a11, a02, a30, a21, a12, a03, m.sum_abs_residuals, m.residual_scale"
+    " FROM keypoint_models m JOIN epochs e ON e.id = m.epoch_id ";
+
+// The selected fits (kModelSelect + the caller's WHERE and ORDER), each with its residuals.
+std::vector<StoredKeypointModel> read_models(Connection& c, SQLite::Statement& s) {
+    std::vector<StoredKeypointModel> out;
+    while (s.executeStep()) {
+        StoredKeypointModel stored;
+        stored.epoch = s.getColumn(0).getInt64();
+        stored.acquired = s.getColumn(1).getInt64();
+        auto& m = stored.model;
+        m.quantity = s.getColumn(2).getString();
+        m.variable = s.getColumn(3).getString();
+        m.defined = s.getColumn(4).getInt() != 0;
+        m.reason = s.getColumn(5).getString();
+        m.observations = s.getColumn(6).getInt64();
+        m.iterations = s.getColumn(7).getInt64();
+        m.converged = s.getColumn(8).getInt() != 0;
+        m.t_centre = optional_double(s.getColumn(9));
+        m.t_scale = optional_double(s.getColumn(10));
+        m.z_centre = optional_double(s.getColumn(11));
+        m.z_scale = optional_double(s.getColumn(12));
+        if (!s.getColumn(13).isNull()) {
+            std::array<double, 10> a{};
+            for (int k = 0; k < 10; ++k) a[k] = s.getColumn(13 + k).getDouble();
+            m.coefficients = a;
+        }
+        m.sum_abs_residuals = optional_double(s.getColumn(23));
+        m.residual_scale = optional_double(s.getColumn(24));
+        out.push_back(std::move(stored));
+    }
+    SQLite::Statement r(c.db,
+                        "SELECT zone, t, z, d, residual FROM keypoint_model_residuals"
+                        " WHERE epoch_id = ? AND quantity = ? ORDER BY zone");
+    for (auto& stored : out) {
+        r.reset();
+        r.bind(1, stored.epoch);
+        r.bind(2, stored.model.quantity);
+        while (r.executeStep())
+            stored.model.residuals.push_back(
+                {r.getColumn(0).getString(), r.getColumn(1).getDouble(), r.getColumn(2).getDouble(),
+                 r.getColumn(3).getDouble(), r.getColumn(4).getDouble()});
+    }
+    return out;
+}
+
+}  // namespace
+
 std::vector<StoredKeypointModel> KeypointModelStore::in_range(
     const TimeRange& range, const std::optional<std::string>& quantity) const {
     return guarded(*c_, "reading keypoint models", [&] {
-        SQLite::Statement s(
-            c_->db, std::string("SELECT m.epoch_id, e.acquired, m.quantity, m.variable, m.defined,"
-                                " m.reason, m.observations, m.iterations, m.converged, m.t_centre,"
-                                " m.t_scale, m.z_centre, m.z_scale, ") +
-                        kCoefficientColumns +
-                        ", m.sum_abs_residuals, m.residual_scale FROM keypoint_models m"
-                        " JOIN epochs e ON e.id = m.epoch_id WHERE e.acquired BETWEEN ? AND ?"
-                        " AND (? IS NULL OR m.quantity = ?) ORDER BY e.acquired, e.id, m.quantity");
+        SQLite::Statement s(c_->db, std::string(kModelSelect) +
+                                        "WHERE e.acquired BETWEEN ? AND ?"
+                                        " AND (? IS NULL OR m.quantity = ?)"
+                                        " ORDER BY e.acquired, e.id, m.quantity");
         s.bind(1, range.from.value_or(std::numeric_limits<std::int64_t>::min()));
         s.bind(2, range.to.value_or(std::numeric_limits<std::int64_t>::max()));
         bind_optional(s, 3, quantity);
         bind_optional(s, 4, quantity);
-        std::vector<StoredKeypointModel> out;
-        while (s.executeStep()) {
-            StoredKeypointModel stored;
-            stored.epoch = s.getColumn(0).getInt64();
-            stored.acquired = s.getColumn(1).getInt64();
-            auto& m = stored.model;
-            m.quantity = s.getColumn(2).getString();
-            m.variable = s.getColumn(3).getString();
-            m.defined = s.getColumn(4).getInt() != 0;
-            m.reason = s.getColumn(5).getString();
-            m.observations = s.getColumn(6).getInt64();
-            m.iterations = s.getColumn(7).getInt64();
-            m.converged = s.getColumn(8).getInt() != 0;
-            m.t_centre = optional_double(s.getColumn(9));
-            m.t_scale = optional_double(s.getColumn(10));
-            m.z_centre = optional_double(s.getColumn(11));
-            m.z_scale = optional_double(s.getColumn(12));
-            if (!s.getColumn(13).isNull()) {
-                std::array<double, 10> a{};
-                for (int k = 0; k < 10; ++k) a[k] = s.getColumn(13 + k).getDouble();
-                m.coefficients = a;
-            }
-            m.sum_abs_residuals = optional_double(s.getColumn(23));
-            m.residual_scale = optional_double(s.getColumn(24));
-            out.push_back(std::move(stored));
-        }
-        SQLite::Statement r(c_->db,
-                            "SELECT zone, t, z, d, residual FROM keypoint_model_residuals"
-                            " WHERE epoch_id = ? AND quantity = ? ORDER BY zone");
-        for (auto& stored : out) {
-            r.reset();
-            r.bind(1, stored.epoch);
-            r.bind(2, stored.model.quantity);
-            while (r.executeStep())
-                stored.model.residuals.push_back(
-                    {r.getColumn(0).getString(), r.getColumn(1).getDouble(),
-                     r.getColumn(2).getDouble(), r.getColumn(3).getDouble(),
-                     r.getColumn(4).getDouble()});
-        }
-        return out;
+        return read_models(*c_, s);
+    });
+}
+
+std::optional<StoredKeypointModel> KeypointModelStore::latest_defined(
+    const std::string& quantity) const {
+    return guarded(*c_, "reading the latest keypoint model", [&] {
+        SQLite::Statement s(c_->db, std::string(kModelSelect) +
+                                        "WHERE m.quantity = ? AND m.defined = 1"
+                                        " ORDER BY e.acquired DESC, e.id DESC LIMIT 1");
+        s.bind(1, quantity);
+        auto models = read_models(*c_, s);
+        return models.empty() ? std::nullopt
+                              : std::optional<StoredKeypointModel>(std::move(models.front()));
     });
 }
 

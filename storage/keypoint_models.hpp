@@ -35,6 +35,10 @@ struct KeypointModelRow {
     std::optional<std::array<double, 10>> coefficients;
     std::optional<double> sum_abs_residuals, residual_scale;
     std::vector<KeypointModelResidual> residuals;
+
+    // d(t, z) of the fit; none when undefined. The same sum as keypoints::DisplacementModel
+    // (tests/pipeline/test_keypoint_results.cpp holds them equal).
+    std::optional<double> at(double t, double z) const;
 };
 
 struct StoredKeypointModel {
@@ -51,6 +55,9 @@ class KeypointModelStore {
     // `quantity` when given. With their residuals.
     std::vector<StoredKeypointModel> in_range(
         const TimeRange& range, const std::optional<std::string>& quantity = std::nullopt) const;
+    // The newest defined fit of `quantity` (by its epoch's acquisition time), with its
+    // residuals; none when no fit of it is defined.
+    std::optional<StoredKeypointModel> latest_defined(const std::string& quantity) const;
 
   private:
     Connection* c_;

@@ -1,7 +1,10 @@
 // Meteo sidecar rows (docs/schema.md, "meteo_sidecars").
 #include "storage/meteo_store.hpp"
 
+#include <limits>
+
 #include "storage/connection.hpp"
+#include "storage/series_reader.hpp"
 #include "storage/shared_rows.hpp"
 
 namespace tlsmon {
@@ -97,6 +100,27 @@ std::vector<MeteoSidecar> MeteoStore::of_epoch(EpochId id) const {
         s.bind(1, id);
         std::vector<MeteoSidecar> out;
         while (s.executeStep()) out.push_back(read_sidecar(s));
+        return out;
+    });
+}
+
+std::vector<EpochMeteo> MeteoStore::used_in_range(const TimeRange& range) const {
+    return guarded(*c_, "reading the meteo of a time range", [&] {
+        // The epochs of the range by acquisition time (index epochs_by_acquired), each with
+        // the row its processing used (index meteo_sidecars_by_epoch).
+        SQLite::Statement s(c_->db,
+                            "SELECT e.id, e.acquired, m.air_temperature_c, m.pressure_hpa,"
+                            " m.relative_humidity_pct FROM epochs e JOIN meteo_sidecars m ON"
+                            " m.epoch_id = e.id AND m.outcome = 'used'"
+                            " WHERE e.acquired BETWEEN ? AND ? ORDER BY e.acquired, e.id");
+        s.bind(1, range.from.value_or(std::numeric_limits<std::int64_t>::min()));
+        s.bind(2, range.to.value_or(std::numeric_limits<std::int64_t>::max()));
+        std::vector<EpochMeteo> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),
+                           s.getColumn(2).getDouble(), s.getColumn(3).getDouble(),
+                           s.getColumn(4).getDouble()});
+        }
         return out;
     });
 }

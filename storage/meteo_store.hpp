@@ -13,6 +13,15 @@
 
 namespace tlsmon {
 
+struct TimeRange;
+
+// The weather an epoch was processed with.
+struct EpochMeteo {
+    EpochId epoch = 0;
+    UtcSeconds acquired = 0;  // the epoch's acquisition time
+    double air_temperature_c = 0, pressure_hpa = 0, relative_humidity_pct = 0;
+};
+
 class MeteoStore {
   public:
     explicit MeteoStore(Connection& connection) : c_(&connection) {}
@@ -21,6 +30,9 @@ class MeteoStore {
     std::optional<MeteoSidecar> find(const std::string& sha256, const std::string& file_name) const;
     // Every sidecar recorded for the epoch, in the order recorded.
     std::vector<MeteoSidecar> of_epoch(EpochId id) const;
+    // The epochs acquired in the range that were processed with a sidecar's row, by
+    // acquisition time.
+    std::vector<EpochMeteo> used_in_range(const TimeRange& range) const;
     // The latest epoch whose scan was found in `folder` with this stem (the scan of the
     // sidecar `<folder>/<stem>.meteo.csv`), if any.
     std::optional<Epoch> scan_epoch(const std::filesystem::path& folder,

@@ -1,5 +1,7 @@
 // A zone's series (/zones/NAME): one quantity at a time over a window, the LoD95 as a band,
-// the alarm levels as lines, alarm raises and acknowledgements and rejected epochs as marks.
+// the alarm levels as lines, alarm raises and acknowledgements and rejected epochs as marks,
+// the keypoint model d(t, z) where the quantity has one, and on request the air temperature
+// or pressure on a second axis (?meteo=air_temperature_c or pressure_hpa).
 // Drag to zoom (the server is asked again for the zoomed window, at full resolution when
 // it fits the chart's width), shift-drag to pan, double-click to return to the window.
 import {
@@ -12,13 +14,20 @@ const windows = [['1 day', 86400], ['7 days', 7 * 86400], ['30 days', 30 * 86400
   ['1 year', 365 * 86400], ['all', 0]];
 let quantity = params.get('quantity');
 let span = Number(params.get('window') ?? 7 * 86400);
+const meteoChoices = [['no meteo', ''], ['air temperature', 'air_temperature_c'], ['pressure', 'pressure_hpa']];
+let meteoField = params.get('meteo') ?? '';
+let meteo = null;
 let view = null;  // [from, to] in Unix seconds when zoomed in
 let chart = null;
 let series = null;
 
 // The window: the zoomed view, else the chosen span back from the newest epoch.
 function seriesUrl(format) {
-  const q = new URLSearchParams({ zone, quantity, format });
+  return windowUrl('/api/v1/series', { zone, quantity, format });
+}
+
+function windowUrl(path, fields) {
+  const q = new URLSearchParams(fields);
   q.set('width', String(Math.max(100, document.querySelector('#chart').clientWidth)));
   if (view) {
     q.set('from', String(Math.floor(view[0])));
@@ -26,7 +35,20 @@ function seriesUrl(format) {
   } else if (span > 0) {
     q.set('from', String(window.tlsmonNewest - span));
   }
-  return `/api/v1/series?${q}`;
+  return `${path}?${q}`;
+}
+
+// Rows for the chart: time, then [low, value, high] per series (the value's LoD95 band; the
+// model and the meteo without a band), null where a series has no point at that time.
+function chartRows(columns) {
+  const byTime = new Map();
+  columns.forEach((points, c) => {
+    for (const [t, bar] of points) {
+      if (!byTime.has(t)) byTime.set(t, new Array(columns.length).fill(null));
+      byTime.get(t)[c] = bar;
+    }
+  });
+  return [...byTime.keys()].sort((a, b) => a - b).map((t) => [new Date(t * 1000), ...byTime.get(t)]);
 }
 
 // The alarm levels of the rules watching the value (not its rate), as horizontal lines.
@@ -47,11 +69,30 @@ function levelLines(rules) {
 const levelColour = { warning: '#d4a017', alert: '#e07000', alarm: '#c62828' };
 
 function draw() {
-  const rows = series.points.map((p) => {
+  const columns = [series.points.map((p) => {
     const v = displayValue(quantity, p.value);
     const lod = p.lod95 === null ? 0 : displayValue(quantity, p.lod95);
-    return [new Date(p.t * 1000), [v - lod, v, v + lod]];
-  });
+    return [p.t, [v - lod, v, v + lod]];
+  })];
+  const labels = ['time', `${quantity} [${unit(quantity)}]`];
+  const colors = ['#1f5fa8'];
+  const perSeries = {};
+  if (series.model) {
+    columns.push(series.model.points.map(([t, d]) => {
+      const v = displayValue(quantity, d);
+      return [t, [v, v, v]];
+    }));
+    labels.push(`model d(t, z = ${series.model.zone_height_m.toFixed(2)} m)`);
+    colors.push('#6a1b9a');
+    perSeries[labels.at(-1)] = { strokePattern: [6, 3], drawPoints: false, strokeWidth: 1.5 };
+  }
+  if (meteoField && meteo) {
+    columns.push(meteo[meteoField].map(([t, v]) => [t, [v, v, v]]));
+    labels.push(meteoField === 'pressure_hpa' ? 'pressure [hPa]' : 'air temperature [°C]');
+    colors.push('#8a8a8a');
+    perSeries[labels.at(-1)] = { axis: 'y2', drawPoints: false, strokeWidth: 1 };
+  }
+  const rows = chartRows(columns);
   const lines = levelLines(series.alarm_rules);
   const marks = series.alarm_events.filter((e) => ['raise', 'ack', 'clear', 'rtn'].some((k) => e.kind.startsWith(k)));
   const rejected = series.rejected_epochs;
@@ -83,12 +124,16 @@ function draw() {
     canvas.restore();
   };
   const options = {
-    labels: ['time', `${quantity} [${unit(quantity)}]`],
+    labels,
+    series: perSeries,
+    connectSeparatedPoints: true,
     customBars: true,
     labelsUTC: true,
     drawPoints: rows.length < 400,
     pointSize: 2,
     ylabel: `${quantity} (${unit(quantity) || '1'})`,
+    y2label: meteoField ? labels.at(-1) : null,
+    axes: { y2: { drawGrid: false, independentTicks: true } },
     legend: 'follow',
     labelsDiv: document.querySelector('#legend'),
     underlayCallback: underlay,
@@ -96,14 +141,14 @@ function draw() {
       view = chart && chart.isZoomed('x') ? [minX / 1000, maxX / 1000] : null;
       load();
     },
-    colors: ['#1f5fa8'],
+    colors,
   };
-  if (rows.length === 0) {
+  if (series.points.length === 0) {
     document.querySelector('#chart').replaceChildren(element('p', { class: 'quiet', text: 'No point in this window.' }));
     chart = null;
     return;
   }
-  if (chart && document.querySelector('#chart canvas')) {
+  if (chart && document.querySelector('#chart canvas') && chart.getLabels().length === labels.length) {
     chart.updateOptions({ file: rows, ...options, dateWindow: view ? [view[0] * 1000, view[1] * 1000] : null });
   } else {
     document.querySelector('#chart').replaceChildren();
@@ -114,13 +159,17 @@ function draw() {
   document.querySelector('#chart-note').textContent =
     `${n} point(s) shown of ${series.total} in the window` +
     (series.decimated ? ' (lowest and highest per pixel: zoom in for every epoch)' : ' (every epoch)') +
-    `; ${lines.length} alarm level line(s), ${marks.length} alarm mark(s), ${rejected.length} rejected epoch(s).`;
+    `; ${lines.length} alarm level line(s), ${marks.length} alarm mark(s), ${rejected.length} rejected epoch(s)` +
+    (series.model ? `; the model d(t, z) fitted at epoch ${series.model.epoch}` : '') +
+    (meteoField && meteo ? `; ${meteo[meteoField].length} meteo value(s) of ${meteo.total}` : '') + '.';
 }
 
 async function load() {
   try {
-    series = await getJson(seriesUrl('json'));
+    [series, meteo] = await Promise.all([getJson(seriesUrl('json')),
+      meteoField ? getJson(windowUrl('/api/v1/meteo', {})) : null]);
     window.tlsmonSeries = series;  // what the chart holds, for scripts and tests
+    window.tlsmonMeteo = meteo;
     draw();
     document.querySelector('#csv').href = seriesUrl('csv');
   } catch (e) {
@@ -154,6 +203,7 @@ async function start() {
     const pick = () => {
       buttons('#quantities', z.quantities.map((q) => [q, q]), (q) => q === quantity, (q) => { quantity = q; view = null; pick(); load(); });
       buttons('#windows', windows, (s) => s === span, (s) => { span = s; view = null; pick(); load(); });
+      buttons('#meteo', meteoChoices, (m) => m === meteoField, (m) => { meteoField = m; pick(); load(); });
     };
     pick();
     await load();

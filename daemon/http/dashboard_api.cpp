@@ -89,6 +89,40 @@ std::map<std::string, AlarmRule> rules_by_name(const EpochDatabase& db) {
 }
 
 // Zones in the configuration's order, then any other stored (keypoint bands).
+// The keypoint model d(t, z) (docs/keypoints.md, step 7) of the newest defined fit of the
+// series' quantity, at the zone's height in that fit (its residual's z), t in hours since
+// the reference epoch: sampled over the window clipped to the hours the fit observed (no
+// extrapolation). Null when there is none (not a modelled quantity, the zone not a segment
+// of the fit, or the window outside it).
+Json keypoint_model_json(const EpochDatabase& db, const SeriesView& view) {
+    const auto fit = db.keypoint_models().latest_defined(view.request.quantity);
+    const auto reference = db.epochs().reference();
+    if (!fit || !reference || fit->model.variable != "time_h") return nullptr;
+    const auto ref = db.epochs().find(*reference);
+    const auto zone = std::find_if(fit->model.residuals.begin(), fit->model.residuals.end(),
+                                   [&](const auto& r) { return r.zone == view.request.zone; });
+    if (!ref || zone == fit->model.residuals.end()) return nullptr;
+    const auto& m = fit->model;
+    const double hour = 3600.0, t0 = static_cast<double>(ref->acquired);
+    double from = t0 + (*m.t_centre - *m.t_scale) * hour,
+           to = t0 + (*m.t_centre + *m.t_scale) * hour;
+    const auto& range = view.request.range;
+    if (range.from) from = std::max(from, static_cast<double>(*range.from));
+    if (range.to) to = std::min(to, static_cast<double>(*range.to));
+    if (!(from < to)) return nullptr;
+    const std::size_t samples = std::clamp<std::size_t>(view.request.width / 4, 2, 200);
+    Json points = Json::array();
+    for (std::size_t k = 0; k < samples; ++k) {
+        const double t = from + (to - from) * static_cast<double>(k) / double(samples - 1);
+        points.push_back({std::llround(t), *m.at((t - t0) / hour, zone->z)});
+    }
+    return Json{{"epoch", fit->epoch},
+                {"acquired", format_utc(fit->acquired)},
+                {"zone_height_m", zone->z},
+                {"residual_scale", optional_number(m.residual_scale)},
+                {"points", points}};
+}
+
 std::vector<std::string> zone_order(const EpochDatabase& db, const DashboardSite& site) {
     std::vector<std::string> out = site.zones;
     for (const auto& [name, definition] : db.site().zones()) {
@@ -226,7 +260,32 @@ Json series_json(const EpochDatabase& db, const SeriesView& view) {
                 {"points", points},
                 {"alarm_rules", rules},
                 {"alarm_events", marks},
-                {"rejected_epochs", rejected}};
+                {"rejected_epochs", rejected},
+                {"model", keypoint_model_json(db, view)}};
+}
+
+Json meteo_json(const EpochDatabase& db, const TimeRange& range, std::size_t width) {
+    const auto all = db.meteo().used_in_range(range);
+    Json out{{"from", time_or_null(range.from)},
+             {"to", time_or_null(range.to)},
+             {"width", width},
+             {"total", all.size()}};
+    std::vector<std::int64_t> t(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) t[i] = all[i].acquired;
+    // Each quantity decimated on its own (min/max per pixel, as the series).
+    const auto column = [&](double EpochMeteo::*field) {
+        Json points = Json::array();
+        if (all.empty()) return points;
+        std::vector<double> v(all.size());
+        for (std::size_t i = 0; i < all.size(); ++i) v[i] = all[i].*field;
+        for (std::size_t i : min_max_decimation(t, v, range.from.value_or(t.front()),
+                                                range.to.value_or(t.back()), width))
+            points.push_back({t[i], v[i]});
+        return points;
+    };
+    out["air_temperature_c"] = column(&EpochMeteo::air_temperature_c);
+    out["pressure_hpa"] = column(&EpochMeteo::pressure_hpa);
+    return out;
 }
 
 std::string series_csv(const SeriesView& view) {

@@ -51,9 +51,13 @@ struct SeriesView {
 };
 
 SeriesView series_view(const EpochDatabase& db, const SeriesRequest& request);
-// With the alarm rules watching the quantity (levels), their raises and acknowledgements
-// and the rejected epochs inside the window.
+// With the alarm rules watching the quantity (levels), their raises and acknowledgements,
+// the rejected epochs inside the window, and the keypoint model d(t, z) at the zone's height
+// where the quantity has one.
 Json series_json(const EpochDatabase& db, const SeriesView& view);
+// `/api/v1/meteo?from&to&width`: the air temperature and pressure each epoch of the window
+// was processed with, each decimated to `width` like a series (0: every epoch).
+Json meteo_json(const EpochDatabase& db, const TimeRange& range, std::size_t width);
 // Exactly the points of the view, one per line (docs/http.md).
 std::string series_csv(const SeriesView& view);
 

@@ -307,6 +307,12 @@ void HttpService::State::routes() {
             return 0;
         });
     });
+    api("/api/v1/meteo", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        const auto width = width_parameter(req);
+        send_json(res, with_database(
+                           [&](const EpochDatabase& db) { return meteo_json(db, range, width); }));
+    });
     api("/api/v1/events", [this](const httplib::Request& req, httplib::Response& res) {
         const auto range = range_parameters(req);
         std::optional<std::string> kind;

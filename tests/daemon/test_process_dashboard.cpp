@@ -217,6 +217,20 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     EXPECT_EQ(std::count(csv.body.begin(), csv.body.end(), '\n'),
               static_cast<long>(points.size()) + 1);
 
+    // The zone page with the air temperature on the second axis: every epoch's, as stored.
+    const json temperatures = sql(db,
+                                  "SELECT e.acquired AS t, m.air_temperature_c AS c FROM "
+                                  "meteo_sidecars m JOIN epochs e ON e.id = m.epoch_id WHERE "
+                                  "m.outcome = 'used' ORDER BY e.acquired");
+    const json& drawn = page.at("zone_meteo").at("values");
+    ASSERT_GT(temperatures.size(), 3u);
+    ASSERT_EQ(drawn.size(), temperatures.size()) << page.at("zone_meteo").dump();
+    for (std::size_t i = 0; i < drawn.size(); ++i) {
+        EXPECT_EQ(drawn[i][0].get<double>(), 1000.0 * temperatures[i].at("t").get<double>());
+        EXPECT_DOUBLE_EQ(drawn[i][1].get<double>(), temperatures[i].at("c").get<double>());
+    }
+    EXPECT_EQ(page.at("zone_meteo").at("label"), "air temperature [°C]");
+
     // Epoch view: one mark per core point with a distance.
     const auto distance = core_point_array(db, last_id, "m3c2_distance_m");
     const auto defined =
@@ -338,7 +352,7 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     if (openapi.status == 0) {
         const json verdict = json::parse(openapi.output);
         EXPECT_GE(verdict.at("checked").get<int>(), 25);
-        EXPECT_EQ(verdict.at("operations").get<int>(), 17);
+        EXPECT_EQ(verdict.at("operations").get<int>(), 18);
     }
 
     // Live: the overview, left open, shows the last epoch once it commits, with no reload;

@@ -9,6 +9,7 @@
 
 #include "pipeline/keypoint_results.hpp"
 #include "tests/storage/fake_sha256.hpp"
+#include "tests/support/keypoint_band_series.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
@@ -112,53 +113,14 @@ TEST(KeypointResults, VerticalAngleBandsAsZones) {
 }
 
 TEST(KeypointResults, TheModelOverTheStoredSeriesIsCommittedAndReadBack) {
-    // Five bands at heights 2, 6, 10, 14, 18 m, twelve epochs 15 min apart after the
-    // reference; the displacement along the surface d = 0.4 mm/h · t + 0.01 mm/(h m) · t z.
+    // tests/support/keypoint_band_series.hpp: five bands, twelve epochs, a known d(t, z).
     test::TempDir dir;
     auto db = EpochDatabase::open(dir / "e.sqlite", EpochDatabase::Mode::read_write);
     const UtcSeconds reference = 1'800'000'000;
-    const auto truth = [](double t, double z) { return 0.4e-3 * t + 0.01e-3 * t * z; };
-    std::vector<std::string> zones;
-    for (int b = 0; b < 5; ++b) {
-        zones.push_back(keypoint_band_zone(18 + b, 5 * std::numbers::pi / 180));
-        db.site().upsert_zone(zones.back(),
-                              keypoint_band_zone_definition(18 + b, 5 * std::numbers::pi / 180));
-    }
-    const auto segment_rows = [&](int e) {
-        std::vector<ZoneResult> rows;
-        for (int b = 0; b < 5; ++b) {
-            const double t = 0.25 * e, z = 2.0 + 4.0 * b;
-            rows.push_back({zones[b], kKeypointAlongSurfaceH, truth(t, z), 0.0005, 40, true});
-            rows.push_back({zones[b], kKeypointHeight, z, std::nullopt, 40, false});
-        }
-        return rows;
-    };
-    EpochId last = 0;
-    for (int e = 1; e <= 12; ++e) {
-        const auto id =
-            db.epochs()
-                .insert({test::fake_sha256(e), reference + 900 * e, "/i/s.ptx", 10, std::nullopt})
-                .id;
-        ASSERT_TRUE(db.epochs().claim(id));
-        EpochResults r;
-        r.zone_results = segment_rows(e);
-        if (e == 12) {
-            // The newest epoch: its own rows join the stored ones for the refit.
-            auto inputs =
-                stored_model_inputs(db.series(), zones, kKeypointAlongSurfaceH, reference);
-            ASSERT_EQ(inputs.size(), 55u);  // 11 epochs × 5 zones stored
-            for (int b = 0; b < 5; ++b)
-                inputs.push_back({zones[b], id, {3.0, 2.0 + 4.0 * b, truth(3.0, 2.0 + 4.0 * b)}});
-            std::vector<keypoints::ModelObservation> obs;
-            for (const auto& in : inputs) obs.push_back(in.observation);
-            const auto model = keypoints::fit_displacement_model(obs);
-            ASSERT_TRUE(model.defined()) << model.undefined_reason;
-            r.keypoint_models = {
-                keypoint_model_row(kKeypointAlongSurfaceH, "time_h", model, inputs, id)};
-            last = id;
-        }
-        db.results().commit(id, r);
-    }
+    const auto truth = test::band_displacement;
+    const auto series = test::commit_keypoint_band_series(db, reference);
+    EXPECT_EQ(series.stored_inputs, 55u);  // 11 epochs × 5 zones stored before the last
+    const EpochId last = series.last;
     const auto stored = db.keypoint_models().in_range({});
     ASSERT_EQ(stored.size(), 1u);
     const auto& m = stored[0].model;
@@ -180,6 +142,17 @@ TEST(KeypointResults, TheModelOverTheStoredSeriesIsCommittedAndReadBack) {
     back.z_scale = *m.z_scale;
     for (int k = 0; k < 10; ++k) back.coefficients[k] = (*m.coefficients)[k];
     EXPECT_NEAR(back(2.0, 10.0), truth(2.0, 10.0), 1e-10);
+    // The stored row evaluates itself (for the dashboard) as the kernel does, everywhere.
+    for (double t : {0.0, 0.7, 2.0, 3.5})
+        for (double z : {1.0, 10.0, 19.0})
+            EXPECT_NEAR(*m.at(t, z), back(t, z), 1e-15) << t << " " << z;
+    const auto latest = db.keypoint_models().latest_defined(kKeypointAlongSurfaceH);
+    ASSERT_TRUE(latest);
+    EXPECT_EQ(latest->epoch, last);
+    EXPECT_EQ(latest->model.residuals.size(), 5u);
+    EXPECT_FALSE(db.keypoint_models().latest_defined(kKeypointAlongSurfaceV));
+    KeypointModelRow undefined;
+    EXPECT_FALSE(undefined.at(1.0, 1.0));
 }
 
 }  // namespace

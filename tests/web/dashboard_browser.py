@@ -81,6 +81,19 @@ def pages(base, out_dir, zone, quantity, epoch):
                      note: document.querySelector('#chart-note').textContent,
                      csv: document.querySelector('#csv').href };""")
 
+        # The same zone with the air temperature on the second axis: the chart's last column.
+        report["errors"]["zone-meteo"] = visit(
+            d, f"{base}/zones/{quote(zone)}?quantity={quote(quantity)}&window=0&meteo=air_temperature_c",
+            "window.tlsmonChart && window.tlsmonMeteo && window.tlsmonChart.getLabels().length === 3",
+            out_dir, "zone-meteo")
+        report["zone_meteo"] = d.execute_script("""
+            const g = window.tlsmonChart, values = [];
+            for (let i = 0; i < g.numRows(); ++i) {
+              const v = g.getValue(i, 2);
+              if (v !== null && Array.isArray(v) && v[1] !== null) values.push([g.getValue(i, 0), v[1]]);
+            }
+            return { values, label: g.getLabels()[2] };""")
+
         report["errors"]["epoch"] = visit(
             d, f"{base}/epochs/{epoch}", "window.tlsmonMap && document.querySelectorAll('canvas.map').length > 0",
             out_dir, "epoch")

@@ -26,7 +26,23 @@ import jsonschema
 import yaml
 
 spec_path, base, zone, quantity, epoch, user, password, rule = sys.argv[1:9]
-spec = yaml.safe_load(open(spec_path, encoding='utf-8'))
+
+
+class UniqueKeyLoader(yaml.SafeLoader):
+    """YAML keeps the last of two equal keys; a description must not have two."""
+
+
+def unique_mapping(loader, node, deep=False):
+    keys = [loader.construct_object(k, deep=deep) for k, _ in node.value]
+    repeated = {k for k in keys if keys.count(k) > 1}
+    if repeated:
+        raise yaml.constructor.ConstructorError(
+            None, None, f'key(s) {sorted(repeated)} given twice', node.start_mark)
+    return loader.construct_mapping(node, deep)
+
+
+UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, unique_mapping)
+spec = yaml.load(open(spec_path, encoding='utf-8'), Loader=UniqueKeyLoader)
 failures = []
 checked = 0
 exercised = set()
@@ -136,6 +152,9 @@ request('GET', series + '&width=100&from=2000-01-01&to=2100-01-01', expect=200)
 request('GET', series + '&format=csv', expect=200)
 request('GET', f'/api/v1/series?zone={q(zone)}', expect=400)
 request('GET', series + '&from=yesterday', expect=400)
+request('GET', '/api/v1/meteo', expect=200)
+request('GET', '/api/v1/meteo?width=3&from=2000-01-01', expect=200)
+request('GET', '/api/v1/meteo?width=wide', expect=400)
 request('GET', '/api/v1/events', expect=200)
 request('GET', '/api/v1/events?kind=http_login', expect=200)
 request('GET', '/api/v1/alarms', expect=200)
