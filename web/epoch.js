@@ -1,7 +1,10 @@
 // One epoch (/epochs/N): its status, registration with every target's residual and test,
 // the meteo used, the stages' times, and the M3C2 map of every zone: core points in the
 // zone's wall frame coloured by distance (diverging scale, legend in mm), points whose
-// distance is within their LoD95 greyed, distance, LoD, n1 and n2 on hover.
+// distance is within their LoD95 greyed, distance, LoD, n1 and n2 on hover; and where the
+// keypoint method measured the zone, its mean vector along the wall as an arrow at the
+// segment's height (black: beyond its LoD95, grey: within), its LoD95 as an ellipse at the
+// tip, all arrows to one scale with a scale bar.
 import { element, formatTime, getJson, header, showError } from './common.js';
 
 const id = Number(location.pathname.split('/').pop());
@@ -32,8 +35,61 @@ function legend(limit) {
     element('span', { class: 'quiet', text: ' grey: within LoD95' }));
 }
 
+// A round length for the scale bar: 1, 2 or 5 × 10^k metres, drawn 40 to 100 px long.
+function scaleBarLength(pxPerMetre) {
+  const target = 60 / pxPerMetre;
+  const base = 10 ** Math.floor(Math.log10(target));
+  return [1, 2, 5, 10].map((m) => m * base).reduce((a, b) => (Math.abs(b - target) < Math.abs(a - target) ? b : a));
+}
+
+function arrowLegend(pxPerMetre) {
+  const length = scaleBarLength(pxPerMetre);
+  const bar = element('canvas', { width: Math.ceil(length * pxPerMetre) + 12, height: 12 });
+  const ctx = bar.getContext('2d');
+  ctx.strokeStyle = '#000';
+  ctx.lineWidth = 2;
+  ctx.beginPath();
+  ctx.moveTo(1, 6);
+  ctx.lineTo(1 + length * pxPerMetre, 6);
+  ctx.moveTo(1, 1); ctx.lineTo(1, 11);
+  ctx.moveTo(1 + length * pxPerMetre, 1); ctx.lineTo(1 + length * pxPerMetre, 11);
+  ctx.stroke();
+  return element('div', { class: 'map-legend' },
+    element('span', { text: 'keypoint vectors along the wall: ' }), bar,
+    element('span', { text: ` ${Number((length * 1000).toPrecision(2))} mm` }),
+    element('span', { class: 'quiet', text: ' (ellipse: LoD95; grey: within it)' }));
+}
+
+// The zone's keypoint vector: an arrow from (x, y) by (du, dv) at `k` px per metre.
+function drawArrow(ctx, x, y, kp, k) {
+  const tx = x + kp.du_m * k, ty = y - kp.dv_m * k;
+  const colour = kp.significant ? '#000' : '#8a8a8a';
+  ctx.save();
+  ctx.strokeStyle = colour;
+  ctx.fillStyle = colour;
+  ctx.lineWidth = 2;
+  ctx.beginPath();
+  ctx.moveTo(x, y);
+  ctx.lineTo(tx, ty);
+  ctx.stroke();
+  const angle = Math.atan2(ty - y, tx - x), head = Math.min(8, Math.hypot(tx - x, ty - y) * 0.5);
+  ctx.beginPath();
+  ctx.moveTo(tx, ty);
+  ctx.lineTo(tx - head * Math.cos(angle - 0.4), ty - head * Math.sin(angle - 0.4));
+  ctx.lineTo(tx - head * Math.cos(angle + 0.4), ty - head * Math.sin(angle + 0.4));
+  ctx.fill();
+  if (kp.lod95_h_m !== null && kp.lod95_v_m !== null) {
+    ctx.lineWidth = 1;
+    ctx.setLineDash([3, 2]);
+    ctx.beginPath();
+    ctx.ellipse(tx, ty, Math.max(1, kp.lod95_h_m * k), Math.max(1, kp.lod95_v_m * k), 0, 0, 2 * Math.PI);
+    ctx.stroke();
+  }
+  ctx.restore();
+}
+
 // The zone's core points to scale (one metre is as long across as up), at most 480 × 420 px.
-function drawZone(z, limit) {
+function drawZone(z, limit, arrowScale) {
   const n = z.u.length, pad = 12;
   const title = element('h3', { text: `${z.zone}: ${n} of ${z.core_points} core points with a distance` });
   if (n === 0) return element('div', {}, title);
@@ -70,6 +126,19 @@ function drawZone(z, limit) {
   });
   canvas.addEventListener('mouseleave', () => { tip.style.display = 'none'; });
   canvas.dataset.marks = String(n);
+  canvas.dataset.arrows = '0';
+  const kp = z.keypoint;
+  if (kp) {
+    // At the middle of the zone along the wall, at the segment's height (wall frame).
+    const uMid = (u0 + u1) / 2;
+    const vAt = z.frame === 'wall' && kp.height_m !== null ? kp.height_m : (v0 + v1) / 2;
+    drawArrow(ctx, pad + (uMid - u0) * scale, h - pad - (vAt - v0) * scale, kp, arrowScale);
+    canvas.dataset.arrows = '1';
+    box.append(element('p', { class: 'quiet', text:
+      `keypoints: ${kp.kept} matches kept; along the wall ${mm(kp.du_m)}, up ${mm(kp.dv_m)}` +
+      ` (LoD95 ${mm(kp.lod95_h_m)} horizontal, ${mm(kp.lod95_v_m)} vertical)` +
+      (kp.significant ? '' : ', within the LoD95') }));
+  }
   return box;
 }
 
@@ -81,8 +150,14 @@ async function maps() {
     const all = map.zones.flatMap((z) => z.distance_m.map(Math.abs)).sort((a, b) => a - b);
     // The scale's end: the 98th percentile of |d|, so one outlier does not wash out the rest.
     const limit = Math.max(all.length ? all[Math.floor(0.98 * (all.length - 1))] : 0, 0.0005);
-    document.querySelector('#map-legend').replaceChildren(legend(limit));
-    box.replaceChildren(...map.zones.map((z) => drawZone(z, limit)));
+    // One scale for every arrow: the longest vector or LoD95 ellipse 60 px.
+    const reach = Math.max(1e-5, ...map.zones.filter((z) => z.keypoint).map((z) => Math.max(
+      Math.hypot(z.keypoint.du_m, z.keypoint.dv_m), z.keypoint.lod95_h_m ?? 0, z.keypoint.lod95_v_m ?? 0)));
+    const arrowScale = 60 / reach;
+    const legends = [legend(limit)];
+    if (map.zones.some((z) => z.keypoint)) legends.push(arrowLegend(arrowScale));
+    document.querySelector('#map-legend').replaceChildren(...legends);
+    box.replaceChildren(...map.zones.map((z) => drawZone(z, limit, arrowScale)));
   } catch (e) {
     box.replaceChildren(element('p', { class: 'quiet', text: String(e.message) }));
   }

@@ -8,6 +8,7 @@
 #include "core/csv.hpp"
 #include "daemon/http/series_decimation.hpp"
 #include "pipeline/core_point_map.hpp"
+#include "pipeline/keypoint_results.hpp"
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon {
@@ -382,8 +383,41 @@ std::optional<Json> epoch_json(const EpochDatabase& db, EpochId id) {
     return out;
 }
 
+namespace {
+
+// The epoch's keypoint segment of a zone (docs/keypoints.md, "In the database") in the
+// map's frame: the mean vector projected on u and v, where it is drawn (v = the segment's
+// height in a wall frame), the method's own LoD95 along the wall (horizontal, vertical).
+// Null when the epoch has no defined keypoint vector for the zone.
+Json keypoint_vector_json(const EpochDatabase& db, const Epoch& epoch, const std::string& zone,
+                          const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    const auto value = [&](const char* quantity) -> std::optional<SeriesPoint> {
+        for (const auto& p : db.series().points(zone, quantity, {epoch.acquired, epoch.acquired}))
+            if (p.epoch == epoch.id) return p;
+        return std::nullopt;
+    };
+    const auto dx = value(kKeypointDx), dy = value(kKeypointDy), dz = value(kKeypointDz);
+    if (!dx || !dy || !dz) return nullptr;
+    const Eigen::Vector3d d(dx->value, dy->value, dz->value);
+    const auto h = value(kKeypointAlongSurfaceH), vertical = value(kKeypointAlongSurfaceV);
+    const auto height = value(kKeypointHeight);
+    const auto lod = [](const std::optional<SeriesPoint>& p) {
+        return p ? optional_number(p->uncertainty) : Json(nullptr);
+    };
+    return Json{{"du_m", u.dot(d)},
+                {"dv_m", v.dot(d)},
+                {"height_m", height ? Json(height->value) : Json(nullptr)},
+                {"lod95_h_m", lod(h)},
+                {"lod95_v_m", lod(vertical)},
+                {"kept", dx->n},
+                {"significant", (h && h->significant) || (vertical && vertical->significant)}};
+}
+
+}  // namespace
+
 Json core_point_map_json(const EpochDatabase& db, EpochId id) {
     const CorePointMap map = read_core_point_map(db, id);
+    const Epoch epoch = *db.epochs().find(id);  // read_core_point_map found it
     const auto& ref = map.reference.reference;
     Json zones = Json::array();
     for (std::size_t z = 0; z < map.reference.zone_names.size(); ++z) {
@@ -416,17 +450,19 @@ Json core_point_map_json(const EpochDatabase& db, EpochId id) {
             n2.push_back(static_cast<std::int64_t>(map.n2[k]));
             sig.push_back(std::abs(map.distance[k]) > map.lod95[k]);
         }
-        zones.push_back({{"zone", map.reference.zone_names[z]},
-                         {"frame", plan ? "plan" : "wall"},
-                         {"core_points", cores.size()},
-                         {"core", core},
-                         {"u", us},
-                         {"v", vs},
-                         {"distance_m", d},
-                         {"lod95_m", lod},
-                         {"n1", n1},
-                         {"n2", n2},
-                         {"significant", sig}});
+        zones.push_back(
+            {{"zone", map.reference.zone_names[z]},
+             {"frame", plan ? "plan" : "wall"},
+             {"core_points", cores.size()},
+             {"core", core},
+             {"u", us},
+             {"v", vs},
+             {"distance_m", d},
+             {"lod95_m", lod},
+             {"n1", n1},
+             {"n2", n2},
+             {"significant", sig},
+             {"keypoint", keypoint_vector_json(db, epoch, map.reference.zone_names[z], u, v)}});
     }
     return Json{{"epoch", id}, {"core_points", ref.size()}, {"zones", zones}};
 }

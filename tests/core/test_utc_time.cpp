@@ -11,7 +11,7 @@ TEST(UtcTime, FormatsKnownInstants) {
     EXPECT_EQ(format_utc(1772366400), "2026-03-01T12:00:00Z");
     EXPECT_EQ(format_utc(951782400), "2000-02-29T00:00:00Z");  // leap day
     EXPECT_EQ(format_utc(-1), "1969-12-31T23:59:59Z");
-    EXPECT_EQ(format_utc(253402300799), "9999-12-31T23:59:59Z");  // the last four-digit year
+    EXPECT_EQ(format_utc(253402300799), "9999-12-31T23:59:59Z");   // the last four-digit year
     EXPECT_EQ(format_utc(253402300800), "10000-01-01T00:00:00Z");  // beyond: printed in full
     EXPECT_EQ(format_utc(-62135596800), "0001-01-01T00:00:00Z");
 }

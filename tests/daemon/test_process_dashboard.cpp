@@ -237,6 +237,28 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         std::count_if(distance.begin(), distance.end(), [](float d) { return std::isfinite(d); });
     ASSERT_GT(defined, 100);
     EXPECT_EQ(page.at("epoch").at("distinct_core_points").get<long>(), defined);
+    // One keypoint arrow per map zone with a keypoint vector in this epoch; its components
+    // along the wall and up have the stored vector's length when the vector lies in the
+    // wall (the zones are vertical faces: up is dz).
+    const json vectors = sql(db,
+                             "SELECT z.name AS zone, r.value AS dz FROM zone_results r JOIN "
+                             "zones z ON z.id = r.zone_id JOIN quantities q ON q.id = "
+                             "r.quantity_id WHERE q.name = 'keypoint_dz_m' AND r.epoch_id = " +
+                                 std::to_string(last_id));
+    std::set<std::string> with_vector;
+    for (const auto& v : vectors) with_vector.insert(v.at("zone").get<std::string>());
+    long arrows_expected = 0;
+    for (const auto& [zone, arrows] : page.at("epoch").at("arrows").items()) {
+        EXPECT_EQ(arrows.get<int>(), with_vector.count(zone) ? 1 : 0) << zone;
+        arrows_expected += with_vector.count(zone) ? 1 : 0;
+    }
+    EXPECT_GT(arrows_expected, 0) << "the demo's zones carry keypoint vectors";
+    for (const auto& v : vectors) {
+        const auto it = page.at("epoch").at("vectors").find(v.at("zone").get<std::string>());
+        // Not an M3C2 map zone, or one drawn in plan (v is then y).
+        if (it == page.at("epoch").at("vectors").end() || (*it)[2] != "wall") continue;
+        EXPECT_NEAR((*it)[1].get<double>(), v.at("dz").get<double>(), 1e-12) << v.dump();
+    }
 
     // Alarms and events pages.
     const json states = sql(db, "SELECT count(*) AS n FROM alarm_states");

@@ -103,6 +103,10 @@ def pages(base, out_dir, zone, quantity, epoch):
             return { marks: [...document.querySelectorAll('canvas.map')].map(c => Number(c.dataset.marks)),
                      zones: window.tlsmonMap.zones.map(z => z.zone),
                      distinct_core_points: cores.size,
+                     arrows: Object.fromEntries([...document.querySelectorAll('canvas.map')].map(
+                       (c, i) => [window.tlsmonMap.zones[i].zone, Number(c.dataset.arrows)])),
+                     vectors: Object.fromEntries(window.tlsmonMap.zones.filter(z => z.keypoint).map(
+                       z => [z.zone, [z.keypoint.du_m, z.keypoint.dv_m, z.frame]])),
                      title: document.querySelector('#title').textContent };""")
 
         report["errors"]["alarms"] = visit(
