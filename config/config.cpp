@@ -128,6 +128,10 @@ void check_http(TomlFields& t, const HttpConfig& c) {
         t.fail("max_event_streams", "must be less than http.threads (" + std::to_string(c.threads) +
                                         "), or no thread is left for the pages");
     }
+    if (c.certificate.empty() != c.private_key.empty()) {
+        t.fail(c.certificate.empty() ? "private_key" : "certificate",
+               "HTTPS needs both http.certificate and http.private_key");
+    }
 }
 
 void check_m3c2(TomlFields& t, const M3c2Config& c) {
@@ -408,8 +412,10 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         if (section == "paths") resolve_paths(c, base);
         if (section == "http" && !c.http.web_root.empty())
             c.http.web_root = resolve(c.http.web_root, base);
-        if (section == "http" && !c.http.users_file.empty())
-            c.http.users_file = resolve(c.http.users_file, base);
+        if (section == "http") {
+            for (auto* file : {&c.http.users_file, &c.http.certificate, &c.http.private_key})
+                if (!file->empty()) *file = resolve(*file, base);
+        }
         check_section(section, *t, c);
         // [m3c2] and [keypoints] come before [alarm]: a rule names what their stages write.
         if (section == "alarm") {

@@ -32,6 +32,11 @@ std::vector<SectionKey<HttpConfig>> http_keys() {
         K::flag(&HttpConfig::anonymous_read, "anonymous_read",
                 "Whether the pages' data may be read without a login; `false`: a viewer's "
                 "login at least."),
+        K::optional_path(&HttpConfig::certificate, "certificate",
+                         "PEM certificate (with its chain) for HTTPS; empty: plain HTTP. Set "
+                         "together with `private_key`; the session cookie is then `Secure`."),
+        K::optional_path(&HttpConfig::private_key, "private_key",
+                         "PEM private key of `certificate` (readable by the daemon's user only)."),
     };
 }
 

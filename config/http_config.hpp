@@ -19,6 +19,8 @@ struct HttpConfig {
     std::filesystem::path users_file;      // who may log in (`tlsmon users`); "" = nobody
     double session_lifetime = 8 * 3600.0;  // seconds a login lasts
     bool anonymous_read = true;            // pages and API readable without a login
+    std::filesystem::path certificate;     // TLS: PEM certificate (chain); "" = plain HTTP
+    std::filesystem::path private_key;     // TLS: its PEM private key
 };
 
 // The keys of [http] (core/config_key.hpp).

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages tlsmon builds and runs with; with --tests also those the
-# test suite drives (a headless browser and its WebDriver). Idempotent: when every package
+# test suite drives (a headless browser and its WebDriver, a JSON Schema validator for the
+# API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests). Idempotent: when every package
 # is already installed it changes nothing and asks no mirror.
 set -euo pipefail
 
@@ -14,7 +15,7 @@ packages=(
   mbpoll gnuplot-nox libjs-dygraphs
 )
 if [ "${1:-}" = --tests ]; then
-  packages+=(chromium chromium-driver python3-selenium python3-jsonschema)
+  packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl)
 fi
 
 missing=()

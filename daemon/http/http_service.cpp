@@ -142,7 +142,7 @@ struct HttpService::State {
     Sessions sessions;
     LoginThrottle throttle;
     WebFiles files;
-    httplib::Server server;
+    std::unique_ptr<httplib::Server> server;  // an SSLServer with http.certificate
     std::thread thread;
 
     std::mutex mutex;  // guards what follows
@@ -157,6 +157,12 @@ struct HttpService::State {
     bool stopping = false;
     int streams = 0;
     UtcSeconds heartbeat = 0;
+
+    // The session cookie's attributes: never sent in clear once the server speaks HTTPS.
+    std::string cookie_attributes() const {
+        return std::string("Path=/; HttpOnly; SameSite=Strict") +
+               (config.certificate.empty() ? "" : "; Secure");
+    }
 
     // `read` on a read-only connection of the pool (opened when none is idle); a connection
     // whose read failed is dropped, not reused.
@@ -227,7 +233,7 @@ struct HttpService::State {
 };
 
 void HttpService::State::page(const std::string& pattern, const std::string& file) {
-    server.Get(pattern, [this, file](const httplib::Request&, httplib::Response& res) {
+    server->Get(pattern, [this, file](const httplib::Request&, httplib::Response& res) {
         const WebFile* f = files.find(file);
         if (!f) return send_error(res, 404, "the dashboard has no " + file);
         res.set_content(f->body, f->content_type);
@@ -239,7 +245,7 @@ void HttpService::State::page(const std::string& pattern, const std::string& fil
 void HttpService::State::api(
     const std::string& pattern,
     std::function<void(const httplib::Request&, httplib::Response&)> handler) {
-    server.Get(pattern, [this, handler](const httplib::Request& req, httplib::Response& res) {
+    server->Get(pattern, [this, handler](const httplib::Request& req, httplib::Response& res) {
         if (!config.anonymous_read && !session_of(req))
             return send_error(res, 401, "log in to read (http.anonymous_read = false)");
         try {
@@ -259,7 +265,7 @@ void HttpService::State::routes() {
     page(R"(/epochs/\d+)", "epoch.html");
     page("/alarms", "alarms.html");
     page("/events", "events.html");
-    server.Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
+    server->Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
         const WebFile* f = files.find(req.matches[1].str());
         if (!f) return send_error(res, 404, "no such file");
         res.set_content(f->body, f->content_type);
@@ -352,15 +358,15 @@ void HttpService::State::routes() {
                 send_error(res, 404, e.what());
             }
         });
-    server.Get("/api/v1/stream",
-               [this](const httplib::Request& req, httplib::Response& res) { stream(req, res); });
+    server->Get("/api/v1/stream",
+                [this](const httplib::Request& req, httplib::Response& res) { stream(req, res); });
     operator_routes();
 }
 
 // Who is logged in ({"user": null} when nobody: not an error for a page that asks): the page
 // shows the actions the role allows and sends the CSRF token back with each of them.
 void HttpService::State::operator_routes() {
-    server.Get("/api/v1/session", [this](const httplib::Request& req, httplib::Response& res) {
+    server->Get("/api/v1/session", [this](const httplib::Request& req, httplib::Response& res) {
         const auto s = session_of(req);
         if (!s) return send_json(res, Json{{"user", nullptr}, {"role", nullptr}});
         send_json(res, Json{{"user", s->user},
@@ -368,33 +374,33 @@ void HttpService::State::operator_routes() {
                             {"csrf", s->csrf},
                             {"expires", format_utc(s->expires)}});
     });
-    server.Post("/api/v1/login", [this](const httplib::Request& req, httplib::Response& res) {
+    server->Post("/api/v1/login", [this](const httplib::Request& req, httplib::Response& res) {
         try {
             login(req, res);
         } catch (const BadRequest& e) {
             send_error(res, 400, e.what());
         }
     });
-    server.Post("/api/v1/logout", [this](const httplib::Request& req, httplib::Response& res) {
+    server->Post("/api/v1/logout", [this](const httplib::Request& req, httplib::Response& res) {
         const auto s = session_of(req);
         if (!s) return send_error(res, 401, "not logged in");
         if (!same_token(req.get_header_value("X-CSRF-Token"), s->csrf))
             return send_error(res, 403, "missing or wrong X-CSRF-Token");
         sessions.close(s->token);
-        res.set_header("Set-Cookie", std::string(kSessionCookie) +
-                                         "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+        res.set_header("Set-Cookie",
+                       std::string(kSessionCookie) + "=; " + cookie_attributes() + "; Max-Age=0");
         audit("info", "http_logout", "user " + s->user + " logged out from " + req.remote_addr);
         send_json(res, Json{{"user", s->user}, {"logged_out", true}});
     });
     for (const char* action : {"ack", "shelve", "unshelve", "out-of-service", "in-service"}) {
-        server.Post(std::string("/api/v1/alarms/") + action,
-                    [this, action](const httplib::Request& req, httplib::Response& res) {
-                        try {
-                            alarm_action(action, req, res);
-                        } catch (const BadRequest& e) {
-                            send_error(res, 400, e.what());
-                        }
-                    });
+        server->Post(std::string("/api/v1/alarms/") + action,
+                     [this, action](const httplib::Request& req, httplib::Response& res) {
+                         try {
+                             alarm_action(action, req, res);
+                         } catch (const BadRequest& e) {
+                             send_error(res, 400, e.what());
+                         }
+                     });
     }
 }
 
@@ -437,9 +443,9 @@ void HttpService::State::login(const httplib::Request& req, httplib::Response& r
     throttle.succeeded(from);
     const Session s = sessions.open(user->name, user->role, now,
                                     static_cast<UtcSeconds>(config.session_lifetime));
-    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + s.token +
-                                     "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
-                                     std::to_string(s.expires - now));
+    res.set_header("Set-Cookie", std::string(kSessionCookie) + "=" + s.token + "; " +
+                                     cookie_attributes() +
+                                     "; Max-Age=" + std::to_string(s.expires - now));
     audit("info", "http_login",
           "user " + s.user + " (" + std::string(to_string(s.role)) + ") logged in from " + from);
     send_json(res, Json{{"user", s.user},
@@ -574,27 +580,40 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
     }
     s.heartbeat = now_utc();
     s.files = WebFiles::load(find_web_root(config.web_root));
+    if (config.certificate.empty()) {
+        s.server = std::make_unique<httplib::Server>();
+    } else {  // OpenSSL reads both files now: a wrong one stops the start, named
+        auto tls = std::make_unique<httplib::SSLServer>(config.certificate.c_str(),
+                                                        config.private_key.c_str());
+        if (!tls->is_valid()) {
+            throw Error("the HTTPS server cannot use the certificate " +
+                        config.certificate.string() + " with the key " +
+                        config.private_key.string() +
+                        " (missing, unreadable, not PEM, or not a pair)");
+        }
+        s.server = std::move(tls);
+    }
     // http.threads connections served, as many waiting; the rest wait in the kernel
     // (daemon/http/connection_queue.hpp).
     const auto threads = static_cast<std::size_t>(config.threads);
-    s.server.new_task_queue = [threads] { return new BoundedTaskQueue(threads, threads); };
+    s.server->new_task_queue = [threads] { return new BoundedTaskQueue(threads, threads); };
     // One request per connection: cpp-httplib gives each connection a thread for as long as
     // it stays open, so a browser's idle kept-alive connection would hold a thread and 16
     // open pages would starve the 17th (measured: p99 3.2 s for 20 pages polling once a
     // second with keep-alive, bench/http_dashboard.cpp). A new TCP connection on the site
     // network costs a fraction of a millisecond.
-    s.server.set_keep_alive_max_count(1);
-    s.server.set_read_timeout(static_cast<time_t>(config.idle_timeout), 0);
-    s.server.set_write_timeout(5, 0);
-    s.server.set_payload_max_length(kMaxBody);
-    s.server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
-                                  {"X-Frame-Options", "DENY"},
-                                  {"Referrer-Policy", "no-referrer"},
-                                  {"Content-Security-Policy",
-                                   "default-src 'self'; style-src 'self' 'unsafe-inline'; "
-                                   "img-src 'self' data:; frame-ancestors 'none'"}});
+    s.server->set_keep_alive_max_count(1);
+    s.server->set_read_timeout(static_cast<time_t>(config.idle_timeout), 0);
+    s.server->set_write_timeout(5, 0);
+    s.server->set_payload_max_length(kMaxBody);
+    s.server->set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                                   {"X-Frame-Options", "DENY"},
+                                   {"Referrer-Policy", "no-referrer"},
+                                   {"Content-Security-Policy",
+                                    "default-src 'self'; style-src 'self' 'unsafe-inline'; "
+                                    "img-src 'self' data:; frame-ancestors 'none'"}});
     // Read-only: anything but GET and HEAD is refused before routing.
-    s.server.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    s.server->set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
         if (req.method == "GET" || req.method == "HEAD" ||
             (req.method == "POST" && takes_post(req.path)))
             return httplib::Server::HandlerResponse::Unhandled;
@@ -602,13 +621,13 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
         send_error(res, 405, "method " + req.method + " not allowed");
         return httplib::Server::HandlerResponse::Handled;
     });
-    s.server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    s.server->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return;
         send_error(res, res.status,
                    res.status == 404 ? "no such page: " + req.path
                                      : "request refused (" + std::to_string(res.status) + ")");
     });
-    s.server.set_exception_handler(
+    s.server->set_exception_handler(
         [](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
             std::string what = "unknown error";
             try {
@@ -621,12 +640,13 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
             send_error(res, 500, what);
         });
     s.routes();
-    if (!s.server.bind_to_port(config.address, config.port)) {
+    if (!s.server->bind_to_port(config.address, config.port)) {
         throw Error("the HTTP server cannot listen on " + config.address + ":" +
                     std::to_string(config.port) + " (address in use, or not this machine's)");
     }
-    s.thread = std::thread([&s] { s.server.listen_after_bind(); });
-    spdlog::info("dashboard on http://{}:{}/ ({} files from {})", config.address, config.port,
+    s.thread = std::thread([&s] { s.server->listen_after_bind(); });
+    spdlog::info("dashboard on {}://{}:{}/ ({} files from {})",
+                 config.certificate.empty() ? "http" : "https", config.address, config.port,
                  s.files.size(), s.files.root().string());
 }
 
@@ -636,7 +656,7 @@ HttpService::~HttpService() {
         state_->stopping = true;
     }
     state_->committed.notify_all();
-    state_->server.stop();
+    state_->server->stop();
     if (state_->thread.joinable()) state_->thread.join();
 }
 

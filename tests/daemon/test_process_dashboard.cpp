@@ -484,5 +484,81 @@ TEST(Dashboard, TenThousandIdleConnectionsStayWithinTheConfiguredLimits) {
     EXPECT_TRUE(daemon.running());
 }
 
+// HTTPS with the configured certificate (http.certificate, http.private_key): a client that
+// trusts that certificate reads the API and logs in (the session cookie `Secure`); plain HTTP
+// on that port gets no answer; a key that is not the certificate's stops the start, named;
+// one without the other is a configuration error.
+TEST(Dashboard, ServesHttpsWithTheConfiguredCertificateOnly) {
+    TempDir tmp("dashboard-tls");
+    const Scenario s = render_scenario(tmp.path() / "scenario", 1, start_now());
+    const fs::path run = tmp.path() / "run";
+    const int http_port = free_tcp_port();
+    const fs::path config = write_config(s, run, http_port + 1, false, http_port);
+    const auto openssl = [&](const std::string& args) {
+        const auto r = shell("cd " + quoted(run.string()) + " && openssl " + args + " 2>&1");
+        ASSERT_EQ(r.status, 0) << r.output;
+    };
+    openssl(
+        "req -x509 -newkey rsa:2048 -nodes -keyout key.pem -out cert.pem -days 2 "
+        "-subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1");
+    openssl("genrsa -out other-key.pem 2048");
+    ASSERT_EQ(shell("echo alice-pass | " + std::string(TLSMON_BINARY) +
+                    " users add alice --role operator --password-stdin --file " +
+                    quoted((run / "users.txt").string()))
+                  .status,
+              0);
+    const std::string text = read_text(config);
+    const auto with_http = [&](const std::string& keys) {
+        std::string t = text;
+        t.insert(t.find("[http]\n") + 7, keys);
+        return t;
+    };
+    write_text(config, with_http("certificate = \"cert.pem\"\nprivate_key = \"key.pem\"\n"
+                                 "users_file = \"users.txt\"\n"));
+    const fs::path log = run / "daemon.log";
+    {
+        DaemonProcess daemon(config, log);
+        const std::string https = "https://127.0.0.1:" + std::to_string(http_port);
+        const std::string trust = "--cacert " + quoted((run / "cert.pem").string());
+        const auto get = [&](const std::string& options, const std::string& url) {
+            return shell("curl -s -m 10 -o /dev/null -w '%{http_code}' " + options + " " +
+                         quoted(url))
+                .output;
+        };
+        ASSERT_TRUE(wait_until([&] { return get(trust, https + "/api/v1/site") == "200"; }, 60))
+            << read_text(log);
+        EXPECT_NE(get("", https + "/api/v1/site"), "200") << "an unknown certificate is trusted";
+        EXPECT_NE(get("", "http://127.0.0.1:" + std::to_string(http_port) + "/api/v1/site"), "200")
+            << "plain HTTP answered on the HTTPS port";
+        const auto login = shell("curl -s -i -m 10 " + trust +
+                                 " -X POST -H 'Content-Type: application/json' -d "
+                                 "'{\"user\":\"alice\",\"password\":\"alice-pass\"}' " +
+                                 quoted(https + "/api/v1/login"));
+        EXPECT_NE(login.output.find("HTTP/1.1 200"), std::string::npos) << login.output;
+        EXPECT_NE(login.output.find("HttpOnly; SameSite=Strict; Secure; Max-Age="),
+                  std::string::npos)
+            << login.output;
+        EXPECT_NE(read_text(log).find("dashboard on https://127.0.0.1:"), std::string::npos);
+        EXPECT_TRUE(daemon.running());
+    }
+    // A key that is not the certificate's: the daemon does not start, and says why.
+    write_text(config, with_http("certificate = \"cert.pem\"\nprivate_key = \"other-key.pem\"\n"));
+    const auto refused = shell("timeout 60 " + std::string(TLSMON_BINARY) + " run --config " +
+                               quoted(config.string()) + " 2>&1");
+    EXPECT_NE(refused.status, 0);
+    EXPECT_NE(refused.status, 124) << "it kept running";
+    EXPECT_NE(refused.output.find("cannot use the certificate " + (run / "cert.pem").string()),
+              std::string::npos)
+        << refused.output;
+    // One without the other is refused by the configuration check.
+    write_text(config, with_http("certificate = \"cert.pem\"\n"));
+    const auto half =
+        shell(std::string(TLSMON_BINARY) + " check-config " + quoted(config.string()) + " 2>&1");
+    EXPECT_NE(half.status, 0);
+    EXPECT_NE(half.output.find("HTTPS needs both http.certificate and http.private_key"),
+              std::string::npos)
+        << half.output;
+}
+
 }  // namespace
 }  // namespace tlsmon::test::e2e

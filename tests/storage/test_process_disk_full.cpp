@@ -30,15 +30,25 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << fs.error();
     const auto path = dir / "mnt" / "e.sqlite";
     const auto filler = dir / "mnt" / "filler";
-    // Each commit is far larger than an epoch's row, so that a commit meets the full disk.
-    test::write_file(filler, std::string(300 * 1024, '\0'));
     int done = 0;
     EpochId stuck = 0;
     {
         auto db = EpochDatabase::open(path, Mode::read_write);
         db.site().upsert_zone("deck", "{}");
+        // Each commit (a 200 KB array) is far larger than an epoch's row and its counters (a
+        // few pages). The first commit's cost on this file system is measured, then the
+        // filler leaves half of it: the next insert and claim fit, their commit does not, so
+        // it is a commit that meets the full disk, whatever the schema's own size.
+        std::size_t free_before = 0;
         bool full = false;
         for (int i = 0; i < 100 && !full; ++i) {
+            if (i == 1) {
+                const auto left = std::filesystem::space(dir / "mnt").available;
+                const auto commit_cost = free_before - left;
+                ASSERT_GT(left, commit_cost / 2) << "the first commit took " << commit_cost;
+                test::write_file(filler, std::string(left - commit_cost / 2, '\0'));
+            }
+            if (i == 0) free_before = std::filesystem::space(dir / "mnt").available;
             const auto id =
                 db.epochs()
                     .insert({test::fake_sha256(i + 1), 1000 + i, "/i/s.ptx", 1, std::nullopt})
