@@ -157,6 +157,11 @@ AlarmStep on_shelve(const AlarmMachineState& s, UtcSeconds until, AlarmActorKind
         throw Error("a shelve ends in the future: " + format_utc(until) + " is not after " +
                     format_utc(now));
     }
+    if (until - now > kMaxShelveSeconds) {
+        throw Error("a shelve lasts at most 30 days (until " + format_utc(now + kMaxShelveSeconds) +
+                    "), not until " + format_utc(until) +
+                    "; take the alarm out of service for longer");
+    }
     AlarmStep step = expire_shelve(s, now);
     if (step.state.state == IsaState::out_of_service) {
         throw Error("an alarm out of service cannot be shelved; return it to service first");

@@ -73,7 +73,11 @@ AlarmStep on_process(const AlarmMachineState& s, AlarmLevel level, bool latching
 // normal), rtn_unack -> normal, ack of a latched alarm whose process is normal -> normal.
 // Other states: no change, no event.
 AlarmStep on_acknowledge(const AlarmMachineState& s, AlarmActorKind actor, UtcSeconds now);
-// Shelve until `until` (> now, else an Error): from any state but out_of_service.
+// A shelve is temporary (ISA-18.2 §11.8, "shelving"): at most this long. Longer is a
+// removal from service, which the alarm list shows as such.
+inline constexpr UtcSeconds kMaxShelveSeconds = 30 * 86400;
+// Shelve until `until` (> now and at most kMaxShelveSeconds ahead, else an Error): from any
+// state but out_of_service.
 AlarmStep on_shelve(const AlarmMachineState& s, UtcSeconds until, AlarmActorKind actor,
                     UtcSeconds now);
 // Unshelve / return to service: to unack when the process is abnormal (the alarm is

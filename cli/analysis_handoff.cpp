@@ -49,6 +49,9 @@ int hand_over_to_analysis() {
 
 }  // namespace
 
+int run_notify_test(const NotifyTestOptions&) {
+    return hand_over_to_analysis();
+}
 int run_ingest(const RunOptions&) {
     return hand_over_to_analysis();
 }

@@ -21,6 +21,8 @@ int run_check_config(const CheckConfigOptions& options) {
         if (stable_areas_alone(pipeline_config(config).registration)) {
             std::cerr << "tlsmon check-config: warning: " << kStableAreasAloneWarning << '\n';
         }
+        for (const auto& problem : notify_file_problems(config.notify))
+            std::cerr << "tlsmon check-config: warning: " << problem << '\n';
         for (const auto& m : missing) {
             std::cerr << "tlsmon check-config: warning: " << m.key << ": " << m.path.string()
                       << " does not exist; tlsmon run will create it\n";

@@ -266,4 +266,11 @@ struct UsersOptions {
 };
 int run_users(const UsersOptions& options);
 
+// `tlsmon notify test` (docs/notifications.md); measuring program (libcurl, libmosquitto).
+struct NotifyTestOptions {
+    std::string config;
+    std::string channel;  // "" = every channel
+};
+int run_notify_test(const NotifyTestOptions& options);
+
 }  // namespace tlsmon

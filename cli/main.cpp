@@ -83,6 +83,7 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine targets;
     TargetResurveyOptions resurvey;
     UsersOptions users;
+    NotifyTestOptions notify_test;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -603,6 +604,16 @@ void add_users(CLI::App& app, CommandLine& c) {
     });
 }
 
+void add_notify(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand("notify", "Notifications (docs/notifications.md)");
+    cmd->require_subcommand(1);
+    auto* test = cmd->add_subcommand(
+        "test", "Send a test notification through every channel (or --channel) now");
+    test->add_option("--config", c.notify_test.config, "Site configuration")->required();
+    test->add_option("--channel", c.notify_test.channel, "Only this [[notify.channel]]");
+    test->callback([&] { c.code = run_notify_test(c.notify_test); });
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -628,6 +639,7 @@ int main(int argc, char** argv) {
     tlsmon::add_demo(app, c);
     tlsmon::add_targets(app, c);
     tlsmon::add_users(app, c);
+    tlsmon::add_notify(app, c);
 
     tlsmon::remember_program_arguments(argc, argv);
     try {

@@ -421,6 +421,7 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         if (section == "alarm") {
             c.alarm.rules = read_alarm_rules(*t, zone_names, stage_quantities(&c));
         }
+        if (section == "notify") read_notify_tables(*t, c.notify, base);
         t->reject_unknown_keys(kMovedKeys);
     }
     resolve_paths(c, base);
@@ -507,6 +508,7 @@ std::vector<std::string> describe(const Config& c) {
                     ", max = " + triple({r.max.x(), r.max.y(), r.max.z()}));
     }
     for (const auto& r : c.alarm.rules) l.push_back(describe_alarm_rule(r));
+    for (auto& line : describe_notify_tables(c.notify)) l.push_back(std::move(line));
     return l;
 }
 

@@ -16,6 +16,7 @@
 #include "algorithms/zones/zone_shape.hpp"
 #include "config/http_config.hpp"
 #include "config/modbus_config.hpp"
+#include "config/notify_config.hpp"
 #include "config/time_source.hpp"
 #include "core/config_key.hpp"
 #include "core/scanner_noise.hpp"
@@ -126,6 +127,7 @@ struct Config {
     ModbusConfig modbus;
     HttpConfig http;
     AlarmConfig alarm;
+    NotifyConfig notify;            // after [alarm]: its routes name alarm events
     std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]
 };
 

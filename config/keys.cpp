@@ -35,6 +35,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "modbus", &Config::modbus, modbus_keys());
     collect(keys, "http", &Config::http, http_keys());
     collect(keys, "alarm", &Config::alarm, alarm_keys());
+    collect(keys, "notify", &Config::notify, notify_keys());
     return keys;
 }
 

@@ -53,6 +53,7 @@ ReloadChanges compare_for_reload(const Config& current, const Config& fresh) {
         }
     }
     out.http = section_lines(current, "http.") != section_lines(fresh, "http.");
+    out.notify = section_lines(current, "notify") != section_lines(fresh, "notify");
     out.modbus = section_lines(current, "modbus.") != section_lines(fresh, "modbus.") ||
                  names_of(current.zones) != names_of(fresh.zones);
     return out;

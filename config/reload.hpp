@@ -15,6 +15,7 @@ struct ReloadChanges {
     std::vector<std::string> removed;  // "zone 'pier top'", "alarm rule 'r1'", ...
     bool modbus = false;               // a modbus.* value or the zones' list changed
     bool http = false;                 // an http.* value changed
+    bool notify = false;               // a notify.* value, channel or route changed
 };
 
 ReloadChanges compare_for_reload(const Config& current, const Config& fresh);

@@ -21,6 +21,7 @@
 #include "daemon/ingest_meteo.hpp"
 #include "daemon/logging.hpp"
 #include "daemon/modbus/modbus_service.hpp"
+#include "daemon/notify/notify_service.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/startup_checks.hpp"
 #include "daemon/system_alarm_watch.hpp"
@@ -133,6 +134,9 @@ class Daemon {
     void note_disk();     // disk_full_ from the last write, shown on Modbus at once
     void start_modbus();  // (again) as config_.modbus says; the old server stops first
     void start_http();    // likewise for config_.http
+    // Likewise for config_.notify; when it is off, the notifier's cursor passes over the
+    // alarm events (turning it on later must not send the history).
+    void start_notify();
     // After a reload: `start` (again), each outcome an event ("Modbus server restarted on
     // ADDRESS:PORT", or why it could not be and what is `without` it meanwhile).
     void restart_server(const std::string& name, const std::string& section,
@@ -187,6 +191,7 @@ class Daemon {
     // Last members: stopped first, before the database they read is closed.
     std::unique_ptr<HttpService> http_;
     std::unique_ptr<ModbusService> modbus_;
+    std::unique_ptr<NotifyService> notify_;
 };
 
 // Modbus first: SCADA sees the daemon (and a full disk) while the database refuses writes;
@@ -194,6 +199,7 @@ class Daemon {
 bool Daemon::start() {
     if (!modbus_) start_modbus();
     start_http();
+    start_notify();
     systemd_.ready();
     while (!shutdown_.stop_requested()) {
         try {
@@ -263,6 +269,27 @@ void Daemon::start_http() {
                                           carry_out_operator_action);
 }
 
+void Daemon::start_notify() {
+    notify_.reset();
+    if (!config_.notify.enabled) {
+        try {
+            pass_over_alarm_events(db_);
+        } catch (const StorageError& e) {
+            spdlog::warn("notifications are off; their cursor stays behind: {}", e.what());
+        }
+        return;
+    }
+    for (const auto& problem : notify_file_problems(config_.notify))
+        events_.record(db_, "warning", "notify_config", problem + "; its sends fail until it can");
+    DashboardSite site;
+    site.station = config_.station.name;
+    for (const auto& z : config_.zones) site.zones.push_back(z.name);
+    site.started = started_;
+    site.disk_free_share = disk_free_share_;
+    notify_ =
+        std::make_unique<NotifyService>(config_.notify, config_.paths.database, std::move(site));
+}
+
 void Daemon::restart_server(const std::string& name, const std::string& section,
                             const std::function<void()>& start, bool enabled,
                             const std::string& address, int port, const std::string& without) {
@@ -327,6 +354,22 @@ void Daemon::reload() {
             restart_server(
                 "HTTP", "http", [this] { start_http(); }, config_.http.enabled,
                 config_.http.address, config_.http.port, "no dashboard");
+        }
+        if (changes.notify) {
+            try {
+                start_notify();
+                events_.record(db_, "info", "config_reload",
+                               config_.notify.enabled
+                                   ? "notifications restarted: " +
+                                         std::to_string(config_.notify.channels.size()) +
+                                         " channel(s), " +
+                                         std::to_string(config_.notify.routes.size()) + " route(s)"
+                                   : std::string("notifications stopped (notify.enabled = false)"));
+            } catch (const Error& e) {
+                events_.record(db_, "error", "config_reload",
+                               std::string("notifications could not be restarted: ") + e.what() +
+                                   "; none are sent until the next reload");
+            }
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
@@ -458,6 +501,7 @@ void Daemon::process_backlog() {
             note_disk();
             if (modbus_) modbus_->epoch_committed();
             if (http_) http_->epoch_committed(epoch.id);
+            if (notify_) notify_->wake();  // the epoch's alarm events
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;
@@ -529,6 +573,16 @@ void Daemon::report_status() {
     if (now < next_status_) return;
     next_status_ = now + seconds(config_.daemon.status_interval);
     observe({});  // system.stale and system.disk_nearly_full
+    if (notify_) {
+        notify_->set_disk_free_share(disk_free_share_);
+        notify_->wake();
+    } else {
+        try {
+            pass_over_alarm_events(db_);
+        } catch (const StorageError&) {
+            // the next status tick tries again
+        }
+    }
     std::string text = since_start();
     if (now < retry_at_) text += "; waiting to retry after a disk/database error";
     systemd_.status(text);

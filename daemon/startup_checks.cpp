@@ -137,4 +137,20 @@ void create_missing_folders(const std::vector<MissingFolder>& missing) {
     }
 }
 
+std::vector<std::string> notify_file_problems(const NotifyConfig& notify) {
+    std::vector<std::string> out;
+    for (const NotifyChannel& c : notify.channels) {
+        const std::pair<const char*, const std::filesystem::path*> files[] = {
+            {"password_file", &c.password_file},
+            {"token_file", &c.token_file},
+            {"ca_file", &c.ca_file}};
+        for (const auto& [key, path] : files) {
+            if (path->empty() || ::access(path->c_str(), R_OK) == 0) continue;
+            out.push_back("notify channel '" + c.name + "': " + key + " " + path->string() + ": " +
+                          std::strerror(errno));
+        }
+    }
+    return out;
+}
+
 }  // namespace tlsmon

@@ -20,6 +20,11 @@ struct MissingFolder {
 // returns the folders `run` will have to create.
 std::vector<MissingFolder> check_startup(const Config& config);
 
+// The notification channels' files (password, token, CA) that cannot be read now, one line
+// each ("notify channel 'office': password_file /etc/tlsmon/smtp: No such file or
+// directory"). Not fatal: each send reads them again, and says so in its failure.
+std::vector<std::string> notify_file_problems(const NotifyConfig& notify);
+
 // Creates `missing` (throws Error when that fails), logging a warning for each: a missing
 // ingest folder is often a mistyped path, so it must not appear silently.
 void create_missing_folders(const std::vector<MissingFolder>& missing);

@@ -1,21 +1,23 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages tlsmon builds and runs with; with --tests also those the
 # test suite drives (a headless browser and its WebDriver, a JSON Schema validator for the
-# API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests). Idempotent: when every package
+# API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP server and
+# an MQTT broker with its clients for the notification tests). Idempotent: when every package
 # is already installed it changes nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ccache git
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev sqlite3 libsqlitecpp-dev libssl-dev
-  libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev
+  libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev libcurl4-openssl-dev libmosquitto-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-dev clang-format
   mbpoll gnuplot-nox libjs-dygraphs
 )
 if [ "${1:-}" = --tests ]; then
-  packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl)
+  packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl
+             python3-aiosmtpd mosquitto mosquitto-clients)
 fi
 
 missing=()

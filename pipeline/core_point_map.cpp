@@ -26,11 +26,12 @@ M3c2Reference stored_reference(const EpochDatabase& db) {
 
 CorePointMap read_core_point_map(const EpochDatabase& db, EpochId id) {
     const auto epoch = db.epochs().find(id);
-    if (!epoch) throw Error("no epoch " + std::to_string(id) + " in " + db.path().string());
+    if (!epoch)
+        throw NoCorePointMap("no epoch " + std::to_string(id) + " in " + db.path().string());
     const auto distance = db.series().core_point_array(id, "m3c2_distance_m");
     if (!distance) {
-        throw Error("epoch " + std::to_string(id) + " (" + std::string(to_string(epoch->status)) +
-                    ") has no M3C2 core points");
+        throw NoCorePointMap("epoch " + std::to_string(id) + " (" +
+                             std::string(to_string(epoch->status)) + ") has no M3C2 core points");
     }
     const auto array = [&](const char* quantity) {
         auto a = db.series().core_point_array(id, quantity);

@@ -12,8 +12,15 @@ struct CorePointMap {
     std::vector<float> distance, lod95, n1, n2;  // one per core point; distance NaN: none
 };
 
-// Error naming the epoch and what is missing: no such epoch, no M3C2 result, arrays of
-// another length, no reference product, one measured with other parameters.
+// There is no map to read: no such epoch, or no M3C2 result in it.
+class NoCorePointMap : public Error {
+  public:
+    using Error::Error;
+};
+
+// NoCorePointMap when there is none; Error naming the epoch and what is wrong when the
+// stored map cannot be put together: arrays of another length, no or an unreadable
+// reference product, one measured with other parameters.
 CorePointMap read_core_point_map(const EpochDatabase& db, EpochId epoch);
 
 }  // namespace tlsmon

@@ -6,7 +6,8 @@
 //
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
-// alarms(), events(), meteo(), registrations(), keypoint_models()) and live as long as it does.
+// alarms(), events(), meteo(), registrations(), keypoint_models(),
+// notifications()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -26,6 +27,7 @@
 #include "storage/ids.hpp"
 #include "storage/keypoint_models.hpp"
 #include "storage/meteo_store.hpp"
+#include "storage/notification_store.hpp"
 #include "storage/reference_cache_store.hpp"
 #include "storage/registration_store.hpp"
 #include "storage/results_writer.hpp"
@@ -73,6 +75,8 @@ class EpochDatabase {
     RegistrationStore& registrations() { return registrations_; }
     const RegistrationStore& registrations() const { return registrations_; }
     const KeypointModelStore& keypoint_models() const { return keypoint_models_; }
+    NotificationStore& notifications() { return notifications_; }
+    const NotificationStore& notifications() const { return notifications_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -89,6 +93,7 @@ class EpochDatabase {
     MeteoStore meteo_;
     RegistrationStore registrations_;
     KeypointModelStore keypoint_models_;
+    NotificationStore notifications_;
 };
 
 }  // namespace tlsmon

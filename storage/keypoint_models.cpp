@@ -162,8 +162,8 @@ std::vector<StoredKeypointModel> KeypointModelStore::in_range(
                                         "WHERE e.acquired BETWEEN ? AND ?"
                                         " AND (? IS NULL OR m.quantity = ?)"
                                         " ORDER BY e.acquired, e.id, m.quantity");
-        s.bind(1, range.from.value_or(std::numeric_limits<std::int64_t>::min()));
-        s.bind(2, range.to.value_or(std::numeric_limits<std::int64_t>::max()));
+        s.bind(1, range.lower());
+        s.bind(2, range.upper());
         bind_optional(s, 3, quantity);
         bind_optional(s, 4, quantity);
         return read_models(*c_, s);

@@ -113,8 +113,8 @@ std::vector<EpochMeteo> MeteoStore::used_in_range(const TimeRange& range) const 
                             " m.relative_humidity_pct FROM epochs e JOIN meteo_sidecars m ON"
                             " m.epoch_id = e.id AND m.outcome = 'used'"
                             " WHERE e.acquired BETWEEN ? AND ? ORDER BY e.acquired, e.id");
-        s.bind(1, range.from.value_or(std::numeric_limits<std::int64_t>::min()));
-        s.bind(2, range.to.value_or(std::numeric_limits<std::int64_t>::max()));
+        s.bind(1, range.lower());
+        s.bind(2, range.upper());
         std::vector<EpochMeteo> out;
         while (s.executeStep()) {
             out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),

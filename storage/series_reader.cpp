@@ -13,13 +13,6 @@ namespace tlsmon {
 
 namespace {
 
-std::int64_t range_from(const TimeRange& r) {
-    return r.from.value_or(std::numeric_limits<std::int64_t>::min());
-}
-std::int64_t range_to(const TimeRange& r) {
-    return r.to.value_or(std::numeric_limits<std::int64_t>::max());
-}
-
 std::optional<Epoch> first_epoch(Connection& c, const std::string& where_order) {
     SQLite::Statement s(
         c.db, std::string("SELECT ") + kEpochColumns + " FROM epochs " + where_order + " LIMIT 1");
@@ -82,8 +75,8 @@ std::vector<Epoch> SeriesReader::epochs_in_range(const TimeRange& range,
                                         " FROM epochs WHERE acquired BETWEEN ? AND ?" +
                                         (status ? " AND status = ?" : "") +
                                         " ORDER BY acquired, id");
-        s.bind(1, range_from(range));
-        s.bind(2, range_to(range));
+        s.bind(1, range.lower());
+        s.bind(2, range.upper());
         if (status) s.bind(3, std::string(to_string(*status)));
         std::vector<Epoch> out;
         while (s.executeStep()) out.push_back(read_epoch(s));
@@ -116,8 +109,8 @@ void SeriesReader::for_each_point(const std::string& zone, const std::string& qu
                             " ORDER BY r.acquired, r.epoch_id");
         s.bind(1, zone);
         s.bind(2, quantity);
-        s.bind(3, range_from(range));
-        s.bind(4, range_to(range));
+        s.bind(3, range.lower());
+        s.bind(4, range.upper());
         SeriesPoint p;
         while (s.executeStep()) {
             p.epoch = s.getColumn(0).getInt64();
@@ -190,8 +183,8 @@ std::vector<EventRow> SeriesReader::events(const TimeRange& range,
             " FROM alarm_events a JOIN alarm_rules r ON r.id = a.rule_id"
             " WHERE a.time BETWEEN ?1 AND ?2 AND (?3 IS NULL OR a.kind = ?3)"
             " ORDER BY 1, 2 DESC, 8");
-        s.bind(1, range_from(range));
-        s.bind(2, range_to(range));
+        s.bind(1, range.lower());
+        s.bind(2, range.upper());
         bind_optional(s, 3, kind);
         std::vector<EventRow> out;
         while (s.executeStep()) {

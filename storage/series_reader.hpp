@@ -3,6 +3,7 @@
 // time series by acquisition time, events, and the per-epoch results.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -19,6 +20,10 @@ namespace tlsmon {
 struct TimeRange {
     std::optional<UtcSeconds> from;  // inclusive
     std::optional<UtcSeconds> to;    // inclusive
+
+    // The bounds for `BETWEEN ? AND ?`: an open end is the earliest / latest time there is.
+    UtcSeconds lower() const { return from.value_or(std::numeric_limits<UtcSeconds>::min()); }
+    UtcSeconds upper() const { return to.value_or(std::numeric_limits<UtcSeconds>::max()); }
 };
 
 struct SeriesPoint {

@@ -415,8 +415,16 @@ Json keypoint_vector_json(const EpochDatabase& db, const Epoch& epoch, const std
 
 }  // namespace
 
-Json core_point_map_json(const EpochDatabase& db, EpochId id) {
-    const CorePointMap map = read_core_point_map(db, id);
+Json core_point_map_json(const EpochDatabase& db, EpochId id, bool& absent) {
+    absent = false;
+    const CorePointMap map = [&] {
+        try {
+            return read_core_point_map(db, id);
+        } catch (const NoCorePointMap&) {
+            absent = true;
+            throw;
+        }
+    }();
     const Epoch epoch = *db.epochs().find(id);  // read_core_point_map found it
     const auto& ref = map.reference.reference;
     Json zones = Json::array();

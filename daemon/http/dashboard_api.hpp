@@ -70,7 +70,10 @@ Json epochs_json(const EpochDatabase& db, const TimeRange& range);
 std::optional<Json> epoch_json(const EpochDatabase& db, EpochId id);
 
 // `/api/v1/epochs/N/corepoints`: the epoch's M3C2 map per zone in the zone's wall frame
-// (u along the wall, horizontal; v up), one entry per core point with a distance.
-Json core_point_map_json(const EpochDatabase& db, EpochId id);
+// (u along the wall, horizontal; v up), one entry per core point with a distance. An Error
+// when there is none (`absent`: no such epoch, no M3C2 result in it; the text in the
+// Error) or when the stored map cannot be put together (`absent` false: the server's
+// fault).
+Json core_point_map_json(const EpochDatabase& db, EpochId id, bool& absent);
 
 }  // namespace tlsmon

@@ -348,13 +348,14 @@ void HttpService::State::routes() {
     api(R"(/api/v1/epochs/(\d{1,18})/corepoints)",
         [this](const httplib::Request& req, httplib::Response& res) {
             const EpochId id = std::stoll(req.matches[1].str());
+            bool absent = false;
             try {
                 send_json(res, with_database([&](const EpochDatabase& db) {
-                              return core_point_map_json(db, id);
+                              return core_point_map_json(db, id, absent);
                           }));
-            } catch (const StorageError&) {
-                throw;
-            } catch (const Error& e) {  // no such epoch, or no M3C2 result in it
+            } catch (const Error& e) {
+                // A stored map that cannot be put together is the server's fault: 500.
+                if (!absent) throw;
                 send_error(res, 404, e.what());
             }
         });
@@ -612,12 +613,13 @@ HttpService::HttpService(const HttpConfig& config, const std::filesystem::path& 
                                    {"Content-Security-Policy",
                                     "default-src 'self'; style-src 'self' 'unsafe-inline'; "
                                     "img-src 'self' data:; frame-ancestors 'none'"}});
-    // Read-only: anything but GET and HEAD is refused before routing.
+    // Read-only: anything but GET and HEAD is refused before routing, and so is anything
+    // but POST on the paths that take one.
     s.server->set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
-        if (req.method == "GET" || req.method == "HEAD" ||
-            (req.method == "POST" && takes_post(req.path)))
+        const bool post = takes_post(req.path);
+        if (post ? req.method == "POST" : (req.method == "GET" || req.method == "HEAD"))
             return httplib::Server::HandlerResponse::Unhandled;
-        res.set_header("Allow", takes_post(req.path) ? "POST" : "GET, HEAD");
+        res.set_header("Allow", post ? "POST" : "GET, HEAD");
         send_error(res, 405, "method " + req.method + " not allowed");
         return httplib::Server::HandlerResponse::Handled;
     });

@@ -171,6 +171,17 @@ TEST(AlarmMachine, ShelveMustEndInTheFuture) {
     EXPECT_THROW(on_shelve({}, 100, kCli, 100), Error);
 }
 
+TEST(AlarmMachine, ShelveIsTemporary) {
+    const UtcSeconds now = 1'800'000'000;
+    EXPECT_EQ(on_shelve({}, now + kMaxShelveSeconds, kCli, now).state.state, S::shelved);
+    try {
+        on_shelve({}, now + kMaxShelveSeconds + 1, kCli, now);
+        ADD_FAILURE() << "a shelve past 30 days was taken";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("take the alarm out of service"), std::string::npos);
+    }
+}
+
 TEST(AlarmMachine, OutOfServiceSuppressesUntilReturned) {
     auto step = on_remove_from_service(in(S::unack, L::alarm, L::alarm), kCli, 10);
     EXPECT_EQ(step.state.state, S::out_of_service);

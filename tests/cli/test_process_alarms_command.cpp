@@ -85,11 +85,19 @@ TEST(AlarmsCommand, UnackSurvivesRestartsAndTheCliAcknowledgesShelvesAndUnshelve
     EXPECT_EQ(state_of(site, "system.stale").state, "ack");
     EXPECT_EQ(test::shell(tlsmon("alarms ack '*'" + db)).output, "ack: 0 rules changed\n");
 
-    ASSERT_EQ(test::shell(tlsmon("alarms shelve 'P3 settlement' --until 2099-01-01" + db)).status,
-              0);
+    // A shelve is temporary: at most 30 days ahead (docs/alarms.md).
+    const auto far = test::shell(tlsmon("alarms shelve 'P3 settlement' --until 2099-01-01" + db));
+    EXPECT_EQ(far.status, 1);
+    EXPECT_NE(far.output.find("a shelve lasts at most 30 days"), std::string::npos) << far.output;
+    EXPECT_EQ(state_of(site).state, "ack") << "a refused shelve changes nothing";
+    const UtcSeconds in_a_week = now_utc() + 7 * 86400;
+    ASSERT_EQ(
+        test::shell(tlsmon("alarms shelve 'P3 settlement' --until " + format_utc(in_a_week) + db))
+            .status,
+        0);
     const auto shelved = state_of(site);
     EXPECT_EQ(shelved.state, "shelved");
-    EXPECT_EQ(shelved.shelved_until, parse_utc("2099-01-01"));
+    EXPECT_EQ(shelved.shelved_until, in_a_week);
     ASSERT_EQ(test::shell(tlsmon("alarms unshelve 'P3 settlement'" + db)).status, 0);
     EXPECT_EQ(state_of(site).state, "unack");  // the condition still stands: annunciated afresh
 

@@ -47,5 +47,38 @@ TEST(DashboardApi, TheSeriesCarriesTheKeypointModelAtTheZonesHeight) {
                     .is_null());
 }
 
+// The epoch view's map: absent (404) for an epoch without one, the server's fault (500, not
+// "absent") for one whose stored arrays do not fit together.
+TEST(DashboardApi, ACorePointMapThatCannotBePutTogetherIsNotCalledAbsent) {
+    test::TempDir dir;
+    auto db = EpochDatabase::open(dir / "e.sqlite", EpochDatabase::Mode::read_write);
+    const UtcSeconds reference = 1'800'000'000;
+    const auto series = test::commit_keypoint_band_series(db, reference);
+    bool absent = false;
+    EXPECT_THROW(core_point_map_json(db, 999, absent), Error);
+    EXPECT_TRUE(absent) << "no such epoch";
+    EXPECT_THROW(core_point_map_json(db, series.last, absent), Error);
+    EXPECT_TRUE(absent) << "an epoch without M3C2";
+
+    const EpochId id =
+        db.epochs().insert({test::fake_sha256(99), reference + 99 * 900, "/i/c.ptx", 10, {}}).id;
+    ASSERT_TRUE(db.epochs().claim(id));
+    EpochResults r;
+    r.core_point_arrays = {{"m3c2_distance_m", {0.001f, 0.002f, 0.003f}},
+                           {"m3c2_lod95_m", {0.001f, 0.001f}},  // one short
+                           {"m3c2_n1", {10, 10, 10}},
+                           {"m3c2_n2", {10, 10, 10}}};
+    db.results().commit(id, r);
+    try {
+        core_point_map_json(db, id, absent);
+        ADD_FAILURE() << "an inconsistent map was put together";
+    } catch (const Error& e) {
+        EXPECT_FALSE(absent);
+        EXPECT_NE(std::string(e.what()).find("'m3c2_lod95_m' is missing or of another length"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon

@@ -279,6 +279,9 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     }
     EXPECT_EQ(curl(http_port, "/api/v1/site", "-X POST -d x=1").status, 405);
     EXPECT_EQ(curl(http_port, "/api/v1/site", "-X DELETE").status, 405);
+    const Answer get_on_post = curl(http_port, "/api/v1/alarms/ack", "-i");
+    EXPECT_EQ(get_on_post.status, 405) << "a GET on an action is the wrong method, not a lost page";
+    EXPECT_NE(get_on_post.body.find("Allow: POST"), std::string::npos) << get_on_post.body;
     const Answer bad = curl(http_port, "/api/v1/series?zone=a&quantity=b&from=yesterday");
     EXPECT_EQ(bad.status, 400);
     EXPECT_NE(bad.body.find("'from'"), std::string::npos) << bad.body;

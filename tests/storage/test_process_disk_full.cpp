@@ -1,4 +1,4 @@
-// A full disk surfacing as StorageError::disk_full, on a real 1 MiB tmpfs (needs root), and
+// A full disk surfacing as StorageError::disk_full, on a real 2 MiB tmpfs (needs root), and
 // the interrupted epoch retried once there is room again.
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <gtest/gtest.h>
@@ -25,8 +25,9 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
     // it fails rather than skips, so a run that did not test disk-full never looks green.
     ASSERT_EQ(::geteuid(), 0u) << "mounting a tmpfs needs root (CI runs as root)";
     test::TempDir dir;
-    // A real full file system: a 1 MiB tmpfs mounted for the test.
-    test::SmallTmpfs fs(dir / "mnt", "1m");
+    // A real full file system: a 2 MiB tmpfs mounted for the test (room for the schema, a
+    // first commit and its WAL, and the retry once the filler is gone).
+    test::SmallTmpfs fs(dir / "mnt", "2m");
     ASSERT_TRUE(fs.mounted()) << "mount tmpfs: " << fs.error();
     const auto path = dir / "mnt" / "e.sqlite";
     const auto filler = dir / "mnt" / "filler";
@@ -66,7 +67,7 @@ TEST(DiskFull, SurfacesAsDiskFullAndTheEpochCanBeRetried) {
                 stuck = id;
             }
         }
-        ASSERT_TRUE(full) << "the 1 MiB file system never filled";
+        ASSERT_TRUE(full) << "the 2 MiB file system never filled";
         EXPECT_GT(done, 0);
         EXPECT_EQ(db.epochs().find(stuck)->status, EpochStatus::processing);
         EXPECT_FALSE(db.series().core_point_array(stuck, "m3c2_distance_m"));

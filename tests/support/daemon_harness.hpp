@@ -148,4 +148,35 @@ class DaemonProcess {
     int status_ = 0;
 };
 
+// A server or client the test needs beside the daemon (a broker, a receiver): `command` run
+// by /bin/sh in a process group of its own, its output to `log`; the group is ended with the
+// object.
+class ChildProcess {
+  public:
+    ChildProcess(const std::string& command, const fs::path& log) {
+        pid_ = ::fork();
+        if (pid_ == 0) {
+            ::setpgid(0, 0);
+            const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+            ::dup2(fd, 1);
+            ::dup2(fd, 2);
+            ::execl("/bin/sh", "sh", "-c", command.c_str(), nullptr);
+            ::_exit(127);
+        }
+        ::setpgid(pid_, pid_);
+    }
+    ~ChildProcess() {
+        ::kill(-pid_, SIGTERM);
+        if (!wait_until([this] { return ::waitpid(pid_, nullptr, WNOHANG) == pid_; }, 5)) {
+            ::kill(-pid_, SIGKILL);
+            ::waitpid(pid_, nullptr, 0);
+        }
+    }
+    ChildProcess(const ChildProcess&) = delete;
+    ChildProcess& operator=(const ChildProcess&) = delete;
+
+  private:
+    pid_t pid_ = -1;
+};
+
 }  // namespace tlsmon::test
