@@ -192,6 +192,26 @@ struct M3c2Options {
 // 0, or 1 with the error on stderr.
 int run_m3c2(const M3c2Options& options);
 
+// `tlsmon pbm3c2 REFERENCE COMPARED ... --out RESULT.csv`: patch-based M3C2 between two scan
+// files (docs/pbm3c2.md): the site's [pbm3c2], zones, segmentation and registration with
+// --config, else a fresh site's parameters on the whole of REFERENCE in the files' frame.
+struct PbM3c2Options {
+    std::string reference;
+    std::string compared;
+    std::string out;
+    std::string config;
+    // Each one given replaces the parameter (algorithms/patches/parameters.hpp; the
+    // segmentation's: [registration] stable_voxel, stable_seed).
+    std::optional<double> search_depth;
+    std::optional<int> min_points;
+    std::optional<double> max_roughness;
+    std::optional<double> voxel;
+    std::optional<double> seed;
+    std::optional<int> threads;
+};
+// 0, or 1 with the error on stderr.
+int run_pbm3c2(const PbM3c2Options& options);
+
 // `tlsmon report --database DB [--truth DIR] --out DIR`: a run's report (Markdown, CSV, PNG
 // plots), scored against the simulator's truth when given. 0, or 1 with the error on stderr.
 struct ReportOptions {

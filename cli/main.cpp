@@ -10,6 +10,7 @@
 #include "config/keys.hpp"
 #include "pipeline/keypoint_config.hpp"
 #include "pipeline/m3c2_config.hpp"
+#include "pipeline/pbm3c2_config.hpp"
 
 namespace tlsmon {
 namespace {
@@ -70,6 +71,7 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
     M3c2Options m3c2;
+    PbM3c2Options pbm3c2;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -404,6 +406,42 @@ void add_m3c2(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_m3c2(o); });
 }
 
+void add_pbm3c2(CLI::App& app, CommandLine& c) {
+    auto& o = c.pbm3c2;
+    auto* cmd = app.add_subcommand(
+        "pbm3c2",
+        "Patch-based M3C2 from REFERENCE to COMPARED: the distance between the two planes of "
+        "each patch of REFERENCE (its supervoxels) with its LoD95; one CSV row per patch "
+        "(docs/pbm3c2.md). Parameters: a fresh site's defaults on the whole of REFERENCE, or the "
+        "site's with --config (its zones, segmentation and registration too: the numbers the "
+        "daemon stores); each option replaces one. Lengths in metres");
+    const PbM3c2Config defaults;
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (the patches)")->required();
+    cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [pbm3c2] parameters, [[zone]] patches, "
+                    "segmentation and registration of COMPARED onto REFERENCE");
+    cmd->add_option("--search-depth", o.search_depth,
+                    "A point belongs to a patch within this of its plane" +
+                        fallback("pbm3c2.search_depth", toml_number(defaults.search_depth)));
+    cmd->add_option("--min-points", o.min_points,
+                    "Fewer points on a patch in either scan: no distance (NaN)" +
+                        fallback("pbm3c2.min_points", std::to_string(defaults.min_points)));
+    cmd->add_option("--max-roughness", o.max_roughness,
+                    "A reference patch farther than this (RMS) from its plane: no distance" +
+                        fallback("pbm3c2.max_roughness", toml_number(defaults.max_roughness)));
+    cmd->add_option(
+        "--voxel", o.voxel,
+        "The segmentation's voxel" +
+            fallback("registration.stable_voxel", toml_number(defaults.segmentation.voxel)));
+    cmd->add_option("--seed", o.seed,
+                    "The supervoxels' size" + fallback("registration.stable_seed",
+                                                       toml_number(defaults.segmentation.seed)));
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)");
+    cmd->add_option("--out", o.out, "Result CSV file")->required();
+    cmd->callback([&] { c.code = run_pbm3c2(o); });
+}
+
 void add_keypoints(CLI::App& app, CommandLine& c) {
     auto& o = c.keypoints;
     auto* cmd = app.add_subcommand(
@@ -630,6 +668,7 @@ int main(int argc, char** argv) {
     tlsmon::add_query(app, c);
     tlsmon::add_events(app, c);
     tlsmon::add_m3c2(app, c);
+    tlsmon::add_pbm3c2(app, c);
     tlsmon::add_keypoints(app, c);
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);

@@ -13,6 +13,7 @@
 #include "config/keys.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/pbm3c2_stage.hpp"
 
 namespace tlsmon {
 
@@ -87,6 +88,7 @@ bool is_ipv4(const std::string& text) {
 std::set<std::string> stage_quantities(const Config* runs = nullptr) {
     std::set<std::string> q;
     if (!runs || runs->m3c2.enabled) q.insert(kM3c2Quantities.begin(), kM3c2Quantities.end());
+    if (!runs || runs->pbm3c2.enabled) q.insert(kPbM3c2Quantities.begin(), kPbM3c2Quantities.end());
     if (!runs || runs->keypoints.enabled) {
         q.insert(kKeypointQuantities.begin(), kKeypointQuantities.end());
     }
@@ -531,6 +533,13 @@ RegistrationConfig with_zones(const Config& config) {
     return r;
 }
 
+PbM3c2Config pbm3c2_with_zone_shapes(const Config& config) {
+    PbM3c2Config p = config.pbm3c2;
+    p.segmentation = config.stable_areas;
+    p.zones = with_zone_shapes(config).zones;
+    return p;
+}
+
 KeypointConfig keypoints_with_zone_shapes(const Config& config) {
     KeypointConfig k = config.keypoints;
     k.noise = config.station;
@@ -566,6 +575,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .registration = with_zones(config),
                           .meteo = config.meteo,
                           .m3c2 = with_zone_shapes(config),
+                          .pbm3c2 = pbm3c2_with_zone_shapes(config),
                           .keypoints = keypoints_with_zone_shapes(config),
                           .zones = with_zone_shapes(config).zones,
                           .stages = {},

@@ -120,6 +120,7 @@ struct Config {
     CoverageConfig coverage;          // the pipeline's stages, in their order
     RegistrationConfig registration;  // targets: the [[target]] tables
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
+    PbM3c2Config pbm3c2;              // likewise, and its segmentation from stable_areas
     KeypointConfig keypoints;         // likewise
     IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
     PlaneConfig planes;  // [registration] plane_* keys

@@ -59,6 +59,8 @@ std::string site_configuration(const sim::Site& site) {
         "normal = [-1, 0, 0]\n",
         toml_number(p.x0 - 0.5), toml_number(p.y0 + 0.5), toml_number(p.x0 + 0.5),
         toml_number(p.y1), toml_number(p.height));
+    // Patch-based M3C2 beside M3C2 on the same zones (docs/pbm3c2.md).
+    out += "\n[pbm3c2]\nenabled = true\n";
     // Stable ground for the ICP (registration.icp): the foundation and the ground around the
     // pier's foot, the abutments; never the pier.
     for (const auto& b : sim::stable_ground(site)) {

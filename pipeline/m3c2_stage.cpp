@@ -46,6 +46,21 @@ unsigned threads_of(const M3c2Config& c) {
 
 }  // namespace
 
+std::string zone_parameters(const std::vector<ZoneShape>& zones) {
+    std::string s;
+    for (const auto& z : zones) {
+        s += fmt::format(";zone={}:{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", z.name,
+                         z.box.min().x(), z.box.min().y(), z.box.min().z(), z.box.max().x(),
+                         z.box.max().y(), z.box.max().z());
+        for (const auto& v : z.polygon) s += fmt::format(":{:.17g},{:.17g}", v.x(), v.y());
+        if (z.normal.allFinite()) {
+            s += fmt::format(":normal={:.17g},{:.17g},{:.17g}", z.normal.x(), z.normal.y(),
+                             z.normal.z());
+        }
+    }
+    return s;
+}
+
 std::string m3c2_reference_parameters(const M3c2Config& c) {
     std::string s = fmt::format("core_spacing={:.17g};radii=", c.core_spacing);
     for (double r : c.normal_radii) s += fmt::format("{:.17g},", r);
@@ -58,17 +73,7 @@ std::string m3c2_reference_parameters(const M3c2Config& c) {
         s += fmt::format("{:.17g},{:.17g},{:.17g}", c.orientation.x(), c.orientation.y(),
                          c.orientation.z());
     }
-    for (const auto& z : c.zones) {
-        s += fmt::format(";zone={}:{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", z.name,
-                         z.box.min().x(), z.box.min().y(), z.box.min().z(), z.box.max().x(),
-                         z.box.max().y(), z.box.max().z());
-        for (const auto& v : z.polygon) s += fmt::format(":{:.17g},{:.17g}", v.x(), v.y());
-        if (z.normal.allFinite()) {
-            s += fmt::format(":normal={:.17g},{:.17g},{:.17g}", z.normal.x(), z.normal.y(),
-                             z.normal.z());
-        }
-    }
-    return s;
+    return s + zone_parameters(c.zones);
 }
 
 M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector<Scan>& scans) {

@@ -34,6 +34,9 @@ inline constexpr std::array<const char*, 6> kM3c2Quantities = {
     "m3c2_valid_count", "m3c2_median_m",       "m3c2_mean_m",
     "m3c2_spread_m",    "m3c2_lod95_median_m", "m3c2_significant_share"};
 
+// The canonical text of the zones' geometry, as part of a product's cache key.
+std::string zone_parameters(const std::vector<ZoneShape>& zones);
+
 // The canonical text of every parameter the reference product depends on (its cache key).
 std::string m3c2_reference_parameters(const M3c2Config& config);
 

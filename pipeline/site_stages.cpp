@@ -5,6 +5,7 @@
 #include "pipeline/coverage_stage.hpp"
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/registration_stage.hpp"
 
 namespace tlsmon {
@@ -18,6 +19,9 @@ StageList site_stages(const PipelineConfig& config) {
     // Change along the surface normal at the core points.
     if (config.m3c2.enabled && !config.m3c2.zones.empty())
         stages.push_back(std::make_shared<M3c2Stage>(config.m3c2));
+    // Change along the normal of each patch of plane (the reference's supervoxels).
+    if (config.pbm3c2.enabled && !config.pbm3c2.zones.empty())
+        stages.push_back(std::make_shared<PbM3c2Stage>(config.pbm3c2));
     // Movement along the surface from the intensity images.
     const KeypointConfig& kp = config.keypoints;
     if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty()))

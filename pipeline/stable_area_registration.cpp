@@ -41,11 +41,6 @@ constexpr double kMinCosIncidence = 0.005;
 // with an epoch's voxels of both, shows a change of about the noise's σ that is not there.
 const Eigen::Vector3d kGridOrigin(0.382, 0.618, 0.5);
 
-std::string supervoxel_parameters(const StableAreaConfig& c) {
-    return fmt::format("voxel={:.17g};seed={:.17g};spatial=0.4;normal=1;grid=0.382,0.618,0.5",
-                       c.voxel, c.seed);
-}
-
 std::vector<Eigen::Vector3d> all_points(const std::vector<Scan>& scans, double range_scale) {
     std::size_t n = 0;
     for (const auto& s : scans) n += s.xyz.size();
@@ -196,6 +191,19 @@ ReferenceSupervoxels ReferenceSupervoxels::decode(std::string_view payload) {
     out.milliseconds = r.get<double>();
     r.finish();
     return out;
+}
+
+std::string supervoxel_parameters(const StableAreaConfig& c) {
+    return fmt::format("voxel={:.17g};seed={:.17g};spatial=0.4;normal=1;grid=0.382,0.618,0.5",
+                       c.voxel, c.seed);
+}
+
+std::shared_ptr<const ReferenceSupervoxels> cached_supervoxels(const StableAreaConfig& config,
+                                                               ReferenceEpoch& reference,
+                                                               ReferenceCache& cache) {
+    return cache.get<ReferenceSupervoxels>(
+        reference, ProductKey{"registration.supervoxels", supervoxel_parameters(config), 1},
+        [&](const std::vector<Scan>& scans) { return build_supervoxels(config, scans); });
 }
 
 ReferenceSupervoxels build_supervoxels(const StableAreaConfig& config,
@@ -715,12 +723,7 @@ void apply_stable_areas(const RegistrationConfig& config, const EpochInput& inpu
                         ReferenceEpoch& reference, ReferenceCache& cache, const RangeScales& scales,
                         RegistrationResult& result, const StageHistory& history) {
     if (!config.uses_stable_areas() || reference.epoch().id == input.epoch.id) return;
-    const auto supervoxels = cache.get<ReferenceSupervoxels>(
-        reference,
-        ProductKey{"registration.supervoxels", supervoxel_parameters(config.stable_areas), 1},
-        [&](const std::vector<Scan>& scans) {
-            return build_supervoxels(config.stable_areas, scans);
-        });
+    const auto supervoxels = cached_supervoxels(config.stable_areas, reference, cache);
     apply_stable_areas(config, *supervoxels, *input.scans, scales, result, history.last_transform,
                        [&](const reg::RigidTransform& start) {
                            return coarse_pose_from_planes(config, input, reference, cache, scales,

@@ -49,6 +49,15 @@ struct ReferenceSupervoxels {
 ReferenceSupervoxels build_supervoxels(const StableAreaConfig& config,
                                        const std::vector<Scan>& scans);
 
+// The canonical text of the segmentation's parameters (the supervoxels' cache key).
+std::string supervoxel_parameters(const StableAreaConfig& config);
+
+// The reference's supervoxels from the reference cache (built once): the registration on
+// stable areas and patch-based M3C2 share them.
+std::shared_ptr<const ReferenceSupervoxels> cached_supervoxels(const StableAreaConfig& config,
+                                                               ReferenceEpoch& reference,
+                                                               ReferenceCache& cache);
+
 // Whether a supervoxel may enter the datum at all: a patch of plane with enough voxels, not a
 // sheet of rays from `viewpoint` (mixed returns along the beams at an edge).
 bool is_planar(const StableAreaConfig& config, const registration::SupervoxelPatch& patch,

@@ -31,21 +31,23 @@ Eigen::Affine3d stored_transform(const RegistrationRow& r) {
     return Eigen::Affine3d(m);
 }
 
-// What a zone quantity is scored against: the M3C2 distances along the zone's normal
-// (median / mean), the keypoints along the surface against the mean true vector in the wall's
-// directions (docs/keypoints.md: h = up × n, v = n × h, n the face's normal towards the
+// What a zone quantity is scored against: the M3C2 and patch-based M3C2 distances along the
+// zone's normal (median / mean), the keypoints along the surface against the mean true vector in
+// the wall's directions (docs/keypoints.md: h = up × n, v = n × h, n the face's normal towards the
 // scanner).
 std::optional<std::string> truth_kind(const std::string& quantity) {
-    if (quantity == "m3c2_median_m") return "median of the true change along the normal";
-    if (quantity == "m3c2_mean_m") return "mean of the true change along the normal";
+    if (quantity == "m3c2_median_m" || quantity == "pbm3c2_median_m")
+        return "median of the true change along the normal";
+    if (quantity == "m3c2_mean_m" || quantity == "pbm3c2_mean_m")
+        return "mean of the true change along the normal";
     if (quantity == "keypoint_along_surface_h_m") return "mean true change along the wall, h";
     if (quantity == "keypoint_along_surface_v_m") return "mean true change along the wall, v";
     return std::nullopt;
 }
 
 double truth_value(const std::string& quantity, const ZoneTruth& z, const ZoneFace& face) {
-    if (quantity == "m3c2_median_m") return z.normal_median;
-    if (quantity == "m3c2_mean_m") return z.normal_mean;
+    if (quantity == "m3c2_median_m" || quantity == "pbm3c2_median_m") return z.normal_median;
+    if (quantity == "m3c2_mean_m" || quantity == "pbm3c2_mean_m") return z.normal_mean;
     const Eigen::Vector3d h = Eigen::Vector3d::UnitZ().cross(face.normal).normalized();
     if (quantity == "keypoint_along_surface_h_m") return z.mean_vector.dot(h);
     return z.mean_vector.dot(face.normal.cross(h));

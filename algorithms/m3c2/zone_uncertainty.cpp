@@ -12,12 +12,21 @@ namespace tlsmon::m3c2 {
 ZoneUncertainty zone_uncertainty(std::span<const double> sampling_sigma,
                                  std::span<const double> registration_sigma, double cylinder_radius,
                                  double core_spacing) {
+    if (!(cylinder_radius > 0) || !(core_spacing > 0))
+        throw Error("zone uncertainty: the cylinder radius and the core spacing must be > 0");
+    return aggregate_uncertainty(
+        sampling_sigma, registration_sigma,
+        std::max(1.0, std::numbers::pi * cylinder_radius * cylinder_radius /
+                          (core_spacing * core_spacing)));
+}
+
+ZoneUncertainty aggregate_uncertainty(std::span<const double> sampling_sigma,
+                                      std::span<const double> registration_sigma, double overlap) {
     if (sampling_sigma.size() != registration_sigma.size())
         throw Error("zone uncertainty: " + std::to_string(sampling_sigma.size()) +
                     " sampling σ for " + std::to_string(registration_sigma.size()) +
                     " registration σ");
-    if (!(cylinder_radius > 0) || !(core_spacing > 0))
-        throw Error("zone uncertainty: the cylinder radius and the core spacing must be > 0");
+    if (!(overlap >= 1)) throw Error("zone uncertainty: the overlap must be >= 1");
     ZoneUncertainty u;
     u.n = sampling_sigma.size();
     if (u.n == 0) return u;
@@ -31,8 +40,7 @@ ZoneUncertainty zone_uncertainty(std::span<const double> sampling_sigma,
         sum_reg += r;
     }
     const double n = static_cast<double>(u.n);
-    u.overlap = std::max(
-        1.0, std::numbers::pi * cylinder_radius * cylinder_radius / (core_spacing * core_spacing));
+    u.overlap = overlap;
     const double sampling_variance = u.overlap * (sum_s2 / n) / n;
     u.sampling_mean = std::sqrt(sampling_variance);
     u.registration = sum_reg / n;

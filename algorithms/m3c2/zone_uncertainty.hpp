@@ -35,4 +35,9 @@ ZoneUncertainty zone_uncertainty(std::span<const double> sampling_sigma,
                                  std::span<const double> registration_sigma, double cylinder_radius,
                                  double core_spacing);
 
+// The same for aggregates whose members each see `overlap` (k ≥ 1) times the same surface:
+// 1 for patches that do not overlap (patch-based M3C2, docs/pbm3c2.md).
+ZoneUncertainty aggregate_uncertainty(std::span<const double> sampling_sigma,
+                                      std::span<const double> registration_sigma, double overlap);
+
 }  // namespace tlsmon::m3c2

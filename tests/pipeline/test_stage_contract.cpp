@@ -115,6 +115,15 @@ TEST(StageContract, TheSiteListFollowsTheConfiguration) {
     config.keypoints.zones = config.m3c2.zones;
     EXPECT_EQ(names(site_stages(config)),
               (std::vector<std::string>{"coverage", "registration", "m3c2", "keypoints"}));
+    // Patch-based M3C2 when enabled, with zones (off by default).
+    config.pbm3c2.enabled = true;
+    EXPECT_EQ(names(site_stages(config)),
+              (std::vector<std::string>{"coverage", "registration", "m3c2", "keypoints"}));
+    config.pbm3c2.zones = config.m3c2.zones;
+    EXPECT_EQ(
+        names(site_stages(config)),
+        (std::vector<std::string>{"coverage", "registration", "m3c2", "pbm3c2", "keypoints"}));
+    config.pbm3c2.enabled = false;
     config.m3c2.enabled = false;
     config.keypoints.zones.clear();
     config.keypoints.segments = KeypointSegments::bands;  // bands need no zone
@@ -137,6 +146,8 @@ TEST(StageContract, TheDocsTableListsTheSiteStagesInOrder) {
     }
     PipelineConfig config;  // every stage configured
     config.m3c2.zones = {box_zone("z", {0, 0, 0}, {1, 1, 1})};
+    config.pbm3c2.enabled = true;
+    config.pbm3c2.zones = config.m3c2.zones;
     config.keypoints.zones = config.m3c2.zones;
     std::vector<std::string> listed;
     for (const auto& s : site_stages(config)) listed.emplace_back(s->name());

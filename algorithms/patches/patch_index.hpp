@@ -1,0 +1,67 @@
+#pragma once
+// Which reference patch a point belongs to (docs/pbm3c2.md, "Correspondence"): the one whose
+// footprint it projects into and whose plane it lies within the search depth of, the nearest
+// along the normal when two qualify. A footprint is the set of square cells of the patch
+// plane that its reference samples (the supervoxel's voxel centroids) project into — the
+// patch's own outline, not a cylinder or a box around it.
+//
+// One index serves the reference's points and every epoch's alike: both are accumulated
+// into the same patches by the same rule, so the two planes are fitted over one footprint.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "algorithms/patches/patch_plane.hpp"
+
+namespace tlsmon::patches {
+
+struct Footprint {
+    double cell = 0.1;                          // m
+    int u0 = 0, v0 = 0, width = 0, height = 0;  // cell range
+    std::vector<std::uint8_t> occupied;         // width × height, row by v
+
+    bool covers(double u, double v) const {
+        const int i = int(std::floor(u / cell)) - u0, j = int(std::floor(v / cell)) - v0;
+        return i >= 0 && j >= 0 && i < width && j < height &&
+               occupied[std::size_t(j) * std::size_t(width) + std::size_t(i)];
+    }
+    std::size_t cells() const;
+};
+
+// The footprint of `samples` (points near the plane of `frame`) on cells of side `cell`.
+Footprint footprint_of(const PatchFrame& frame, std::span<const Eigen::Vector3d> samples,
+                       double cell);
+
+struct Patch {
+    PatchFrame frame;
+    Footprint footprint;
+};
+
+class PatchIndex {
+  public:
+    PatchIndex(std::vector<Patch> patches, double search_depth);
+    const std::vector<Patch>& patches() const { return patches_; }
+    // The patch `p` belongs to, and its (u, v, w) there; −1 for none.
+    std::int32_t find(const Eigen::Vector3d& p, Eigen::Vector3d& uvw) const;
+
+  private:
+    std::int64_t key(const Eigen::Vector3d& p) const;
+    std::vector<Patch> patches_;
+    double depth_;
+    double grid_ = 1.0;  // m, the side of the lookup cells
+    Eigen::AlignedBox3d bounds_;
+    std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells_;
+};
+
+// Every point's (u, v, w) on the patch it belongs to, after the affine map q = A·p + t into the
+// reference frame (A = I, t = 0 for the reference itself): per patch, in the points' order
+// (blocks of fixed size, joined in order: the same whatever the number of threads).
+std::vector<std::vector<Eigen::Vector3f>> patch_points(
+    const PatchIndex& index, std::span<const Eigen::Vector3d> points,
+    const Eigen::Matrix3d& A = Eigen::Matrix3d::Identity(),
+    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0);
+
+}  // namespace tlsmon::patches

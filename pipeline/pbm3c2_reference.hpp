@@ -1,0 +1,30 @@
+#pragma once
+// What the patch-based M3C2 stage (pipeline/pbm3c2_stage.hpp) keeps of the reference epoch in
+// the reference cache: its patches (the supervoxels inside the zones, each with its frame and
+// footprint), the reference points' plane moments on each, and the zones' patches.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/patches/patch_index.hpp"
+
+namespace tlsmon {
+
+struct PbM3c2Reference {
+    static constexpr int kFormatVersion = 1;
+    static constexpr const char* kStage = "pbm3c2";
+
+    std::vector<patches::Patch> patches;
+    std::vector<std::uint32_t> supervoxel;       // per patch: its supervoxel of the reference
+    std::vector<patches::PlaneMoments> moments;  // per patch: its plane's reference points'
+    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();     // the reference scan's position
+    std::vector<std::string> zone_names;                   // in the configuration's order
+    std::vector<std::vector<std::uint32_t>> zone_patches;  // per zone, its patches (ascending)
+
+    std::string encode() const;
+    static PbM3c2Reference decode(std::string_view payload);  // throws Error when malformed
+};
+
+}  // namespace tlsmon

@@ -1,0 +1,202 @@
+#include "pipeline/pbm3c2_stage.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/m3c2/zone_uncertainty.hpp"
+#include "algorithms/registration/registration_error.hpp"
+#include "core/error.hpp"
+#include "core/parallel_for.hpp"
+#include "core/statistics.hpp"
+#include "pipeline/m3c2_stage.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+unsigned threads_of(const PbM3c2Config& c) {
+    return static_cast<unsigned>(std::max(0, c.threads));
+}
+
+// The moments of the points that belong to each patch's plane (inlier_moments), of every
+// scan's points mapped by q = A·p + t.
+std::vector<patches::PlaneMoments> moments_of(const patches::PatchIndex& index,
+                                              const std::vector<Scan>& scans,
+                                              const Eigen::Matrix3d& A, const Eigen::Vector3d& t,
+                                              unsigned threads) {
+    std::vector<std::vector<Eigen::Vector3f>> on_patch(index.patches().size());
+    for (const auto& scan : scans) {
+        auto more = patches::patch_points(index, scan.xyz, A, t, threads);
+        for (std::size_t k = 0; k < on_patch.size(); ++k)
+            on_patch[k].insert(on_patch[k].end(), more[k].begin(), more[k].end());
+    }
+    std::vector<patches::PlaneMoments> out(on_patch.size());
+    parallel_for(
+        out.size(), [&](std::size_t k) { out[k] = patches::inlier_moments(on_patch[k]); }, threads);
+    return out;
+}
+
+}  // namespace
+
+std::string pbm3c2_reference_parameters(const PbM3c2Config& c) {
+    return supervoxel_parameters(c.segmentation) +
+           fmt::format(";search_depth={:.17g}", c.search_depth) + zone_parameters(c.zones);
+}
+
+PbM3c2Reference prepare_pbm3c2_reference(const PbM3c2Config& config,
+                                         const ReferenceSupervoxels& supervoxels,
+                                         const std::vector<Scan>& scans) {
+    if (scans.empty()) throw Error("pbm3c2: the reference epoch holds no scan");
+    PbM3c2Reference out;
+    out.scanner = scans.front().scanner_position();
+    std::vector<std::vector<Eigen::Vector3d>> members(supervoxels.patches.size());
+    for (std::size_t i = 0; i < supervoxels.samples.size(); ++i) {
+        if (const auto l = supervoxels.label[i]; l >= 0)
+            members[std::size_t(l)].push_back(supervoxels.samples[i]);
+    }
+    for (const auto& z : config.zones) out.zone_names.push_back(z.name);
+    out.zone_patches.resize(config.zones.size());
+    for (std::size_t k = 0; k < supervoxels.patches.size(); ++k) {
+        const auto& sv = supervoxels.patches[k];
+        // A patch of plane as the registration on stable areas takes it: enough voxels, not a
+        // line, not a sheet of rays from the scanner (mixed returns strung along the beams at
+        // an edge: "planar" along the line of sight, their distance says nothing).
+        if (!is_planar(config.segmentation, sv, supervoxels.viewpoint)) continue;
+        bool inside = false;
+        const auto index = static_cast<std::uint32_t>(out.patches.size());
+        for (std::size_t z = 0; z < config.zones.size(); ++z) {
+            if (!config.zones[z].contains(sv.centroid)) continue;
+            out.zone_patches[z].push_back(index);
+            inside = true;
+        }
+        if (!inside) continue;
+        patches::Patch p;
+        p.frame = patches::PatchFrame::about(sv.centroid, sv.normal);
+        p.footprint = patches::footprint_of(p.frame, members[k], config.segmentation.voxel);
+        out.patches.push_back(std::move(p));
+        out.supervoxel.push_back(static_cast<std::uint32_t>(k));
+    }
+    const patches::PatchIndex index(out.patches, config.search_depth);
+    out.moments = moments_of(index, scans, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(),
+                             threads_of(config));
+    return out;
+}
+
+PbM3c2Epoch measure_pbm3c2(const PbM3c2Config& config, const PbM3c2Reference& reference,
+                           const std::vector<Scan>& scans, const StageOutputs& outputs) {
+    patches::validate(config);
+    const std::size_t n = reference.patches.size();
+    const EpochToReference map = epoch_to_reference(outputs, reference.scanner);
+    const patches::PatchIndex index(reference.patches, config.search_depth);
+    PbM3c2Epoch out;
+    out.moments =
+        moments_of(index, scans, map.factor * map.rotation, map.translation, threads_of(config));
+    out.registration_sigma.assign(n, 0.0);
+    out.results.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto& frame = reference.patches[k].frame;
+        if (outputs.to_reference) {
+            // Σ_p at the patch's place in the epoch's frame (where T is applied).
+            const auto& T = *outputs.to_reference;
+            const Eigen::Vector3d x =
+                T.rotation.transpose() * (frame.origin - T.translation) / T.scale;
+            out.registration_sigma[k] = registration::registration_sigma_along(T, x, frame.normal);
+        }
+        out.results[k] = patches::patch_distance(patches::fit_plane(reference.moments[k]),
+                                                 patches::fit_plane(out.moments[k]),
+                                                 out.registration_sigma[k], config);
+    }
+    return out;
+}
+
+std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
+                                            const PbM3c2Epoch& epoch) {
+    std::vector<ZoneResult> rows;
+    for (std::size_t z = 0; z < reference.zone_names.size(); ++z) {
+        const std::string& zone = reference.zone_names[z];
+        std::vector<double> d, lod, sampling, registration;
+        std::int64_t significant = 0;
+        for (const auto k : reference.zone_patches[z]) {
+            const auto& r = epoch.results[k];
+            if (r.outcome != patches::PatchOutcome::measured) continue;
+            d.push_back(r.distance.distance);
+            lod.push_back(r.distance.lod);
+            sampling.push_back(r.distance.sampling_sigma);
+            registration.push_back(epoch.registration_sigma[k]);
+            significant += r.distance.significant;
+        }
+        const auto valid = static_cast<std::int64_t>(d.size());
+        const auto all = static_cast<std::int64_t>(reference.zone_patches[z].size());
+        rows.push_back({zone, "pbm3c2_valid_count", double(valid), std::nullopt, all, false});
+        if (valid == 0) continue;
+        double mean = 0;
+        for (double v : d) mean += v;
+        mean /= double(valid);
+        const auto [median_d, mad_d] = median_and_mad(d);
+        const m3c2::ZoneUncertainty u = m3c2::aggregate_uncertainty(sampling, registration, 1.0);
+        const double lod_of_median = 1.96 * u.median_sigma, lod_of_mean = 1.96 * u.mean_sigma;
+        rows.push_back({zone, "pbm3c2_median_m", median_d, lod_of_median, valid,
+                        std::abs(median_d) > lod_of_median});
+        rows.push_back(
+            {zone, "pbm3c2_mean_m", mean, lod_of_mean, valid, std::abs(mean) > lod_of_mean});
+        rows.push_back({zone, "pbm3c2_spread_m", kMadToSigma * mad_d, std::nullopt, valid, false});
+        rows.push_back({zone, "pbm3c2_lod95_median_m", median(lod), std::nullopt, valid, false});
+        rows.push_back({zone, "pbm3c2_significant_share", double(significant) / double(valid),
+                        std::nullopt, valid, false});
+    }
+    return rows;
+}
+
+std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference,
+                                                const PbM3c2Epoch& epoch) {
+    const std::size_t n = epoch.results.size();
+    CorePointArray distance{"pbm3c2_distance_m", std::vector<float>(n)};
+    CorePointArray lod{"pbm3c2_lod95_m", std::vector<float>(n)};
+    CorePointArray n1{"pbm3c2_n1", std::vector<float>(n)};
+    CorePointArray n2{"pbm3c2_n2", std::vector<float>(n)};
+    for (std::size_t k = 0; k < n; ++k) {
+        distance.values[k] = static_cast<float>(epoch.results[k].distance.distance);
+        lod.values[k] = static_cast<float>(epoch.results[k].distance.lod);
+        n1.values[k] = static_cast<float>(reference.moments[k].m);
+        n2.values[k] = static_cast<float>(epoch.moments[k].m);
+    }
+    return {std::move(distance), std::move(lod), std::move(n1), std::move(n2)};
+}
+
+std::shared_ptr<const PbM3c2Reference> PbM3c2Stage::reference(ReferenceEpoch& reference,
+                                                              ReferenceCache& cache) const {
+    const auto supervoxels = cached_supervoxels(config_.segmentation, reference, cache);
+    return cache.get<PbM3c2Reference>(
+        reference,
+        ProductKey{PbM3c2Reference::kStage, pbm3c2_reference_parameters(config_),
+                   PbM3c2Reference::kFormatVersion},
+        [&](const std::vector<Scan>& scans) {
+            return prepare_pbm3c2_reference(config_, *supervoxels, scans);
+        });
+}
+
+StageVerdict PbM3c2Stage::run(StageContext& ctx) const {
+    const auto product = reference(ctx.reference, ctx.cache);
+    const PbM3c2Epoch epoch = measure_pbm3c2(config_, *product, *ctx.input.scans, ctx.outputs);
+    auto rows = pbm3c2_zone_results(*product, epoch);
+    auto arrays = pbm3c2_patch_arrays(*product, epoch);
+    std::size_t measured = 0, rough = 0, sparse = 0;
+    for (const auto& r : epoch.results) {
+        measured += r.outcome == patches::PatchOutcome::measured;
+        rough += r.outcome == patches::PatchOutcome::rough;
+        sparse += r.outcome == patches::PatchOutcome::few_epoch_points;
+    }
+    auto& results = ctx.results;
+    results.zone_results.insert(results.zone_results.end(), std::make_move_iterator(rows.begin()),
+                                std::make_move_iterator(rows.end()));
+    results.core_point_arrays.insert(results.core_point_arrays.end(),
+                                     std::make_move_iterator(arrays.begin()),
+                                     std::make_move_iterator(arrays.end()));
+    return StageVerdict{
+        "", fmt::format("{} of {} patches with a distance ({} not planar, {} with too few points)",
+                        measured, epoch.results.size(), rough, sparse)};
+}
+
+}  // namespace tlsmon

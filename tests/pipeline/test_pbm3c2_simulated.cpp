@@ -1,0 +1,183 @@
+// Patch-based M3C2 after registration on simulated series of the `pier` preset, beside M3C2
+// on the same zones and epochs (tests/support/simulated_zones.hpp; each method's defaults,
+// tuned on neither series): the zone medians against the truth, the patches' LoD95 against
+// the core points', and the LoD's coverage of the true change patch by patch, with and without
+// deformation. The faces are rendered at 0.05° (4–5 cm at 45–60 m;
+// tests/pipeline/simulated_windows.hpp), the registration on the preset's targets with the
+// truth's range scales.
+//
+// Truth: the pier's displacement u_i at the patch's origin c (on its reference plane) along
+// the patch normal n, (u_i(c) − u_0(c))·n; a zone's true value is the median over its
+// measured patches (as for M3C2's core points: tests/pipeline/test_m3c2_simulated.cpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "pipeline/m3c2_stage.hpp"
+#include "pipeline/pbm3c2_stage.hpp"
+#include "pipeline/registration_stage.hpp"
+#include "simulator/deformation.hpp"
+#include "simulator/epoch_conditions.hpp"
+#include "simulator/render.hpp"
+#include "tests/pipeline/simulated_windows.hpp"
+#include "tests/support/simulated_targets.hpp"
+#include "tests/support/simulated_zones.hpp"
+
+namespace tlsmon {
+namespace {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Per zone (the configuration's order) over the epochs: the zone medians' errors and the
+// median per-point LoD95, for one method.
+struct ZoneScore {
+    std::vector<double> errors, point_lods;
+    double rms() const {
+        double s = 0;
+        for (double e : errors) s += e * e;
+        return std::sqrt(s / double(errors.size()));
+    }
+};
+
+struct Series {
+    std::vector<std::string> zones;
+    std::vector<ZoneScore> m3c2, pbm3c2;
+    std::size_t patches = 0, within = 0;  // measured patches, and those with |d − t| ≤ LoD95
+    std::size_t south_patches = 0, south_within = 0;
+    double largest_truth = 0;
+};
+
+// Adds one method's epoch: `d`, `lod`, `truth` per place, `members` per zone.
+void add_epoch(std::vector<ZoneScore>& scores, const std::vector<double>& d,
+               const std::vector<double>& lod, const std::vector<double>& truth,
+               const std::vector<std::vector<std::uint32_t>>& members) {
+    scores.resize(members.size());
+    for (std::size_t z = 0; z < members.size(); ++z) {
+        std::vector<double> dz, tz, lz;
+        for (auto k : members[z]) {
+            if (!std::isfinite(d[k])) continue;
+            dz.push_back(d[k]), tz.push_back(truth[k]), lz.push_back(lod[k]);
+        }
+        if (dz.empty()) continue;
+        scores[z].errors.push_back(median(dz) - median(tz));
+        scores[z].point_lods.push_back(median(lz));
+    }
+}
+
+Series run_series(const sim::Site& site, const std::vector<double>& hours) {
+    const RegistrationConfig targets = test::simulated_targets(site);
+    M3c2Config m3c2;
+    m3c2.core_spacing = 1.0;
+    m3c2.max_depth = 0.5;
+    m3c2.zones = test::simulated_pier_zones(site);
+    PbM3c2Config pb;
+    pb.zones = m3c2.zones;
+    const auto e0 = test::render_windows(site, 0, hours[0], 0.05);
+    const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);
+    const M3c2Reference m3c2_ref = prepare_m3c2_reference(m3c2, e0.pier);
+    const PbM3c2Reference pb_ref =
+        prepare_pbm3c2_reference(pb, build_supervoxels(pb.segmentation, e0.pier), e0.pier);
+    // The product survives the reference cache's encoding.
+    const PbM3c2Reference decoded = PbM3c2Reference::decode(pb_ref.encode());
+    EXPECT_EQ(decoded.patches.size(), pb_ref.patches.size());
+    EXPECT_EQ(decoded.zone_patches, pb_ref.zone_patches);
+    EXPECT_EQ(decoded.encode(), pb_ref.encode());
+    Series out;
+    out.zones = pb_ref.zone_names;
+    for (std::size_t i = 1; i < hours.size(); ++i) {
+        const int epoch = static_cast<int>(i);
+        const auto ei = test::render_windows(site, epoch, hours[i], 0.05);
+        const auto o = test::registered_outputs(targets, reference, e0, ei, epoch);
+        if (!o) continue;
+        const auto truth_at = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& n) {
+            const double t = (sim::pier_displacement(site, c, epoch, ei.conditions.bending) -
+                              sim::pier_displacement(site, c, 0, e0.conditions.bending))
+                                 .dot(n);
+            out.largest_truth = std::max(out.largest_truth, std::abs(t));
+            return t;
+        };
+        const M3c2Epoch m = measure_m3c2(m3c2, m3c2_ref, ei.pier, *o);
+        std::vector<double> d, lod, truth;
+        for (std::size_t k = 0; k < m.distances.size(); ++k) {
+            const auto& n = m3c2_ref.reference.normals()[k];
+            d.push_back(m.distances[k].distance);
+            lod.push_back(m.distances[k].lod);
+            truth.push_back(n.allFinite() ? truth_at(m3c2_ref.reference.core_points()[k], n)
+                                          : std::nan(""));
+        }
+        add_epoch(out.m3c2, d, lod, truth, m3c2_ref.zone_cores);
+
+        const PbM3c2Epoch p = measure_pbm3c2(pb, pb_ref, ei.pier, *o);
+        d.clear(), lod.clear(), truth.clear();
+        for (std::size_t k = 0; k < p.results.size(); ++k) {
+            const auto& f = pb_ref.patches[k].frame;
+            d.push_back(p.results[k].distance.distance);
+            lod.push_back(p.results[k].distance.lod);
+            truth.push_back(truth_at(f.origin, f.normal));
+            if (!std::isfinite(d.back())) continue;
+            const bool in = std::abs(d.back() - truth.back()) <= lod.back();
+            ++out.patches, out.within += in;
+        }
+        for (auto k : pb_ref.zone_patches[0]) {
+            if (!std::isfinite(d[k])) continue;
+            ++out.south_patches, out.south_within += std::abs(d[k] - truth[k]) <= lod[k];
+        }
+        add_epoch(out.pbm3c2, d, lod, truth, pb_ref.zone_patches);
+        // The zone rows agree with what was scored: the median's row is the patches' median.
+        for (const auto& row : pbm3c2_zone_results(pb_ref, p)) {
+            if (row.zone != "south" || row.quantity != "pbm3c2_median_m") continue;
+            std::vector<double> v;
+            for (auto k : pb_ref.zone_patches[0])
+                if (std::isfinite(d[k])) v.push_back(d[k]);
+            EXPECT_DOUBLE_EQ(row.value, median(v));
+            EXPECT_EQ(row.n, static_cast<std::int64_t>(v.size()));
+        }
+    }
+    for (std::size_t z = 0; z < out.zones.size(); ++z) {
+        const auto& a = out.m3c2[z];
+        const auto& b = out.pbm3c2[z];
+        std::printf(
+            "%-14s m3c2: median error RMS %.3f mm, point LoD95 %.3f mm | pbm3c2: %.3f mm, %.3f mm"
+            " (%zu epochs)\n",
+            out.zones[z].c_str(), 1e3 * a.rms(), 1e3 * median(a.point_lods),
+            b.errors.empty() ? std::nan("") : 1e3 * b.rms(), 1e3 * median(b.point_lods),
+            b.errors.size());
+    }
+    std::printf("patches within LoD95: %zu of %zu (%.1f %%); south face %zu of %zu (%.1f %%)\n",
+                out.within, out.patches, 100.0 * double(out.within) / double(out.patches),
+                out.south_within, out.south_patches,
+                100.0 * double(out.south_within) / double(out.south_patches));
+    return out;
+}
+
+TEST(PbM3c2Simulated, ZoneMediansMatchTheTruthWithASmallerLodThanM3c2) {
+    const sim::Site site = sim::preset_pier();
+    const Series s = run_series(site, {0.0, 3.0, 6.0, 9.0});
+    EXPECT_GT(s.largest_truth, 0.001);  // the pier bent by millimetres: something to measure
+    for (std::size_t z = 0; z < s.zones.size(); ++z) {
+        if (s.zones[z] == "west") continue;  // grazing: below
+        ASSERT_EQ(s.pbm3c2[z].errors.size(), 3u) << s.zones[z];
+        EXPECT_LE(s.pbm3c2[z].rms(), 0.0003) << s.zones[z];
+        EXPECT_LT(median(s.pbm3c2[z].point_lods), 0.92 * median(s.m3c2[z].point_lods))
+            << s.zones[z];
+    }
+}
+
+TEST(PbM3c2Simulated, WithoutDeformationTheLodHoldsAt95PercentOfPatches) {
+    sim::Site site = sim::preset_pier();
+    site.deformation.enabled = false;
+    site.noise.seed = 5;
+    const Series s = run_series(site, {0.0, 4.0, 8.0});
+    ASSERT_GT(s.south_patches, 300u);
+    EXPECT_GE(double(s.south_within) / double(s.south_patches), 0.95);
+}
+
+}  // namespace
+}  // namespace tlsmon
