@@ -205,6 +205,7 @@ struct PbM3c2Options {
     std::optional<double> search_depth;
     std::optional<int> min_points;
     std::optional<double> max_roughness;
+    std::optional<double> max_incidence_deg;
     std::optional<double> voxel;
     std::optional<double> seed;
     std::optional<int> threads;

@@ -19,6 +19,10 @@ std::vector<SectionKey<PbM3c2Config>> pbm3c2_keys() {
         K::number(&PbM3c2Config::max_roughness, "max_roughness", 0.0001, 1, "m",
                   "A patch whose reference points lie farther than this (RMS) from their plane "
                   "is not one plane (an edge, a corner, clutter): no distance there."),
+        K::number(&PbM3c2Config::max_incidence_deg, "max_incidence_deg", 1, 90, "°",
+                  "A patch seen at a larger angle between its normal and the line of sight from "
+                  "the reference's scanner is left out: on a grazing face a plane's place along "
+                  "its normal rests on the beam's angle and footprint more than on its range."),
         K::integer(&PbM3c2Config::threads, "threads", 0, 256, "",
                    "Threads of the stage; 0: every core."),
     };

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "algorithms/m3c2/zone_uncertainty.hpp"
 #include "algorithms/registration/registration_error.hpp"
@@ -15,6 +17,10 @@
 namespace tlsmon {
 
 namespace {
+
+// A patch belongs to a zone's face when its normal lies within 30° of the zone's design
+// normal (a face's own patches lie within a few degrees of it).
+const double kFaceCos = std::cos(30.0 * std::numbers::pi / 180.0);
 
 unsigned threads_of(const PbM3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
@@ -42,7 +48,9 @@ std::vector<patches::PlaneMoments> moments_of(const patches::PatchIndex& index,
 
 std::string pbm3c2_reference_parameters(const PbM3c2Config& c) {
     return supervoxel_parameters(c.segmentation) +
-           fmt::format(";search_depth={:.17g}", c.search_depth) + zone_parameters(c.zones);
+           fmt::format(";search_depth={:.17g};max_incidence_deg={:.17g}", c.search_depth,
+                       c.max_incidence_deg) +
+           zone_parameters(c.zones);
 }
 
 PbM3c2Reference prepare_pbm3c2_reference(const PbM3c2Config& config,
@@ -58,16 +66,28 @@ PbM3c2Reference prepare_pbm3c2_reference(const PbM3c2Config& config,
     }
     for (const auto& z : config.zones) out.zone_names.push_back(z.name);
     out.zone_patches.resize(config.zones.size());
+    // A patch of plane as the registration on stable areas takes it — enough voxels, not a
+    // line, not a sheet of rays from the scanner (mixed returns strung along the beams at an
+    // edge: "planar" along the line of sight, their distance says nothing) — but without its
+    // roughness limit: the patch's own, on the reference's points (max_roughness), decides.
+    StableAreaConfig shape = config.segmentation;
+    shape.max_roughness = std::numeric_limits<double>::infinity();
+    const double max_incidence_cos = std::cos(config.max_incidence_deg * std::numbers::pi / 180);
     for (std::size_t k = 0; k < supervoxels.patches.size(); ++k) {
         const auto& sv = supervoxels.patches[k];
-        // A patch of plane as the registration on stable areas takes it: enough voxels, not a
-        // line, not a sheet of rays from the scanner (mixed returns strung along the beams at
-        // an edge: "planar" along the line of sight, their distance says nothing).
-        if (!is_planar(config.segmentation, sv, supervoxels.viewpoint)) continue;
+        if (!is_planar(shape, sv, supervoxels.viewpoint)) continue;
+        const Eigen::Vector3d sight = (supervoxels.viewpoint - sv.centroid).normalized();
+        if (std::abs(sv.normal.dot(sight)) < max_incidence_cos) continue;
         bool inside = false;
         const auto index = static_cast<std::uint32_t>(out.patches.size());
         for (std::size_t z = 0; z < config.zones.size(); ++z) {
-            if (!config.zones[z].contains(sv.centroid)) continue;
+            const ZoneShape& zone = config.zones[z];
+            if (!zone.contains(sv.centroid)) continue;
+            // A zone with a design normal names a face: a soffit or the ground inside its box
+            // is not that face.
+            if (zone.normal.allFinite() &&
+                std::abs(zone.normal.normalized().dot(sv.normal)) < kFaceCos)
+                continue;
             out.zone_patches[z].push_back(index);
             inside = true;
         }

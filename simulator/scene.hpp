@@ -256,6 +256,11 @@ struct Terrain {
     std::vector<double> profile_y{0.0};  // m, increasing
     std::vector<double> profile_z{0.0};  // m, ground height at profile_y
     double albedo = 0.20;                // mean ground reflectance (soil, grass, gravel)
+    // Roughness: clods, stones and tufts as a height along the ground's normal, value noise
+    // within ±roughness (m) on a lattice of roughness_wavelength (m); it moves with the ground
+    // (a creeping slab carries it). 0: the smooth profile.
+    double roughness = 0.0;
+    double roughness_wavelength = 0.25;
     std::vector<Block> blocks;
     Creep creep;
 };

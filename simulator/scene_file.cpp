@@ -230,6 +230,8 @@ void read_terrain(TomlFields& f, sim::Terrain& t) {
         if (std::abs(v) > 1e4) f.fail("profile_z", "value outside ±10000");
     }
     f.get("albedo", t.albedo, 0.0, 1.0);
+    f.get("roughness", t.roughness, 0.0, 1.0);
+    f.get("roughness_wavelength", t.roughness_wavelength, 0.01, 100.0);
     f.get("creep_from_epoch", t.creep.from_epoch, -1, 1000000);
     get_vector2(f, "creep_centre", t.creep.centre);
     f.get("creep_radius", t.creep.radius, 0.01, 1000.0);

@@ -43,6 +43,29 @@ double support_height(const Terrain& t, double x, double y, int* block) {
 
 namespace {
 
+// The ground's roughness at (x, y): within ±roughness along its normal (Terrain).
+double roughness_height(const Terrain& t, double x, double y) {
+    const std::uint64_t seed = hash_combine(0x726f756768ULL, 1);
+    const double w = t.roughness_wavelength;
+    return t.roughness * (2.0 * value_noise(seed, x / w, y / w) - 1.0);
+}
+
+// The ray's hit on the rough ground near its hit t0 on the smooth piece of normal n: the
+// surface raised by r(x, y) along n is met where (t − t0)·(n·d) = r(o + t·d), solved by
+// fixed-point steps (they contract while the roughness's slope along the ray stays below
+// the incidence's cosine; beyond, a shadowed grazing return is approximated).
+double roughened(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0,
+                 const Eigen::Vector3d& n) {
+    const double nd = n.dot(d);
+    if (nd > -1e-3) return t0;
+    double tt = t0;
+    for (int k = 0; k < 12; ++k) {
+        const Eigen::Vector3d p = o + tt * d;
+        tt = t0 + roughness_height(t, p.x(), p.y()) / nd;
+    }
+    return tt;
+}
+
 double intersect_profile(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                          double t_max, Eigen::Vector3d& normal) {
     const auto& ys = t.profile_y;
@@ -72,6 +95,7 @@ double intersect_profile(const Terrain& t, const Eigen::Vector3d& o, const Eigen
         best = tt;
         normal = Eigen::Vector3d(0.0, -m, 1.0).normalized();
     }
+    if (best < kNoHit && t.roughness > 0.0) best = roughened(t, o, d, best, normal);
     return best;
 }
 
@@ -161,6 +185,9 @@ void validate_terrain(const Terrain& t) {
         if (!(t.profile_y[k] > t.profile_y[k - 1])) {
             throw Error("terrain: profile_y must increase");
         }
+    }
+    if (!(t.roughness >= 0.0) || !(t.roughness_wavelength > 0.0)) {
+        throw Error("terrain: roughness must be >= 0 m and its wavelength > 0 m");
     }
     if (t.creep.from_epoch >= 0 && !(t.creep.radius > 0)) {
         throw Error("terrain: the creeping patch needs a radius > 0");

@@ -12,6 +12,9 @@ void validate(const Parameters& p) {
         throw Error("pbm3c2.search_depth must be > 0 m, not " + std::to_string(p.search_depth));
     if (p.min_points < 4)
         throw Error("pbm3c2.min_points must be at least 4, not " + std::to_string(p.min_points));
+    if (!(p.max_incidence_deg > 0 && p.max_incidence_deg <= 90))
+        throw Error("pbm3c2.max_incidence_deg must be in (0, 90], not " +
+                    std::to_string(p.max_incidence_deg));
     if (!(p.max_roughness > 0))
         throw Error("pbm3c2.max_roughness must be > 0 m, not " + std::to_string(p.max_roughness));
 }

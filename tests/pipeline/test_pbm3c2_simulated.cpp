@@ -162,7 +162,12 @@ TEST(PbM3c2Simulated, ZoneMediansMatchTheTruthWithASmallerLodThanM3c2) {
     const Series s = run_series(site, {0.0, 3.0, 6.0, 9.0});
     EXPECT_GT(s.largest_truth, 0.001);  // the pier bent by millimetres: something to measure
     for (std::size_t z = 0; z < s.zones.size(); ++z) {
-        if (s.zones[z] == "west") continue;  // grazing: below
+        if (s.zones[z] == "west") {
+            // Seen at 87°: no patch of the face is kept (docs/pbm3c2.md, max_incidence_deg),
+            // and the deck's soffit inside its box is not the face.
+            EXPECT_TRUE(s.pbm3c2[z].errors.empty());
+            continue;
+        }
         ASSERT_EQ(s.pbm3c2[z].errors.size(), 3u) << s.zones[z];
         EXPECT_LE(s.pbm3c2[z].rms(), 0.0003) << s.zones[z];
         EXPECT_LT(median(s.pbm3c2[z].point_lods), 0.92 * median(s.m3c2[z].point_lods))

@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 
+#include "core/error.hpp"
 #include "simulator/occluders.hpp"
 #include "simulator/ray_cast.hpp"
 #include "simulator/render.hpp"
@@ -63,6 +64,48 @@ TEST(SimulatorScene, TerrainProfileIsPiecewiseLinearAndRaysMeetIt) {
     const double r2 = intersect_terrain(t, o, Eigen::Vector3d::UnitY(), 1000.0, n);
     EXPECT_NEAR(r2, 230.0 + 21.5 * 2.0, 1e-9);
     EXPECT_NEAR(n.y(), -45.0 / 90.0 / std::hypot(1.0, 0.5), 1e-12);
+}
+
+// Rough ground: each hit lies on the smooth slope raised along its normal by a height within
+// ±roughness, that height the same wherever a ray meets that spot; the heights vary over a
+// wavelength; without roughness the smooth slope.
+TEST(SimulatorScene, RoughGroundIsTheSlopeRaisedAlongItsNormal) {
+    Terrain t;
+    t.profile_y = {60.0, 130.0};
+    t.profile_z = {0.0, 25.0};
+    const Eigen::Vector3d o(0.0, 0.0, 1.5);
+    std::vector<double> heights;
+    for (int k = 0; k < 200; ++k) {
+        const Eigen::Vector3d d =
+            (Eigen::Vector3d(0.013 * k - 1.3, 80.0, 7.0 + 0.011 * k) - o).normalized();
+        Eigen::Vector3d n;
+        t.roughness = 0.0;
+        const double smooth = intersect_terrain(t, o, d, 1000.0, n);
+        t.roughness = 0.01;
+        Eigen::Vector3d n_rough;
+        const double rough = intersect_terrain(t, o, d, 1000.0, n_rough);
+        const Eigen::Vector3d p = o + rough * d;
+        // Its height above the smooth slope, along the slope's normal.
+        const double h = n.dot(p - (o + smooth * d));
+        EXPECT_LE(std::abs(h), 0.01 + 1e-9) << k;
+        heights.push_back(h);
+        // The same spot met from elsewhere has the same height.
+        const Eigen::Vector3d o2(3.0, 10.0, 4.0);
+        Eigen::Vector3d n2;
+        const double again = intersect_terrain(t, o2, (p - o2).normalized(), 1000.0, n2);
+        EXPECT_NEAR(((o2 + again * (p - o2).normalized()) - p).norm(), 0.0, 2e-4) << k;
+    }
+    double lo = 1, hi = -1;
+    for (double h : heights) lo = std::min(lo, h), hi = std::max(hi, h);
+    EXPECT_GT(hi - lo, 0.008);  // the ground is rough, not a shifted plane
+    t.roughness = -0.01;
+    EXPECT_THROW(validate_terrain(t), Error);
+    // A scene file sets it.
+    const Site s = parse_scene_file(
+        "preset = \"small\"\n[terrain]\nroughness = 0.02\nroughness_wavelength = 0.5\n",
+        "scene.toml", std::nullopt);
+    EXPECT_EQ(s.terrain.roughness, 0.02);
+    EXPECT_EQ(s.terrain.roughness_wavelength, 0.5);
 }
 
 // hochmosel: the valley floor is seen beyond 150 m (down to the dark patches of the
