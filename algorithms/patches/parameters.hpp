@@ -13,9 +13,9 @@ struct Parameters {
     // m: a reference patch whose points lie farther than this (RMS) from their plane is not
     // a plane (an edge, a corner, clutter): no distance there.
     double max_roughness = 0.01;
-    // °: a patch seen at a larger angle between its normal and the line of sight is left out.
-    // There the points' places along the normal rest on the beam's angle and footprint more
-    // than on its range, and a grazing face's patches were off by millimetres (docs/pbm3c2.md).
+    // °: a patch seen at a larger angle between its normal and the line of sight is left out:
+    // there the points' places along the normal rest on the beam's angle and footprint more
+    // than on its range (as the keypoints' max_incidence_deg; docs/pbm3c2.md).
     double max_incidence_deg = 80.0;
     int threads = 0;  // 0: every core
 };
