@@ -55,7 +55,8 @@ Notifier::Notifier(NotifyConfig config, DashboardSite site,
 
 int Notifier::route(EpochDatabase& db, const NotifyClock& now) {
     NotificationStore& store = db.notifications();
-    const auto events = store.alarm_events_after(store.cursor(), kBatch);
+    const std::int64_t cursor = store.cursor();
+    const auto events = store.alarm_events_after(cursor, kBatch);
     std::vector<Notification> rows;
     std::vector<SystemEvent> said;
     std::map<std::pair<std::string, std::string>, UtcSeconds> made;  // this batch's keys
@@ -123,8 +124,7 @@ int Notifier::route(EpochDatabase& db, const NotifyClock& now) {
         }
     }
     if (events.empty() && !summary_day) return 0;
-    store.commit_routing(rows, events.empty() ? store.cursor() : events.back().id, summary_day,
-                         said);
+    store.commit_routing(rows, events.empty() ? cursor : events.back().id, summary_day, said);
     return static_cast<int>(rows.size());
 }
 
