@@ -87,18 +87,15 @@ int main(int argc, char** argv) {
         const std::vector<Scan> scans{sim::render_epoch(site, ci, 2).scan};
         std::printf("epoch %d rendered: %zu points, %.1f s\n", i, scans[0].size(),
                     seconds_since(t0));
-        const RegistrationResult r = register_epoch(
-            targets, reference, scans, {}, {ci.atmosphere.range_scale, c0.atmosphere.range_scale});
-        if (!r.accepted()) {
-            std::printf("epoch %d: registration refused: %s %s\n", i, r.tested.reason.c_str(),
-                        r.gate.c_str());
+        std::string refused;
+        const auto registered =
+            test::simulated_outputs(targets, reference, scans, ci.atmosphere.range_scale,
+                                    c0.atmosphere.range_scale, refused);
+        if (!registered) {
+            std::printf("epoch %d: registration refused: %s\n", i, refused.c_str());
             continue;
         }
-        StageOutputs o;
-        o.to_reference = r.tested.transform;
-        o.range_scale = ci.atmosphere.range_scale;
-        o.scanner = scans[0].scanner_position();
-        o.reference_range_scale = c0.atmosphere.range_scale;
+        const StageOutputs& o = *registered;
         t0 = std::chrono::steady_clock::now();
         const double cpu0 = cpu_seconds();
         const M3c2Epoch m = measure_m3c2(config, ref, scans, o);

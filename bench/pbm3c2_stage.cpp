@@ -125,17 +125,15 @@ int main(int argc, char** argv) {
         const double hours = 3.0 * i;
         const sim::EpochConditions ci = sim::epoch_conditions(site, i, hours);
         const std::vector<Scan> scans{sim::render_epoch(site, ci, 2).scan};
-        const RegistrationResult r = register_epoch(
-            targets, reference, scans, {}, {ci.atmosphere.range_scale, c0.atmosphere.range_scale});
-        if (!r.accepted()) {
-            std::printf("epoch %d: registration refused: %s\n", i, r.tested.reason.c_str());
+        std::string refused;
+        const auto registered =
+            test::simulated_outputs(targets, reference, scans, ci.atmosphere.range_scale,
+                                    c0.atmosphere.range_scale, refused);
+        if (!registered) {
+            std::printf("epoch %d: registration refused: %s\n", i, refused.c_str());
             continue;
         }
-        StageOutputs o;
-        o.to_reference = r.tested.transform;
-        o.range_scale = ci.atmosphere.range_scale;
-        o.scanner = scans[0].scanner_position();
-        o.reference_range_scale = c0.atmosphere.range_scale;
+        const StageOutputs& o = *registered;
         const auto truth_at = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& n) {
             return (sim::pier_displacement(site, c, i, ci.bending) -
                     sim::pier_displacement(site, c, 0, c0.bending))

@@ -67,6 +67,9 @@ int run_m3c2(const M3c2Options&) {
 int run_pbm3c2(const PbM3c2Options&) {
     return hand_over_to_analysis();
 }
+int run_primitives(const PrimitivesOptions&) {
+    return hand_over_to_analysis();
+}
 int run_keypoints(const KeypointsOptions&) {
     return hand_over_to_analysis();
 }

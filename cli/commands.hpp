@@ -213,6 +213,24 @@ struct PbM3c2Options {
 // 0, or 1 with the error on stderr.
 int run_pbm3c2(const PbM3c2Options& options);
 
+// `tlsmon primitives REFERENCE COMPARED --config SITE --out RESULT.csv`: the primitives the
+// site's zones name, fitted in both files, their change tested (docs/primitives.md); without
+// --config one zone --box holding one --kind, in the files' own frame.
+struct PrimitivesOptions {
+    std::string reference;
+    std::string compared;
+    std::string out;
+    std::string config;
+    std::string kind = "cylinder";
+    std::vector<double> box;  // x_min y_min z_min x_max y_max z_max
+    std::optional<double> band;
+    std::optional<double> max_incidence_deg;
+    std::optional<double> alpha;
+    std::optional<int> threads;
+};
+// 0, or 1 with the error on stderr.
+int run_primitives(const PrimitivesOptions& options);
+
 // `tlsmon report --database DB [--truth DIR] --out DIR`: a run's report (Markdown, CSV, PNG
 // plots), scored against the simulator's truth when given. 0, or 1 with the error on stderr.
 struct ReportOptions {

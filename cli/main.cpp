@@ -11,6 +11,7 @@
 #include "pipeline/keypoint_config.hpp"
 #include "pipeline/m3c2_config.hpp"
 #include "pipeline/pbm3c2_config.hpp"
+#include "pipeline/primitive_config.hpp"
 
 namespace tlsmon {
 namespace {
@@ -72,6 +73,7 @@ struct CommandLine {
     EventsOptions events;
     M3c2Options m3c2;
     PbM3c2Options pbm3c2;
+    PrimitivesOptions primitives;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -127,7 +129,7 @@ void add_simulate(CLI::App& app, CommandLine& c) {
     cmd->add_option("--config", o.config, "Scene file (TOML), see etc/simulator-small.toml")
         ->check(CLI::ExistingFile);
     cmd->add_option("--preset", o.preset, "Scene preset")
-        ->check(CLI::IsMember({"small", "pier", "hochmosel"}));
+        ->check(CLI::IsMember({"small", "pier", "round", "hochmosel"}));
     cmd->add_option("--out", o.out, "Output folder (created if needed)")->required();
     cmd->add_option("--epochs", o.epochs, "Number of epochs")
         ->check(CLI::Range(1, 100000))
@@ -442,6 +444,41 @@ void add_pbm3c2(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_pbm3c2(o); });
 }
 
+void add_primitives(CLI::App& app, CommandLine& c) {
+    auto& o = c.primitives;
+    auto* cmd = app.add_subcommand(
+        "primitives",
+        "Geometric primitives (cylinder, plane, sphere) fitted in REFERENCE and COMPARED and the "
+        "change of their parameters tested: a round pier's tilt, top displacement and radius "
+        "(docs/primitives.md). With --config the site's zones naming a primitive, its "
+        "registration and [primitives] parameters (the numbers the daemon stores); else one "
+        "--box holding one --kind in the files' own frame. Lengths in metres");
+    const PrimitivesConfig defaults;
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file")->required();
+    cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [[zone]] tables with `primitive`, [primitives] "
+                    "and the registration of COMPARED onto REFERENCE");
+    cmd->add_option("--kind", o.kind, "The primitive in --box")
+        ->check(CLI::IsMember({"cylinder", "plane", "sphere"}))
+        ->capture_default_str();
+    cmd->add_option("--box", o.box, "Zone without --config: x_min y_min z_min x_max y_max z_max")
+        ->expected(6);
+    cmd->add_option("--band", o.band,
+                    "Points within this of the starting primitive" +
+                        fallback("primitives.band", toml_number(defaults.band)));
+    cmd->add_option(
+        "--max-incidence-deg", o.max_incidence_deg,
+        "Points seen more obliquely are left out" +
+            fallback("primitives.max_incidence_deg", toml_number(defaults.max_incidence_deg)));
+    cmd->add_option("--alpha", o.alpha,
+                    "Test level" + fallback("primitives.alpha", toml_number(defaults.alpha)));
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)");
+    cmd->add_option("--out", o.out, "Result CSV file (zone, quantity, value, lod, n, significant)")
+        ->required();
+    cmd->callback([&] { c.code = run_primitives(o); });
+}
+
 void add_keypoints(CLI::App& app, CommandLine& c) {
     auto& o = c.keypoints;
     auto* cmd = app.add_subcommand(
@@ -669,6 +706,7 @@ int main(int argc, char** argv) {
     tlsmon::add_events(app, c);
     tlsmon::add_m3c2(app, c);
     tlsmon::add_pbm3c2(app, c);
+    tlsmon::add_primitives(app, c);
     tlsmon::add_keypoints(app, c);
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);

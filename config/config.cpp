@@ -14,6 +14,7 @@
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_stage.hpp"
+#include "pipeline/primitive_stage.hpp"
 
 namespace tlsmon {
 
@@ -89,6 +90,8 @@ std::set<std::string> stage_quantities(const Config* runs = nullptr) {
     std::set<std::string> q;
     if (!runs || runs->m3c2.enabled) q.insert(kM3c2Quantities.begin(), kM3c2Quantities.end());
     if (!runs || runs->pbm3c2.enabled) q.insert(kPbM3c2Quantities.begin(), kPbM3c2Quantities.end());
+    if (!runs || runs->primitives.enabled)
+        q.insert(kPrimitiveQuantities.begin(), kPrimitiveQuantities.end());
     if (!runs || runs->keypoints.enabled) {
         q.insert(kKeypointQuantities.begin(), kKeypointQuantities.end());
     }
@@ -216,6 +219,14 @@ ZoneConfig read_zone(TomlFields& t, const std::set<std::string>& taken) {
     if (taken.count(z.name)) t.fail("name", "zone '" + z.name + "' is defined twice");
     read_zone_normal(t, z);
     t.get("no_change", z.no_change);
+    t.get("primitive", z.primitive);
+    if (!z.primitive.empty()) {
+        try {
+            primitives::kind_from_string(z.primitive);
+        } catch (const Error& e) {
+            t.fail("primitive", e.what());
+        }
+    }
     if (t.has("polygon")) {
         if (t.has("min") || t.has("max")) {
             t.fail("polygon", "a [[zone]] is a box (min, max) or a prism (polygon, z), not both");
@@ -540,6 +551,17 @@ PbM3c2Config pbm3c2_with_zone_shapes(const Config& config) {
     return p;
 }
 
+PrimitivesConfig primitives_with_zones(const Config& config) {
+    PrimitivesConfig p = config.primitives;
+    p.noise = config.station;
+    p.zones.clear();
+    for (const auto& z : config.zones) {
+        if (!z.primitive.empty())
+            p.zones.push_back({zone_shape(z), primitives::kind_from_string(z.primitive)});
+    }
+    return p;
+}
+
 KeypointConfig keypoints_with_zone_shapes(const Config& config) {
     KeypointConfig k = config.keypoints;
     k.noise = config.station;
@@ -576,6 +598,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .meteo = config.meteo,
                           .m3c2 = with_zone_shapes(config),
                           .pbm3c2 = pbm3c2_with_zone_shapes(config),
+                          .primitives = primitives_with_zones(config),
                           .keypoints = keypoints_with_zone_shapes(config),
                           .zones = with_zone_shapes(config).zones,
                           .stages = {},

@@ -85,6 +85,8 @@ struct ZoneConfig {
     std::vector<std::array<double, 2>> polygon;  // a prism's outline (x, y); empty: a box
     std::string band_of;  // the [[zone]] a [[zone_bands]] table cut it from; "" otherwise
     std::optional<std::array<double, 3>> normal;  // the face's design normal, unit length
+    std::string
+        primitive;  // "plane", "cylinder" or "sphere" it holds; "" none (docs/primitives.md)
     // A check zone on ground known not to move: its values are scored against zero
     // (`tlsmon calibration`, docs/calibration.md) and its points never enter the datum.
     bool no_change = false;
@@ -121,6 +123,7 @@ struct Config {
     RegistrationConfig registration;  // targets: the [[target]] tables
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
     PbM3c2Config pbm3c2;              // likewise, and its segmentation from stable_areas
+    PrimitivesConfig primitives;      // its zones (those naming a primitive) likewise
     KeypointConfig keypoints;         // likewise
     IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
     PlaneConfig planes;  // [registration] plane_* keys

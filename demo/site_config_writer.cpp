@@ -45,20 +45,32 @@ std::string site_configuration(const sim::Site& site) {
         }
         out += "approximate = " + approximate(t.centre) + "\n";
     }
-    // The pier's south face (seen head-on) and west face (grazing), 0.5 m either side, with
-    // their design normals. The west face's box starts 0.5 m behind the corner, so that the
-    // boxes meet without overlapping (zones with different normals may not).
     const auto& p = site.pier;
-    out += fmt::format(
-        "\n[[zone]]\nname = \"pier_south_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
-        "normal = [0, -1, 0]\n",
-        toml_number(p.x0), toml_number(p.y0 - 0.5), toml_number(p.x1), toml_number(p.y0 + 0.5),
-        toml_number(p.height));
-    out += fmt::format(
-        "\n[[zone]]\nname = \"pier_west_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
-        "normal = [-1, 0, 0]\n",
-        toml_number(p.x0 - 0.5), toml_number(p.y0 + 0.5), toml_number(p.x0 + 0.5),
-        toml_number(p.y1), toml_number(p.height));
+    if (p.round()) {
+        // A round pier: one zone around the column from above its foundation to below the
+        // deck, 0.3 m beyond its surface, holding a cylinder (docs/primitives.md).
+        const double half = 0.5 * p.diameter + 0.3;
+        const Eigen::Vector2d c = p.centre();
+        out += fmt::format(
+            "\n[[zone]]\nname = \"pier_column\"\nmin = [{}, {}, 1]\nmax = [{}, {}, {}]\n"
+            "primitive = \"cylinder\"\n",
+            toml_number(c.x() - half), toml_number(c.y() - half), toml_number(c.x() + half),
+            toml_number(c.y() + half), toml_number(p.height - 0.5));
+    } else {
+        // The pier's south face (seen head-on) and west face (grazing), 0.5 m either side,
+        // with their design normals. The west face's box starts 0.5 m behind the corner, so
+        // that the boxes meet without overlapping (zones with different normals may not).
+        out += fmt::format(
+            "\n[[zone]]\nname = \"pier_south_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
+            "normal = [0, -1, 0]\n",
+            toml_number(p.x0), toml_number(p.y0 - 0.5), toml_number(p.x1), toml_number(p.y0 + 0.5),
+            toml_number(p.height));
+        out += fmt::format(
+            "\n[[zone]]\nname = \"pier_west_face\"\nmin = [{}, {}, 0]\nmax = [{}, {}, {}]\n"
+            "normal = [-1, 0, 0]\n",
+            toml_number(p.x0 - 0.5), toml_number(p.y0 + 0.5), toml_number(p.x0 + 0.5),
+            toml_number(p.y1), toml_number(p.height));
+    }
     // Patch-based M3C2 beside M3C2 on the same zones (docs/pbm3c2.md).
     out += "\n[pbm3c2]\nenabled = true\n";
     // Stable ground for the ICP (registration.icp): the foundation and the ground around the

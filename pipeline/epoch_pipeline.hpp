@@ -17,6 +17,7 @@
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_config.hpp"
+#include "pipeline/primitive_config.hpp"
 #include "pipeline/reference_cache.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
@@ -38,6 +39,7 @@ struct PipelineConfig {
     MeteoConfig meteo;
     M3c2Config m3c2;               // with the zones; none: the stage does not run
     PbM3c2Config pbm3c2;           // with the zones and the segmentation; likewise
+    PrimitivesConfig primitives;   // with the zones naming a primitive; likewise
     KeypointConfig keypoints;      // with the zones (segments = zones; none: it does not run)
     std::vector<ZoneShape> zones;  // the site's zones, in the configuration's order
     // The stages in order; empty: the site's (site_stages, pipeline/site_stages.hpp).

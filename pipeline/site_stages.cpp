@@ -6,6 +6,7 @@
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_stage.hpp"
+#include "pipeline/primitive_stage.hpp"
 #include "pipeline/registration_stage.hpp"
 
 namespace tlsmon {
@@ -22,6 +23,9 @@ StageList site_stages(const PipelineConfig& config) {
     // Change along the normal of each patch of plane (the reference's supervoxels).
     if (config.pbm3c2.enabled && !config.pbm3c2.zones.empty())
         stages.push_back(std::make_shared<PbM3c2Stage>(config.pbm3c2));
+    // The change of the primitives (a round pier's axis, a plane, a sphere) the zones name.
+    if (config.primitives.enabled && !config.primitives.zones.empty())
+        stages.push_back(std::make_shared<PrimitivesStage>(config.primitives));
     // Movement along the surface from the intensity images.
     const KeypointConfig& kp = config.keypoints;
     if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty()))

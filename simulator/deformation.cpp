@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace tlsmon::sim {
 
@@ -15,8 +16,8 @@ ThermalBending thermal_bending(const Site& site, const ThermalState& s) {
     b.mean_change = 0.25 * (c[0] + c[1] + c[2] + c[3]) - d.reference_temperature_c;
     const Pier& p = site.pier;
     const double alpha = d.expansion_coefficient;
-    b.curvature = {alpha * b.delta_lagged.x() / (p.x1 - p.x0),
-                   alpha * b.delta_lagged.y() / (p.y1 - p.y0)};
+    const Eigen::Vector2d depth = p.section_depth();
+    b.curvature = {alpha * b.delta_lagged.x() / depth.x(), alpha * b.delta_lagged.y() / depth.y()};
     if (d.enabled) {
         const double h = p.height;
         b.top = {0.5 * b.curvature.x() * h * h, 0.5 * b.curvature.y() * h * h,
@@ -30,6 +31,7 @@ PierDisplacementField::PierDisplacementField(const Site& site, int epoch,
     : site_(&site), top_(bending.top) {
     const Events& e = site.events;
     stepped_ = e.step_epoch >= 0 && epoch >= e.step_epoch;
+    tilt_ = pier_tilt(site, epoch);
     if (!site.deformation.enabled) top_.setZero();
 }
 
@@ -44,7 +46,17 @@ Eigen::Vector3d PierDisplacementField::operator()(const Eigen::Vector3d& p) cons
     }
     const Events& e = site_->events;
     if (stepped_ && p.z() >= e.step_z_min && p.z() <= e.step_z_max) u += e.step_displacement;
+    if (tilt_.x() != 0.0 || tilt_.y() != 0.0) {
+        const Eigen::Vector2d r = p.head<2>() - site_->pier.centre();
+        u += Eigen::Vector3d(tilt_.x() * p.z(), tilt_.y() * p.z(), -tilt_.dot(r));
+    }
     return u;
+}
+
+Eigen::Vector2d pier_tilt(const Site& site, int epoch) {
+    const Events& e = site.events;
+    if (e.tilt_epoch < 0 || epoch < e.tilt_epoch) return Eigen::Vector2d::Zero();
+    return e.tilt_arcsec * std::numbers::pi / (180.0 * 3600.0);
 }
 
 Eigen::Vector3d pier_displacement(const Site& site, const Eigen::Vector3d& p, int epoch,

@@ -11,7 +11,9 @@
 //   ΔT_y = T_south − T_north, κ_y = α_T ΔT_y / (y1 − y0)
 //   u_h(z) = (κ_x, κ_y) H²/2 · (z/H)^p          p = exponent (2: the exact cantilever)
 //   u_z(z) = α_T (T̄ − T_ref) z                  T̄ the mean of the four sides
-// plus, from the step event's epoch on, a constant step vector for z_min ≤ z ≤ z_max.
+// plus, from the step event's epoch on, a constant step vector for z_min ≤ z ≤ z_max, and
+// from the tilt event's epoch on a rigid rotation ω about the foot's centre f (small angle:
+// u = ω × (p − f), ω = (−θ_y, θ_x, 0), so the axis leans θ_x towards +x, θ_y towards +y).
 // The ground and the targets never move (a knocked target is an event of its own).
 #include <Eigen/Core>
 
@@ -39,8 +41,12 @@ class PierDisplacementField {
   private:
     const Site* site_;
     bool stepped_;
+    Eigen::Vector2d tilt_ = Eigen::Vector2d::Zero();  // rad, (θ_x, θ_y); 0 before the event
     Eigen::Vector3d top_;
 };
+
+// The tilt event's rotation at `epoch`, rad (θ_x, θ_y); zero before it or without one.
+Eigen::Vector2d pier_tilt(const Site& site, int epoch);
 
 // Displacement of the pier's material point `p` (undeformed position, project frame) at
 // `epoch` with the epoch's bending. Zero when deformation is disabled; the caller decides

@@ -1,4 +1,4 @@
-// The three named scenes. All share the layout: the pier's 15 m south wall seen almost
+// The named scenes. All share the layout: the pier's 15 m south wall seen almost
 // head-on from the station, its west wall at a grazing angle, the bridge running north
 // (along y) across a valley that runs east–west. Targets are set out as a surveyor would
 // for the distance: spread in azimuth, height and range, on masts, stands and the stable
@@ -188,6 +188,18 @@ Site preset_pier() {
     return s;
 }
 
+// `round`: `pier` with a round pier instead of the wall, a column of 4 m diameter and 50 m
+// height about the same centre, 47 m from the station (a 20″ lean moves its top 4.8 mm);
+// the scan reaches 50° up to see its top under the deck.
+Site preset_round() {
+    Site s = preset_pier();
+    s.scanner.station = "round";
+    s.pier.diameter = 4.0;
+    s.pier.height = 50.0;
+    s.scanner.elevation_max_deg = 50.0;
+    return s;
+}
+
 Site preset_hochmosel() {
     Site s;
     s.scanner.station = "hochmosel";
@@ -254,14 +266,16 @@ Site preset_hochmosel() {
 }
 
 std::vector<std::string> preset_names() {
-    return {"small", "pier", "hochmosel"};
+    return {"small", "pier", "round", "hochmosel"};
 }
 
 Site preset(const std::string& name) {
     if (name == "small") return preset_small();
     if (name == "pier") return preset_pier();
+    if (name == "round") return preset_round();
     if (name == "hochmosel") return preset_hochmosel();
-    throw Error("unknown simulator preset '" + name + "' (expected small, pier or hochmosel)");
+    throw Error("unknown simulator preset '" + name +
+                "' (expected small, pier, round or hochmosel)");
 }
 
 }  // namespace tlsmon::sim

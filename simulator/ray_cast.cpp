@@ -49,6 +49,30 @@ void consider(Hit& best, const Hit& h) {
     if (h.range < best.range) best = h;
 }
 
+// The round pier's displaced surface {q + u(q) : q on the cylinder}: the cylinder moved by
+// u at the current material point, intersected, the material point updated, until the range
+// settles (u varies by micrometres across a beam's step). One face (0); (u, v) = (r·φ, z).
+Hit cast_round_pier(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    const Pier& pier = scene.site->pier;
+    const double r = 0.5 * pier.diameter;
+    const Eigen::Vector2d c = pier.centre();
+    const Eigen::Vector3d foot(c.x(), c.y(), 0.0), top(c.x(), c.y(), pier.height);
+    Eigen::Vector3d u = Eigen::Vector3d::Zero(), n, q;
+    double t = kNoHit;
+    for (int pass = 0; pass < 20; ++pass) {
+        const double next = intersect_cylinder(foot + u, top + u, r, o, d, n);
+        if (next == kNoHit) return {};
+        q = o + next * d - u;
+        u = scene.displacement(q);
+        const bool converged = std::abs(next - t) < 1e-9;
+        t = next;
+        if (converged) break;
+    }
+    const Eigen::Vector2d uv(r * std::atan2(q.y() - c.y(), q.x() - c.x()), q.z());
+    return {
+        Surface::pier, t, n, concrete_albedo(scene.site->texture, 0, uv.x(), uv.y()), -1, 0, uv};
+}
+
 }  // namespace
 
 const char* surface_name(Surface s) {
@@ -99,6 +123,9 @@ SceneAtEpoch::SceneAtEpoch(const Site& s, const EpochConditions& c)
     if (s.events.step_epoch >= 0 && e >= s.events.step_epoch) {
         pier_reach += s.events.step_displacement.norm();
     }
+    const Pier& pier = s.pier;
+    pier_reach += pier_tilt(s, e).norm() *
+                  std::max(pier.height, std::hypot(pier.x1 - pier.x0, pier.y1 - pier.y0));
 }
 
 Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
@@ -150,7 +177,9 @@ Hit cast_ray(const SceneAtEpoch& scene, const Eigen::Vector3d& o, const Eigen::V
     const Pier& pier = site.pier;
     const Eigen::Vector3d lo(pier.x0, pier.y0, 0.0), hi(pier.x1, pier.y1, pier.height);
     const Eigen::Vector3d reach = Eigen::Vector3d::Constant(scene.pier_reach);
-    if (intersect_box(lo - reach, hi + reach, o, d).axis >= 0) {
+    if (pier.round() && intersect_box(lo - reach, hi + reach, o, d).axis >= 0) {
+        consider(best, cast_round_pier(scene, o, d));
+    } else if (intersect_box(lo - reach, hi + reach, o, d).axis >= 0) {
         for (int face = 0; face < 5; ++face) {
             const int axis = face / 2;
             const bool low = face == 0 || face == 2;

@@ -15,11 +15,21 @@
 
 namespace tlsmon::sim {
 
-// The pier: an axis-aligned box standing on the ground (x0..x1, y0..y1, 0..height).
+// The pier: an axis-aligned box standing on the ground (x0..x1, y0..y1, 0..height), or, with
+// a diameter, a round pier: a vertical cylinder of that diameter about the box's centre (the
+// box still places the foundation and the deck).
 struct Pier {
     double x0 = 2.0, x1 = 17.0;   // 15 m wall, seen almost head-on from the south
     double y0 = 45.0, y1 = 52.0;  // 7 m wall, seen at a grazing angle from the west
     double height = 40.0;
+    double diameter = 0.0;  // m; > 0: a round pier
+
+    bool round() const { return diameter > 0.0; }
+    Eigen::Vector2d centre() const { return {0.5 * (x0 + x1), 0.5 * (y0 + y1)}; }
+    // The section's depth across x and across y (thermal bending's b).
+    Eigen::Vector2d section_depth() const {
+        return round() ? Eigen::Vector2d(diameter, diameter) : Eigen::Vector2d(x1 - x0, y1 - y0);
+    }
 };
 
 // An optional deck on top of the pier (box), not deformed: the superstructure sits on
@@ -131,6 +141,10 @@ struct Events {
     int step_epoch = -1;  // from this epoch on; -1 = none
     double step_z_min = 30.0, step_z_max = 40.0;
     Eigen::Vector3d step_displacement{0.0, -0.010, 0.0};
+    // The whole pier tilting as a rigid body about its foot's centre from this epoch on (a
+    // foundation settling on one side): its axis leans `tilt_arcsec` towards +x and +y.
+    int tilt_epoch = -1;
+    Eigen::Vector2d tilt_arcsec{20.0, 0.0};
     int knocked_target = -1;  // index into targets; -1 = none
     int knocked_epoch = -1;
     Eigen::Vector3d knocked_displacement{0.010, 0.0, 0.0};
@@ -320,9 +334,11 @@ struct Site {
 };
 
 // Presets. `small`: tests (179k cells); `pier`: benchmarks (10.5 M cells, ≈ 6.8 M points);
-// `hochmosel`: a 140 m pier at 100–180 m range as in the Hochmoselbrücke case study.
+// `round`: `pier` with a round pier (4 m column, 50 m high); `hochmosel`: a 140 m pier at
+// 100–180 m range as in the Hochmoselbrücke case study.
 Site preset_small();
 Site preset_pier();
+Site preset_round();
 Site preset_hochmosel();
 // By name; throws tlsmon::Error naming the unknown preset.
 Site preset(const std::string& name);

@@ -135,8 +135,11 @@ void read_pier(TomlFields& f, sim::Pier& p) {
     f.get("y0", p.y0, -kBig, kBig);
     f.get("y1", p.y1, -kBig, kBig);
     f.get("height", p.height, 0.1, 1000.0);
+    f.get("diameter", p.diameter, 0.0, 100.0);
     if (p.x1 <= p.x0) f.fail("x1", "must exceed x0");
     if (p.y1 <= p.y0) f.fail("y1", "must exceed y0");
+    if (p.diameter > std::min(p.x1 - p.x0, p.y1 - p.y0))
+        f.fail("diameter", "must fit in the box x0..x1, y0..y1 (it stands at its centre)");
     f.reject_unknown_keys();
 }
 
@@ -372,6 +375,16 @@ void read_events(TomlFields& f, sim::Site& site) {
     f.get("step_z_min", e.step_z_min, -kBig, kBig);
     f.get("step_z_max", e.step_z_max, -kBig, kBig);
     get_vector3(f, "step_displacement", e.step_displacement, 100.0);
+    f.get("tilt_epoch", e.tilt_epoch, -1, 1000000);
+    if (f.has("tilt_arcsec")) {
+        std::vector<double> a;
+        f.get("tilt_arcsec", a);
+        if (a.size() != 2) f.fail("tilt_arcsec", "expected [towards +x, towards +y]");
+        for (const double x : a) {
+            if (std::abs(x) > 3600.0) f.fail("tilt_arcsec", "value outside ±3600");
+        }
+        e.tilt_arcsec = {a[0], a[1]};
+    }
     std::string knocked;
     f.get("knocked_target", knocked);
     if (!knocked.empty()) {

@@ -34,15 +34,40 @@ std::vector<SamplePoint> sample_points(const Site& site) {
     const Pier& p = site.pier;
     const double h = p.height;
     const double xc = 0.5 * (p.x0 + p.x1), yc = 0.5 * (p.y0 + p.y1);
+    // The faces' middle lines; a round pier's south- and west-most lines.
+    const double south = p.round() ? yc - 0.5 * p.diameter : p.y0;
+    const double west = p.round() ? xc - 0.5 * p.diameter : p.x0;
     std::vector<SamplePoint> out;
     for (const double z : {5.0, 10.0, 20.0, 30.0, h - 1.0}) {
         if (z <= 0.0 || z > h) continue;
         const std::string tag = "_z" + std::to_string(static_cast<int>(std::lround(z)));
-        out.push_back({"south_face" + tag, {xc, p.y0, z}});
-        out.push_back({"west_face" + tag, {p.x0, yc, z}});
+        out.push_back({"south_face" + tag, {xc, south, z}});
+        out.push_back({"west_face" + tag, {west, yc, z}});
     }
     out.push_back({"top_centre", {xc, yc, h}});
     return out;
+}
+
+PierAxis pier_axis(const Site& site, int epoch, const ThermalBending& bending) {
+    // Least squares of u_h(z) = a + b·z over z_k = k·H/N, k = 0..N.
+    const Pier& p = site.pier;
+    constexpr int kSteps = 200;
+    double sz = 0, szz = 0;
+    Eigen::Vector2d su = Eigen::Vector2d::Zero(), szu = Eigen::Vector2d::Zero();
+    for (int k = 0; k <= kSteps; ++k) {
+        const double z = p.height * k / kSteps;
+        const Eigen::Vector3d q(p.centre().x(), p.centre().y(), z);
+        const Eigen::Vector2d u = pier_displacement(site, q, epoch, bending).head<2>();
+        sz += z;
+        szz += z * z;
+        su += u;
+        szu += z * u;
+    }
+    const double n = kSteps + 1;
+    PierAxis axis;
+    axis.tilt = (szu - su * sz / n) / (szz - sz * sz / n);
+    axis.top = pier_displacement(site, {p.centre().x(), p.centre().y(), p.height}, epoch, bending);
+    return axis;
 }
 
 nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_t acquired_utc,
@@ -118,7 +143,13 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
     j["targets"] = targets;
 
     const Pier& p = site.pier;
-    j["pier"] = {{"x0", p.x0}, {"x1", p.x1}, {"y0", p.y0}, {"y1", p.y1}, {"height", p.height}};
+    j["pier"] = {{"x0", p.x0},
+                 {"x1", p.x1},
+                 {"y0", p.y0},
+                 {"y1", p.y1},
+                 {"height", p.height},
+                 {"shape", p.round() ? "round" : "box"},
+                 {"diameter", p.diameter}};
     const Deck& deck = site.deck;
     j["deck"] = {{"enabled", deck.enabled},
                  {"overhang", deck.overhang},
@@ -142,7 +173,7 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
         {"exponent", d.exponent},
         {"reference_temperature_c", d.reference_temperature_c},
         {"height_m", p.height},
-        {"section_depth_m", {p.x1 - p.x0, p.y1 - p.y0}},
+        {"section_depth_m", {p.section_depth().x(), p.section_depth().y()}},
         {"delta_t_driving_c", {bend.delta_driving.x(), bend.delta_driving.y()}},
         {"delta_t_lagged_c", {bend.delta_lagged.x(), bend.delta_lagged.y()}},
         {"mean_temperature_change_c", bend.mean_change},
@@ -201,6 +232,12 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
                           {"z_max", ev.step_z_max},
                           {"displacement", vec(ev.step_displacement)}});
     }
+    if (const Eigen::Vector2d tilt = pier_tilt(site, epoch); tilt.squaredNorm() > 0.0) {
+        events.push_back({{"type", "tilt"},
+                          {"since_epoch", ev.tilt_epoch},
+                          {"tilt_arcsec", {ev.tilt_arcsec.x(), ev.tilt_arcsec.y()}},
+                          {"about", {p.centre().x(), p.centre().y(), 0.0}}});
+    }
     if (ev.knocked_target >= 0 && ev.knocked_epoch >= 0 && epoch >= ev.knocked_epoch) {
         events.push_back({{"type", "knocked_target"},
                           {"since_epoch", ev.knocked_epoch},
@@ -228,6 +265,13 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
                            {"displacement", vec(pier_displacement(site, s.point, epoch, bend))}});
     }
     j["samples"] = samples;
+    const PierAxis axis = pier_axis(site, epoch, bend);
+    j["pier_axis"] = {
+        {"definition",
+         "the straight line fitted (least squares, uniform in z over 0..height) to the "
+         "displaced centre line; tilt = its lean towards +x and +y"},
+        {"tilt_arcsec", {axis.tilt.x() * kArcsecPerRad, axis.tilt.y() * kArcsecPerRad}},
+        {"top_displacement_m", vec(axis.top)}};
 
     json& scan = j["scan"];
     const Scanner& s = site.scanner;

@@ -34,8 +34,8 @@ TEST(ConfigReference, DocsTablesAreTheDeclarations) {
     const auto sections = config_sections();
     EXPECT_EQ(sections,
               (std::vector<std::string>{"station", "paths", "ingest", "meteo", "logging", "daemon",
-                                        "coverage", "registration", "m3c2", "pbm3c2", "keypoints",
-                                        "modbus", "http", "alarm", "notify"}));
+                                        "coverage", "registration", "m3c2", "pbm3c2", "primitives",
+                                        "keypoints", "modbus", "http", "alarm", "notify"}));
     for (const auto& section : sections) {
         EXPECT_EQ(docs_table(docs, section), reference_table(section))
             << "docs/configuration.md, section [" << section

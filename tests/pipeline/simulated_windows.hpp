@@ -15,6 +15,7 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/simulator/narrow_window.hpp"
+#include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon::test {
 
@@ -50,16 +51,22 @@ inline WindowedEpoch render_detail_windows(const sim::Site& site, int epoch, dou
     return e;
 }
 
-inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours,
-                                    double face_step_deg) {
+// A window of the scanner's (azimuth × elevation, degrees).
+struct Window {
+    double azimuth_min, azimuth_max, elevation_min, elevation_max;
+};
+
+// The targets' windows and `pier` (default: the pier's south and west faces) at `step_deg`.
+inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours, double step_deg,
+                                    const Window& pier = {68.0, 89.0, -3.0, 42.0}) {
     WindowedEpoch e = render_target_windows(site, epoch, hours);
     sim::Site faces = site;
     auto& s = faces.scanner;
-    s.azimuth_min_deg = 68.0;
-    s.azimuth_max_deg = 89.0;
-    s.elevation_min_deg = -3.0;
-    s.elevation_max_deg = 42.0;
-    s.azimuth_step_deg = s.elevation_step_deg = face_step_deg;
+    s.azimuth_min_deg = pier.azimuth_min;
+    s.azimuth_max_deg = pier.azimuth_max;
+    s.elevation_min_deg = pier.elevation_min;
+    s.elevation_max_deg = pier.elevation_max;
+    s.azimuth_step_deg = s.elevation_step_deg = step_deg;
     e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
     return e;
 }
@@ -71,16 +78,12 @@ inline std::optional<StageOutputs> registered_outputs(const RegistrationConfig& 
                                                       const ReferenceTargets& reference,
                                                       const WindowedEpoch& e0,
                                                       const WindowedEpoch& ei, int epoch) {
-    const double k_r = e0.conditions.atmosphere.range_scale;
-    const double k_e = ei.conditions.atmosphere.range_scale;
-    const RegistrationResult r = register_epoch(targets, reference, ei.targets, {}, {k_e, k_r});
-    EXPECT_TRUE(r.accepted()) << "epoch " << epoch << ": " << r.tested.reason << " " << r.gate;
-    if (!r.accepted()) return std::nullopt;
-    StageOutputs o;
-    o.to_reference = r.tested.transform;
-    o.range_scale = k_e;
-    o.scanner = ei.pier.front().scanner_position();
-    o.reference_range_scale = k_r;
+    std::string refused;
+    auto o = simulated_outputs(targets, reference, ei.targets, ei.conditions.atmosphere.range_scale,
+                               e0.conditions.atmosphere.range_scale, refused);
+    EXPECT_TRUE(o) << "epoch " << epoch << ": " << refused;
+    // The pier's scanner: the same station as the targets' windows.
+    if (o) o->scanner = ei.pier.front().scanner_position();
     return o;
 }
 

@@ -123,6 +123,12 @@ TEST(StageContract, TheSiteListFollowsTheConfiguration) {
     EXPECT_EQ(
         names(site_stages(config)),
         (std::vector<std::string>{"coverage", "registration", "m3c2", "pbm3c2", "keypoints"}));
+    // The primitives when a zone names one (enabled by default).
+    config.primitives.zones = {{config.m3c2.zones[0], primitives::Kind::cylinder}};
+    EXPECT_EQ(names(site_stages(config)),
+              (std::vector<std::string>{"coverage", "registration", "m3c2", "pbm3c2", "primitives",
+                                        "keypoints"}));
+    config.primitives.zones.clear();
     config.pbm3c2.enabled = false;
     config.m3c2.enabled = false;
     config.keypoints.zones.clear();
@@ -148,6 +154,7 @@ TEST(StageContract, TheDocsTableListsTheSiteStagesInOrder) {
     config.m3c2.zones = {box_zone("z", {0, 0, 0}, {1, 1, 1})};
     config.pbm3c2.enabled = true;
     config.pbm3c2.zones = config.m3c2.zones;
+    config.primitives.zones = {{config.m3c2.zones[0], primitives::Kind::cylinder}};
     config.keypoints.zones = config.m3c2.zones;
     std::vector<std::string> listed;
     for (const auto& s : site_stages(config)) listed.emplace_back(s->name());

@@ -1,5 +1,6 @@
 // Noise-free renders against analytic ranges: the ground plane, the pier's south face,
-// the deformed face, and a target sphere (also after it is knocked).
+// the deformed face, a target sphere (also after it is knocked), and the round pier's
+// cylinder, upright and leaning after the tilt event.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -270,6 +271,53 @@ TEST(SimulatorExact, IntensityFollowsAlbedoRangeAndIncidence) {
     ASSERT_GT(west, 100u);
     ASSERT_GT(ground, 5'000u);
     EXPECT_LT(west_sum / west, 0.2 * south_sum / south);
+}
+
+// The `round` preset's column at 0.1°: every pier point lies on the cylinder of radius 2 m
+// about the axis through the foot's centre — upright in epoch 0, leaning (θx, θy) about
+// the foot after the tilt event — and its material point stays inside 0..height.
+TEST(SimulatorExact, RoundPierIsTheCylinderUprightAndTilted) {
+    Site s = preset_round();
+    s.noise.enabled = false;
+    s.drift.enabled = false;
+    s.deformation.enabled = false;
+    s.atmosphere.enabled = false;
+    s.beam.footprint = false;
+    s.occlusion.occluders.clear();
+    s.occlusion.vegetation.clear();
+    s.scanner.azimuth_min_deg = 75.0;
+    s.scanner.azimuth_max_deg = 83.0;
+    s.scanner.azimuth_step_deg = s.scanner.elevation_step_deg = 0.1;
+    s.events.tilt_epoch = 1;
+    s.events.tilt_arcsec = {60.0, -30.0};
+    const Eigen::Vector3d foot(s.pier.centre().x(), s.pier.centre().y(), 0.0);
+    for (const int epoch : {0, 1}) {
+        const RenderedScan r = render_epoch(s, epoch, 0.25 * epoch);
+        const Eigen::Vector2d t = pier_tilt(s, epoch);
+        const Eigen::Vector3d axis = Eigen::Vector3d(t.x(), t.y(), 1.0).normalized();
+        std::size_t on_pier = 0;
+        for (std::size_t i = 0; i < r.scan.size(); ++i) {
+            if (r.surface[i] != static_cast<std::uint8_t>(Surface::pier)) continue;
+            const Eigen::Vector3d v = r.scan.xyz[i] - foot;
+            const double radial = (v - axis * axis.dot(v)).norm();
+            // First order in the tilt (3e-4 rad): the rotation's square is ~1e-7 m.
+            ASSERT_NEAR(radial, 2.0, 1e-6) << "epoch " << epoch << " point " << i;
+            ASSERT_GE(v.z(), -1e-3);
+            ASSERT_LE(v.z(), s.pier.height + 1e-3);
+            ++on_pier;
+        }
+        EXPECT_GT(on_pier, 15'000u) << "epoch " << epoch;
+        if (epoch == 1) {
+            // Leaning: against the upright axis the radial distance grows with the height.
+            std::size_t off = 0;
+            for (std::size_t i = 0; i < r.scan.size(); ++i) {
+                if (r.surface[i] != static_cast<std::uint8_t>(Surface::pier)) continue;
+                const Eigen::Vector3d v = r.scan.xyz[i] - foot;
+                off += std::abs(std::hypot(v.x(), v.y()) - 2.0) > 2e-3 && v.z() > 20.0;
+            }
+            EXPECT_GT(off, 1000u);
+        }
+    }
 }
 
 }  // namespace

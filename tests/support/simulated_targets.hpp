@@ -4,8 +4,12 @@
 // off the true centre (as a site's approximate positions are). Shared by the pipeline tests
 // and the benches that register simulated epochs.
 #include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "pipeline/registration_config.hpp"
+#include "pipeline/registration_stage.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::test {
@@ -23,6 +27,27 @@ inline RegistrationConfig simulated_targets(const sim::Site& site) {
         c.targets.push_back(g);
     }
     return c;
+}
+
+// An epoch's scans registered on their targets against the reference's, as the stage outputs
+// the analyses take: the range scales k_e (the epoch's) and k_r (the reference's) are the
+// truth's air, as a site takes them from its weather station. nullopt when the registration
+// refuses the epoch, `refused` then saying why.
+inline std::optional<StageOutputs> simulated_outputs(const RegistrationConfig& targets,
+                                                     const ReferenceTargets& reference,
+                                                     const std::vector<Scan>& scans, double k_e,
+                                                     double k_r, std::string& refused) {
+    const RegistrationResult r = register_epoch(targets, reference, scans, {}, {k_e, k_r});
+    if (!r.accepted()) {
+        refused = r.tested.reason + " " + r.gate;
+        return std::nullopt;
+    }
+    StageOutputs o;
+    o.to_reference = r.tested.transform;
+    o.range_scale = k_e;
+    o.scanner = scans.front().scanner_position();
+    o.reference_range_scale = k_r;
+    return o;
 }
 
 }  // namespace tlsmon::test
