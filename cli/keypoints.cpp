@@ -22,6 +22,7 @@
 #include "algorithms/keypoints/spherical_image.hpp"
 #include "cli/commands.hpp"
 #include "cli/file_pair.hpp"
+#include "cli/result_file.hpp"
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -87,12 +88,10 @@ std::shared_ptr<const std::vector<Scan>> only_scan(std::shared_ptr<const std::ve
 
 // `segment`: the band's index for bands, the zone's position in the configuration for zones.
 void write_csv(const std::string& path, const KeypointSegmentsResult& segments, bool bands) {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-    std::fputs(
+    ResultFile f(path);
+    f.write(
         "reference_row_px,reference_column_px,row_px,column_px,x_m,y_m,z_m,dx_m,dy_m,dz_m,"
-        "descriptor_distance,segment,zone,removed_by\n",
-        f);
+        "descriptor_distance,segment,zone,removed_by\n");
     for (std::size_t s = 0; s < segments.segments.size(); ++s) {
         const KeypointSegmentResult& seg = segments.segments[s];
         for (std::size_t i = 0; i < seg.matches.size(); ++i) {
@@ -108,12 +107,10 @@ void write_csv(const std::string& path, const KeypointSegmentsResult& segments, 
                 std::to_string(bands ? seg.displacement.segment : int(s)), seg.zone,
                 removed == OutlierFilter::none ? std::string()
                                                : std::string(outlier_filter_name(removed))});
-            std::fputs(row.c_str(), f);
+            f.write(row);
         }
     }
-    const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed)
-        throw Error(path + ": write failed: " + std::strerror(errno));
+    f.close();
 }
 
 // One row per segment at full precision (metres): the figures the stage stores, the standard

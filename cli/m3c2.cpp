@@ -9,7 +9,6 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -20,6 +19,7 @@
 #include "algorithms/m3c2/reference.hpp"
 #include "cli/commands.hpp"
 #include "cli/file_pair.hpp"
+#include "cli/result_file.hpp"
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -82,12 +82,10 @@ std::string number(double v, int decimals) {
 void write_csv(const std::string& path, const m3c2::Reference& reference,
                const std::vector<m3c2::CylinderSide>& compared,
                const std::vector<m3c2::Distance>& distances) {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-    std::fputs(
+    ResultFile f(path);
+    f.write(
         "x_m,y_m,z_m,nx,ny,nz,normal_radius_m,distance_m,lod95_m,spread1_m,n1,spread2_m,n2,"
-        "significant\n",
-        f);
+        "significant\n");
     for (std::size_t k = 0; k < reference.size(); ++k) {
         const auto& c = reference.core_points()[k];
         const auto& n = reference.normals()[k];
@@ -99,11 +97,9 @@ void write_csv(const std::string& path, const m3c2::Reference& reference,
             csv_number(d.distance), csv_number(d.lod), csv_number(s1.spread),
             std::to_string(s1.count), csv_number(compared[k].spread),
             std::to_string(compared[k].count), d.significant ? "1" : "0"});
-        std::fputs(row.c_str(), f);
+        f.write(row);
     }
-    const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed)
-        throw Error(path + ": write failed: " + std::strerror(errno));
+    f.close();
 }
 
 }  // namespace

@@ -6,10 +6,7 @@
 // the daemon stored; otherwise the patches cover the whole of REFERENCE, one zone "all", in the
 // files' own frame. Writes one CSV row per patch, prints the parameters used and each zone's
 // rows.
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -17,6 +14,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/file_pair.hpp"
+#include "cli/result_file.hpp"
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -67,18 +65,16 @@ const char* outcome_name(patches::PatchOutcome o) {
 
 void write_csv(const std::string& path, const PbM3c2Reference& reference,
                const PbM3c2Epoch& epoch) {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
+    ResultFile f(path);
     // Each patch's zones, ';'-joined (a band and its face share patches).
     std::vector<std::string> zones(reference.patches.size());
     for (std::size_t z = 0; z < reference.zone_names.size(); ++z)
         for (const auto k : reference.zone_patches[z])
             zones[k] += (zones[k].empty() ? "" : ";") + reference.zone_names[z];
-    std::fputs(
+    f.write(
         "patch,supervoxel,zones,x_m,y_m,z_m,nx,ny,nz,distance_m,lod95_m,sigma_m,registration_sigma_"
         "m,"
-        "n1,sigma1_m,n2,sigma2_m,significant,outcome\n",
-        f);
+        "n1,sigma1_m,n2,sigma2_m,significant,outcome\n");
     for (std::size_t k = 0; k < reference.patches.size(); ++k) {
         const auto& frame = reference.patches[k].frame;
         const auto r1 = patches::fit_plane(reference.moments[k]);
@@ -98,11 +94,9 @@ void write_csv(const std::string& path, const PbM3c2Reference& reference,
             csv_number(epoch.registration_sigma[k]), std::to_string(r1.count), csv_number(r1.sigma),
             std::to_string(r2.count), csv_number(r2.sigma), r.distance.significant ? "1" : "0",
             outcome_name(r.outcome)});
-        std::fputs(row.c_str(), f);
+        f.write(row);
     }
-    const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed)
-        throw Error(path + ": write failed: " + std::strerror(errno));
+    f.close();
 }
 
 }  // namespace

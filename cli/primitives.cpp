@@ -4,10 +4,7 @@
 // REFERENCE: cli/file_pair.hpp), so the numbers are those the daemon stores. Without
 // --config: one zone "box" (--box) holding one primitive (--kind), in the files' own frame.
 // Prints the parameters used, each zone's two fits and its rows; writes the rows as CSV.
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <numbers>
 #include <optional>
@@ -16,6 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/file_pair.hpp"
+#include "cli/result_file.hpp"
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -61,19 +59,16 @@ std::string describe(const primitives::Fit& f) {
 }
 
 void write_csv(const std::string& path, const std::vector<ZoneResult>& rows) {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-    std::fputs("zone,quantity,value,lod,n,significant\n", f);
+    ResultFile f(path);
+    f.write("zone,quantity,value,lod,n,significant\n");
     for (const auto& r : rows) {
         const std::string line =
             csv_line(std::vector<std::string>{r.zone, r.quantity, csv_number(r.value),
                                               r.uncertainty ? csv_number(*r.uncertainty) : "",
                                               std::to_string(r.n), r.significant ? "1" : "0"});
-        std::fputs(line.c_str(), f);
+        f.write(line);
     }
-    const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed)
-        throw Error(path + ": write failed: " + std::strerror(errno));
+    f.close();
 }
 
 }  // namespace
