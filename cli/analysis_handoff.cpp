@@ -70,6 +70,9 @@ int run_pbm3c2(const PbM3c2Options&) {
 int run_primitives(const PrimitivesOptions&) {
     return hand_over_to_analysis();
 }
+int run_vectors(const VectorsOptions&) {
+    return hand_over_to_analysis();
+}
 int run_keypoints(const KeypointsOptions&) {
     return hand_over_to_analysis();
 }

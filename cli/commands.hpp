@@ -213,6 +213,29 @@ struct PbM3c2Options {
 // 0, or 1 with the error on stderr.
 int run_pbm3c2(const PbM3c2Options& options);
 
+// `tlsmon vectors REFERENCE COMPARED ... --out RESULT.csv`: 3-D vectors by local registration
+// of quasi-rigid areas between two scan files (docs/vectors.md): the site's [vectors], zones,
+// segmentation and registration with --config, else a fresh site's parameters on the whole of
+// REFERENCE in the files' frame.
+struct VectorsOptions {
+    std::string reference;
+    std::string compared;
+    std::string out;
+    std::string config;
+    // Each one given replaces the parameter ([vectors]; the segmentation's: [registration]
+    // stable_voxel, stable_seed).
+    std::optional<double> window;
+    std::optional<double> search_radius;
+    std::optional<double> search_depth;
+    std::optional<double> block;
+    std::optional<double> max_incidence_deg;
+    std::optional<double> voxel;
+    std::optional<double> seed;
+    std::optional<int> threads;
+};
+// 0, or 1 with the error on stderr.
+int run_vectors(const VectorsOptions& options);
+
 // `tlsmon primitives REFERENCE COMPARED --config SITE --out RESULT.csv`: the primitives the
 // site's zones name, fitted in both files, their change tested (docs/primitives.md); without
 // --config one zone --box holding one --kind, in the files' own frame.

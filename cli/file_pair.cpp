@@ -111,4 +111,14 @@ std::string effective_parameters(const Config& config, const std::string& sectio
     return out;
 }
 
+std::vector<ZoneShape> whole_of(const std::vector<Scan>& scans) {
+    Eigen::AlignedBox3d box;
+    for (const auto& s : scans)
+        for (const auto& p : s.xyz)
+            if (p.allFinite()) box.extend(p);
+    if (box.isEmpty()) throw Error("the reference holds no point");
+    const Eigen::Vector3d margin = Eigen::Vector3d::Constant(1e-3);
+    return {box_zone("all", box.min() - margin, box.max() + margin)};
+}
+
 }  // namespace tlsmon

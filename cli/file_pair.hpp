@@ -38,6 +38,10 @@ FilePair read_file_pair(const std::string& reference, const std::string& epoch,
 StageVerdict register_file_pair(const FilePair& pair, const Config& site,
                                 RegistrationResult& result);
 
+// Without a site's zones: one zone "all" around every point of `scans` (the patch commands'
+// whole-file comparison). Throws Error when they hold no point.
+std::vector<ZoneShape> whole_of(const std::vector<Scan>& scans);
+
 // The site's configuration from --config; none without.
 std::optional<Config> site_config(const std::string& path);
 

@@ -74,6 +74,7 @@ struct CommandLine {
     M3c2Options m3c2;
     PbM3c2Options pbm3c2;
     PrimitivesOptions primitives;
+    VectorsOptions vectors;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -479,6 +480,50 @@ void add_primitives(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_primitives(o); });
 }
 
+void add_vectors(CLI::App& app, CommandLine& c) {
+    auto& o = c.vectors;
+    auto* cmd = app.add_subcommand(
+        "vectors",
+        "3-D displacement vectors from REFERENCE to COMPARED: each patch of REFERENCE (its "
+        "supervoxels) registered on its own by matching its heights and intensities, a vector "
+        "with its covariance per area; one CSV row per area (docs/vectors.md). Parameters: a "
+        "fresh site's defaults on the whole of REFERENCE, or the site's with --config (its "
+        "zones, segmentation and registration too: the numbers the daemon stores); each option "
+        "replaces one. Lengths in metres");
+    const VectorConfig defaults;
+    cmd->add_option("REFERENCE", o.reference, "Reference scan file (the areas)")->required();
+    cmd->add_option("COMPARED", o.compared, "Compared scan file")->required();
+    cmd->add_option("--config", o.config,
+                    "A site's configuration: its [vectors] parameters, [[zone]] areas, "
+                    "segmentation and registration of COMPARED onto REFERENCE");
+    cmd->add_option("--window", o.window,
+                    "The side of the square measured about each patch's centroid" +
+                        fallback("vectors.window", toml_number(defaults.window)));
+    cmd->add_option("--search-radius", o.search_radius,
+                    "The largest movement along the surface looked for" +
+                        fallback("vectors.search_radius", toml_number(defaults.search_radius)));
+    cmd->add_option("--search-depth", o.search_depth,
+                    "A point belongs to an area within this of its plane" +
+                        fallback("vectors.search_depth", toml_number(defaults.search_depth)));
+    cmd->add_option(
+        "--block", o.block,
+        "The covariance's blocks" + fallback("vectors.block", toml_number(defaults.block)));
+    cmd->add_option(
+        "--max-incidence-deg", o.max_incidence_deg,
+        "Patches seen more obliquely are left out" +
+            fallback("vectors.max_incidence_deg", toml_number(defaults.max_incidence_deg)));
+    cmd->add_option(
+        "--voxel", o.voxel,
+        "The segmentation's voxel" +
+            fallback("registration.stable_voxel", toml_number(defaults.segmentation.voxel)));
+    cmd->add_option("--seed", o.seed,
+                    "The supervoxels' size" + fallback("registration.stable_seed",
+                                                       toml_number(defaults.segmentation.seed)));
+    cmd->add_option("--threads", o.threads, "Threads (0: every core)");
+    cmd->add_option("--out", o.out, "Result CSV file")->required();
+    cmd->callback([&] { c.code = run_vectors(o); });
+}
+
 void add_keypoints(CLI::App& app, CommandLine& c) {
     auto& o = c.keypoints;
     auto* cmd = app.add_subcommand(
@@ -707,6 +752,7 @@ int main(int argc, char** argv) {
     tlsmon::add_m3c2(app, c);
     tlsmon::add_pbm3c2(app, c);
     tlsmon::add_primitives(app, c);
+    tlsmon::add_vectors(app, c);
     tlsmon::add_keypoints(app, c);
     tlsmon::add_modbus_map(app, c);
     tlsmon::add_register(app, c);

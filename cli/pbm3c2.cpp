@@ -38,17 +38,6 @@ PbM3c2Config parameters_of(const PbM3c2Options& o, const std::optional<Config>& 
     return p;
 }
 
-// Without zones: one zone "all" around every point of the reference.
-std::vector<ZoneShape> whole_of(const std::vector<Scan>& scans) {
-    Eigen::AlignedBox3d box;
-    for (const auto& s : scans)
-        for (const auto& p : s.xyz)
-            if (p.allFinite()) box.extend(p);
-    if (box.isEmpty()) throw Error("the reference holds no point");
-    const Eigen::Vector3d margin = Eigen::Vector3d::Constant(1e-3);
-    return {box_zone("all", box.min() - margin, box.max() + margin)};
-}
-
 const char* outcome_name(patches::PatchOutcome o) {
     switch (o) {
         case patches::PatchOutcome::measured:

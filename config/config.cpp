@@ -15,6 +15,7 @@
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/primitive_stage.hpp"
+#include "pipeline/vector_stage.hpp"
 
 namespace tlsmon {
 
@@ -92,6 +93,8 @@ std::set<std::string> stage_quantities(const Config* runs = nullptr) {
     if (!runs || runs->pbm3c2.enabled) q.insert(kPbM3c2Quantities.begin(), kPbM3c2Quantities.end());
     if (!runs || runs->primitives.enabled)
         q.insert(kPrimitiveQuantities.begin(), kPrimitiveQuantities.end());
+    if (!runs || runs->vectors.enabled)
+        q.insert(kVectorQuantities.begin(), kVectorQuantities.end());
     if (!runs || runs->keypoints.enabled) {
         q.insert(kKeypointQuantities.begin(), kKeypointQuantities.end());
     }
@@ -551,6 +554,13 @@ PbM3c2Config pbm3c2_with_zone_shapes(const Config& config) {
     return p;
 }
 
+VectorConfig vectors_with_zone_shapes(const Config& config) {
+    VectorConfig v = config.vectors;
+    v.segmentation = config.stable_areas;
+    v.zones = with_zone_shapes(config).zones;
+    return v;
+}
+
 PrimitivesConfig primitives_with_zones(const Config& config) {
     PrimitivesConfig p = config.primitives;
     p.noise = config.station;
@@ -599,6 +609,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .m3c2 = with_zone_shapes(config),
                           .pbm3c2 = pbm3c2_with_zone_shapes(config),
                           .primitives = primitives_with_zones(config),
+                          .vectors = vectors_with_zone_shapes(config),
                           .keypoints = keypoints_with_zone_shapes(config),
                           .zones = with_zone_shapes(config).zones,
                           .stages = {},

@@ -124,6 +124,7 @@ struct Config {
     M3c2Config m3c2;                  // its zones are set from `zones` by pipeline_config
     PbM3c2Config pbm3c2;              // likewise, and its segmentation from stable_areas
     PrimitivesConfig primitives;      // its zones (those naming a primitive) likewise
+    VectorConfig vectors;             // its zones and segmentation as for pbm3c2
     KeypointConfig keypoints;         // likewise
     IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
     PlaneConfig planes;  // [registration] plane_* keys

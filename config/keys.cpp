@@ -33,6 +33,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "m3c2", &Config::m3c2, m3c2_keys());
     collect(keys, "pbm3c2", &Config::pbm3c2, pbm3c2_keys());
     collect(keys, "primitives", &Config::primitives, primitives_keys());
+    collect(keys, "vectors", &Config::vectors, vector_keys());
     collect(keys, "keypoints", &Config::keypoints, keypoint_keys());
     collect(keys, "modbus", &Config::modbus, modbus_keys());
     collect(keys, "http", &Config::http, http_keys());

@@ -22,6 +22,7 @@
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
+#include "pipeline/vector_config.hpp"
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon {
@@ -40,6 +41,7 @@ struct PipelineConfig {
     M3c2Config m3c2;               // with the zones; none: the stage does not run
     PbM3c2Config pbm3c2;           // with the zones and the segmentation; likewise
     PrimitivesConfig primitives;   // with the zones naming a primitive; likewise
+    VectorConfig vectors;          // with the zones and the segmentation; likewise
     KeypointConfig keypoints;      // with the zones (segments = zones; none: it does not run)
     std::vector<ZoneShape> zones;  // the site's zones, in the configuration's order
     // The stages in order; empty: the site's (site_stages, pipeline/site_stages.hpp).

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <numbers>
 
 #include "algorithms/m3c2/zone_uncertainty.hpp"
 #include "algorithms/registration/registration_error.hpp"
@@ -13,14 +11,11 @@
 #include "core/parallel_for.hpp"
 #include "core/statistics.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/zone_patches.hpp"
 
 namespace tlsmon {
 
 namespace {
-
-// A patch belongs to a zone's face when its normal lies within 30° of the zone's design
-// normal (a face's own patches lie within a few degrees of it).
-const double kFaceCos = std::cos(30.0 * std::numbers::pi / 180.0);
 
 unsigned threads_of(const PbM3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
@@ -59,45 +54,12 @@ PbM3c2Reference prepare_pbm3c2_reference(const PbM3c2Config& config,
     if (scans.empty()) throw Error("pbm3c2: the reference epoch holds no scan");
     PbM3c2Reference out;
     out.scanner = scans.front().scanner_position();
-    std::vector<std::vector<Eigen::Vector3d>> members(supervoxels.patches.size());
-    for (std::size_t i = 0; i < supervoxels.samples.size(); ++i) {
-        if (const auto l = supervoxels.label[i]; l >= 0)
-            members[std::size_t(l)].push_back(supervoxels.samples[i]);
-    }
-    for (const auto& z : config.zones) out.zone_names.push_back(z.name);
-    out.zone_patches.resize(config.zones.size());
-    // A patch of plane as the registration on stable areas takes it — enough voxels, not a
-    // line, not a sheet of rays from the scanner (mixed returns strung along the beams at an
-    // edge: "planar" along the line of sight, their distance says nothing) — but without its
-    // roughness limit: the patch's own, on the reference's points (max_roughness), decides.
-    StableAreaConfig shape = config.segmentation;
-    shape.max_roughness = std::numeric_limits<double>::infinity();
-    const double max_incidence_cos = std::cos(config.max_incidence_deg * std::numbers::pi / 180);
-    for (std::size_t k = 0; k < supervoxels.patches.size(); ++k) {
-        const auto& sv = supervoxels.patches[k];
-        if (!is_planar(shape, sv, supervoxels.viewpoint)) continue;
-        const Eigen::Vector3d sight = (supervoxels.viewpoint - sv.centroid).normalized();
-        if (std::abs(sv.normal.dot(sight)) < max_incidence_cos) continue;
-        bool inside = false;
-        const auto index = static_cast<std::uint32_t>(out.patches.size());
-        for (std::size_t z = 0; z < config.zones.size(); ++z) {
-            const ZoneShape& zone = config.zones[z];
-            if (!zone.contains(sv.centroid)) continue;
-            // A zone with a design normal names a face: a soffit or the ground inside its box
-            // is not that face.
-            if (zone.normal.allFinite() &&
-                std::abs(zone.normal.normalized().dot(sv.normal)) < kFaceCos)
-                continue;
-            out.zone_patches[z].push_back(index);
-            inside = true;
-        }
-        if (!inside) continue;
-        patches::Patch p;
-        p.frame = patches::PatchFrame::about(sv.centroid, sv.normal);
-        p.footprint = patches::footprint_of(p.frame, members[k], config.segmentation.voxel);
-        out.patches.push_back(std::move(p));
-        out.supervoxel.push_back(static_cast<std::uint32_t>(k));
-    }
+    ZonePatches selected =
+        zone_patches(config.segmentation, supervoxels, config.zones, config.max_incidence_deg);
+    out.patches = std::move(selected.patches);
+    out.supervoxel = std::move(selected.supervoxel);
+    out.zone_names = std::move(selected.zone_names);
+    out.zone_patches = std::move(selected.zone_patches);
     const patches::PatchIndex index(out.patches, config.search_depth);
     out.moments = moments_of(index, scans, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(),
                              threads_of(config));

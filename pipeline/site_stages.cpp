@@ -8,6 +8,7 @@
 #include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/primitive_stage.hpp"
 #include "pipeline/registration_stage.hpp"
+#include "pipeline/vector_stage.hpp"
 
 namespace tlsmon {
 
@@ -26,6 +27,9 @@ StageList site_stages(const PipelineConfig& config) {
     // The change of the primitives (a round pier's axis, a plane, a sphere) the zones name.
     if (config.primitives.enabled && !config.primitives.zones.empty())
         stages.push_back(std::make_shared<PrimitivesStage>(config.primitives));
+    // A 3-D vector per patch of plane: each registered on its own (heights and intensities).
+    if (config.vectors.enabled && !config.vectors.zones.empty())
+        stages.push_back(std::make_shared<VectorStage>(config.vectors));
     // Movement along the surface from the intensity images.
     const KeypointConfig& kp = config.keypoints;
     if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty()))

@@ -91,32 +91,48 @@ std::int32_t PatchIndex::find(const Eigen::Vector3d& p, Eigen::Vector3d& uvw) co
     return best;
 }
 
-std::vector<std::vector<Eigen::Vector3f>> patch_points(const PatchIndex& index,
-                                                       std::span<const Eigen::Vector3d> points,
-                                                       const Eigen::Matrix3d& A,
-                                                       const Eigen::Vector3d& t, unsigned threads) {
+std::vector<std::vector<PatchHit>> patch_hits(const PatchIndex& index,
+                                              std::span<const Eigen::Vector3d> points,
+                                              const Eigen::Matrix3d& A, const Eigen::Vector3d& t,
+                                              unsigned threads, bool every) {
     constexpr std::size_t kBlock = 1 << 16;
     const std::size_t blocks = (points.size() + kBlock - 1) / kBlock;
-    struct Hit {
-        std::int32_t patch;
-        Eigen::Vector3f uvw;
-    };
-    std::vector<std::vector<Hit>> hits(blocks);
+    std::vector<std::vector<std::pair<std::int32_t, PatchHit>>> hits(blocks);
     parallel_for(
         blocks,
         [&](std::size_t b) {
             const std::size_t end = std::min(points.size(), (b + 1) * kBlock);
             for (std::size_t i = b * kBlock; i < end; ++i) {
                 if (!points[i].allFinite()) continue;
+                const Eigen::Vector3d q = A * points[i] + t;
+                if (every) {
+                    index.for_each(q, [&](std::int32_t k, const Eigen::Vector3d& uvw) {
+                        hits[b].push_back({k, {uvw.cast<float>(), std::uint32_t(i)}});
+                    });
+                    continue;
+                }
                 Eigen::Vector3d uvw;
-                const auto k = index.find(A * points[i] + t, uvw);
-                if (k >= 0) hits[b].push_back({k, uvw.cast<float>()});
+                const auto k = index.find(q, uvw);
+                if (k >= 0) hits[b].push_back({k, {uvw.cast<float>(), std::uint32_t(i)}});
             }
         },
         threads);
-    std::vector<std::vector<Eigen::Vector3f>> out(index.patches().size());
+    std::vector<std::vector<PatchHit>> out(index.patches().size());
     for (const auto& block : hits)
-        for (const auto& h : block) out[std::size_t(h.patch)].push_back(h.uvw);
+        for (const auto& [k, h] : block) out[std::size_t(k)].push_back(h);
+    return out;
+}
+
+std::vector<std::vector<Eigen::Vector3f>> patch_points(const PatchIndex& index,
+                                                       std::span<const Eigen::Vector3d> points,
+                                                       const Eigen::Matrix3d& A,
+                                                       const Eigen::Vector3d& t, unsigned threads) {
+    const auto hits = patch_hits(index, points, A, t, threads);
+    std::vector<std::vector<Eigen::Vector3f>> out(hits.size());
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+        out[k].reserve(hits[k].size());
+        for (const auto& h : hits[k]) out[k].push_back(h.uvw);
+    }
     return out;
 }
 

@@ -46,6 +46,19 @@ class PatchIndex {
     const std::vector<Patch>& patches() const { return patches_; }
     // The patch `p` belongs to, and its (u, v, w) there; −1 for none.
     std::int32_t find(const Eigen::Vector3d& p, Eigen::Vector3d& uvw) const;
+    // visit(k, uvw) for every patch whose footprint and depth hold `p` (overlapping patches:
+    // each of them).
+    template <class Visit>
+    void for_each(const Eigen::Vector3d& p, Visit&& visit) const {
+        if (!bounds_.contains(p)) return;
+        const auto it = cells_.find(key(p));
+        if (it == cells_.end()) return;
+        for (const auto k : it->second) {
+            const Patch& patch = patches_[std::size_t(k)];
+            const Eigen::Vector3d q = patch.frame.local(p);
+            if (std::abs(q.z()) <= depth_ && patch.footprint.covers(q.x(), q.y())) visit(k, q);
+        }
+    }
 
   private:
     std::int64_t key(const Eigen::Vector3d& p) const;
@@ -56,9 +69,22 @@ class PatchIndex {
     std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells_;
 };
 
+// A point on a patch: its (u, v, w) there and its index among the points.
+struct PatchHit {
+    Eigen::Vector3f uvw;
+    std::uint32_t point;
+};
+
 // Every point's (u, v, w) on the patch it belongs to, after the affine map q = A·p + t into the
 // reference frame (A = I, t = 0 for the reference itself): per patch, in the points' order
 // (blocks of fixed size, joined in order: the same whatever the number of threads).
+// With `every`, a point on overlapping patches is a hit of each of them.
+std::vector<std::vector<PatchHit>> patch_hits(
+    const PatchIndex& index, std::span<const Eigen::Vector3d> points,
+    const Eigen::Matrix3d& A = Eigen::Matrix3d::Identity(),
+    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0, bool every = false);
+
+// The same, the (u, v, w) alone.
 std::vector<std::vector<Eigen::Vector3f>> patch_points(
     const PatchIndex& index, std::span<const Eigen::Vector3d> points,
     const Eigen::Matrix3d& A = Eigen::Matrix3d::Identity(),

@@ -155,6 +155,8 @@ TEST(StageContract, TheDocsTableListsTheSiteStagesInOrder) {
     config.pbm3c2.enabled = true;
     config.pbm3c2.zones = config.m3c2.zones;
     config.primitives.zones = {{config.m3c2.zones[0], primitives::Kind::cylinder}};
+    config.vectors.enabled = true;
+    config.vectors.zones = config.m3c2.zones;
     config.keypoints.zones = config.m3c2.zones;
     std::vector<std::string> listed;
     for (const auto& s : site_stages(config)) listed.emplace_back(s->name());
