@@ -121,4 +121,12 @@ std::vector<ZoneShape> whole_of(const std::vector<Scan>& scans) {
     return {box_zone("all", box.min() - margin, box.max() + margin)};
 }
 
+void apply_segmentation_options(StableAreaConfig& segmentation, std::optional<double> voxel,
+                                std::optional<double> seed) {
+    if (voxel) segmentation.voxel = *voxel;
+    if (seed) segmentation.seed = *seed;
+    if (!(segmentation.voxel > 0) || !(segmentation.seed > segmentation.voxel))
+        throw Error("--voxel and --seed: the supervoxels' size must exceed the voxel's (> 0)");
+}
+
 }  // namespace tlsmon

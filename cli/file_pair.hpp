@@ -42,6 +42,11 @@ StageVerdict register_file_pair(const FilePair& pair, const Config& site,
 // whole-file comparison). Throws Error when they hold no point.
 std::vector<ZoneShape> whole_of(const std::vector<Scan>& scans);
 
+// --voxel and --seed of the patch commands replace the segmentation's ([registration]
+// stable_voxel, stable_seed). Throws Error unless the supervoxels exceed the voxel (> 0).
+void apply_segmentation_options(StableAreaConfig& segmentation, std::optional<double> voxel,
+                                std::optional<double> seed);
+
 // The site's configuration from --config; none without.
 std::optional<Config> site_config(const std::string& path);
 

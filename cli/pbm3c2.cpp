@@ -30,11 +30,8 @@ PbM3c2Config parameters_of(const PbM3c2Options& o, const std::optional<Config>& 
     if (o.min_points) p.min_points = *o.min_points;
     if (o.max_roughness) p.max_roughness = *o.max_roughness;
     if (o.max_incidence_deg) p.max_incidence_deg = *o.max_incidence_deg;
-    if (o.voxel) p.segmentation.voxel = *o.voxel;
-    if (o.seed) p.segmentation.seed = *o.seed;
     if (o.threads) p.threads = *o.threads;
-    if (!(p.segmentation.voxel > 0) || !(p.segmentation.seed > p.segmentation.voxel))
-        throw Error("--voxel and --seed: the supervoxels' size must exceed the voxel's (> 0)");
+    apply_segmentation_options(p.segmentation, o.voxel, o.seed);
     return p;
 }
 

@@ -30,11 +30,8 @@ VectorConfig parameters_of(const VectorsOptions& o, const std::optional<Config>&
     if (o.search_depth) p.search_depth = *o.search_depth;
     if (o.block) p.block = *o.block;
     if (o.max_incidence_deg) p.max_incidence_deg = *o.max_incidence_deg;
-    if (o.voxel) p.segmentation.voxel = *o.voxel;
-    if (o.seed) p.segmentation.seed = *o.seed;
     if (o.threads) p.threads = *o.threads;
-    if (!(p.segmentation.voxel > 0) || !(p.segmentation.seed > p.segmentation.voxel))
-        throw Error("--voxel and --seed: the supervoxels' size must exceed the voxel's (> 0)");
+    apply_segmentation_options(p.segmentation, o.voxel, o.seed);
     return p;
 }
 

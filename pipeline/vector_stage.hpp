@@ -16,6 +16,7 @@
 // covariance, Σ = R·Σ_area·Rᵀ + Σ_T, Σ_T the registration's at the area (0 without a
 // registration: the epoch then carries that quality and raises no deformation alarm).
 #include <array>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
