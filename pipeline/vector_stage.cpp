@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "algorithms/patches/patch_index.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "algorithms/vectors/between_area_variance.hpp"
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "pipeline/m3c2_stage.hpp"
@@ -70,6 +72,45 @@ Eigen::Matrix3d registration_covariance(const StageOutputs& outputs, const Eigen
     const auto& T = *outputs.to_reference;
     const Eigen::Vector3d x = T.rotation.transpose() * (q - T.translation) / T.scale;
     return registration::registration_covariance_at(T, x);
+}
+
+Eigen::Vector3d design_normal(const VectorConfig& config, std::size_t zone) {
+    return zone < config.zones.size() ? config.zones[zone].normal
+                                      : Eigen::Vector3d::Constant(std::nan(""));
+}
+
+// The wall's directions as rows: (normal, h, v) of a project-frame vector.
+Eigen::Matrix3d wall_rows(const ZoneWall& w) {
+    Eigen::Matrix3d M;
+    M.row(0) = w.normal.transpose(), M.row(1) = w.horizontal.transpose(),
+    M.row(2) = w.vertical.transpose();
+    return M;
+}
+
+// τ of the zone's measured areas along its normal, h and v: their vectors about the zone's
+// smooth field against their fits' σ (between_area_variance.hpp).
+Eigen::Vector3d between_sigma(const VectorReference& reference, std::size_t zone,
+                              const ZoneWall& wall, const std::vector<AreaDisplacement>& areas) {
+    std::vector<std::size_t> measured;
+    for (const auto k : reference.zone_areas[zone])
+        if (areas[k].fit.measured()) measured.push_back(k);
+    const auto n = Eigen::Index(measured.size());
+    const Eigen::Matrix3d W = wall_rows(wall);
+    Eigen::MatrixX2d positions(n, 2);
+    Eigen::MatrixX3d values(n, 3), variances(n, 3);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const AreaDisplacement& a = areas[measured[std::size_t(i)]];
+        const Eigen::Vector3d& c = reference.frames[measured[std::size_t(i)]].origin;
+        positions.row(i) << wall.horizontal.dot(c), wall.vertical.dot(c);
+        values.row(i) = (W * a.displacement).transpose();
+        variances.row(i) = (W * a.fit_covariance * W.transpose()).diagonal().transpose();
+    }
+    const Eigen::MatrixXd field = vectors::zone_field(positions);
+    Eigen::Vector3d sigma;
+    for (int c = 0; c < 3; ++c)
+        sigma(c) =
+            std::sqrt(vectors::between_area_variance(field, values.col(c), variances.col(c)).tau2);
+    return sigma;
 }
 
 Eigen::Vector3d zone_centroid(const VectorReference& reference, std::size_t zone) {
@@ -142,9 +183,20 @@ VectorEpoch measure_vectors(const VectorConfig& config, const VectorReference& r
                 registration_covariance(outputs, reference.frames[k].origin);
         },
         threads_of(config));
-    for (std::size_t z = 0; z < reference.zone_names.size(); ++z)
+    for (std::size_t z = 0; z < reference.zone_names.size(); ++z) {
         out.zone_registration_covariance.push_back(
             registration_covariance(outputs, zone_centroid(reference, z)));
+        const ZoneWall wall = zone_wall(reference, z, design_normal(config, z));
+        const Eigen::Vector3d tau = between_sigma(reference, z, wall, out.areas);
+        const Eigen::Matrix3d W = wall_rows(wall);
+        const Eigen::Matrix3d T = W.transpose() * tau.cwiseAbs2().asDiagonal() * W;
+        out.zone_between_sigma.push_back(tau);
+        out.zone_between_covariance.push_back(T);
+        // An area in several zones (a face and its bands) takes the largest.
+        for (const auto k : reference.zone_areas[z])
+            if (T.trace() > out.areas[k].between_covariance.trace())
+                out.areas[k].between_covariance = T;
+    }
     return out;
 }
 
@@ -176,15 +228,17 @@ std::vector<ZoneResult> vector_zone_results(const VectorConfig& config,
         const auto& members = reference.zone_areas[z];
         // The plain mean: each area is an equal piece of the zone's surface (an inverse-
         // covariance weighting would lean towards the best-textured areas, and on a face that
-        // bends, towards their part of it). The areas' fits are independent; the registration's
-        // error is common to them and enters once.
+        // bends, towards their part of it). The areas' errors — their fits' and the part only
+        // their scatter shows, T — are independent; the registration's error is common to
+        // them and enters once.
         Eigen::Matrix3d fit_sum = Eigen::Matrix3d::Zero();
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         std::int64_t valid = 0;
         for (const auto k : members) {
             const auto& a = epoch.areas[k];
             if (!a.fit.measured()) continue;
-            fit_sum += a.fit_covariance, sum += a.displacement;
+            fit_sum += a.fit_covariance + epoch.zone_between_covariance[z];
+            sum += a.displacement;
             ++valid;
         }
         rows.push_back({zone, "vector_count", double(valid), std::nullopt,
@@ -193,10 +247,7 @@ std::vector<ZoneResult> vector_zone_results(const VectorConfig& config,
         const double n = double(valid);
         const Eigen::Vector3d d = sum / n;
         const Eigen::Matrix3d S = fit_sum / (n * n) + epoch.zone_registration_covariance[z];
-        const Eigen::Vector3d design = z < config.zones.size()
-                                           ? config.zones[z].normal
-                                           : Eigen::Vector3d::Constant(std::nan(""));
-        const ZoneWall wall = zone_wall(reference, z, design);
+        const ZoneWall wall = zone_wall(reference, z, design_normal(config, z));
         const auto row = [&](const char* quantity, const Eigen::Vector3d& e) {
             const double value = e.dot(d), lod = kLod95 * std::sqrt(e.dot(S * e));
             rows.push_back({zone, quantity, value, lod, valid, std::abs(value) > lod});
@@ -260,8 +311,12 @@ StageVerdict VectorStage::run(StageContext& ctx) const {
     results.core_point_arrays.insert(results.core_point_arrays.end(),
                                      std::make_move_iterator(arrays.begin()),
                                      std::make_move_iterator(arrays.end()));
-    return StageVerdict{"", fmt::format("{} of {} areas with a vector ({} with too few points)",
-                                        measured, epoch.areas.size(), sparse)};
+    double tau = 0;  // the largest between-area σ along the surface
+    for (const auto& t : epoch.zone_between_sigma) tau = std::max({tau, t(1), t(2)});
+    return StageVerdict{
+        "", fmt::format("{} of {} areas with a vector ({} with too few points); between-area σ "
+                        "along the surface up to {:.2f} mm",
+                        measured, epoch.areas.size(), sparse, 1e3 * tau)};
 }
 
 }  // namespace tlsmon

@@ -50,13 +50,22 @@ struct AreaDisplacement {
     Eigen::Vector3d displacement = Eigen::Vector3d::Constant(std::nan(""));  // m
     Eigen::Matrix3d fit_covariance = Eigen::Matrix3d::Zero();           // m², R·Σ_area·Rᵀ
     Eigen::Matrix3d registration_covariance = Eigen::Matrix3d::Zero();  // m², Σ_T at the area
-    Eigen::Matrix3d covariance() const { return fit_covariance + registration_covariance; }
+    // m²: the between-area variance τ² of its zone (the largest of its zones'), in the
+    // zone's wall directions (algorithms/vectors/between_area_variance.hpp).
+    Eigen::Matrix3d between_covariance = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d covariance() const {
+        return fit_covariance + between_covariance + registration_covariance;
+    }
 };
 
 struct VectorEpoch {
     std::vector<AreaDisplacement> areas;
     // The registration's covariance at each zone's areas' centroid (zero without one).
     std::vector<Eigen::Matrix3d> zone_registration_covariance;
+    // Each zone's between-area variance: τ² along its normal, h and v (m, as σ), and as a
+    // covariance in the project frame.
+    std::vector<Eigen::Vector3d> zone_between_sigma;
+    std::vector<Eigen::Matrix3d> zone_between_covariance;
 };
 
 VectorEpoch measure_vectors(const VectorConfig& config, const VectorReference& reference,
@@ -72,8 +81,9 @@ ZoneWall zone_wall(const VectorReference& reference, std::size_t zone,
                    const Eigen::Vector3d& design_normal);
 
 // The zone rows: vector_count (value: areas with a vector, n: the zone's areas) always; with
-// at least one vector, the zone's vector — the mean of its areas' vectors, Σ = Σ_k Σ_k / n²
-// (the fits') + Σ_T at the zone — as vector_dx_m, _dy_m, _dz_m
+// at least one vector, the zone's vector — the mean of its areas' vectors, Σ = Σ_k (Σ_k + T)
+// / n² (the fits' and the zone's between-area variance T) + Σ_T at the zone — as
+// vector_dx_m, _dy_m, _dz_m
 // (project frame) and vector_along_normal_m, _along_surface_h_m, _along_surface_v_m (the
 // zone's wall), each with LoD95 = 1.96 σ along its direction; significant beyond it.
 std::vector<ZoneResult> vector_zone_results(const VectorConfig& config,
@@ -81,7 +91,8 @@ std::vector<ZoneResult> vector_zone_results(const VectorConfig& config,
                                             const VectorEpoch& epoch);
 
 // The per-area float32 arrays: vector_x_m, _y_m, _z_m (the area's centroid), vector_dx_m,
-// _dy_m, _dz_m and vector_sigma_x_m, _y_m, _z_m (with the registration's); NaN where the
+// _dy_m, _dz_m and vector_sigma_x_m, _y_m, _z_m (with the between-area variance and the
+// registration's); NaN where the
 // area has no vector.
 std::vector<CorePointArray> vector_area_arrays(const VectorReference& reference,
                                                const VectorEpoch& epoch);

@@ -175,10 +175,12 @@ TEST(VectorsSimulated, AreaVectorsWithin1MmRmsAlongTheSurfaceAndTheNormal) {
         // epochs are printed beside them).
         EXPECT_LE(s.zones.rms(k), 0.0003) << "direction " << k;
     }
-    // Along the normal the σ covers the error at its nominal rate; along the surface 81–84 %
-    // within 2σ, not the 95 % of an honest σ (docs/vectors.md, "Accuracy": the open finding).
+    // The areas' σ — their fits', the zone's between-area part and the registration's —
+    // covers the error: at its nominal rate along the normal, and at least 90 % within 2σ along
+    // the surface (91–96 % on this and two other seeds, docs/vectors.md "Accuracy"; without
+    // the between-area part 81–84 %).
     EXPECT_GE(s.south_areas.share(0), 0.95);
-    for (int k = 1; k < 3; ++k) EXPECT_GE(s.south_areas.share(k), 0.78) << "direction " << k;
+    for (int k = 1; k < 3; ++k) EXPECT_GE(s.south_areas.share(k), 0.90) << "direction " << k;
 }
 
 TEST(VectorsSimulated, WithoutDeformationTheAreasStayWithin1Mm) {
@@ -189,7 +191,7 @@ TEST(VectorsSimulated, WithoutDeformationTheAreasStayWithin1Mm) {
     ASSERT_GT(s.measured, 900u);
     EXPECT_GE(s.south_areas.share(0), 0.95);
     for (int k = 0; k < 3; ++k) EXPECT_LE(s.south_areas.rms(k), 0.001) << "direction " << k;
-    for (int k = 1; k < 3; ++k) EXPECT_GE(s.south_areas.share(k), 0.78) << "direction " << k;
+    for (int k = 1; k < 3; ++k) EXPECT_GE(s.south_areas.share(k), 0.90) << "direction " << k;
 }
 
 }  // namespace
