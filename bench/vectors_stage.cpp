@@ -72,7 +72,13 @@ int main(int argc, char** argv) {
         std::printf("  vectors: %.2f s wall, %.2f s cpu (%zu zone rows)\n", seconds_since(t0),
                     process_cpu_seconds() - cpu0, rows.size());
         std::map<std::string, int> outcomes;
-        for (const auto& a : v.areas) ++outcomes[vectors::outcome_name(a.fit.outcome)];
+        double iterations = 0;
+        for (const auto& a : v.areas) {
+            ++outcomes[vectors::outcome_name(a.fit.outcome)];
+            iterations += a.fit.iterations;
+        }
+        std::printf("    Gauss-Newton iterations per area: %.1f\n",
+                    iterations / double(v.areas.size()));
         for (const auto& [name, n] : outcomes) std::printf("    %s: %d\n", name.c_str(), n);
     }
     return 0;

@@ -212,12 +212,15 @@ struct Row {
     std::size_t block = 0;
 };
 
-double robust_sigma(const std::vector<Row>& rows, int group) {
+// A group's residuals' median and robust σ (1.4826 × MAD).
+MedianAndMad robust_spread(const std::vector<Row>& rows, int group) {
     std::vector<double> f;
     for (const auto& row : rows)
         if (row.group == group) f.push_back(row.f);
-    if (f.size() < 3) return 0.0;
-    return kMadToSigma * median_and_mad(std::move(f)).mad;
+    if (f.size() < 3) return {};
+    MedianAndMad m = median_and_mad(std::move(f));
+    m.mad *= kMadToSigma;
+    return m;
 }
 
 // The samples' own variance of a group from its rows: Var(f) = σ²·noise per row.
@@ -335,6 +338,7 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
     const double full = weights.empty() ? 0.0 : median(weights);
     const Eigen::AlignedBox2d inner(box.min() + Eigen::Vector2d::Constant(radius),
                                     box.max() - Eigen::Vector2d::Constant(radius));
+    std::vector<Pixel> sparse;  // every second pixel in each direction
     for (Eigen::Index r = 0; r < rows_; ++r)
         for (Eigen::Index c = 0; c < columns; ++c) {
             const std::size_t k = std::size_t(r * columns + c);
@@ -346,15 +350,21 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
                                             long(std::floor(at.y() / P.block))};
             const std::size_t b = block_of.try_emplace(key, block_of.size()).first->second;
             pixels.push_back({at, k, b});
+            if (r % 2 == 0 && c % 2 == 0) sparse.push_back(pixels.back());
         }
 
     double sigma[2] = {0, 0}, variance[2] = {0, 0};  // rows' robust σ; the samples' variance
     std::vector<Row> rows;
     rows.reserve(2 * pixels.size());
     Matrix7d N = Matrix7d::Zero();
+    // The iterations run on every second pixel until they converge, then once on every pixel:
+    // neighbouring pixels share most of their samples, so the sparse grid brings the images
+    // together at a quarter of the cost; from there one Gauss–Newton step on the whole grid
+    // is its solution to second order, and the covariance is the whole grid's.
+    bool whole = false;
     for (int it = 0; it < P.max_iterations; ++it) {
         rows.clear();
-        for (const auto& px : pixels) {
+        for (const auto& px : whole ? pixels : sparse) {
             // The epoch at the template's pixel moved by (t_u, t_v).
             const Local e = regress(epoch_grid, px.at + x.head<2>(), radius, false);
             if (!e.valid) continue;
@@ -377,8 +387,10 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
             ir.noise = (1.0 + x(3) * x(3)) * v, ir.group = 1, ir.block = px.block;
             rows.push_back(ir);
         }
+        double centre[2];  // the groups' median residuals
         for (int g = 0; g < 2; ++g) {
-            sigma[g] = robust_sigma(rows, g);
+            const MedianAndMad m = robust_spread(rows, g);
+            centre[g] = m.median, sigma[g] = m.mad;
             variance[g] = sample_variance(rows, g, sigma[g]);
         }
         if (rows.empty()) return out.outcome = AreaOutcome::singular, out;
@@ -388,12 +400,15 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
         for (auto& r : rows)
             if (r.group == 1)
                 r.J.head<2>() = significant(r.gradient, *r.gradient_noise, variance[r.group]);
-        // Rows beyond the clip leave (once the first iterations brought the images together:
-        // before, an edge's own misfit would leave, and with it what fixes the motion across
-        // the edge); the rest weigh 1/σ² of their group.
+        // Rows beyond the clip about their group's median leave (once the first iterations
+        // brought the images together: before, an edge's own misfit would leave, and with it
+        // what fixes the motion across the edge); the rest weigh 1/σ² of their group. About
+        // the median, not zero: heights still a step off along the normal (an edge moved the
+        // start) would all leave, and the normal with them.
         if (it >= kUnclippedIterations)
-            std::erase_if(rows,
-                          [&](const Row& r) { return std::abs(r.f) > P.clip * sigma[r.group]; });
+            std::erase_if(rows, [&](const Row& r) {
+                return std::abs(r.f - centre[r.group]) > P.clip * sigma[r.group];
+            });
         N = N_prior;
         Vector7d n = N_prior * (x0 - x);
         for (const auto& r : rows) {
@@ -409,7 +424,14 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
         if (const double step = dx.head<2>().norm(); step > h) dx.head<2>() *= h / step;
         x += dx;
         out.iterations = it + 1;
-        if (dx.head<3>().norm() < kConvergence && it >= kUnclippedIterations) break;
+        if (whole) {
+            // The residuals at the solution, to first order: the covariance's scores are the
+            // solution's (they sum to the prior's pull), not the step's start.
+            for (auto& r : rows) r.f += r.J.dot(dx);
+            break;
+        }
+        whole = (dx.head<3>().norm() < kConvergence && it >= kUnclippedIterations) ||
+                it + 2 >= P.max_iterations;
     }
 
     // The covariance over the blocks: the jackknife of the estimating equations, each

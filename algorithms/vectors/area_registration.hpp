@@ -29,7 +29,8 @@
 // Solution. Coarse: the whole-pixel shift of largest normalised cross-correlation of the
 // intensity images within `search_radius`. Fine: Gauss–Newton on both groups, each weighted
 // by its robust residual variance (1.4826 × MAD, a variance-component estimate that a stray
-// return cannot inflate), residuals beyond `clip` of it left out.
+// return cannot inflate), residuals beyond `clip` of it about the group's median left out;
+// on every second pixel until it converges, then one step on every pixel.
 //
 // Covariance. Neighbouring pixels share samples, footprints and texture, so their residuals
 // are not independent and N⁻¹ is optimistic. The covariance is the jackknife over square
