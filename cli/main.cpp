@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <map>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "cli/commands.hpp"
 #include "cli/program_arguments.hpp"
@@ -742,27 +744,40 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("tlsmon ") + TLSMON_VERSION);
     app.require_subcommand(1);
     tlsmon::CommandLine c;
-    tlsmon::add_check_config(app, c);
-    tlsmon::add_info(app, c);
-    tlsmon::add_run(app, c);
-    tlsmon::add_simulate(app, c);
-    tlsmon::add_status(app, c);
-    tlsmon::add_query(app, c);
-    tlsmon::add_events(app, c);
-    tlsmon::add_m3c2(app, c);
-    tlsmon::add_pbm3c2(app, c);
-    tlsmon::add_primitives(app, c);
-    tlsmon::add_vectors(app, c);
-    tlsmon::add_keypoints(app, c);
-    tlsmon::add_modbus_map(app, c);
-    tlsmon::add_register(app, c);
-    tlsmon::add_alarms(app, c);
-    tlsmon::add_report(app, c);
-    tlsmon::add_calibration(app, c);
-    tlsmon::add_demo(app, c);
-    tlsmon::add_targets(app, c);
-    tlsmon::add_users(app, c);
-    tlsmon::add_notify(app, c);
+    // Every command, by the name it is called with.
+    using Add = void (*)(CLI::App&, tlsmon::CommandLine&);
+    static constexpr std::pair<std::string_view, Add> commands[] = {
+        {"check-config", tlsmon::add_check_config},
+        {"info", tlsmon::add_info},
+        {"run", tlsmon::add_run},
+        {"simulate", tlsmon::add_simulate},
+        {"status", tlsmon::add_status},
+        {"query", tlsmon::add_query},
+        {"events", tlsmon::add_events},
+        {"m3c2", tlsmon::add_m3c2},
+        {"pbm3c2", tlsmon::add_pbm3c2},
+        {"primitives", tlsmon::add_primitives},
+        {"vectors", tlsmon::add_vectors},
+        {"keypoints", tlsmon::add_keypoints},
+        {"modbus-map", tlsmon::add_modbus_map},
+        {"register", tlsmon::add_register},
+        {"alarms", tlsmon::add_alarms},
+        {"report", tlsmon::add_report},
+        {"calibration", tlsmon::add_calibration},
+        {"demo", tlsmon::add_demo},
+        {"targets", tlsmon::add_targets},
+        {"users", tlsmon::add_users},
+        {"notify", tlsmon::add_notify},
+    };
+    // A command named first is the only one declared: the whole tree of options (hundreds,
+    // with their defaults' text) costs a millisecond of every `tlsmon status`. Anything else
+    // (--help, --version, a misspelt command) sees them all.
+    const std::string_view first = argc > 1 ? argv[1] : "";
+    bool one = false;
+    for (const auto& [name, add] : commands)
+        if (name == first) add(app, c), one = true;
+    if (!one)
+        for (const auto& [name, add] : commands) add(app, c);
 
     tlsmon::remember_program_arguments(argc, argv);
     try {
