@@ -3,6 +3,7 @@
 //  1. GET /api/v1/site (target 20 ms);
 //  2. GET /api/v1/series, one zone's quantity over the whole year decimated to 1,200 pixels
 //     (target 50 ms), and the same at full resolution for a zoomed week;
+//     GET /api/v1/calibration over 30 days and over the year (no target);
 //  3. 20 clients polling /api/v1/site, each once a second (target p99 200 ms), then back to
 //     back (saturation): median, p99, requests per second.
 // Each through a real connection to the HttpService the daemon runs (cpp-httplib's client).
@@ -108,6 +109,14 @@ int main(int argc, char** argv) {
         auto week_ms = timed_gets(
             config.port, series + "&from=2026-06-01T00:00:00Z&to=2026-06-07T23:59:59Z", 21, &bytes);
         std::printf("GET one week, full resolution: %s, %zu B\n", spread(week_ms).c_str(), bytes);
+
+        // The calibration page: its default window (30 days back from the newest epoch), and
+        // the whole year (every epoch's registration and targets read).
+        auto month_ms =
+            timed_gets(config.port, "/api/v1/calibration?from=2026-12-01T00:00:00Z", 6, &bytes);
+        std::printf("GET calibration, 30 days: %s, %zu B\n", spread(month_ms).c_str(), bytes);
+        auto all_ms = timed_gets(config.port, "/api/v1/calibration", 4, &bytes);
+        std::printf("GET calibration, the year: %s, %zu B\n", spread(all_ms).c_str(), bytes);
 
         // 3. 20 open pages, each asking for the overview once a second (a page with its live
         //    stream asks only after a commit: this is the harsher case), for 15 s; then the

@@ -1,7 +1,7 @@
-// `tlsmon calibration --db DB [--truth DIR]`: whether each method's own σ / LoD95 covers its
-// true error (or a check zone's zero change) at the nominal rate (report/calibration.hpp,
-// docs/calibration.md), per method and part, with the Wilson interval of each coverage and a
-// verdict.
+// `tlsmon calibration --db DB [--truth DIR] [--from T] [--to T]`: whether each method's own σ /
+// LoD95 covers its true error (or a check zone's zero change) at the nominal rate
+// (report/calibration.hpp, docs/calibration.md), per method and part, with the Wilson interval of
+// each coverage and a verdict.
 #include "report/calibration.hpp"
 
 #include <fmt/format.h>
@@ -45,7 +45,9 @@ int run_calibration(const CalibrationOptions& o) {
         const auto truth = o.truth.empty() ? std::vector<report::TruthEpoch>()
                                            : report::read_truth_folder(o.truth);
         const auto db = open_for_reading(o.read);
-        const report::RunData run = report::read_run(db);
+        const report::RunData run = report::read_run(
+            db, time_range(o.read),
+            o.truth.empty() ? report::ZoneSeries::check_zones : report::ZoneSeries::all);
         const auto rows = report::calibration(report::analyse(run, truth, o.truth));
         if (rows.empty() && o.truth.empty())
             throw Error(

@@ -624,7 +624,7 @@ void add_calibration(CLI::App& app, CommandLine& c) {
         "95 % rates, against the simulator's truth files; with or without them, the no-change "
         "checks (check zones against zero, each target against the others) and the agreement "
         "tests of joined estimates");
-    read.add_to(cmd, false);
+    read.add_to(cmd, true);
     cmd->add_option("--truth", o.truth,
                     "Folder of the simulator's *.truth.json files (without: the no-change "
                     "checks and the agreement tests only)");

@@ -1,5 +1,6 @@
 #include "report/data.hpp"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 namespace tlsmon::report {
@@ -29,11 +30,16 @@ bool parse_zone_no_change(const std::string& definition_json) {
     return v.is_boolean() && v.get<bool>();
 }
 
-RunData read_run(const EpochDatabase& db) {
+RunData read_run(const EpochDatabase& db, const TimeRange& window, ZoneSeries series) {
     RunData r;
     r.database = db.path();
     r.reference = db.epochs().reference();
-    for (const Epoch& e : db.series().epochs_in_range({})) {
+    std::vector<Epoch> epochs = db.series().epochs_in_range(window);
+    if (r.reference && std::none_of(epochs.begin(), epochs.end(),
+                                    [&](const Epoch& e) { return e.id == *r.reference; })) {
+        if (auto e = db.epochs().find(*r.reference)) epochs.insert(epochs.begin(), *e);
+    }
+    for (const Epoch& e : epochs) {
         RunEpoch re;
         re.epoch = e;
         re.registration = db.registrations().of_epoch(e.id);
@@ -51,8 +57,9 @@ RunData read_run(const EpochDatabase& db) {
             z.box = parse_zone_box(definition);
             z.no_change = parse_zone_no_change(definition);
         }
-        for (const std::string& q : db.series().quantities(name)) {
-            z.series[q] = db.series().points(name, q, {});
+        if (series == ZoneSeries::all || z.no_change) {
+            for (const std::string& q : db.series().quantities(name))
+                z.series[q] = db.series().points(name, q, window);
         }
         if (!z.box && z.series.empty()) continue;  // e.g. the system alarms' own zone
         r.zones.push_back(std::move(z));
@@ -60,15 +67,17 @@ RunData read_run(const EpochDatabase& db) {
     for (const AlarmRule& rule : db.alarms().rules()) {
         if (rule.name.rfind("system.", 0) != 0) r.rules.push_back(rule);
     }
-    for (const AlarmEvent& e : db.alarms().events(std::nullopt)) {
+    for (const AlarmEvent& e : db.alarms().events(window.from)) {
+        if (e.time > window.upper()) break;  // by time
         if (e.rule.rfind("system.", 0) != 0) r.alarm_events.push_back(e);
     }
     return r;
 }
 
-RunData read_run(const std::filesystem::path& database) {
+RunData read_run(const std::filesystem::path& database, const TimeRange& window,
+                 ZoneSeries series) {
     const EpochDatabase db = EpochDatabase::open(database, EpochDatabase::Mode::read_only);
-    return read_run(db);
+    return read_run(db, window, series);
 }
 
 }  // namespace tlsmon::report

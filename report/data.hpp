@@ -38,10 +38,16 @@ struct RunData {
     std::vector<AlarmEvent> alarm_events;
 };
 
-// Reads everything the report needs; throws StorageError (naming the file) when the
-// database cannot be opened.
-RunData read_run(const std::filesystem::path& database);
-RunData read_run(const EpochDatabase& db);
+// Reads everything the report needs of the epochs acquired in `window` (open: all of them);
+// the reference epoch is read too when it lies outside, since every comparison is a
+// difference to it. Throws StorageError (naming the file) when the database cannot be opened.
+// `series`: every zone's time series, or only the check zones' (all that is scored without
+// a truth: a year of a large site's series is gigabytes of copies for nothing).
+enum class ZoneSeries { all, check_zones };
+RunData read_run(const std::filesystem::path& database, const TimeRange& window = {},
+                 ZoneSeries series = ZoneSeries::all);
+RunData read_run(const EpochDatabase& db, const TimeRange& window = {},
+                 ZoneSeries series = ZoneSeries::all);
 
 // A zone definition as stored ({"type":"box","min":[..],"max":[..]}); nullopt otherwise.
 std::optional<ZoneBox> parse_zone_box(const std::string& definition_json);

@@ -58,7 +58,8 @@ export function element(tag, attributes = {}, ...children) {
 // The header of every page: the station and the navigation.
 export function header(station, current) {
   const nav = element('nav');
-  for (const [href, label] of [['/', 'Overview'], ['/alarms', 'Alarms'], ['/events', 'Events']]) {
+  for (const [href, label] of [['/', 'Overview'], ['/alarms', 'Alarms'], ['/events', 'Events'],
+    ['/calibration', 'Calibration']]) {
     nav.append(element('a', { href, text: label, class: href === current ? 'current' : '' }));
   }
   const h = document.querySelector('header');
@@ -105,6 +106,16 @@ export function sparkline(points, width = 120, height = 28) {
   line.setAttribute('points', points.map((p) => `${x(p[0]).toFixed(1)},${y(p[1]).toFixed(1)}`).join(' '));
   svg.append(line);
   return svg;
+}
+
+// A row of choice buttons in `where`: [label, value] items, the current one highlighted.
+export function buttons(where, items, isCurrent, choose) {
+  const box = document.querySelector(where);
+  box.replaceChildren(...items.map(([label, value]) => {
+    const b = element('button', { text: label, class: isCurrent(value) ? 'current' : '' });
+    b.addEventListener('click', () => choose(value));
+    return b;
+  }));
 }
 
 export function showError(where, error) {

@@ -5,7 +5,7 @@
 // Drag to zoom (the server is asked again for the zoomed window, at full resolution when
 // it fits the chart's width), shift-drag to pan, double-click to return to the window.
 import {
-  displayValue, element, formatTime, getJson, header, onEpochCommitted, showError, unit,
+  buttons, displayValue, element, formatTime, getJson, header, onEpochCommitted, showError, unit,
 } from './common.js';
 
 const zone = decodeURIComponent(location.pathname.replace(/^\/zones\//, ''));
@@ -175,15 +175,6 @@ async function load() {
   } catch (e) {
     showError('#chart', e);
   }
-}
-
-function buttons(where, items, isCurrent, choose) {
-  const box = document.querySelector(where);
-  box.replaceChildren(...items.map(([label, value]) => {
-    const b = element('button', { text: label, class: isCurrent(value) ? 'current' : '' });
-    b.addEventListener('click', () => choose(value));
-    return b;
-  }));
 }
 
 async function start() {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "daemon/http/calibration_api.hpp"
 #include "daemon/http/connection_queue.hpp"
 #include "daemon/http/sessions.hpp"
 #include "daemon/http/users.hpp"
@@ -265,6 +266,7 @@ void HttpService::State::routes() {
     page(R"(/epochs/\d+)", "epoch.html");
     page("/alarms", "alarms.html");
     page("/events", "events.html");
+    page("/calibration", "calibration.html");
     server->Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
         const WebFile* f = files.find(req.matches[1].str());
         if (!f) return send_error(res, 404, "no such file");
@@ -331,6 +333,11 @@ void HttpService::State::routes() {
         const auto range = range_parameters(req);
         send_json(res,
                   with_database([&](const EpochDatabase& db) { return alarms_json(db, range); }));
+    });
+    api("/api/v1/calibration", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        send_json(res, with_database(
+                           [&](const EpochDatabase& db) { return calibration_json(db, range); }));
     });
     api("/api/v1/epochs", [this](const httplib::Request& req, httplib::Response& res) {
         const auto range = range_parameters(req);

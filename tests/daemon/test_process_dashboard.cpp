@@ -30,6 +30,8 @@
 #include <map>
 #include <set>
 
+#include "demo/site_config_writer.hpp"
+#include "simulator/scene_file.hpp"
 #include "tests/support/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -135,6 +137,8 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         std::string text = read_text(config);
         const std::string http = "[http]\n";
         text.insert(text.find(http) + http.size(), "users_file = \"users.txt\"\n");
+        // The demo's check zone on the abutment, scored against zero on the calibration page.
+        text += abutment_check_zone(load_scene_file(s.dir / "scene.toml", std::nullopt));
         write_text(config, text);
     }
     const fs::path db = run / "tlsmon.sqlite", log = run / "daemon.log";
@@ -260,6 +264,48 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         EXPECT_NEAR((*it)[1].get<double>(), v.at("dz").get<double>(), 1e-12) << v.dump();
     }
 
+    // Calibration page over every epoch: the check zone's M3C2 median against zero, counted
+    // here from the database (within σ = LoD95 / 1.96 and within LoD95), and every row as
+    // `tlsmon calibration` prints it for the same database.
+    const json& calibration = page.at("calibration");
+    EXPECT_EQ(calibration.at("epochs"), sql(db, "SELECT count(*) AS n FROM epochs").at(0).at("n"));
+    const json check = sql(db,
+                           "SELECT z.name AS zone, r.value AS value, r.uncertainty AS lod FROM "
+                           "zone_results r JOIN zones z ON z.id = r.zone_id JOIN quantities q ON "
+                           "q.id = r.quantity_id WHERE json_extract(z.definition, '$.no_change') "
+                           "AND q.name = 'm3c2_median_m' AND r.uncertainty IS NOT NULL AND "
+                           "r.epoch_id != (SELECT epoch_id FROM reference_epoch)");
+    ASSERT_GE(check.size(), 5u) << "the demo's check zone has an M3C2 median in every epoch";
+    long within68 = 0, within95 = 0;
+    for (const auto& r : check) {
+        const double e = std::abs(r.at("value").get<double>());
+        const double sigma = r.at("lod").get<double>() / 1.96;
+        within68 += e <= sigma;
+        within95 += e <= 1.96 * sigma;
+    }
+    std::map<std::pair<std::string, std::string>, json> shown_rows;
+    for (const auto& r : calibration.at("rows")) shown_rows[{r.at("method"), r.at("part")}] = r;
+    const auto it = shown_rows.find({"no_change:m3c2_median_m", check.at(0).at("zone")});
+    ASSERT_NE(it, shown_rows.end()) << calibration.dump(1);
+    EXPECT_EQ(it->second.at("n").get<std::size_t>(), check.size());
+    EXPECT_EQ(it->second.at("within68").get<long>(), within68);
+    EXPECT_EQ(it->second.at("within95").get<long>(), within95);
+    const auto cli = shell("{ " + std::string(TLSMON_BINARY) + " calibration --format json --db " +
+                           quoted(db.string()) + " 2>/dev/null; }");
+    ASSERT_EQ(cli.status, 0) << cli.output;
+    const json printed = json::parse(cli.output);
+    EXPECT_EQ(printed.size(), shown_rows.size()) << cli.output;
+    for (const auto& r : printed) {
+        const auto row = shown_rows.find({r.at("method"), r.at("part")});
+        ASSERT_NE(row, shown_rows.end()) << r.dump();
+        const auto n = r.at("n").get<long>();
+        EXPECT_EQ(row->second.at("n").get<long>(), n);
+        EXPECT_EQ(row->second.at("within95").get<long>(),
+                  std::lround(r.at("cover95_pct").get<double>() * n / 100))
+            << r.dump();
+        EXPECT_EQ(row->second.at("verdict95"), r.at("verdict95")) << r.dump();
+    }
+
     // Alarms and events pages.
     const json states = sql(db, "SELECT count(*) AS n FROM alarm_states");
     EXPECT_EQ(page.at("alarms").size(), states.at(0).at("n").get<std::size_t>());
@@ -377,7 +423,7 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     if (openapi.status == 0) {
         const json verdict = json::parse(openapi.output);
         EXPECT_GE(verdict.at("checked").get<int>(), 25);
-        EXPECT_EQ(verdict.at("operations").get<int>(), 18);
+        EXPECT_EQ(verdict.at("operations").get<int>(), 19);  // every operation of docs/openapi.yaml
     }
 
     // Live: the overview, left open, shows the last epoch once it commits, with no reload;

@@ -116,6 +116,22 @@ def pages(base, out_dir, zone, quantity, epoch):
             return [...document.querySelectorAll('#states tr[data-rule]')].map(tr => ({
               rule: tr.dataset.rule, state: tr.querySelector('.state').textContent}));""")
 
+        # Calibration over every epoch: the table's rows as shown (the shares' counts).
+        report["errors"]["calibration"] = visit(
+            d, base + "/calibration?window=0",
+            "window.tlsmonCalibration && document.querySelectorAll('#calibration tr[data-method]').length > 0",
+            out_dir, "calibration")
+        report["calibration"] = d.execute_script("""
+            return { epochs: window.tlsmonCalibration.epochs,
+                     rows: [...document.querySelectorAll('#calibration tr[data-method]')].map(tr => {
+                       const within = tr.querySelectorAll('td[data-within]');
+                       return { method: tr.dataset.method, part: tr.dataset.part,
+                                n: Number(tr.children[2].textContent),
+                                within68: Number(within[0].dataset.within),
+                                within95: Number(within[1].dataset.within),
+                                rms_mm: tr.children[5].textContent,
+                                verdict95: tr.querySelector('td.verdict:last-child').textContent }; }) };""")
+
         report["errors"]["events"] = visit(
             d, base + "/events", "document.querySelectorAll('#events tr').length > 1", out_dir, "events")
         report["events"] = d.execute_script(
