@@ -45,6 +45,11 @@ std::vector<SectionKey<VectorConfig>> vector_keys() {
         K::number(&VectorConfig::max_sigma, "max_sigma", 0.00001, 1, "m",
                   "An area whose σ along the surface (in its worst direction) exceeds this gives "
                   "no vector: its texture does not observe the movement there."),
+        K::number(&VectorConfig::max_spacing, "max_spacing", 0.0001, 1, "m",
+                  "An area the scan samples coarser than this (the mean spacing of its points on "
+                  "the surface) gives no vector: its intensity image is aliased and the match "
+                  "follows the scan's lattice as the scanner drifts. The scanner's footprint at "
+                  "the structure, as keypoints.max_sample_spacing."),
         K::integer(&VectorConfig::max_iterations, "max_iterations", 1, 1000, "",
                    "Gauss–Newton iterations of each area's registration at most."),
         K::number(&VectorConfig::max_incidence_deg, "max_incidence_deg", 1, 90, "°",

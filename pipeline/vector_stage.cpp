@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/stored_area_vectors.hpp"
 #include "pipeline/zone_patches.hpp"
 
 namespace tlsmon {
@@ -265,11 +266,8 @@ std::vector<ZoneResult> vector_zone_results(const VectorConfig& config,
 std::vector<CorePointArray> vector_area_arrays(const VectorReference& reference,
                                                const VectorEpoch& epoch) {
     const std::size_t n = reference.areas();
-    const char* names[9] = {"vector_x_m",       "vector_y_m",       "vector_z_m",
-                            "vector_dx_m",      "vector_dy_m",      "vector_dz_m",
-                            "vector_sigma_x_m", "vector_sigma_y_m", "vector_sigma_z_m"};
     std::vector<CorePointArray> out;
-    for (const char* name : names) out.push_back({name, std::vector<float>(n)});
+    for (const char* name : kAreaVectorArrays) out.push_back({name, std::vector<float>(n)});
     for (std::size_t k = 0; k < n; ++k) {
         const auto& a = epoch.areas[k];
         const Eigen::Vector3d sigma = a.covariance().diagonal().cwiseSqrt();
@@ -300,10 +298,12 @@ StageVerdict VectorStage::run(StageContext& ctx) const {
     const VectorEpoch epoch = measure_vectors(config_, *product, *ctx.input.scans, ctx.outputs);
     auto rows = vector_zone_results(config_, *product, epoch);
     auto arrays = vector_area_arrays(*product, epoch);
-    std::size_t measured = 0, sparse = 0;
+    std::size_t measured = 0, sparse = 0, coarse = 0;
     for (const auto& a : epoch.areas) {
         measured += a.fit.measured();
         sparse += a.fit.outcome == vectors::AreaOutcome::few_points;
+        coarse += a.fit.outcome == vectors::AreaOutcome::undersampled ||
+                  a.fit.outcome == vectors::AreaOutcome::mixed_sampling;
     }
     auto& results = ctx.results;
     results.zone_results.insert(results.zone_results.end(), std::make_move_iterator(rows.begin()),
@@ -314,9 +314,9 @@ StageVerdict VectorStage::run(StageContext& ctx) const {
     double tau = 0;  // the largest between-area σ along the surface
     for (const auto& t : epoch.zone_between_sigma) tau = std::max({tau, t(1), t(2)});
     return StageVerdict{
-        "", fmt::format("{} of {} areas with a vector ({} with too few points); between-area σ "
-                        "along the surface up to {:.2f} mm",
-                        measured, epoch.areas.size(), sparse, 1e3 * tau)};
+        "", fmt::format("{} of {} areas with a vector ({} with too few points, {} sampled too "
+                        "coarsely or unevenly); between-area σ along the surface up to {:.2f} mm",
+                        measured, epoch.areas.size(), sparse, coarse, 1e3 * tau)};
 }
 
 }  // namespace tlsmon

@@ -1,5 +1,6 @@
 #include "report/gnuplot.hpp"
 
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 
@@ -31,6 +32,12 @@ std::string gnuplot_quoted(const std::string& s) {
     std::string q = "'";
     for (const char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
     return q + "'";
+}
+
+std::string safe_name(const std::string& s) {
+    std::string out;
+    for (const char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    return out;
 }
 
 bool have_gnuplot() {

@@ -13,6 +13,9 @@ void write_text(const std::filesystem::path& path, const std::string& text);
 // A gnuplot string literal (single quotes; a quote doubled).
 std::string gnuplot_quoted(const std::string& s);
 
+// A name as a file name's part: every character but letters and digits as '_'.
+std::string safe_name(const std::string& s);
+
 bool have_gnuplot();
 
 // Runs gnuplot on `script` from the script's folder (it reads its data files there); its

@@ -10,6 +10,7 @@
 
 #include "core/utc_time.hpp"
 #include "report/calibration.hpp"
+#include "report/gnuplot.hpp"
 #include "report/output.hpp"
 
 namespace tlsmon::report {
@@ -403,14 +404,12 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         if (table) md += "\n";
         md += quantity_family_note(z, "m3c2_", "M3C2");
         md += quantity_family_note(z, "keypoint_", "Keypoints");
-        const std::string png = "zone_" + [&] {
-            std::string s;
-            for (const char ch : z.zone)
-                s += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-            return s;
-        }() + ".png";
+        const std::string png = "zone_" + safe_name(z.zone) + ".png",
+                          vectors = "vectors_" + safe_name(z.zone) + ".png";
         for (const auto& p : files.plots) {
             if (p.filename() == png) md += fmt::format("\n![{}]({})\n", z.zone, png);
+            if (p.filename() == vectors)
+                md += fmt::format("\n![3-D vectors of {}]({})\n", z.zone, vectors);
         }
         md += "\n";
     }

@@ -32,6 +32,11 @@ void draw_plots(const RunReport& report, const std::filesystem::path& out, Repor
 // defined is a note.
 void draw_keypoint_models(const std::filesystem::path& database,
                           const std::filesystem::path& plot_dir, ReportFiles& files);
+// vectors_<zone>.png: the newest epoch's 3-D vectors (docs/vectors.md) of each zone's areas
+// along the wall, with the truth's change at the same places when the run is scored
+// (report/vector_plot.cpp); nothing when no epoch has vectors.
+void draw_area_vectors(const RunReport& report, const std::filesystem::path& plot_dir,
+                       ReportFiles& files);
 // report.md
 std::string markdown(const RunReport& report, const ReportFiles& files,
                      const ReportContext& context);

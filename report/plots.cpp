@@ -19,12 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string safe_name(const std::string& s) {
-    std::string out;
-    for (const char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return out;
-}
-
 // Vertical dashed lines at the truth's events, at the database's epoch the truth's epoch is.
 std::string event_marks(const RunReport& r) {
     std::string s;
@@ -231,6 +225,7 @@ void draw_plots(const RunReport& r, const fs::path& out, ReportFiles& files) {
     plot_registration(r, dir, files);
     for (const ZoneCheck& z : r.zones) plot_zone(r, z, dir, files);
     draw_keypoint_models(r.database, dir, files);
+    draw_area_vectors(r, dir, files);
 }
 
 }  // namespace tlsmon::report

@@ -67,6 +67,9 @@ Eigen::Vector3d true_displacement(const TruthEpoch& truth, const Eigen::Vector3d
 // A zone given as an axis-aligned box (the `box` zones of the configuration).
 struct ZoneBox {
     Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
+    bool contains(const Eigen::Vector3d& p) const {
+        return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+    }
 };
 
 // The pier face a zone box lies on: its name, outward unit normal (towards a scanner that

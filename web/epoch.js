@@ -4,7 +4,8 @@
 // distance is within their LoD95 greyed, distance, LoD, n1 and n2 on hover; and where the
 // keypoint method measured the zone, its mean vector along the wall as an arrow at the
 // segment's height (black: beyond its LoD95, grey: within), its LoD95 as an ellipse at the
-// tip, all arrows to one scale with a scale bar.
+// tip, all arrows to one scale with a scale bar; where the 3-D vectors stage measured, every
+// area's vector along the wall as a thin arrow from its centre, to a scale of their own.
 import { element, formatTime, getJson, header, showError } from './common.js';
 
 const id = Number(location.pathname.split('/').pop());
@@ -42,7 +43,7 @@ function scaleBarLength(pxPerMetre) {
   return [1, 2, 5, 10].map((m) => m * base).reduce((a, b) => (Math.abs(b - target) < Math.abs(a - target) ? b : a));
 }
 
-function arrowLegend(pxPerMetre) {
+function arrowLegend(pxPerMetre, label, note) {
   const length = scaleBarLength(pxPerMetre);
   const bar = element('canvas', { width: Math.ceil(length * pxPerMetre) + 12, height: 12 });
   const ctx = bar.getContext('2d');
@@ -55,29 +56,33 @@ function arrowLegend(pxPerMetre) {
   ctx.moveTo(1 + length * pxPerMetre, 1); ctx.lineTo(1 + length * pxPerMetre, 11);
   ctx.stroke();
   return element('div', { class: 'map-legend' },
-    element('span', { text: 'keypoint vectors along the wall: ' }), bar,
+    element('span', { text: `${label}: ` }), bar,
     element('span', { text: ` ${Number((length * 1000).toPrecision(2))} mm` }),
-    element('span', { class: 'quiet', text: ' (ellipse: LoD95; grey: within it)' }));
+    element('span', { class: 'quiet', text: ` (${note})` }));
 }
 
-// The zone's keypoint vector: an arrow from (x, y) by (du, dv) at `k` px per metre.
-function drawArrow(ctx, x, y, kp, k) {
-  const tx = x + kp.du_m * k, ty = y - kp.dv_m * k;
-  const colour = kp.significant ? '#000' : '#8a8a8a';
-  ctx.save();
+// An arrow from (x, y) to (tx, ty).
+function arrow(ctx, x, y, tx, ty, colour, width, headMax) {
   ctx.strokeStyle = colour;
   ctx.fillStyle = colour;
-  ctx.lineWidth = 2;
+  ctx.lineWidth = width;
   ctx.beginPath();
   ctx.moveTo(x, y);
   ctx.lineTo(tx, ty);
   ctx.stroke();
-  const angle = Math.atan2(ty - y, tx - x), head = Math.min(8, Math.hypot(tx - x, ty - y) * 0.5);
+  const angle = Math.atan2(ty - y, tx - x), head = Math.min(headMax, Math.hypot(tx - x, ty - y) * 0.5);
   ctx.beginPath();
   ctx.moveTo(tx, ty);
   ctx.lineTo(tx - head * Math.cos(angle - 0.4), ty - head * Math.sin(angle - 0.4));
   ctx.lineTo(tx - head * Math.cos(angle + 0.4), ty - head * Math.sin(angle + 0.4));
   ctx.fill();
+}
+
+// The zone's keypoint vector: an arrow from (x, y) by (du, dv) at `k` px per metre.
+function drawArrow(ctx, x, y, kp, k) {
+  const tx = x + kp.du_m * k, ty = y - kp.dv_m * k;
+  ctx.save();
+  arrow(ctx, x, y, tx, ty, kp.significant ? '#000' : '#8a8a8a', 2, 8);
   if (kp.lod95_h_m !== null && kp.lod95_v_m !== null) {
     ctx.lineWidth = 1;
     ctx.setLineDash([3, 2]);
@@ -88,8 +93,11 @@ function drawArrow(ctx, x, y, kp, k) {
   ctx.restore();
 }
 
+// Whether an area's vector is beyond its LoD95 along the wall (either axis).
+const areaSignificant = (a, i) => Math.abs(a.du_m[i]) > a.lod95_u_m[i] || Math.abs(a.dv_m[i]) > a.lod95_v_m[i];
+
 // The zone's core points to scale (one metre is as long across as up), at most 480 × 420 px.
-function drawZone(z, limit, arrowScale) {
+function drawZone(z, limit, arrowScale, areaScale) {
   const n = z.u.length, pad = 12;
   const title = element('h3', { text: `${z.zone}: ${n} of ${z.core_points} core points with a distance` });
   if (n === 0) return element('div', {}, title);
@@ -127,6 +135,29 @@ function drawZone(z, limit, arrowScale) {
   canvas.addEventListener('mouseleave', () => { tip.style.display = 'none'; });
   canvas.dataset.marks = String(n);
   canvas.dataset.arrows = '0';
+  canvas.dataset.areaArrows = '0';
+  const a = z.vectors;
+  if (a && a.u.length) {
+    // Every area's 3-D vector along the wall from its centre (dark blue: beyond its LoD95
+    // along u or v; grey: within), under the zone's keypoint arrow.
+    ctx.save();
+    for (let i = 0; i < a.u.length; ++i) {
+      const x = pad + (a.u[i] - u0) * scale, y = h - pad - (a.v[i] - v0) * scale;
+      // An arrow longer than three times the typical one (an area across a step, which is no
+      // rigid body) is drawn at that length, so it does not cross the whole map.
+      const len = Math.hypot(a.du_m[i], a.dv_m[i]) * areaScale, cut = len > 75 ? 75 / len : 1;
+      const tx = x + a.du_m[i] * areaScale * cut, ty = y - a.dv_m[i] * areaScale * cut;
+      arrow(ctx, x, y, tx, ty, 'rgba(255,255,255,0.8)', 3, 5);  // a halo over the map's colours
+      arrow(ctx, x, y, tx, ty, areaSignificant(a, i) ? '#0b3d91' : '#6e6e6e', 1.2, 4);
+    }
+    ctx.restore();
+    canvas.dataset.areaArrows = String(a.u.length);
+    const beyond = a.u.filter((_, i) => areaSignificant(a, i)).length;
+    const mean = (xs) => xs.reduce((p, q) => p + q, 0) / xs.length;
+    box.append(element('p', { class: 'quiet', text:
+      `3-D vectors: ${a.u.length} areas, ${beyond} beyond their LoD95 along the wall; mean along the wall ` +
+      `${mm(mean(a.du_m))}, up ${mm(mean(a.dv_m))}, along the normal ${mm(mean(a.dw_m))}` }));
+  }
   const kp = z.keypoint;
   if (kp) {
     // At the middle of the zone along the wall, at the segment's height (wall frame).
@@ -154,10 +185,19 @@ async function maps() {
     const reach = Math.max(1e-5, ...map.zones.filter((z) => z.keypoint).map((z) => Math.max(
       Math.hypot(z.keypoint.du_m, z.keypoint.dv_m), z.keypoint.lod95_h_m ?? 0, z.keypoint.lod95_v_m ?? 0)));
     const arrowScale = 60 / reach;
+    // The areas' vectors to their own scale: the 95th percentile of their lengths 25 px.
+    const lengths = map.zones.flatMap((z) => (z.vectors ? z.vectors.du_m.map((du, i) => Math.hypot(du, z.vectors.dv_m[i])) : []))
+      .sort((p, q) => p - q);
+    const areaScale = 25 / Math.max(1e-5, lengths.length ? lengths[Math.floor(0.95 * (lengths.length - 1))] : 0);
     const legends = [legend(limit)];
-    if (map.zones.some((z) => z.keypoint)) legends.push(arrowLegend(arrowScale));
+    if (map.zones.some((z) => z.keypoint)) {
+      legends.push(arrowLegend(arrowScale, 'keypoint vectors along the wall', 'ellipse: LoD95; grey: within it'));
+    }
+    if (lengths.length) {
+      legends.push(arrowLegend(areaScale, "3-D vectors of the areas along the wall", 'dark blue: beyond their LoD95; grey: within it; longer than 3 × the 95th percentile: cut'));
+    }
     document.querySelector('#map-legend').replaceChildren(...legends);
-    box.replaceChildren(...map.zones.map((z) => drawZone(z, limit, arrowScale)));
+    box.replaceChildren(...map.zones.map((z) => drawZone(z, limit, arrowScale, areaScale)));
   } catch (e) {
     box.replaceChildren(element('p', { class: 'quiet', text: String(e.message) }));
   }

@@ -47,6 +47,36 @@ double spacing_of(std::span<const AreaSample> s) {
     return std::sqrt(double(occupied) * cell * cell / double(s.size()));
 }
 
+// The largest over the smallest sample spacing among the area's blocks of side `block`
+// (each √(its occupied area / its samples), the area counted in cells of twice the mean
+// spacing `h`, as spacing_of; blocks with fewer than kMinBlockSamples samples left out):
+// about 1 over a uniform scan (the range changes by a few per cent across an area), 2–5
+// where a detail window's edge crosses the area.
+constexpr std::size_t kMinBlockSamples = 20;
+double sampling_ratio(std::span<const AreaSample> s, double h, double block) {
+    const double cell = 2.0 * h;
+    // (block u, block v, cell u, cell v) of every sample, sorted: a block's samples and its
+    // distinct cells are runs.
+    std::vector<std::array<long, 4>> keys;
+    keys.reserve(s.size());
+    for (const auto& p : s)
+        keys.push_back({long(std::floor(p.u / block)), long(std::floor(p.v / block)),
+                        long(std::floor(p.u / cell)), long(std::floor(p.v / cell))});
+    std::sort(keys.begin(), keys.end());
+    double finest = std::numeric_limits<double>::infinity(), coarsest = 0;
+    for (std::size_t i = 0; i < keys.size();) {
+        std::size_t j = i, cells = 0;
+        for (; j < keys.size() && keys[j][0] == keys[i][0] && keys[j][1] == keys[i][1]; ++j)
+            cells += j == i || keys[j] != keys[j - 1];
+        if (j - i >= kMinBlockSamples) {
+            const double spacing = std::sqrt(double(cells) * cell * cell / double(j - i));
+            finest = std::min(finest, spacing), coarsest = std::max(coarsest, spacing);
+        }
+        i = j;
+    }
+    return coarsest > 0 ? coarsest / finest : 1.0;
+}
+
 // The samples bucketed on square cells of the plane (compressed rows), for the samples
 // within a radius of any point.
 class SampleGrid {
@@ -248,6 +278,10 @@ const char* outcome_name(AreaOutcome outcome) {
             return "untextured";
         case AreaOutcome::diverged:
             return "diverged";
+        case AreaOutcome::mixed_sampling:
+            return "mixed sampling";
+        case AreaOutcome::undersampled:
+            return "undersampled";
     }
     return "?";
 }
@@ -260,6 +294,8 @@ void validate(const Parameters& p) {
     if (p.min_blocks < 2) throw Error("vectors: min_blocks must be at least 2");
     if (!(p.clip >= 1)) throw Error("vectors: clip must be at least 1");
     if (p.max_iterations < 1) throw Error("vectors: max_iterations must be at least 1");
+    if (!(p.max_spacing > 0 && p.max_spacing <= 1))
+        throw Error("vectors: max_spacing must lie in (0, 1] m");
     if (!(p.max_sigma > 0)) throw Error("vectors: max_sigma must be positive");
 }
 
@@ -273,6 +309,15 @@ AreaVector register_area(std::span<const AreaSample> reference, std::span<const 
         return out;
     const double h = spacing_of(reference);  // also the template's pixel
     out.spacing = h;
+    // An area across a change of the scan's sampling (a detail window's edge) is sharp on one
+    // side and blurred on the other, and with the scanner's drift that boundary moves over the
+    // surface between the epochs: the match follows it (millimetres along the surface, far
+    // beyond the covariance, on the simulated detail strip's edge). Such an area has no vector.
+    if (h > P.max_spacing || spacing_of(epoch) > P.max_spacing)
+        return out.outcome = AreaOutcome::undersampled, out;
+    if (sampling_ratio(reference, h, P.block) > kMaxSamplingRatio ||
+        sampling_ratio(epoch, spacing_of(epoch), P.block) > kMaxSamplingRatio)
+        return out.outcome = AreaOutcome::mixed_sampling, out;
     const double radius = kKernelRadiusSpacings * h;
     const SampleGrid ref_grid(reference, radius);
     const SampleGrid epoch_grid(epoch, radius);

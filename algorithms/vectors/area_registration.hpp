@@ -71,9 +71,28 @@ struct Parameters {
     // m: an area whose σ along the surface (in its worst direction) exceeds this has no vector:
     // its texture does not observe the movement there.
     double max_sigma = 0.001;
+    // m: an area the scan samples coarser than this (its samples' mean spacing on the surface)
+    // gives no vector: its intensity image is aliased, the match follows the scan's lattice as
+    // the scanner drifts, not the surface, and the covariance does not see it (every block
+    // shares the lattice). It stands for the scanner's footprint at the structure, as
+    // keypoints.max_sample_spacing (docs/vectors.md, "Sampling").
+    double max_spacing = 0.02;
 };
 
-enum class AreaOutcome { measured, few_points, few_blocks, singular, untextured, diverged };
+// The largest ratio of the coarsest to the finest sample spacing among an area's blocks (in
+// either epoch) for a vector: beyond it the area straddles a change of the scan's sampling.
+inline constexpr double kMaxSamplingRatio = 1.5;
+
+enum class AreaOutcome {
+    measured,
+    few_points,
+    few_blocks,
+    singular,
+    untextured,
+    diverged,
+    mixed_sampling,  // across a change of the scan's sampling (kMaxSamplingRatio)
+    undersampled     // sampled coarser than max_spacing
+};
 const char* outcome_name(AreaOutcome outcome);
 
 struct AreaVector {

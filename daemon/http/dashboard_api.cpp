@@ -9,6 +9,8 @@
 #include "daemon/http/series_decimation.hpp"
 #include "pipeline/core_point_map.hpp"
 #include "pipeline/keypoint_results.hpp"
+#include "pipeline/stored_area_vectors.hpp"
+#include "report/data.hpp"
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon {
@@ -413,6 +415,32 @@ Json keypoint_vector_json(const EpochDatabase& db, const Epoch& epoch, const std
                 {"significant", (h && h->significant) || (vertical && vertical->significant)}};
 }
 
+// The epoch's 3-D vectors (docs/vectors.md) of the areas whose centre lies in the zone's
+// box, in the map's frame: where each is drawn (u, v of its centre), its components along u,
+// v and the third axis w = u × v (along the normal of a wall), and the LoD95 along u and v
+// (StoredAreaVector::lod95_along). Null when the epoch has no vectors or the zone is not a
+// box.
+Json area_vectors_json(const std::vector<StoredAreaVector>& areas,
+                       const std::optional<report::ZoneBox>& box, const Eigen::Vector3d& u,
+                       const Eigen::Vector3d& v) {
+    if (areas.empty() || !box) return nullptr;
+    const Eigen::Vector3d w = u.cross(v);
+    Json us = Json::array(), vs = Json::array(), du = Json::array(), dv = Json::array(),
+         dw = Json::array(), lu = Json::array(), lv = Json::array();
+    for (const StoredAreaVector& a : areas) {
+        if (!box->contains(a.centre)) continue;
+        us.push_back(std::round(u.dot(a.centre) * 1000.0) / 1000.0);
+        vs.push_back(std::round(v.dot(a.centre) * 1000.0) / 1000.0);
+        du.push_back(u.dot(a.displacement));
+        dv.push_back(v.dot(a.displacement));
+        dw.push_back(w.dot(a.displacement));
+        lu.push_back(a.lod95_along(u));
+        lv.push_back(a.lod95_along(v));
+    }
+    return Json{{"u", us},    {"v", vs},         {"du_m", du},     {"dv_m", dv},
+                {"dw_m", dw}, {"lod95_u_m", lu}, {"lod95_v_m", lv}};
+}
+
 }  // namespace
 
 Json core_point_map_json(const EpochDatabase& db, EpochId id, bool& absent) {
@@ -427,6 +455,12 @@ Json core_point_map_json(const EpochDatabase& db, EpochId id, bool& absent) {
     }();
     const Epoch epoch = *db.epochs().find(id);  // read_core_point_map found it
     const auto& ref = map.reference.reference;
+    const std::vector<StoredAreaVector> vectors = read_area_vectors(db, id);
+    std::map<std::string, std::optional<report::ZoneBox>> boxes;
+    if (!vectors.empty()) {
+        for (const auto& [name, definition] : db.site().zones())
+            boxes[name] = report::parse_zone_box(definition);
+    }
     Json zones = Json::array();
     for (std::size_t z = 0; z < map.reference.zone_names.size(); ++z) {
         const auto& cores = map.reference.zone_cores[z];
@@ -470,7 +504,8 @@ Json core_point_map_json(const EpochDatabase& db, EpochId id, bool& absent) {
              {"n1", n1},
              {"n2", n2},
              {"significant", sig},
-             {"keypoint", keypoint_vector_json(db, epoch, map.reference.zone_names[z], u, v)}});
+             {"keypoint", keypoint_vector_json(db, epoch, map.reference.zone_names[z], u, v)},
+             {"vectors", area_vectors_json(vectors, boxes[map.reference.zone_names[z]], u, v)}});
     }
     return Json{{"epoch", id}, {"core_points", ref.size()}, {"zones", zones}};
 }

@@ -186,5 +186,50 @@ TEST(AreaRegistration, TooFewSamplesOrBlocksAreSaid) {
     EXPECT_THROW(register_area(reference, reference, p), Error);
 }
 
+// An area across the edge of a detail window: sampled at 8 mm left of `edge` and 18 mm right
+// of it (a scan's fine strip and its coarse surroundings). With the scanner's drift the edge
+// moves over the surface between epochs; the area gives no vector, not the edge's motion.
+std::vector<AreaSample> across_a_window_edge(const Surface& s, double edge, std::mt19937& rng) {
+    std::vector<AreaSample> out;
+    for (const auto& p : sample(s, Eigen::Vector3d::Zero(), 1.0, 0.0, rng, 0.008))
+        if (p.u < edge) out.push_back(p);
+    for (const auto& p : sample(s, Eigen::Vector3d::Zero(), 1.0, 0.0, rng, 0.018))
+        if (p.u >= edge) out.push_back(p);
+    return out;
+}
+
+TEST(AreaRegistration, AnAreaAcrossAChangeOfSamplingHasNoVector) {
+    std::mt19937 rng(17);
+    const Surface s;
+    const auto reference = across_a_window_edge(s, 0.50, rng);
+    const auto epoch = across_a_window_edge(s, 0.53, rng);
+    EXPECT_EQ(register_area(reference, epoch).outcome, AreaOutcome::mixed_sampling);
+    EXPECT_STREQ(outcome_name(AreaOutcome::mixed_sampling), "mixed sampling");
+    // The coarse part alone, both epochs: uniform, measured, and the motion (none) found.
+    std::vector<AreaSample> coarse_r, coarse_e;
+    for (const auto& p : reference)
+        if (p.u >= 0.53) coarse_r.push_back(p);
+    for (const auto& p : epoch)
+        if (p.u >= 0.53) coarse_e.push_back(p);
+    const AreaVector r = register_area(coarse_r, coarse_e);
+    ASSERT_TRUE(r.measured()) << outcome_name(r.outcome);
+    EXPECT_LT(r.displacement.head<2>().norm(),
+              3 * std::sqrt(r.covariance(0, 0) + r.covariance(1, 1)));
+}
+
+TEST(AreaRegistration, ACoarselySampledAreaHasNoVector) {
+    std::mt19937 rng(18);
+    const Surface s;
+    const auto reference = sample(s, Eigen::Vector3d::Zero(), 1.0, 0.0, rng, 0.03);
+    const auto epoch = sample(s, Eigen::Vector3d(0.002, 0, 0), 1.0, 0.0, rng, 0.03);
+    Parameters p;
+    p.max_spacing = 0.02;
+    EXPECT_EQ(register_area(reference, epoch, p).outcome, AreaOutcome::undersampled);
+    p.max_spacing = 0.04;  // a coarser scanner footprint allowed: measured
+    EXPECT_TRUE(register_area(reference, epoch, p).measured());
+    p.max_spacing = 0;
+    EXPECT_THROW(register_area(reference, epoch, p), Error);
+}
+
 }  // namespace
 }  // namespace tlsmon::vectors

@@ -137,8 +137,10 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
         std::string text = read_text(config);
         const std::string http = "[http]\n";
         text.insert(text.find(http) + http.size(), "users_file = \"users.txt\"\n");
-        // The demo's check zone on the abutment, scored against zero on the calibration page.
+        // The demo's check zone on the abutment, scored against zero on the calibration page;
+        // the 3-D vectors, drawn per area on the epoch view.
         text += abutment_check_zone(load_scene_file(s.dir / "scene.toml", std::nullopt));
+        text += "\n[vectors]\nenabled = true\n";
         write_text(config, text);
     }
     const fs::path db = run / "tlsmon.sqlite", log = run / "daemon.log";
@@ -305,6 +307,43 @@ TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
             << r.dump();
         EXPECT_EQ(row->second.at("verdict95"), r.at("verdict95")) << r.dump();
     }
+
+    // The 3-D vectors on the epoch view: one arrow per measured area (a σ stored) whose
+    // centre lies in a map zone's box, its components along the wall those of the stored
+    // vector (up is dz on a vertical face).
+    const auto ax = core_point_array(db, last_id, "vector_x_m"),
+               ay = core_point_array(db, last_id, "vector_y_m"),
+               az = core_point_array(db, last_id, "vector_z_m"),
+               adz = core_point_array(db, last_id, "vector_dz_m"),
+               asx = core_point_array(db, last_id, "vector_sigma_x_m");
+    ASSERT_GT(ax.size(), 10u) << "the vectors stage stored its areas";
+    const json boxes = sql(db, "SELECT name, definition FROM zones");
+    long drawn_areas = 0;
+    for (const auto& [zone, count] : page.at("epoch").at("area_arrows").items()) {
+        std::optional<json> box;
+        for (const auto& b : boxes)
+            if (b.at("name") == zone) box = json::parse(b.at("definition").get<std::string>());
+        ASSERT_TRUE(box) << zone;
+        long inside = 0;
+        std::set<long> dz_um;  // the stored dz of the areas inside, in µm
+        for (std::size_t k = 0; k < ax.size(); ++k) {
+            const double p[3] = {ax[k], ay[k], az[k]};
+            bool in = std::isfinite(asx[k]);
+            for (int c = 0; c < 3; ++c)
+                in = in && p[c] >= (*box)["min"][c].get<double>() &&
+                     p[c] <= (*box)["max"][c].get<double>();
+            inside += in;
+            if (in) dz_um.insert(std::lround(1e6 * adz[k]));
+        }
+        EXPECT_EQ(count.get<long>(), inside) << zone;
+        drawn_areas += inside;
+        const auto up = page.at("epoch").at("area_dv").find(zone);
+        if (up == page.at("epoch").at("area_dv").end() || (*up)[1] != "wall") continue;
+        for (const auto& dv : (*up)[0])
+            EXPECT_TRUE(dz_um.count(std::lround(1e6 * dv.get<double>())))
+                << zone << ": an arrow's upward component is no stored area's dz: " << dv;
+    }
+    EXPECT_GT(drawn_areas, 10);
 
     // Alarms and events pages.
     const json states = sql(db, "SELECT count(*) AS n FROM alarm_states");

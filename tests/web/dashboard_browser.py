@@ -105,6 +105,10 @@ def pages(base, out_dir, zone, quantity, epoch):
                      distinct_core_points: cores.size,
                      arrows: Object.fromEntries([...document.querySelectorAll('canvas.map')].map(
                        (c, i) => [window.tlsmonMap.zones[i].zone, Number(c.dataset.arrows)])),
+                     area_arrows: Object.fromEntries([...document.querySelectorAll('canvas.map')].map(
+                       (c, i) => [window.tlsmonMap.zones[i].zone, Number(c.dataset.areaArrows)])),
+                     area_dv: Object.fromEntries(window.tlsmonMap.zones.filter(z => z.vectors).map(
+                       z => [z.zone, [z.vectors.dv_m, z.frame]])),
                      vectors: Object.fromEntries(window.tlsmonMap.zones.filter(z => z.keypoint).map(
                        z => [z.zone, [z.keypoint.du_m, z.keypoint.dv_m, z.frame]])),
                      title: document.querySelector('#title').textContent };""")
