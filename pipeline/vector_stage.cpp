@@ -80,14 +80,6 @@ Eigen::Vector3d design_normal(const VectorConfig& config, std::size_t zone) {
                                       : Eigen::Vector3d::Constant(std::nan(""));
 }
 
-// The wall's directions as rows: (normal, h, v) of a project-frame vector.
-Eigen::Matrix3d wall_rows(const ZoneWall& w) {
-    Eigen::Matrix3d M;
-    M.row(0) = w.normal.transpose(), M.row(1) = w.horizontal.transpose(),
-    M.row(2) = w.vertical.transpose();
-    return M;
-}
-
 // τ of the zone's measured areas along its normal, h and v: their vectors about the zone's
 // smooth field against their fits' σ (between_area_variance.hpp).
 Eigen::Vector3d between_sigma(const VectorReference& reference, std::size_t zone,
@@ -96,7 +88,7 @@ Eigen::Vector3d between_sigma(const VectorReference& reference, std::size_t zone
     for (const auto k : reference.zone_areas[zone])
         if (areas[k].fit.measured()) measured.push_back(k);
     const auto n = Eigen::Index(measured.size());
-    const Eigen::Matrix3d W = wall_rows(wall);
+    const Eigen::Matrix3d W = wall.rows();
     Eigen::MatrixX2d positions(n, 2);
     Eigen::MatrixX3d values(n, 3), variances(n, 3);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -189,7 +181,7 @@ VectorEpoch measure_vectors(const VectorConfig& config, const VectorReference& r
             registration_covariance(outputs, zone_centroid(reference, z)));
         const ZoneWall wall = zone_wall(reference, z, design_normal(config, z));
         const Eigen::Vector3d tau = between_sigma(reference, z, wall, out.areas);
-        const Eigen::Matrix3d W = wall_rows(wall);
+        const Eigen::Matrix3d W = wall.rows();
         const Eigen::Matrix3d T = W.transpose() * tau.cwiseAbs2().asDiagonal() * W;
         out.zone_between_sigma.push_back(tau);
         out.zone_between_covariance.push_back(T);

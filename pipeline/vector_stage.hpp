@@ -76,6 +76,13 @@ VectorEpoch measure_vectors(const VectorConfig& config, const VectorReference& r
 // keypoints' wall frame).
 struct ZoneWall {
     Eigen::Vector3d normal, horizontal, vertical;
+    // The directions as rows: (normal, h, v) of a project-frame vector.
+    Eigen::Matrix3d rows() const {
+        Eigen::Matrix3d M;
+        M.row(0) = normal.transpose(), M.row(1) = horizontal.transpose(),
+        M.row(2) = vertical.transpose();
+        return M;
+    }
 };
 ZoneWall zone_wall(const VectorReference& reference, std::size_t zone,
                    const Eigen::Vector3d& design_normal);

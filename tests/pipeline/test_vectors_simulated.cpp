@@ -74,14 +74,6 @@ struct Series {
     std::size_t measured = 0, areas = 0;
 };
 
-// The wall's directions as rows: (normal, h, v) of a vector in the project frame.
-Eigen::Matrix3d to_wall(const ZoneWall& w) {
-    Eigen::Matrix3d M;
-    M.row(0) = w.normal.transpose(), M.row(1) = w.horizontal.transpose(),
-    M.row(2) = w.vertical.transpose();
-    return M;
-}
-
 Series run_series(const sim::Site& site, const std::vector<double>& hours) {
     const RegistrationConfig targets = test::simulated_targets(site);
     VectorConfig config;
@@ -111,7 +103,7 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
         const KeypointSegmentsResult segments =
             keypoint_segments(keypoints, kp_ref, std::move(measured.matches), *o);
         for (std::size_t z = 0; z + 1 < ref.zone_names.size(); ++z) {  // the south face's zones
-            const Eigen::Matrix3d W = to_wall(zone_wall(ref, z, config.zones[z].normal));
+            const Eigen::Matrix3d W = zone_wall(ref, z, config.zones[z].normal).rows();
             Eigen::Vector3d truth = Eigen::Vector3d::Zero();
             std::size_t n = 0;
             for (const auto k : ref.zone_areas[z]) {
