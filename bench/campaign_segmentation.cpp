@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
 
     t0 = std::chrono::steady_clock::now();
     c0 = bench::process_cpu_seconds();
-    const auto s = campaign::segment_cloud(cloud, classes, {});
+    const auto s = campaign::segment_cloud(cloud, classes, {}, 2);
     std::printf(
         "segmentation: %.1f s wall, %.1f s CPU; spacing %.1f mm, distance %.1f mm, %zu "
         "clusters, %zu segments of at least 50 points\n",

@@ -8,6 +8,7 @@
 
 #include "algorithms/campaign/point_grid.hpp"
 #include "core/error.hpp"
+#include "core/parallel_for.hpp"
 
 namespace tlsmon::campaign {
 
@@ -79,7 +80,7 @@ double mean_spacing(std::span<const Eigen::Vector3d> points, int samples) {
 
 Segmentation segment_cloud(std::span<const Eigen::Vector3d> points,
                            std::span<const VerticalityClass> classes,
-                           const SegmentationParameters& p) {
+                           const SegmentationParameters& p, unsigned threads) {
     validate(p);
     if (classes.size() != points.size())
         throw Error("campaign: one verticality class per point is needed");
@@ -91,13 +92,31 @@ Segmentation segment_cloud(std::span<const Eigen::Vector3d> points,
     out.distance = p.distance_factor * out.spacing;
     const PointGrid grid(points, out.distance);
     DisjointSets objects(points.size()), parts(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        if (!points[i].allFinite()) continue;
-        grid.within(points[i], out.distance, [&](std::uint32_t j, double) {
-            if (j <= i) return;  // each pair once
-            objects.unite(std::uint32_t(i), j);
-            if (joined(classes[i]) == joined(classes[j])) parts.unite(std::uint32_t(i), j);
-        });
+    // The neighbour searches in parallel, a block of points at a time; the unions, which are
+    // cheap, in order.
+    constexpr std::size_t kBlock = 1 << 16;
+    std::vector<std::vector<std::uint32_t>> neighbours(kBlock);
+    for (std::size_t b = 0; b < points.size(); b += kBlock) {
+        const std::size_t e = std::min(points.size(), b + kBlock);
+        parallel_for(
+            e - b,
+            [&](std::size_t k) {
+                const std::size_t i = b + k;
+                auto& list = neighbours[k];
+                list.clear();
+                if (!points[i].allFinite()) return;
+                grid.within(points[i], out.distance, [&](std::uint32_t j, double) {
+                    if (j > i) list.push_back(j);  // each pair once
+                });
+            },
+            threads);
+        for (std::size_t k = 0; k < e - b; ++k) {
+            const auto i = std::uint32_t(b + k);
+            for (const std::uint32_t j : neighbours[k]) {
+                objects.unite(i, j);
+                if (joined(classes[i]) == joined(classes[j])) parts.unite(i, j);
+            }
+        }
     }
     // Number the clusters, then the parts of at least min_points, largest first.
     std::vector<std::int32_t> cluster_of_root(points.size(), -1);

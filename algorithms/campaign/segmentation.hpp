@@ -39,10 +39,11 @@ struct Segmentation {
 // evenly through the cloud; 0 for fewer than two points.
 double mean_spacing(std::span<const Eigen::Vector3d> points, int samples);
 
-// `classes`: per point (classify(verticality(...))); an undefined point joins "other".
+// `classes`: per point (classify(verticality(...))); an undefined point joins "other". The
+// result does not depend on `threads` (0: every core).
 Segmentation segment_cloud(std::span<const Eigen::Vector3d> points,
                            std::span<const VerticalityClass> classes,
-                           const SegmentationParameters& parameters);
+                           const SegmentationParameters& parameters, unsigned threads = 0);
 
 void validate(const SegmentationParameters& parameters);
 

@@ -98,7 +98,9 @@ TEST(CampaignSegmentation, AWallOnAFloorAndARampApartGiveTheirSegments) {
     const auto v = verticality(cloud, vp);
     std::vector<VerticalityClass> classes;
     for (const float x : v) classes.push_back(classify(x, vp));
-    const Segmentation s = segment_cloud(cloud, classes, {});
+    const Segmentation s = segment_cloud(cloud, classes, {}, 2);
+    EXPECT_EQ(segment_cloud(cloud, classes, {}, 1).segment, s.segment)
+        << "the same segments on one thread";
 
     EXPECT_NEAR(s.spacing, 0.02, 0.004);
     EXPECT_NEAR(s.distance, 3 * s.spacing, 1e-12);
