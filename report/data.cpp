@@ -39,12 +39,21 @@ RunData read_run(const EpochDatabase& db, const TimeRange& window, ZoneSeries se
                                     [&](const Epoch& e) { return e.id == *r.reference; })) {
         if (auto e = db.epochs().find(*r.reference)) epochs.insert(epochs.begin(), *e);
     }
+    auto registrations = db.registrations().in_range(window);
     for (const Epoch& e : epochs) {
         RunEpoch re;
         re.epoch = e;
-        re.registration = db.registrations().of_epoch(e.id);
-        re.targets = db.registrations().targets_of_epoch(e.id);
-        re.zone_sigmas = db.registrations().zone_sigmas_of_epoch(e.id);
+        if (e.acquired >= window.lower() && e.acquired <= window.upper()) {
+            if (auto it = registrations.registration.find(e.id);
+                it != registrations.registration.end())
+                re.registration = std::move(it->second);
+            re.targets = std::move(registrations.targets[e.id]);
+            re.zone_sigmas = std::move(registrations.zone_sigmas[e.id]);
+        } else {  // the reference epoch, outside the window
+            re.registration = db.registrations().of_epoch(e.id);
+            re.targets = db.registrations().targets_of_epoch(e.id);
+            re.zone_sigmas = db.registrations().zone_sigmas_of_epoch(e.id);
+        }
         r.epochs.push_back(std::move(re));
     }
     const auto definitions = db.site().zones();

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "storage/connection.hpp"
+#include "storage/series_reader.hpp"
 #include "storage/shared_rows.hpp"
 #include "storage/storage_error.hpp"
 
@@ -131,80 +132,128 @@ std::vector<std::vector<std::uint8_t>> RegistrationStore::recent_stable_area_sta
     });
 }
 
+namespace {
+
+constexpr const char* kRegistrationColumns =
+    "r.method, r.transform, r.target_count, r.rms_m, r.max_residual_m, r.sigma0, r.accepted,"
+    " r.quality_json, r.status, r.reason, r.omega_rad, r.phi_rad, r.kappa_rad, r.tx_m, r.ty_m,"
+    " r.tz_m, r.qw, r.qx, r.qy, r.qz, r.sigma_omega_rad, r.sigma_phi_rad, r.sigma_kappa_rad,"
+    " r.sigma_tx_m, r.sigma_ty_m, r.sigma_tz_m, r.variance_factor, r.redundancy, r.epoch_id";
+
+// The row the statement stands on, in kRegistrationColumns' order.
+RegistrationRow registration_row(const Connection& c, SQLite::Statement& s) {
+    RegistrationRow r;
+    r.method = s.getColumn(0).getString();
+    const auto t = s.getColumn(1);
+    if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
+        throw_storage(c, "epoch " + std::to_string(s.getColumn(28).getInt64()) +
+                             ": transform has " + std::to_string(t.getBytes()) + " bytes, not 128");
+    }
+    std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
+    r.target_count = s.getColumn(2).getInt64();
+    r.rms_m = s.getColumn(3).getDouble();
+    r.max_residual_m = s.getColumn(4).getDouble();
+    r.sigma0 = opt(s.getColumn(5));
+    r.accepted = s.getColumn(6).getInt() != 0;
+    r.quality_json = s.getColumn(7).getString();
+    r.status = s.getColumn(8).getString();
+    r.reason = s.getColumn(9).getString();
+    if (!s.getColumn(10).isNull()) {
+        std::array<double, 6> p{}, q{};
+        std::array<double, 4> quat{};
+        for (int k = 0; k < 6; ++k) p[k] = s.getColumn(10 + k).getDouble();
+        for (int k = 0; k < 4; ++k) quat[k] = s.getColumn(16 + k).getDouble();
+        for (int k = 0; k < 6; ++k) q[k] = s.getColumn(20 + k).getDouble();
+        r.parameters = p;
+        r.quaternion = quat;
+        r.sigmas = q;
+    }
+    r.variance_factor = opt(s.getColumn(26));
+    if (!s.getColumn(27).isNull()) r.redundancy = s.getColumn(27).getInt64();
+    return r;
+}
+
+constexpr const char* kTargetColumns =
+    "o.target, o.kind, o.measured_x, o.measured_y, o.measured_z, o.residual_x, o.residual_y,"
+    " o.residual_z, o.stable, o.used, o.status, o.reason, o.use, o.sigma_x, o.sigma_y,"
+    " o.sigma_z, o.statistic, o.critical, o.minimal_detectable_bias_m, o.epoch_id";
+
+TargetObservation target_row(SQLite::Statement& s) {
+    TargetObservation t;
+    t.target = s.getColumn(0).getString();
+    t.kind = s.getColumn(1).getString();
+    for (int i = 0; i < 3; ++i) t.measured[i] = s.getColumn(2 + i).getDouble();
+    for (int i = 0; i < 3; ++i) t.residual[i] = s.getColumn(5 + i).getDouble();
+    t.stable = s.getColumn(8).getInt() != 0;
+    t.used = s.getColumn(9).getInt() != 0;
+    t.status = s.getColumn(10).getString();
+    t.reason = s.getColumn(11).getString();
+    t.use = s.getColumn(12).getString();
+    if (!s.getColumn(13).isNull()) {
+        t.sigma = std::array<double, 3>{s.getColumn(13).getDouble(), s.getColumn(14).getDouble(),
+                                        s.getColumn(15).getDouble()};
+    }
+    t.statistic = opt(s.getColumn(16));
+    t.critical = opt(s.getColumn(17));
+    t.minimal_detectable_bias_m = opt(s.getColumn(18));
+    return t;
+}
+
+}  // namespace
+
 std::optional<RegistrationRow> RegistrationStore::of_epoch(EpochId id) const {
     return guarded(*c_, "reading a registration", [&]() -> std::optional<RegistrationRow> {
-        SQLite::Statement s(
-            c_->db,
-            "SELECT method, transform, target_count, rms_m, max_residual_m, sigma0, accepted,"
-            " quality_json, status, reason, omega_rad, phi_rad, kappa_rad, tx_m, ty_m, tz_m, qw,"
-            " qx, qy, qz, sigma_omega_rad, sigma_phi_rad, sigma_kappa_rad, sigma_tx_m,"
-            " sigma_ty_m, sigma_tz_m, variance_factor, redundancy FROM registrations"
-            " WHERE epoch_id = ?");
+        SQLite::Statement s(c_->db, std::string("SELECT ") + kRegistrationColumns +
+                                        " FROM registrations r WHERE r.epoch_id = ?");
         s.bind(1, id);
         if (!s.executeStep()) return std::nullopt;
-        RegistrationRow r;
-        r.method = s.getColumn(0).getString();
-        const auto t = s.getColumn(1);
-        if (t.getBytes() != static_cast<int>(sizeof(r.transform))) {
-            throw_storage(*c_, "epoch " + std::to_string(id) + ": transform has " +
-                                   std::to_string(t.getBytes()) + " bytes, not 128");
-        }
-        std::memcpy(r.transform.data(), t.getBlob(), sizeof(r.transform));
-        r.target_count = s.getColumn(2).getInt64();
-        r.rms_m = s.getColumn(3).getDouble();
-        r.max_residual_m = s.getColumn(4).getDouble();
-        r.sigma0 = opt(s.getColumn(5));
-        r.accepted = s.getColumn(6).getInt() != 0;
-        r.quality_json = s.getColumn(7).getString();
-        r.status = s.getColumn(8).getString();
-        r.reason = s.getColumn(9).getString();
-        if (!s.getColumn(10).isNull()) {
-            std::array<double, 6> p{}, q{};
-            std::array<double, 4> quat{};
-            for (int k = 0; k < 6; ++k) p[k] = s.getColumn(10 + k).getDouble();
-            for (int k = 0; k < 4; ++k) quat[k] = s.getColumn(16 + k).getDouble();
-            for (int k = 0; k < 6; ++k) q[k] = s.getColumn(20 + k).getDouble();
-            r.parameters = p;
-            r.quaternion = quat;
-            r.sigmas = q;
-        }
-        r.variance_factor = opt(s.getColumn(26));
-        if (!s.getColumn(27).isNull()) r.redundancy = s.getColumn(27).getInt64();
-        return r;
+        return registration_row(*c_, s);
     });
 }
 
 std::vector<TargetObservation> RegistrationStore::targets_of_epoch(EpochId id) const {
     return guarded(*c_, "reading target observations", [&] {
-        SQLite::Statement s(
-            c_->db,
-            "SELECT target, kind, measured_x, measured_y, measured_z, residual_x, residual_y,"
-            " residual_z, stable, used, status, reason, use, sigma_x, sigma_y, sigma_z,"
-            " statistic, critical, minimal_detectable_bias_m FROM target_observations"
-            " WHERE epoch_id = ? ORDER BY target");
+        SQLite::Statement s(c_->db, std::string("SELECT ") + kTargetColumns +
+                                        " FROM target_observations o WHERE o.epoch_id = ?"
+                                        " ORDER BY o.target");
         s.bind(1, id);
         std::vector<TargetObservation> out;
-        while (s.executeStep()) {
-            TargetObservation t;
-            t.target = s.getColumn(0).getString();
-            t.kind = s.getColumn(1).getString();
-            for (int i = 0; i < 3; ++i) t.measured[i] = s.getColumn(2 + i).getDouble();
-            for (int i = 0; i < 3; ++i) t.residual[i] = s.getColumn(5 + i).getDouble();
-            t.stable = s.getColumn(8).getInt() != 0;
-            t.used = s.getColumn(9).getInt() != 0;
-            t.status = s.getColumn(10).getString();
-            t.reason = s.getColumn(11).getString();
-            t.use = s.getColumn(12).getString();
-            if (!s.getColumn(13).isNull()) {
-                t.sigma =
-                    std::array<double, 3>{s.getColumn(13).getDouble(), s.getColumn(14).getDouble(),
-                                          s.getColumn(15).getDouble()};
-            }
-            t.statistic = opt(s.getColumn(16));
-            t.critical = opt(s.getColumn(17));
-            t.minimal_detectable_bias_m = opt(s.getColumn(18));
-            out.push_back(std::move(t));
-        }
+        while (s.executeStep()) out.push_back(target_row(s));
+        return out;
+    });
+}
+
+RegistrationStore::EpochRegistrations RegistrationStore::in_range(const TimeRange& range) const {
+    return guarded(*c_, "reading the registrations of a window", [&] {
+        EpochRegistrations out;
+        const std::string window =
+            " JOIN epochs e ON e.id = {}.epoch_id WHERE e.acquired BETWEEN ? AND ?";
+        const auto joined = [&](const char* table) {
+            std::string w = window;
+            w.replace(w.find("{}"), 2, table);
+            return w;
+        };
+        SQLite::Statement r(c_->db, std::string("SELECT ") + kRegistrationColumns +
+                                        " FROM registrations r" + joined("r"));
+        r.bind(1, range.lower());
+        r.bind(2, range.upper());
+        while (r.executeStep())
+            out.registration[r.getColumn(28).getInt64()] = registration_row(*c_, r);
+        SQLite::Statement t(c_->db, std::string("SELECT ") + kTargetColumns +
+                                        " FROM target_observations o" + joined("o") +
+                                        " ORDER BY o.epoch_id, o.target");
+        t.bind(1, range.lower());
+        t.bind(2, range.upper());
+        while (t.executeStep()) out.targets[t.getColumn(19).getInt64()].push_back(target_row(t));
+        SQLite::Statement z(c_->db,
+                            "SELECT g.zone, g.max_sigma_3d_m, g.epoch_id FROM"
+                            " registration_zone_sigmas g" +
+                                joined("g") + " ORDER BY g.epoch_id, g.zone");
+        z.bind(1, range.lower());
+        z.bind(2, range.upper());
+        while (z.executeStep())
+            out.zone_sigmas[z.getColumn(2).getInt64()].push_back(
+                {z.getColumn(0).getString(), z.getColumn(1).getDouble()});
         return out;
     });
 }

@@ -280,5 +280,39 @@ TEST(EpochCommit, EventsFilterByTimeAndKind) {
     EXPECT_EQ(full[0].level, "error");
 }
 
+// The registrations of a window in three queries read back the same as epoch by epoch, and
+// only the window's epochs.
+TEST(EpochCommit, TheRegistrationsOfAWindowAreThoseOfItsEpochs) {
+    Fixture f;
+    std::vector<EpochId> ids;
+    for (int n = 1; n <= 3; ++n) {
+        ids.push_back(f.claimed(n, 1000 * n));
+        auto r = full_results(ids.back());
+        r.registration->rms_m = 0.001 * n;
+        r.registration_zone_sigmas = {{"pier P3 top", 0.0005 * n}, {"segment 7", 0.0007 * n}};
+        r.alarm_states.clear();
+        r.alarm_events.clear();
+        f.db.results().commit(ids.back(), r);
+    }
+    const auto window = f.db.registrations().in_range({2000, 3000});
+    ASSERT_EQ(window.registration.size(), 2u);
+    EXPECT_FALSE(window.registration.count(ids[0]));
+    for (const EpochId id : {ids[1], ids[2]}) {
+        const auto one = f.db.registrations().of_epoch(id);
+        ASSERT_TRUE(one);
+        EXPECT_EQ(window.registration.at(id).rms_m, one->rms_m);
+        EXPECT_EQ(window.registration.at(id).transform, one->transform);
+        const auto targets = f.db.registrations().targets_of_epoch(id);
+        ASSERT_EQ(window.targets.at(id).size(), targets.size());
+        for (std::size_t k = 0; k < targets.size(); ++k) {
+            EXPECT_EQ(window.targets.at(id)[k].target, targets[k].target);
+            EXPECT_EQ(window.targets.at(id)[k].residual, targets[k].residual);
+        }
+        const auto sigmas = f.db.registrations().zone_sigmas_of_epoch(id);
+        ASSERT_EQ(window.zone_sigmas.at(id).size(), 2u);
+        EXPECT_EQ(window.zone_sigmas.at(id)[1].max_sigma_3d_m, sigmas[1].max_sigma_3d_m);
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon
