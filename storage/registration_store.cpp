@@ -226,12 +226,10 @@ std::vector<TargetObservation> RegistrationStore::targets_of_epoch(EpochId id) c
 RegistrationStore::EpochRegistrations RegistrationStore::in_range(const TimeRange& range) const {
     return guarded(*c_, "reading the registrations of a window", [&] {
         EpochRegistrations out;
-        const std::string window =
-            " JOIN epochs e ON e.id = {}.epoch_id WHERE e.acquired BETWEEN ? AND ?";
-        const auto joined = [&](const char* table) {
-            std::string w = window;
-            w.replace(w.find("{}"), 2, table);
-            return w;
+        // The rows of the window's epochs, `alias` the table's alias.
+        const auto joined = [](const char* alias) {
+            return std::string(" JOIN epochs e ON e.id = ") + alias +
+                   ".epoch_id WHERE e.acquired BETWEEN ? AND ?";
         };
         SQLite::Statement r(c_->db, std::string("SELECT ") + kRegistrationColumns +
                                         " FROM registrations r" + joined("r"));

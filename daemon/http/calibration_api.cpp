@@ -34,10 +34,6 @@ Json row_json(const report::CoverageRow& r) {
                 {"verdict95", report::to_string(r.verdict95)}};
 }
 
-Json time_or_null(const std::optional<UtcSeconds>& t) {
-    return t ? Json(format_utc(*t)) : Json(nullptr);
-}
-
 }  // namespace
 
 Json calibration_json(const EpochDatabase& db, const TimeRange& window) {

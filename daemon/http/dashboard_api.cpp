@@ -15,6 +15,10 @@
 
 namespace tlsmon {
 
+Json time_or_null(const std::optional<UtcSeconds>& t) {
+    return t ? Json(format_utc(*t)) : Json(nullptr);
+}
+
 namespace {
 
 constexpr UtcSeconds kDay = 86400;
@@ -22,10 +26,6 @@ constexpr std::size_t kSparkBuckets = 24;
 
 Json optional_number(const std::optional<double>& v) {
     return v ? Json(*v) : Json(nullptr);
-}
-
-Json time_or_null(const std::optional<UtcSeconds>& t) {
-    return t ? Json(format_utc(*t)) : Json(nullptr);
 }
 
 // A point of a series; `with_time_text` adds the ISO time beside the Unix seconds (the

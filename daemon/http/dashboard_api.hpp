@@ -17,6 +17,9 @@ class EpochDatabase;
 
 using Json = nlohmann::ordered_json;
 
+// A time as ISO 8601 UTC text, null when absent (an open end of a window).
+Json time_or_null(const std::optional<UtcSeconds>& t);
+
 // What the daemon knows of itself and the site that the database does not say.
 struct DashboardSite {
     std::string station;
