@@ -73,6 +73,9 @@ int run_primitives(const PrimitivesOptions&) {
 int run_vectors(const VectorsOptions&) {
     return hand_over_to_analysis();
 }
+int run_campaign_compare(const CampaignCompareOptions&) {
+    return hand_over_to_analysis();
+}
 int run_keypoints(const KeypointsOptions&) {
     return hand_over_to_analysis();
 }

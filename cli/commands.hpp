@@ -236,6 +236,21 @@ struct VectorsOptions {
 // 0, or 1 with the error on stderr.
 int run_vectors(const VectorsOptions& options);
 
+// `tlsmon campaign compare REFERENCE CAMPAIGN --out DIR`: a campaign cloud (a personal or
+// mobile scanner's) against the TLS reference, segment by segment (docs/campaigns.md).
+struct CampaignCompareOptions {
+    std::string reference;
+    std::string campaign;
+    std::string out;                        // a folder, created
+    std::string metric = "point-to-plane";  // of the segments' ICP, or point-to-point
+    std::string c2c = "local-plane";        // or nearest-point
+    std::optional<double> radius;           // the local planes' and verticality's
+    std::optional<double> max_distance;     // of a pair
+    std::optional<int> min_segment_points;
+    std::optional<int> threads;
+};
+int run_campaign_compare(const CampaignCompareOptions& options);
+
 // `tlsmon primitives REFERENCE COMPARED --config SITE --out RESULT.csv`: the primitives the
 // site's zones name, fitted in both files, their change tested (docs/primitives.md); without
 // --config one zone --box holding one --kind, in the files' own frame.

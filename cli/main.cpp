@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/program_arguments.hpp"
 #include "config/keys.hpp"
+#include "pipeline/campaign_comparison.hpp"
 #include "pipeline/keypoint_config.hpp"
 #include "pipeline/m3c2_config.hpp"
 #include "pipeline/pbm3c2_config.hpp"
@@ -77,6 +78,7 @@ struct CommandLine {
     PbM3c2Options pbm3c2;
     PrimitivesOptions primitives;
     VectorsOptions vectors;
+    CampaignCompareOptions campaign_compare;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -526,6 +528,42 @@ void add_vectors(CLI::App& app, CommandLine& c) {
     cmd->callback([&] { c.code = run_vectors(o); });
 }
 
+void add_campaign(CLI::App& app, CommandLine& c) {
+    auto& o = c.campaign_compare;
+    auto* cmd = app.add_subcommand(
+        "campaign", "Campaign clouds of a personal or mobile scanner (docs/campaigns.md)");
+    cmd->require_subcommand(1);
+    auto* compare = cmd->add_subcommand(
+        "compare",
+        "CAMPAIGN against the TLS REFERENCE segment by segment: the whole cloud registered, "
+        "segmented by verticality, each segment registered on its own with its parameters' "
+        "covariance, the test of whether the segments moved as one, C2C distances. Writes "
+        "segments.csv and segments.ply (every point with its segment and C2C vector) into "
+        "--out. Both files in one frame; lengths in metres");
+    const CampaignParameters defaults;
+    compare->add_option("REFERENCE", o.reference, "The TLS reference scan file")->required();
+    compare->add_option("CAMPAIGN", o.campaign, "The campaign's scan file")->required();
+    compare->add_option("--out", o.out, "Result folder (created)")->required();
+    compare->add_option("--metric", o.metric, "The segments' ICP (default point-to-plane)")
+        ->check(CLI::IsMember({"point-to-plane", "point-to-point"}));
+    compare
+        ->add_option("--c2c", o.c2c,
+                     "C2C to the local plane or the nearest point (default "
+                     "local-plane)")
+        ->check(CLI::IsMember({"local-plane", "nearest-point"}));
+    compare->add_option("--radius", o.radius,
+                        "Local planes' and verticality's neighbourhood (default " +
+                            toml_number(defaults.verticality.radius) + ")");
+    compare->add_option(
+        "--max-distance", o.max_distance,
+        "The farthest pair (default " + toml_number(defaults.surface.max_distance) + ")");
+    compare->add_option("--min-segment-points", o.min_segment_points,
+                        "Smaller segments are not registered (default " +
+                            std::to_string(defaults.min_segment_points) + ")");
+    compare->add_option("--threads", o.threads, "Threads (0: every core)");
+    compare->callback([&] { c.code = run_campaign_compare(o); });
+}
+
 void add_keypoints(CLI::App& app, CommandLine& c) {
     auto& o = c.keypoints;
     auto* cmd = app.add_subcommand(
@@ -758,6 +796,7 @@ int main(int argc, char** argv) {
         {"pbm3c2", tlsmon::add_pbm3c2},
         {"primitives", tlsmon::add_primitives},
         {"vectors", tlsmon::add_vectors},
+        {"campaign", tlsmon::add_campaign},
         {"keypoints", tlsmon::add_keypoints},
         {"modbus-map", tlsmon::add_modbus_map},
         {"register", tlsmon::add_register},

@@ -1,12 +1,10 @@
 #include "algorithms/campaign/verticality.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
-#include "algorithms/campaign/point_grid.hpp"
+#include "algorithms/campaign/local_plane.hpp"
 #include "core/error.hpp"
-#include "core/parallel_for.hpp"
 
 namespace tlsmon::campaign {
 
@@ -41,31 +39,11 @@ void validate(const VerticalityParameters& p) {
 std::vector<float> verticality(std::span<const Eigen::Vector3d> points,
                                const VerticalityParameters& p, unsigned threads) {
     validate(p);
-    const PointGrid grid(points, p.radius);
+    const std::vector<LocalPlane> planes =
+        local_planes(points, p.radius, p.min_neighbours, threads);
     std::vector<float> out(points.size(), std::numeric_limits<float>::quiet_NaN());
-    parallel_for(
-        points.size(),
-        [&](std::size_t i) {
-            if (!points[i].allFinite()) return;
-            // The structure tensor about the neighbours' mean (Welford-free: the offsets from
-            // the query point keep the sums small).
-            Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-            Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-            int n = 0;
-            grid.within(points[i], p.radius, [&](std::uint32_t k, double) {
-                const Eigen::Vector3d d = points[k] - points[i];
-                sum += d;
-                outer += d * d.transpose();
-                ++n;
-            });
-            if (n < p.min_neighbours) return;
-            const Eigen::Vector3d mean = sum / n;
-            const Eigen::Matrix3d covariance = outer / n - mean * mean.transpose();
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-            const Eigen::Vector3d e3 = eigen.eigenvectors().col(0);  // smallest eigenvalue
-            out[i] = float(1.0 - std::abs(e3.z()));
-        },
-        threads);
+    for (std::size_t i = 0; i < planes.size(); ++i)
+        if (planes[i].defined()) out[i] = 1.0f - std::abs(planes[i].normal.z());
     return out;
 }
 

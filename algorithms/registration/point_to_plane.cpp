@@ -9,7 +9,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "algorithms/cell_key.hpp"
 #include "algorithms/registration/distribution_quantiles.hpp"
+#include "algorithms/registration/so3.hpp"
 #include "core/error.hpp"
 #include "core/statistics.hpp"
 
@@ -18,23 +20,6 @@ namespace tlsmon::registration {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
-
-// exp([θ]×), Rodrigues.
-Eigen::Matrix3d exp_so3(const Eigen::Vector3d& theta) {
-    const double a = theta.norm();
-    if (a < 1e-300) return Eigen::Matrix3d::Identity();
-    return Eigen::AngleAxisd(a, theta / a).toRotationMatrix();
-}
-
-// The cell of a reference point, as one 64-bit key (21 bits per axis, ±1e6 cells).
-std::uint64_t cell_key(const Eigen::Vector3d& p, double size) {
-    std::uint64_t key = 0;
-    for (int k = 0; k < 3; ++k) {
-        const auto c = static_cast<std::int64_t>(std::floor(p(k) / size)) + (1 << 20);
-        key = (key << 21) | (static_cast<std::uint64_t>(c) & 0x1FFFFF);
-    }
-    return key;
-}
 
 }  // namespace
 
@@ -75,15 +60,19 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
 
 // In the frame where `floor` is the identity (whitened by its Cholesky factor L), the
 // eigenvalues of `other` clamped below at 1.
-Covariance6 larger_of(const Covariance6& floor, const Covariance6& other) {
-    const Eigen::LLT<Covariance6> llt(floor);
+Eigen::MatrixXd larger_of(const Eigen::MatrixXd& floor, const Eigen::MatrixXd& other) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(floor);
     if (llt.info() != Eigen::Success) return other;
-    const Covariance6 L = llt.matrixL();
-    const Covariance6 Linv = L.inverse();
-    const Covariance6 W = Linv * other * Linv.transpose();
-    const Eigen::SelfAdjointEigenSolver<Covariance6> es(0.5 * (W + W.transpose()));
-    const Vector6 d = es.eigenvalues().cwiseMax(1.0);
+    const Eigen::MatrixXd L = llt.matrixL();
+    const Eigen::MatrixXd Linv = L.inverse();
+    const Eigen::MatrixXd W = Linv * other * Linv.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (W + W.transpose()));
+    const Eigen::VectorXd d = es.eigenvalues().cwiseMax(1.0);
     return L * es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose() * L.transpose();
+}
+
+Covariance6 larger_of(const Covariance6& floor, const Covariance6& other) {
+    return larger_of(Eigen::MatrixXd(floor), Eigen::MatrixXd(other));
 }
 
 PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,

@@ -77,8 +77,9 @@ PointToPlaneFit fit_point_to_plane(std::span<const PointPlanePair> pairs,
                                    const Eigen::Matrix4d& start, const PointToPlaneParams& params);
 
 // The larger of two covariances in the matrix sense: every direction's variance at least
-// `floor`'s and at least `other`'s.
+// `floor`'s and at least `other`'s (`other` itself when `floor` is singular).
 Covariance6 larger_of(const Covariance6& floor, const Covariance6& other);
+Eigen::MatrixXd larger_of(const Eigen::MatrixXd& floor, const Eigen::MatrixXd& other);
 
 // A RigidTransform from a rotation, a translation and the covariance of (θ, t): the Euler
 // angles, the quaternion and the Euler covariance (Förstner & Wrobel 2016, §8.1.3) derived

@@ -20,4 +20,10 @@ inline Eigen::Matrix3d exp_so3(const Eigen::Vector3d& theta) {
     return Eigen::AngleAxisd(angle, theta / angle).toRotationMatrix();
 }
 
+// log of a rotation: the rotation vector θ with exp([θ]×) = R.
+inline Eigen::Vector3d log_so3(const Eigen::Matrix3d& rotation) {
+    const Eigen::AngleAxisd aa(rotation);
+    return aa.angle() * aa.axis();
+}
+
 }  // namespace tlsmon::registration

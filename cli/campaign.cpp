@@ -1,0 +1,176 @@
+// `tlsmon campaign compare REFERENCE CAMPAIGN --out DIR`: a campaign cloud against the TLS
+// reference segment by segment (pipeline/campaign_comparison.hpp, docs/campaigns.md). Writes
+// DIR/segments.csv (one row per segment: its parameters with their σ where the segment's
+// surfaces observe them, the test against the others, C2C statistics) and DIR/segments.ply
+// (every campaign point after its registration, its segment, class and C2C vector), and
+// prints the global registration, the consistency test and the C2C summary.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/result_file.hpp"
+#include "core/csv.hpp"
+#include "core/error.hpp"
+#include "formats/ply_writer.hpp"
+#include "formats/scan_file.hpp"
+#include "pipeline/campaign_comparison.hpp"
+
+namespace tlsmon {
+
+namespace {
+
+std::vector<Eigen::Vector3d> points_of(const std::string& path) {
+    std::vector<Eigen::Vector3d> out;
+    for (const Scan& scan : read_scans(path))
+        out.insert(out.end(), scan.xyz.begin(), scan.xyz.end());
+    if (out.empty()) throw Error(path + ": no points");
+    return out;
+}
+
+CampaignParameters parameters_of(const CampaignCompareOptions& o) {
+    CampaignParameters p;
+    p.icp.metric = o.metric == "point-to-point" ? campaign::IcpMetric::point_to_point
+                                                : campaign::IcpMetric::point_to_plane;
+    p.c2c = o.c2c == "nearest-point" ? campaign::C2cModel::nearest_point
+                                     : campaign::C2cModel::local_plane;
+    if (o.radius) p.verticality.radius = p.surface.plane_radius = *o.radius;
+    if (o.max_distance) p.surface.max_distance = *o.max_distance;
+    if (o.min_segment_points) p.min_segment_points = *o.min_segment_points;
+    if (o.threads) {
+        if (*o.threads < 0) throw Error("--threads must not be negative");
+        p.threads = unsigned(*o.threads);
+    }
+    return p;
+}
+
+// Parameter k (0–2 rotations, 3–5 translations) and its σ, empty where the segment's surfaces
+// do not observe it: there it is the start, not a measurement.
+std::string value_or_empty(const campaign::SegmentTransform& t, int k) {
+    return t.registered() && t.parameter_observed(k) ? csv_number(t.parameters(k)) : "";
+}
+std::string sigma_or_empty(const campaign::SegmentTransform& t, int k) {
+    return t.registered() && t.parameter_observed(k) ? csv_number(std::sqrt(t.covariance(k, k)))
+                                                     : "";
+}
+
+void write_segments(const std::filesystem::path& path, const CampaignComparison& c) {
+    ResultFile f(path.string());
+    f.write(
+        "segment,class,cluster,points,outcome,pairs,rank,centroid_x_m,centroid_y_m,centroid_z_m,"
+        "tx_m,ty_m,tz_m,sigma_tx_m,sigma_ty_m,sigma_tz_m,rx_rad,ry_rad,rz_rad,sigma_rx_rad,"
+        "sigma_ry_rad,sigma_rz_rad,rmse_m,iterations,"
+        "converged,test_statistic,test_dof,test_p,c2c_mean_m,c2c_sigma_m,c2c_median_m,"
+        "c2c_p95_m,c2c_max_m\n");
+    for (std::size_t s = 0; s < c.segments.size(); ++s) {
+        const auto& r = c.segments[s];
+        const auto& t = r.transform;
+        const bool registered = t.registered();
+        std::vector<std::string> row{
+            std::to_string(s),
+            campaign::class_name(r.segment.kind),
+            std::to_string(r.segment.cluster),
+            std::to_string(r.segment.points),
+            registered || t.points > 0 ? campaign::outcome_name(t.outcome) : "too small",
+            std::to_string(t.pairs),
+            std::to_string(t.rank())};
+        for (int k = 0; k < 3; ++k) row.push_back(registered ? csv_number(t.centroid(k)) : "");
+        for (int k = 3; k < 6; ++k) row.push_back(value_or_empty(t, k));
+        for (int k = 3; k < 6; ++k) row.push_back(sigma_or_empty(t, k));
+        for (int k = 0; k < 3; ++k) row.push_back(value_or_empty(t, k));
+        for (int k = 0; k < 3; ++k) row.push_back(sigma_or_empty(t, k));
+        row.push_back(registered ? csv_number(t.rmse) : "");
+        row.push_back(std::to_string(t.iterations));
+        row.push_back(t.converged ? "true" : "false");
+        const double T = c.consistency.segment_statistic[s];
+        row.push_back(std::isfinite(T) ? csv_number(T) : "");
+        row.push_back(std::isfinite(T) ? std::to_string(c.consistency.segment_dof[s]) : "");
+        row.push_back(std::isfinite(T) ? csv_number(c.consistency.segment_p_value[s]) : "");
+        for (const double v : {r.c2c.mean, r.c2c.sigma, r.c2c.median, r.c2c.p95, r.c2c.max})
+            row.push_back(std::isfinite(v) ? csv_number(v) : "");
+        f.write(csv_line(row));
+    }
+    f.close();
+}
+
+void write_points(const std::filesystem::path& path, const CampaignComparison& c) {
+    const std::size_t n = c.registered.size();
+    std::vector<std::int32_t> segment(c.segmentation.segment.begin(), c.segmentation.segment.end());
+    std::vector<std::uint8_t> kind(n, std::uint8_t(campaign::VerticalityClass::undefined));
+    std::vector<float> distance(n), dx(n), dy(n), dz(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (segment[i] >= 0)
+            kind[i] = std::uint8_t(c.segmentation.segments[std::size_t(segment[i])].kind);
+        distance[i] = c.c2c[i].norm();
+        dx[i] = c.c2c[i].x();
+        dy[i] = c.c2c[i].y();
+        dz[i] = c.c2c[i].z();
+    }
+    const PlyAttribute attributes[] = {{"segment", std::span<const std::int32_t>(segment)},
+                                       {"class", std::span<const std::uint8_t>(kind)},
+                                       {"c2c", std::span<const float>(distance)},
+                                       {"c2c_x", std::span<const float>(dx)},
+                                       {"c2c_y", std::span<const float>(dy)},
+                                       {"c2c_z", std::span<const float>(dz)}};
+    write_ply(path, c.registered, attributes);
+}
+
+std::string fixed(double value, int decimals) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+    return text;
+}
+std::string mm(double metres) {
+    return fixed(1e3 * metres, 2);
+}
+
+}  // namespace
+
+int run_campaign_compare(const CampaignCompareOptions& o) {
+    try {
+        const CampaignParameters p = parameters_of(o);
+        validate(p);
+        const std::vector<Eigen::Vector3d> reference = points_of(o.reference);
+        const std::vector<Eigen::Vector3d> cloud = points_of(o.campaign);
+        std::cout << "reference: " << reference.size() << " points; campaign: " << cloud.size()
+                  << " points\n";
+        const CampaignComparison c = compare_campaign(reference, cloud, p);
+        const auto& g = c.global;
+        std::cout << "global registration (point-to-plane): " << g.pairs << " pairs, rank "
+                  << g.rank() << ", centroid shift (" << mm(g.parameters(3)) << ", "
+                  << mm(g.parameters(4)) << ", " << mm(g.parameters(5)) << ") mm, RMSE "
+                  << mm(g.rmse) << " mm\n";
+        std::size_t registered = 0;
+        for (const auto& s : c.segments) registered += s.transform.registered();
+        std::cout << c.segmentation.segments.size() << " segments (spacing "
+                  << mm(c.segmentation.spacing) << " mm), " << registered << " registered ("
+                  << campaign::metric_name(p.icp.metric) << ")\n";
+        const auto& t = c.consistency;
+        if (t.dof > 0)
+            std::cout << "segments moved as one: T = " << fixed(t.statistic, 1) << ", dof " << t.dof
+                      << ", p " << (t.p_value < 1e-4 ? "< 0.0001" : "= " + fixed(t.p_value, 4))
+                      << " -> " << (t.differ ? "no, they differ" : "yes") << " (α "
+                      << csv_number(p.alpha) << ")\n";
+        else
+            std::cout << "segments moved as one: not testable (" << t.segments
+                      << " registered segments do not hold every direction together)\n";
+        std::cout << "C2C ("
+                  << (p.c2c == campaign::C2cModel::local_plane ? "local plane" : "nearest point")
+                  << "): mean " << mm(c.c2c_all.mean) << " mm, σ " << mm(c.c2c_all.sigma)
+                  << " mm, 95 % " << mm(c.c2c_all.p95) << " mm, " << c.c2c_all.missing
+                  << " points without\n";
+        std::filesystem::create_directories(o.out);
+        write_segments(std::filesystem::path(o.out) / "segments.csv", c);
+        write_points(std::filesystem::path(o.out) / "segments.ply", c);
+        std::cout << "-> " << o.out << "/segments.csv, " << o.out << "/segments.ply\n";
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "tlsmon campaign compare: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+}  // namespace tlsmon
