@@ -18,10 +18,13 @@
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/campaign_comparison.hpp"
+#include "report/campaign_plot.hpp"
 
 namespace tlsmon {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 std::vector<Eigen::Vector3d> points_of(const std::string& path) {
     std::vector<Eigen::Vector3d> out;
@@ -165,7 +168,15 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
         std::filesystem::create_directories(o.out);
         write_segments(std::filesystem::path(o.out) / "segments.csv", c);
         write_points(std::filesystem::path(o.out) / "segments.ply", c);
-        std::cout << "-> " << o.out << "/segments.csv, " << o.out << "/segments.ply\n";
+        const fs::path out(o.out);
+        const auto not_drawn = report::draw_segment_parameters(c, p.alpha, out / "segments.plot",
+                                                               out / "segments.png");
+        std::cout << "-> " << o.out << "/segments.csv, " << o.out << "/segments.ply";
+        if (not_drawn)
+            std::cout << "; segments.png " << *not_drawn;
+        else
+            std::cout << ", " << o.out << "/segments.png";
+        std::cout << "\n";
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon campaign compare: " << e.what() << "\n";

@@ -539,7 +539,8 @@ void add_campaign(CLI::App& app, CommandLine& c) {
         "segmented by verticality, each segment registered on its own with its parameters' "
         "covariance, the test of whether the segments moved as one, C2C distances. Writes "
         "segments.csv and segments.ply (every point with its segment and C2C vector) into "
-        "--out. Both files in one frame; lengths in metres");
+        "--out, and segments.png (their translations drawn). Both files in one frame; lengths in "
+        "metres");
     const CampaignParameters defaults;
     compare->add_option("REFERENCE", o.reference, "The TLS reference scan file")->required();
     compare->add_option("CAMPAIGN", o.campaign, "The campaign's scan file")->required();

@@ -1,7 +1,8 @@
 // `tlsmon campaign compare` on the real pump-room scan (shared data) and a campaign made from
 // it: every third point, shifted by (10, −5, 0) mm with 3 mm noise. The program registers the
 // whole cloud (the shift recovered), writes one CSV row per segment (a translation with its σ
-// or not at all) and a PLY of every campaign point that tlsmon's own reader reads back. Bad
+// or not at all), a PLY of every campaign point that tlsmon's own reader reads back and the
+// picture of the segments' translations. Bad
 // input: a missing file, clouds that do not overlap. (Whether the segments moved as one is
 // tested on known answers in tests/algorithms/test_segment_registration.cpp: on this room's
 // curved equipment the local planes do not hold and the test rejects without any drift,
@@ -104,6 +105,11 @@ TEST(CampaignCommand, RegistersTheCloudAndItsSegmentsAndWritesTheirTableAndPoint
         EXPECT_LT(std::stod(rows[i][column("c2c_mean_m")]), 0.02) << i;
     }
     EXPECT_GE(registered, 4u);
+
+    // The segments' translations drawn (gnuplot), with the plot's script beside.
+    ASSERT_TRUE(fs::exists(dir.path() / "one/segments.png")) << r.out;
+    EXPECT_GT(fs::file_size(dir.path() / "one/segments.png"), 20000u);
+    EXPECT_TRUE(fs::exists(dir.path() / "one/segments.plot/segments.gp"));
 
     // Every campaign point in the PLY, read back by tlsmon's own reader.
     const auto written = tlsmon::read_scans(dir.path() / "one/segments.ply");
