@@ -176,7 +176,7 @@ SegmentTransform register_segment(const ReferenceSurface& ref,
         const double cut = P.outlier_k * std::max(scale, 1e-9);
         std::size_t kept = 0;
         for (std::size_t i = 0; i < pairs.size(); ++i)
-            if (residual_size(pairs[i], ref, P.metric) <= cut) pairs[kept++] = pairs[i];
+            if (sizes[i] <= cut) pairs[kept++] = pairs[i];
         out.outliers = pairs.size() - kept;
         pairs.resize(kept);
         if (pairs.size() < std::size_t(P.min_pairs)) {
@@ -185,20 +185,22 @@ SegmentTransform register_segment(const ReferenceSurface& ref,
             return out;
         }
 
-        // The surfaces' information (point-to-plane, scaled) and the metric's normal equations.
-        Matrix6 information = Matrix6::Zero(), N = Matrix6::Zero();
+        // The metric's normal equations and the surfaces' information (point-to-plane, scaled:
+        // the point-to-plane metric's own N; point-to-point's planar pairs summed apart).
+        Matrix6 N = Matrix6::Zero(), planes = Matrix6::Zero();
         Vector6 b = Vector6::Zero();
         for (const auto& pr : pairs) {
             Rows A;
             Eigen::Vector3d r;
-            if (pr.planar) {
-                design(pr, ref, IcpMetric::point_to_plane, L, A, r);
-                information += A.row(0).transpose() * A.row(0);
-            }
             design(pr, ref, P.metric, L, A, r);
             N += A.transpose() * A;
             b += A.transpose() * r;
+            if (P.metric == IcpMetric::point_to_point && pr.planar) {
+                design(pr, ref, IcpMetric::point_to_plane, L, A, r);
+                planes += A.row(0).transpose() * A.row(0);
+            }
         }
+        const Matrix6& information = P.metric == IcpMetric::point_to_plane ? N : planes;
         const Eigen::SelfAdjointEigenSolver<Matrix6> es(information);
         const double strongest = es.eigenvalues()(5);
         int rank = 0;
