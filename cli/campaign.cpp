@@ -2,8 +2,9 @@
 // reference segment by segment (pipeline/campaign_comparison.hpp, docs/campaigns.md). Writes
 // DIR/segments.csv (one row per segment: its parameters with their σ where the segment's
 // surfaces observe them, the test against the others, C2C statistics) and DIR/segments.ply
-// (every campaign point after its registration, its segment, class and C2C vector), and
-// prints the global registration, the consistency test and the C2C summary.
+// (every campaign point after its registration, its segment, class, ground flag and C2C
+// vector), and prints the global registration, the ground, the consistency test and the C2C
+// summary.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -43,6 +44,10 @@ CampaignParameters parameters_of(const CampaignCompareOptions& o) {
     if (o.radius) p.verticality.radius = p.surface.plane_radius = *o.radius;
     if (o.max_distance) p.surface.max_distance = *o.max_distance;
     if (o.min_segment_points) p.min_segment_points = *o.min_segment_points;
+    p.remove_ground = !o.keep_ground;
+    if (o.ground_threshold) p.ground.class_threshold = *o.ground_threshold;
+    if (o.cloth_resolution) p.ground.cloth_resolution = *o.cloth_resolution;
+    if (o.rigidness) p.ground.rigidness = *o.rigidness;
     if (o.threads) {
         if (*o.threads < 0) throw Error("--threads must not be negative");
         p.threads = unsigned(*o.threads);
@@ -103,6 +108,8 @@ void write_points(const std::filesystem::path& path, const CampaignComparison& c
     const std::size_t n = c.registered.size();
     std::vector<std::int32_t> segment(c.segmentation.segment.begin(), c.segmentation.segment.end());
     std::vector<std::uint8_t> kind(n, std::uint8_t(campaign::VerticalityClass::undefined));
+    std::vector<std::uint8_t> ground(n, 0);
+    if (!c.ground.ground.empty()) ground = c.ground.ground;
     std::vector<float> distance(n), dx(n), dy(n), dz(n);
     for (std::size_t i = 0; i < n; ++i) {
         if (segment[i] >= 0)
@@ -114,6 +121,7 @@ void write_points(const std::filesystem::path& path, const CampaignComparison& c
     }
     const PlyAttribute attributes[] = {{"segment", std::span<const std::int32_t>(segment)},
                                        {"class", std::span<const std::uint8_t>(kind)},
+                                       {"ground", std::span<const std::uint8_t>(ground)},
                                        {"c2c", std::span<const float>(distance)},
                                        {"c2c_x", std::span<const float>(dx)},
                                        {"c2c_y", std::span<const float>(dy)},
@@ -146,6 +154,9 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
                   << g.rank() << ", centroid shift (" << mm(g.parameters(3)) << ", "
                   << mm(g.parameters(4)) << ", " << mm(g.parameters(5)) << ") mm, RMSE "
                   << mm(g.rmse) << " mm\n";
+        if (p.remove_ground)
+            std::cout << "ground (cloth simulation filter): " << c.ground.ground_points
+                      << " points, left out of the segments\n";
         std::size_t registered = 0;
         for (const auto& s : c.segments) registered += s.transform.registered();
         std::cout << c.segmentation.segments.size() << " segments (spacing "

@@ -165,6 +165,11 @@ struct SimulateOptions {
     double realtime = 0.0;
     double slow_copy = 0.0;
     unsigned threads = 2;
+    // A personal laser scanner's campaign with this SLAM drift (none, linear, random-walk)
+    // instead of the station's scans (cli/simulate_campaign.cpp).
+    std::string campaign;
+    std::optional<double> pulse_rate;   // Hz
+    std::optional<double> range_sigma;  // m
 };
 // 0, or 1 with the error on stderr.
 int run_simulate(const SimulateOptions& options);
@@ -247,6 +252,10 @@ struct CampaignCompareOptions {
     std::optional<double> radius;           // the local planes' and verticality's
     std::optional<double> max_distance;     // of a pair
     std::optional<int> min_segment_points;
+    bool keep_ground = false;                // segment the ground like the rest
+    std::optional<double> ground_threshold;  // cloth simulation filter's class threshold
+    std::optional<double> cloth_resolution;
+    std::optional<int> rigidness;
     std::optional<int> threads;
 };
 int run_campaign_compare(const CampaignCompareOptions& options);

@@ -15,6 +15,7 @@
 #include "pipeline/m3c2_config.hpp"
 #include "pipeline/pbm3c2_config.hpp"
 #include "pipeline/primitive_config.hpp"
+#include "simulator/pls.hpp"
 
 namespace tlsmon {
 namespace {
@@ -154,6 +155,19 @@ void add_simulate(CLI::App& app, CommandLine& c) {
     cmd->add_option("--threads", o.threads, "Render threads")
         ->check(CLI::Range(1, 64))
         ->capture_default_str();
+    cmd->add_option("--campaign", o.campaign,
+                    "Instead of the station's scans, a personal laser scanner's campaign walked "
+                    "around the pier with this SLAM drift: campaign.ply, reference.ply and "
+                    "campaign.truth.json (docs/campaigns.md)")
+        ->check(CLI::IsMember({"none", "linear", "random-walk"}));
+    cmd->add_option("--pulse-rate", o.pulse_rate,
+                    "Campaign: pulses per second (default " +
+                        toml_number(sim::PlsScanner{}.pulse_rate) + ")")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option(
+           "--range-sigma", o.range_sigma,
+           "Campaign: range noise, m (default " + toml_number(sim::PlsScanner{}.range_sigma) + ")")
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&] { c.code = run_simulate(o); });
 }
 
@@ -536,7 +550,8 @@ void add_campaign(CLI::App& app, CommandLine& c) {
     auto* compare = cmd->add_subcommand(
         "compare",
         "CAMPAIGN against the TLS REFERENCE segment by segment: the whole cloud registered, "
-        "segmented by verticality, each segment registered on its own with its parameters' "
+        "the ground removed, segmented by verticality, each segment registered on its own with its "
+        "parameters' "
         "covariance, the test of whether the segments moved as one, C2C distances. Writes "
         "segments.csv and segments.ply (every point with its segment and C2C vector) into "
         "--out, and segments.png (their translations drawn). Both files in one frame; lengths in "
@@ -561,6 +576,18 @@ void add_campaign(CLI::App& app, CommandLine& c) {
     compare->add_option("--min-segment-points", o.min_segment_points,
                         "Smaller segments are not registered (default " +
                             std::to_string(defaults.min_segment_points) + ")");
+    compare->add_flag("--keep-ground", o.keep_ground,
+                      "Segment the ground too (default: the cloth simulation filter's ground is "
+                      "left out of the segments, kept for the registration)");
+    compare->add_option("--ground-threshold", o.ground_threshold,
+                        "A point this close to the cloth is ground (default " +
+                            toml_number(defaults.ground.class_threshold) + ")");
+    compare->add_option("--cloth-resolution", o.cloth_resolution,
+                        "The cloth's particle spacing (default " +
+                            toml_number(defaults.ground.cloth_resolution) + ")");
+    compare->add_option("--rigidness", o.rigidness,
+                        "The cloth's rigidness: 1 steep slopes, 2 relief, 3 flat (default " +
+                            std::to_string(defaults.ground.rigidness) + ")");
     compare->add_option("--threads", o.threads, "Threads (0: every core)");
     compare->callback([&] { c.code = run_campaign_compare(o); });
 }

@@ -16,6 +16,8 @@
 
 namespace tlsmon {
 
+void simulate_campaign(const sim::Site& site, const SimulateOptions& options);
+
 namespace {
 
 void write_all(const std::filesystem::path& path, const std::string& text) {
@@ -59,6 +61,7 @@ void simulate(const SimulateOptions& o) {
                                       : load_scene_file(o.config, preset);
     if (!o.cadence.empty()) site.cadence_seconds = parse_duration_seconds(o.cadence);
     if (site.cadence_seconds <= 0) throw ConfigError("--cadence must be positive");
+    if (!o.campaign.empty()) return simulate_campaign(site, o);
     if (o.seed) site.noise.seed = static_cast<std::uint64_t>(*o.seed);
     const std::int64_t start = sim::parse_utc(o.start);
     const std::filesystem::path out(o.out);

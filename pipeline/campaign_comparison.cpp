@@ -10,6 +10,7 @@ namespace tlsmon {
 
 void validate(const CampaignParameters& p) {
     campaign::validate(p.surface);
+    campaign::validate(p.ground);
     campaign::validate(p.verticality);
     campaign::validate(p.segmentation);
     campaign::validate(p.icp);
@@ -35,8 +36,14 @@ CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
                                     std::span<const Eigen::Vector3d> cloud,
                                     const CampaignParameters& p) {
     validate(p);
+    return compare_campaign(campaign::ReferenceSurface(reference, p.surface, p.threads), cloud, p);
+}
+
+CampaignComparison compare_campaign(const campaign::ReferenceSurface& surface,
+                                    std::span<const Eigen::Vector3d> cloud,
+                                    const CampaignParameters& p) {
+    validate(p);
     const unsigned threads = p.threads;
-    const campaign::ReferenceSurface surface(reference, p.surface, threads);
     CampaignComparison out;
     campaign::SegmentIcpParameters global = p.icp;
     global.metric = campaign::IcpMetric::point_to_plane;
@@ -50,11 +57,30 @@ CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
     }
     out.registered = transformed(cloud, out.global.matrix(), threads);
 
+    // Verticality and segments of what is not ground (the ground's own points still hold
+    // the structure's verticality at its foot, so it is computed on the whole cloud).
+    std::vector<std::size_t> kept;  // campaign index of each segmented point
+    if (p.remove_ground) out.ground = campaign::classify_ground(out.registered, p.ground, threads);
+    for (std::size_t i = 0; i < out.registered.size(); ++i)
+        if (out.ground.ground.empty() || !out.ground.ground[i]) kept.push_back(i);
+    const std::vector<float> verticality =
+        campaign::verticality(out.registered, p.verticality, threads);
+    std::vector<Eigen::Vector3d> structure;
     std::vector<campaign::VerticalityClass> classes;
-    classes.reserve(out.registered.size());
-    for (const float v : campaign::verticality(out.registered, p.verticality, threads))
-        classes.push_back(campaign::classify(v, p.verticality));
-    out.segmentation = campaign::segment_cloud(out.registered, classes, p.segmentation, threads);
+    structure.reserve(kept.size());
+    classes.reserve(kept.size());
+    for (const auto i : kept) {
+        structure.push_back(out.registered[i]);
+        classes.push_back(campaign::classify(verticality[i], p.verticality));
+    }
+    out.segmentation = campaign::segment_cloud(structure, classes, p.segmentation, threads);
+    std::vector<std::int32_t> cluster(out.registered.size(), -1), segment(cluster);
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+        cluster[kept[k]] = out.segmentation.cluster[k];
+        segment[kept[k]] = out.segmentation.segment[k];
+    }
+    out.segmentation.cluster = std::move(cluster);
+    out.segmentation.segment = std::move(segment);
 
     const std::size_t S = out.segmentation.segments.size();
     std::vector<std::vector<std::size_t>> members(S);

@@ -2,7 +2,8 @@
 // A campaign cloud compared with the TLS reference segment by segment (docs/campaigns.md; the
 // segment-based analysis of Blaskow & Maas): the whole cloud registered on the reference
 // (point-to-plane on the local planes: the fine step, the files already in one frame), then
-// verticality and the two-stage segmentation of the registered cloud, each segment registered
+// the ground found by the cloth simulation filter (kept for the registration, left out of the
+// segments), verticality and the two-stage segmentation of the rest, each segment registered
 // on its own, the test of whether the segments moved as one, and the C2C distance of every
 // point after its segment's registration.
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "algorithms/campaign/c2c.hpp"
+#include "algorithms/campaign/ground_filter.hpp"
 #include "algorithms/campaign/reference_surface.hpp"
 #include "algorithms/campaign/segment_consistency.hpp"
 #include "algorithms/campaign/segment_registration.hpp"
@@ -21,6 +23,8 @@ namespace tlsmon {
 
 struct CampaignParameters {
     campaign::ReferenceSurfaceParameters surface;
+    bool remove_ground = true;  // false: the ground is segmented like the rest
+    campaign::GroundFilterParameters ground;
     campaign::VerticalityParameters verticality;
     campaign::SegmentationParameters segmentation;
     campaign::SegmentIcpParameters icp;  // the segments' (the global one is
@@ -38,8 +42,9 @@ struct CampaignSegmentResult {
 };
 
 struct CampaignComparison {
-    campaign::SegmentTransform global;  // the whole cloud onto the reference
-    campaign::Segmentation segmentation;
+    campaign::SegmentTransform global;      // the whole cloud onto the reference
+    campaign::GroundClassification ground;  // of the registered cloud; empty flags: not removed
+    campaign::Segmentation segmentation;    // per campaign point (ground points: segment −1)
     std::vector<CampaignSegmentResult> segments;  // as segmentation.segments
     campaign::SegmentConsistency consistency;
     // Per campaign point: its position after the global and its segment's registration (the
@@ -52,6 +57,10 @@ struct CampaignComparison {
 // Throws Error when the global registration fails (no overlap within the surface's
 // max_distance: the files are not in one frame).
 CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
+                                    std::span<const Eigen::Vector3d> campaign,
+                                    const CampaignParameters& parameters);
+// The same on a reference surface built once (with parameters.surface) for several campaigns.
+CampaignComparison compare_campaign(const campaign::ReferenceSurface& reference,
                                     std::span<const Eigen::Vector3d> campaign,
                                     const CampaignParameters& parameters);
 

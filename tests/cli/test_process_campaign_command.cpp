@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
 #include <sstream>
@@ -144,3 +145,38 @@ TEST(CampaignCommand, AMissingFileOrCloudsApartAreRefusedWithTheReason) {
 }
 
 }  // namespace
+
+// The simulator's personal laser scanner through the command line: `tlsmon simulate
+// --campaign linear` writes the campaign, a drift-free reference and the truth; `tlsmon
+// campaign compare` on them removes the ground and finds that the segments did not move as
+// one (the linear drift's known end values are in the truth).
+TEST(CampaignCommand, ASimulatedCampaignWithDriftIsFoundToDiffer) {
+    const tlsmon::test::TempDir dir("campaign-simulated");
+    const CommandRun sim = run_tlsmon(
+        "simulate --preset small --campaign linear --pulse-rate 5000 "
+        "--seed 3 --out " +
+        (dir.path() / "walk").string());
+    ASSERT_EQ(sim.status, 0) << sim.out;
+    std::ifstream in(dir.path() / "walk/campaign.truth.json");
+    const auto truth = nlohmann::json::parse(in);
+    EXPECT_EQ(truth["drift"]["model"], "linear");
+    EXPECT_NEAR(truth["duration_s"].get<double>(), 92.0, 1e-9);
+    const auto& last = truth["pose_error"].back();
+    EXPECT_NEAR(last["t_s"].get<double>(), 92.0, 1e-9);
+    EXPECT_NEAR(last["translation_m"][0].get<double>(), 0.020, 1e-12);
+    EXPECT_NEAR(last["rotation_rad"][2].get<double>(), 0.5e-3, 1e-12);
+    const auto campaign = tlsmon::read_scans(dir.path() / "walk/campaign.ply");
+    ASSERT_EQ(campaign.size(), 1u);
+    EXPECT_GT(campaign[0].size(), 100000u);
+
+    const CommandRun r = compare(dir.path() / "walk/reference.ply",
+                                 dir.path() / "walk/campaign.ply", dir.path() / "out");
+    ASSERT_EQ(r.status, 0) << r.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        r.out, m, std::regex("ground \\(cloth simulation filter\\): ([0-9]+) points")))
+        << r.out;
+    // Most of what a walker 1.5 m above the valley floor sees is the floor.
+    EXPECT_GT(std::stod(m[1]), 0.4 * double(campaign[0].size())) << r.out;
+    EXPECT_NE(r.out.find("no, they differ"), std::string::npos) << r.out;
+}
