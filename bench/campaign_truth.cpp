@@ -140,9 +140,12 @@ void reference_segments(const sim::Site& site, const CampaignParameters& p) {
     }
 }
 
+struct Scoring {
+    bool point_to_plane_truth = true;  // else the point-to-point best fit
+    bool verbose = false;              // a line per segment
+};
+
 struct Tally {
-    bool point_to_plane_truth = true;
-    bool verbose = false;
     std::size_t segments = 0, chi2_within = 0, components = 0, components_within = 0,
                 segments_all_within = 0;
     std::size_t campaigns = 0, rejected = 0;
@@ -150,7 +153,8 @@ struct Tally {
 };
 
 void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud,
-                    const CampaignComparison& c, Tally& tally, const char* name) {
+                    const CampaignComparison& c, const Scoring& scoring, Tally& tally,
+                    const char* name) {
     const auto members = members_of(c.segmentation);
     const std::vector<Vector3d> measured = sim::noise_free_points(campaign, cloud);
     const Eigen::Matrix4d G = c.global.matrix();
@@ -169,7 +173,7 @@ void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud
             normal[k] = cloud.normal[i].cast<double>();
         }
         const campaign::Vector6 truth =
-            tally.point_to_plane_truth
+            scoring.point_to_plane_truth
                 ? campaign::fit_pairs_point_to_plane(from, to, normal, t.centroid)
                 : campaign::parameters_of(
                       Eigen::umeyama(
@@ -195,7 +199,7 @@ void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud
             smallest = std::min(smallest, std::abs(truth(3 + a)));
         }
         tally.segments_all_within += all_within;
-        if (tally.verbose) {
+        if (scoring.verbose) {
             const auto [surface, share] = majority(members[s], cloud.surface);
             std::printf("    seg %2zu %-8s %7zu pts rank %d χ² %7.1f  t̂-t (mm)", s,
                         sim::surface_name(surface), members[s].size(), t.rank(), chi2);
@@ -278,10 +282,9 @@ int main(int argc, char** argv) {
     std::printf("its local planes: %.1f s\n", seconds_since(t0));
 
     Tally drifted, still;
-    for (Tally* t : {&drifted, &still}) {
-        t->point_to_plane_truth = !(argc > 5 && std::string(argv[5]) == "point");
-        t->verbose = argc > 6;
-    }
+    Scoring scoring;
+    scoring.point_to_plane_truth = !(argc > 5 && std::string(argv[5]) == "point");
+    scoring.verbose = argc > 6;
     GroundScore ground;
     double compare_seconds = 0;
     for (int k = 0; k < campaigns; ++k) {
@@ -299,7 +302,8 @@ int main(int argc, char** argv) {
             const CampaignComparison result = compare_campaign(surface, cloud.points, p);
             compare_seconds += seconds_since(t0);
             if (model == sim::SlamDriftModel::none) ground.add(cloud.surface, result.ground.ground);
-            score_campaign(c, cloud, result, model == sim::SlamDriftModel::none ? still : drifted,
+            score_campaign(c, cloud, result, scoring,
+                           model == sim::SlamDriftModel::none ? still : drifted,
                            sim::drift_model_name(model));
         }
     }

@@ -141,8 +141,9 @@ GroundClassification classify_ground(std::span<const Eigen::Vector3d> points,
     const double single = 1.0 - std::pow(0.7, p.rigidness);
     const double both = 0.5 * (1.0 - std::pow(0.4, p.rigidness));
     const double push = kGravity * p.time_step * p.time_step;
+    std::vector<double> before(n);
     for (out.iterations = 1; out.iterations <= p.max_iterations; ++out.iterations) {
-        const std::vector<double> before = cloth.height;
+        before = cloth.height;
         for (std::size_t i = 0; i < n; ++i)
             if (!cloth.fixed[i]) cloth.height[i] += push;
         for (int r = 0; r < cloth.rows; ++r)
