@@ -1,27 +1,24 @@
-// Campaign cloud benchmark (reported, not asserted), 2 threads: verticality at the study's
-// 0.10 m, the two-stage segmentation, the TLS reference's local planes, segment-wise ICP with
-// the test of whether the segments moved as one, and C2C of every point (algorithms/campaign/)
-// for an unstructured cloud like a personal laser scanner's: a ground 60 × 30 m, two piers
+// Campaign cloud benchmark (reported, not asserted), 2 threads: the TLS reference's local
+// planes, then compare_campaign (pipeline/campaign_comparison.hpp) step by step — the global
+// registration, the ground, verticality at the study's 0.10 m, the two-stage segmentation,
+// segment-wise ICP with the test of whether the segments moved as one, and C2C of every
+// point — for an unstructured cloud like a personal laser scanner's: a ground 60 × 30 m, two piers
 // (3 × 6 m, 20 m high, four faces each) and a deck (60 × 12 m, its soffit and top), points
 // drawn uniformly over the surfaces with N(0, 15 mm) noise along their normals, the second
 // pier's stretch of the walk drifted by 10 mm; the reference the same scene with half as many
 // points and 2 mm noise.
-// Usage: bench_campaign_segmentation [MILLION_POINTS=5]
+// Usage: bench_campaign_segmentation [MILLION_POINTS=5] [THINNING_M=0.03]
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
+#include <fstream>
 #include <random>
+#include <string>
 #include <vector>
 
-#include "algorithms/campaign/c2c.hpp"
-#include "algorithms/campaign/segment_consistency.hpp"
-#include "algorithms/campaign/segment_registration.hpp"
-#include "algorithms/campaign/segmentation.hpp"
-#include "algorithms/campaign/verticality.hpp"
 #include "bench/bench_support.hpp"
-#include "core/parallel_for.hpp"
+#include "pipeline/campaign_comparison.hpp"
 
 namespace {
 
@@ -65,98 +62,68 @@ std::vector<Vector3d> sample(const std::vector<Face>& faces, std::size_t n, doub
     return cloud;
 }
 
+// The process's peak resident memory (VmHWM), GB.
+double peak_gb() {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / (1024.0 * 1024.0);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     using namespace tlsmon;
     const double million = argc > 1 ? std::atof(argv[1]) : 5.0;
+    CampaignParameters p;
+    p.threads = 2;
+    if (argc > 2) p.thinning = std::atof(argv[2]);
     const auto faces = scene();
     std::vector<Vector3d> cloud = sample(faces, static_cast<std::size_t>(million * 1e6), 0.015, 1);
     // The second pier's stretch of the walk: 10 mm off along y.
-    for (auto& p : cloud)
-        if (p.x() > 38.5 && p.x() < 42.5 && p.z() > 0.5 && p.z() < 19.5) p.y() += 0.010;
-    std::printf("%zu points\n", cloud.size());
-    const campaign::VerticalityParameters vp;
-    auto t0 = std::chrono::steady_clock::now();
-    double c0 = bench::process_cpu_seconds();
-    const auto v = campaign::verticality(cloud, vp, 2);
-    std::printf("verticality (r = %.2f m): %.1f s wall, %.1f s CPU\n", vp.radius,
-                bench::seconds_since(t0), bench::process_cpu_seconds() - c0);
-    std::vector<campaign::VerticalityClass> classes;
-    classes.reserve(v.size());
-    std::map<campaign::VerticalityClass, std::size_t> per_class;
-    for (const float x : v) ++per_class[classes.emplace_back(campaign::classify(x, vp))];
-    for (const auto& [c, count] : per_class)
-        std::printf("  %s: %.1f %%\n", campaign::class_name(c),
-                    100.0 * double(count) / double(v.size()));
-
-    t0 = std::chrono::steady_clock::now();
-    c0 = bench::process_cpu_seconds();
-    const auto s = campaign::segment_cloud(cloud, classes, {}, 2);
-    std::printf(
-        "segmentation: %.1f s wall, %.1f s CPU; spacing %.1f mm, distance %.1f mm, %zu "
-        "clusters, %zu segments of at least 50 points\n",
-        bench::seconds_since(t0), bench::process_cpu_seconds() - c0, 1e3 * s.spacing,
-        1e3 * s.distance, s.clusters, s.segments.size());
-    for (std::size_t k = 0; k < std::min<std::size_t>(s.segments.size(), 12); ++k)
-        std::printf("  segment %zu: %s, cluster %d, %zu points\n", k,
-                    campaign::class_name(s.segments[k].kind), s.segments[k].cluster,
-                    s.segments[k].points);
-
+    for (auto& q : cloud)
+        if (q.x() > 38.5 && q.x() < 42.5 && q.z() > 0.5 && q.z() < 19.5) q.y() += 0.010;
     const std::vector<Vector3d> reference =
         sample(faces, static_cast<std::size_t>(million * 0.5e6), 0.002, 2);
-    t0 = std::chrono::steady_clock::now();
-    c0 = bench::process_cpu_seconds();
-    const campaign::ReferenceSurface surface(reference, {}, 2);
-    std::printf("reference local planes (%zu points): %.1f s wall, %.1f s CPU\n", reference.size(),
-                bench::seconds_since(t0), bench::process_cpu_seconds() - c0);
+    std::printf("campaign %zu points, reference %zu points, thinning %.3f m\n", cloud.size(),
+                reference.size(), p.thinning);
+
+    auto t0 = std::chrono::steady_clock::now();
+    double c0 = bench::process_cpu_seconds();
+    const campaign::ReferenceSurface surface(reference, p.surface, p.threads);
+    std::printf("reference local planes: %.1f s wall, %.1f s CPU\n", bench::seconds_since(t0),
+                bench::process_cpu_seconds() - c0);
 
     t0 = std::chrono::steady_clock::now();
     c0 = bench::process_cpu_seconds();
-    std::vector<std::vector<Vector3d>> members(s.segments.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-        if (s.segment[i] >= 0) members[std::size_t(s.segment[i])].push_back(cloud[i]);
-    std::vector<campaign::SegmentTransform> transforms(s.segments.size());
-    for (std::size_t k = 0; k < s.segments.size(); ++k)
-        if (s.segments[k].points >= 1000)
-            transforms[k] = campaign::register_segment(surface, members[k], {}, 2);
-    const campaign::SegmentConsistency consistency = campaign::test_segment_consistency(transforms);
+    const CampaignComparison c = compare_campaign(surface, cloud, p);
+    const double wall = bench::seconds_since(t0), cpu = bench::process_cpu_seconds() - c0;
+    const auto& s = c.seconds;
     std::printf(
-        "segment-wise ICP and the test: %.1f s wall, %.1f s CPU; %zu segments registered, "
-        "T = %.1f (dof %d), segments differ: %s\n",
-        bench::seconds_since(t0), bench::process_cpu_seconds() - c0, consistency.segments,
-        consistency.statistic, consistency.dof, consistency.differ ? "yes" : "no");
-    for (std::size_t k = 0; k < std::min<std::size_t>(transforms.size(), 12); ++k) {
-        const auto& r = transforms[k];
+        "compare_campaign: %.1f s wall, %.1f s CPU (%zu voxels)\n  global registration %.1f s, "
+        "ground %.1f s, verticality %.1f s, segmentation %.1f s, segment-wise ICP and the test "
+        "%.1f s, C2C %.1f s\n",
+        wall, cpu, c.thinned, s.global, s.ground, s.verticality, s.segmentation, s.segments, s.c2c);
+    std::printf("global: %zu pairs, %d iterations, rank %d\n", c.global.pairs, c.global.iterations,
+                c.global.rank());
+    std::printf("ground %zu points; %zu segments (spacing %.1f mm)\n", c.ground.ground_points,
+                c.segments.size(), 1e3 * c.segmentation.spacing);
+    const auto& t = c.consistency;
+    std::printf("%zu segments registered, T = %.1f (dof %d), segments differ: %s\n", t.segments,
+                t.statistic, t.dof, t.differ ? "yes" : "no");
+    for (std::size_t k = 0; k < std::min<std::size_t>(c.segments.size(), 12); ++k) {
+        const auto& r = c.segments[k].transform;
         if (!r.registered()) continue;
         std::printf(
-            "  segment %zu: rank %d, t = (%+.1f, %+.1f, %+.1f) mm at (%.0f, %.0f, %.0f), "
-            "%d iterations, p = %.2g\n",
-            k, r.rank(), 1e3 * r.parameters(3), 1e3 * r.parameters(4), 1e3 * r.parameters(5),
-            r.centroid.x(), r.centroid.y(), r.centroid.z(), r.iterations,
-            consistency.segment_p_value[k]);
+            "  segment %zu: %s, %zu points, rank %d, t = (%+.1f, %+.1f, %+.1f) mm at (%.0f, %.0f, "
+            "%.0f), p = %.2g\n",
+            k, campaign::class_name(c.segments[k].segment.kind), c.segments[k].segment.points,
+            r.rank(), 1e3 * r.parameters(3), 1e3 * r.parameters(4), 1e3 * r.parameters(5),
+            r.centroid.x(), r.centroid.y(), r.centroid.z(), t.segment_p_value[k]);
     }
-
-    t0 = std::chrono::steady_clock::now();
-    c0 = bench::process_cpu_seconds();
-    std::vector<Eigen::Matrix4d> matrices;
-    for (const auto& r : transforms)
-        matrices.push_back(r.registered() ? r.matrix() : Eigen::Matrix4d::Identity());
-    std::vector<Vector3d> registered = cloud;
-    parallel_for(
-        registered.size(),
-        [&](std::size_t i) {
-            if (s.segment[i] >= 0)
-                registered[i] =
-                    (matrices[std::size_t(s.segment[i])] * cloud[i].homogeneous()).head<3>();
-        },
-        2);
-    const auto c2c = campaign::c2c_vectors(surface, registered, campaign::C2cModel::local_plane, 2);
-    const auto stats = campaign::summarise(c2c);
-    std::printf(
-        "C2C (local plane): %.1f s wall, %.1f s CPU; mean %.1f mm, σ %.1f mm, 95 %% %.1f mm, "
-        "%zu without\n",
-        bench::seconds_since(t0), bench::process_cpu_seconds() - c0, 1e3 * stats.mean,
-        1e3 * stats.sigma, 1e3 * stats.p95, stats.missing);
+    std::printf("C2C (local plane): mean %.1f mm, σ %.1f mm, 95 %% %.1f mm, %zu without\n",
+                1e3 * c.c2c_all.mean, 1e3 * c.c2c_all.sigma, 1e3 * c.c2c_all.p95,
+                c.c2c_all.missing);
+    std::printf("peak resident memory %.2f GB\n", peak_gb());
     return 0;
 }

@@ -201,15 +201,23 @@ void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud
         tally.segments_all_within += all_within;
         if (scoring.verbose) {
             const auto [surface, share] = majority(members[s], cloud.surface);
-            std::printf("    seg %2zu %-8s %7zu pts rank %d χ² %7.1f  t̂-t (mm)", s,
-                        sim::surface_name(surface), members[s].size(), t.rank(), chi2);
+            std::printf("    seg %2zu %-8s %7zu pts %3zu cells rank %d χ² %7.1f  t̂-t (mm)", s,
+                        sim::surface_name(surface), members[s].size(), t.clusters, t.rank(), chi2);
             for (int a = 0; a < 3; ++a)
                 if (t.translation_observed(a))
                     std::printf(" %6.2f±%4.2f(t %6.2f)", 1e3 * (t.parameters(3 + a) - truth(3 + a)),
                                 1e3 * std::sqrt(t.covariance(3 + a, 3 + a)), 1e3 * truth(3 + a));
                 else
                     std::printf("        -                 ");
-            std::printf("  %.0f %%\n", 100 * share);
+            // How much of the segment lies within 0.1 m above the ground cut.
+            std::size_t edge = 0;
+            for (const auto i : members[s]) {
+                const Vector3d& x = c.registered[i];
+                const campaign::GroundFilterParameters g;  // the defaults compare_campaign ran
+                edge += x.z() - c.ground.cloth_height(x.x(), x.y(), g.cloth_resolution) <
+                        g.class_threshold + 0.1;
+            }
+            std::printf("  %.0f %%, edge %.0f %%\n", 100 * share, 100.0 * double(edge) / double(m));
         }
         within += all_within;
         const auto [surface, share] = majority(members[s], cloud.surface);
@@ -219,10 +227,11 @@ void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud
     ++tally.campaigns;
     tally.rejected += c.consistency.differ;
     std::printf(
-        "  %-11s %zu segments registered, %zu with every observed translation within 2σ; "
+        "  spacing %.1f mm, %-11s %zu segments registered, %zu with every observed translation "
+        "within 2σ; "
         "true |t| %.1f–%.1f mm; T = %.1f (dof %d, p %.3g)%s\n",
-        name, registered, within, 1e3 * (registered ? smallest : 0), 1e3 * largest,
-        c.consistency.statistic, c.consistency.dof, c.consistency.p_value,
+        1e3 * c.segmentation.spacing, name, registered, within, 1e3 * (registered ? smallest : 0),
+        1e3 * largest, c.consistency.statistic, c.consistency.dof, c.consistency.p_value,
         c.consistency.differ ? " differ" : "");
 }
 

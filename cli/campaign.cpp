@@ -44,6 +44,11 @@ CampaignParameters parameters_of(const CampaignCompareOptions& o) {
     if (o.radius) p.verticality.radius = p.surface.plane_radius = *o.radius;
     if (o.max_distance) p.surface.max_distance = *o.max_distance;
     if (o.min_segment_points) p.min_segment_points = *o.min_segment_points;
+    if (o.thinning) p.thinning = *o.thinning;
+    if (o.registration_points) {
+        if (*o.registration_points < 1) throw Error("--registration-points must be positive");
+        p.registration_points = std::size_t(*o.registration_points);
+    }
     p.remove_ground = !o.keep_ground;
     if (o.ground_threshold) p.ground.class_threshold = *o.ground_threshold;
     if (o.cloth_resolution) p.ground.cloth_resolution = *o.cloth_resolution;
@@ -68,9 +73,9 @@ std::string sigma_or_empty(const campaign::SegmentTransform& t, int k) {
 void write_segments(const std::filesystem::path& path, const CampaignComparison& c) {
     ResultFile f(path.string());
     f.write(
-        "segment,class,cluster,points,outcome,pairs,rank,centroid_x_m,centroid_y_m,centroid_z_m,"
-        "tx_m,ty_m,tz_m,sigma_tx_m,sigma_ty_m,sigma_tz_m,rx_rad,ry_rad,rz_rad,sigma_rx_rad,"
-        "sigma_ry_rad,sigma_rz_rad,rmse_m,iterations,"
+        "segment,class,cluster,points,voxels,outcome,pairs,rank,centroid_x_m,centroid_y_m,"
+        "centroid_z_m,tx_m,ty_m,tz_m,sigma_tx_m,sigma_ty_m,sigma_tz_m,rx_rad,ry_rad,rz_rad,"
+        "sigma_rx_rad,sigma_ry_rad,sigma_rz_rad,cut_fraction,cut_bias_m,rmse_m,iterations,"
         "converged,test_statistic,test_dof,test_p,c2c_mean_m,c2c_sigma_m,c2c_median_m,"
         "c2c_p95_m,c2c_max_m\n");
     for (std::size_t s = 0; s < c.segments.size(); ++s) {
@@ -82,6 +87,7 @@ void write_segments(const std::filesystem::path& path, const CampaignComparison&
             campaign::class_name(r.segment.kind),
             std::to_string(r.segment.cluster),
             std::to_string(r.segment.points),
+            std::to_string(r.segment.voxels),
             registered || t.points > 0 ? campaign::outcome_name(t.outcome) : "too small",
             std::to_string(t.pairs),
             std::to_string(t.rank())};
@@ -90,6 +96,8 @@ void write_segments(const std::filesystem::path& path, const CampaignComparison&
         for (int k = 3; k < 6; ++k) row.push_back(sigma_or_empty(t, k));
         for (int k = 0; k < 3; ++k) row.push_back(value_or_empty(t, k));
         for (int k = 0; k < 3; ++k) row.push_back(sigma_or_empty(t, k));
+        row.push_back(registered ? csv_number(r.cut_fraction) : "");
+        row.push_back(registered ? csv_number(r.cut_bias) : "");
         row.push_back(registered ? csv_number(t.rmse) : "");
         row.push_back(std::to_string(t.iterations));
         row.push_back(t.converged ? "true" : "false");
@@ -159,7 +167,8 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
                       << " points, left out of the segments\n";
         std::size_t registered = 0;
         for (const auto& s : c.segments) registered += s.transform.registered();
-        std::cout << c.segmentation.segments.size() << " segments (spacing "
+        std::cout << c.segmentation.segments.size() << " segments (of " << c.thinned
+                  << " voxels at " << csv_number(p.thinning) << " m, spacing "
                   << mm(c.segmentation.spacing) << " mm), " << registered << " registered ("
                   << campaign::metric_name(p.icp.metric) << ")\n";
         const auto& t = c.consistency;

@@ -252,8 +252,10 @@ struct CampaignCompareOptions {
     std::optional<double> radius;           // the local planes' and verticality's
     std::optional<double> max_distance;     // of a pair
     std::optional<int> min_segment_points;
-    bool keep_ground = false;                // segment the ground like the rest
-    std::optional<double> ground_threshold;  // cloth simulation filter's class threshold
+    std::optional<double> thinning;                // m, the classification's voxel
+    std::optional<long long> registration_points;  // the most a registration uses
+    bool keep_ground = false;                      // segment the ground like the rest
+    std::optional<double> ground_threshold;        // cloth simulation filter's class threshold
     std::optional<double> cloth_resolution;
     std::optional<int> rigidness;
     std::optional<int> threads;

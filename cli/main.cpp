@@ -576,6 +576,14 @@ void add_campaign(CLI::App& app, CommandLine& c) {
     compare->add_option("--min-segment-points", o.min_segment_points,
                         "Smaller segments are not registered (default " +
                             std::to_string(defaults.min_segment_points) + ")");
+    compare->add_option("--thinning", o.thinning,
+                        "Voxel (m) the cloud is thinned to for verticality and segmentation, 0: "
+                        "every point (default " +
+                            toml_number(defaults.thinning) + ")");
+    compare->add_option("--registration-points", o.registration_points,
+                        "The most points a registration uses, every k-th in the file's order "
+                        "(default " +
+                            std::to_string(defaults.registration_points) + ")");
     compare->add_flag("--keep-ground", o.keep_ground,
                       "Segment the ground too (default: the cloth simulation filter's ground is "
                       "left out of the segments, kept for the registration)");

@@ -4,7 +4,9 @@
 // (point-to-plane on the local planes: the fine step, the files already in one frame), then
 // the ground found by the cloth simulation filter (kept for the registration, left out of the
 // segments), verticality and the two-stage segmentation of the rest, each segment registered
-// on its own, the test of whether the segments moved as one, and the C2C distance of every
+// on its own (verticality and the segments on the cloud thinned to one point per voxel,
+// thinning.hpp, and carried back to every point; the registrations on a subsample in the
+// cloud's order), the test of whether the segments moved as one, and the C2C distance of every
 // point after its segment's registration.
 #include <Eigen/Core>
 #include <cstdint>
@@ -12,17 +14,28 @@
 #include <vector>
 
 #include "algorithms/campaign/c2c.hpp"
+#include "algorithms/campaign/cut_bias.hpp"
 #include "algorithms/campaign/ground_filter.hpp"
 #include "algorithms/campaign/reference_surface.hpp"
 #include "algorithms/campaign/segment_consistency.hpp"
 #include "algorithms/campaign/segment_registration.hpp"
 #include "algorithms/campaign/segmentation.hpp"
+#include "algorithms/campaign/thinning.hpp"
 #include "algorithms/campaign/verticality.hpp"
 
 namespace tlsmon {
 
 struct CampaignParameters {
     campaign::ReferenceSurfaceParameters surface;
+    // m, the voxel verticality and segmentation thin the cloud to (0: every point): 0.03 leaves
+    // about 35 points of a surface in the 0.10 m neighbourhood.
+    double thinning = 0.03;
+    // The most points a registration (the whole cloud's, each segment's) uses: every k-th of
+    // its points in the cloud's order. Not the voxel-thinned points: which point of a voxel is
+    // kept depends on where its noise put it, and on a noisy surface that biases the kept
+    // points along the normal by up to ±1 mm (20 mm noise, 0.03 m voxels) with the surface's
+    // place in the voxel grid. C2C is computed for every point.
+    std::size_t registration_points = 200000;
     bool remove_ground = true;  // false: the ground is segmented like the rest
     campaign::GroundFilterParameters ground;
     campaign::VerticalityParameters verticality;
@@ -30,6 +43,10 @@ struct CampaignParameters {
     campaign::SegmentIcpParameters icp;  // the segments' (the global one is
                                          // point-to-plane whatever icp.metric)
     int min_segment_points = 1000;       // smaller segments are not registered
+    // The bound on the bias of a segment's own cut (cut_bias.hpp), added to its translations'
+    // variance: the campaign instrument's range noise (m, 1σ) and the band along the cuts.
+    double range_sigma = 0.02;
+    double cut_distance = 0.10;
     campaign::C2cModel c2c = campaign::C2cModel::local_plane;
     double alpha = 0.05;   // of the segments' consistency test
     unsigned threads = 0;  // 0: every core
@@ -37,14 +54,26 @@ struct CampaignParameters {
 
 struct CampaignSegmentResult {
     campaign::Segment segment;
-    campaign::SegmentTransform transform;  // after the global registration
+    // After the global registration; its covariance includes the cut's bias bound.
+    campaign::SegmentTransform transform;
+    double cut_fraction = 0;  // of its points within cut_distance of something else
+    double cut_bias = 0;      // m, the bound added to each translation's variance (squared)
     campaign::C2cStatistics c2c;
+};
+
+// Wall seconds of each step, for the operator to see where the time went.
+struct CampaignTimings {
+    double global = 0, ground = 0, verticality = 0, segmentation = 0, segments = 0, c2c = 0;
+    double total() const { return global + ground + verticality + segmentation + segments + c2c; }
 };
 
 struct CampaignComparison {
     campaign::SegmentTransform global;      // the whole cloud onto the reference
+    std::size_t thinned = 0;                // voxels of the cloud thinned for classification
     campaign::GroundClassification ground;  // of the registered cloud; empty flags: not removed
-    campaign::Segmentation segmentation;    // per campaign point (ground points: segment −1)
+    // Per campaign point (ground points: segment −1); the segments' point counts are of the
+    // whole cloud, its spacing that of the thinned structure.
+    campaign::Segmentation segmentation;
     std::vector<CampaignSegmentResult> segments;  // as segmentation.segments
     campaign::SegmentConsistency consistency;
     // Per campaign point: its position after the global and its segment's registration (the
@@ -52,6 +81,7 @@ struct CampaignComparison {
     std::vector<Eigen::Vector3d> registered;
     std::vector<Eigen::Vector3f> c2c;
     campaign::C2cStatistics c2c_all;
+    CampaignTimings seconds;
 };
 
 // Throws Error when the global registration fails (no overlap within the surface's

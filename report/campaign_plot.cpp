@@ -95,7 +95,7 @@ std::optional<std::string> draw_segment_parameters(const CampaignComparison& c, 
     const std::string scale = fmt::format("1 mm drawn as {:.2g} m", k);
     const std::string gp =
         "set terminal pngcairo size 1000,1100 font 'DejaVu Sans,10' noenhanced\n" +
-        fmt::format("set output '{}'\n", png.string()) +
+        fmt::format("set output '{}'\n", fs::absolute(png).string()) +
         "set grid lc rgb '#e4e4e4'\nset key below\nset size ratio -1\n"
         "set multiplot layout 2,1\n" +
         view("plan", 1, 2, "x (m); " + scale, "y (m)",

@@ -44,12 +44,15 @@ bool have_gnuplot() {
     return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
 }
 
+// The script runs in its own folder (its data files are named from there), so the log — and
+// the picture, which each script names — are given absolute: a relative path would be read
+// from that folder instead of from where the command was run.
 bool run_gnuplot(const fs::path& script, const fs::path& png, const fs::path& log) {
     std::error_code ec;
     fs::remove(png, ec);
     const std::string cmd = "cd " + shell_quoted(script.parent_path().string()) + " && gnuplot " +
                             shell_quoted(script.filename().string()) + " >" +
-                            shell_quoted(log.string()) + " 2>&1";
+                            shell_quoted(fs::absolute(log).string()) + " 2>&1";
     return std::system(cmd.c_str()) == 0 && fs::exists(png) && fs::file_size(png) > 0;
 }
 

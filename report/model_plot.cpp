@@ -64,8 +64,8 @@ bool plot_model(const EpochDatabase& db, const StoredKeypointModel& fit, const f
         "set xlabel 't, hours since the reference epoch'\nset ylabel '{} (mm)'\n"
         "set title \"Keypoint displacement model d(t, z) of {}\\nfitted at epoch {} to {} "
         "observations (least absolute residuals, {} iterations; residual scale {:.3f} mm)\"\n",
-        png.string(), t_max > 0 ? t_max : 1.0, m.quantity, m.quantity, fit.epoch, m.observations,
-        m.iterations, 1e3 * m.residual_scale.value_or(0));
+        fs::absolute(png).string(), t_max > 0 ? t_max : 1.0, m.quantity, m.quantity, fit.epoch,
+        m.observations, m.iterations, 1e3 * m.residual_scale.value_or(0));
     gp += "plot " + plot + "\n";
     const fs::path script = dir / (base + ".gp");
     write_text(script, gp);

@@ -103,7 +103,8 @@ bool plot_registration(const RunReport& r, const fs::path& dir, ReportFiles& fil
     write_text(dir / "registration_errors.dat", errors);
     write_text(dir / "registration_rejected.dat", rejected);
     const fs::path png = dir.parent_path() / "registration.png";
-    std::string gp = fmt::format(fmt::runtime(kHeader), 900, gnuplot_quoted(png.string()));
+    std::string gp =
+        fmt::format(fmt::runtime(kHeader), 900, gnuplot_quoted(fs::absolute(png).string()));
     // The same plot area in both panels, so the epochs line up.
     gp += "set lmargin at screen 0.07\nset rmargin at screen 0.76\n";
     gp += fmt::format(
@@ -187,7 +188,8 @@ bool plot_zone(const RunReport& r, const ZoneCheck& z, const fs::path& dir, Repo
     }
     if (curves.empty()) return false;
     const fs::path png = dir.parent_path() / (base + ".png");
-    std::string gp = fmt::format(fmt::runtime(kHeader), 520, gnuplot_quoted(png.string()));
+    std::string gp =
+        fmt::format(fmt::runtime(kHeader), 520, gnuplot_quoted(fs::absolute(png).string()));
     gp += epoch_range(r) + event_marks(r);
     const std::string where = z.face ? fmt::format(" ({} face, z {:g}-{:g} m)", z.face->face,
                                                    z.face->z_min, z.face->z_max)

@@ -123,7 +123,7 @@ void draw_area_vectors(const RunReport& r, const fs::path& dir, ReportFiles& fil
             "set key below\nset xtics {:g}\n"
             "set offsets graph 0.08, graph 0.08, graph 0.05, graph 0.05\n"
             "set xlabel {}\nset ylabel 'up, v (m)'\nset title {}\nplot {}\n",
-            static_cast<int>(300 + 520 * height), png.string(), tic,
+            static_cast<int>(300 + 520 * height), fs::absolute(png).string(), tic,
             gnuplot_quoted("along the wall, u (m); each area's vector along the wall from its "
                            "centre, " +
                            scale),

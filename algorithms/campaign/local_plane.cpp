@@ -8,12 +8,15 @@
 namespace tlsmon::campaign {
 
 std::vector<LocalPlane> local_planes(std::span<const Eigen::Vector3d> points, double radius,
-                                     int min_neighbours, unsigned threads) {
+                                     int min_neighbours, unsigned threads,
+                                     std::span<const std::size_t> at) {
     const PointGrid grid(points, radius);
-    std::vector<LocalPlane> out(points.size());
+    const std::size_t centres = at.empty() ? points.size() : at.size();
+    std::vector<LocalPlane> out(centres);
     parallel_for(
-        points.size(),
-        [&](std::size_t i) {
+        centres,
+        [&](std::size_t j) {
+            const std::size_t i = at.empty() ? j : at[j];
             if (!points[i].allFinite()) return;
             // The structure tensor about the neighbours' mean, summed as offsets from the query
             // point so the sums stay small.
@@ -31,10 +34,10 @@ std::vector<LocalPlane> local_planes(std::span<const Eigen::Vector3d> points, do
             const Eigen::Matrix3d covariance = outer / n - mean * mean.transpose();
             const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
             const Eigen::Vector3d e3 = eigen.eigenvectors().col(0);  // smallest eigenvalue
-            out[i].normal = e3.cast<float>();
-            out[i].offset = float(e3.dot(points[i] + mean));
+            out[j].normal = e3.cast<float>();
+            out[j].offset = float(e3.dot(points[i] + mean));
             const Eigen::Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);
-            out[i].variation = float(lambda(0) / std::max(lambda.sum(), 1e-300));
+            out[j].variation = float(lambda(0) / std::max(lambda.sum(), 1e-300));
         },
         threads);
     return out;

@@ -27,8 +27,10 @@ struct LocalPlane {
 };
 
 // Per point (undefined: fewer than `min_neighbours` neighbours within `radius`, or a point
-// that is not finite), parallel over points; the result does not depend on `threads`.
+// that is not finite), parallel over points; the result does not depend on `threads`. With
+// `at`, one plane per point it names, of that point's neighbours among all the points.
 std::vector<LocalPlane> local_planes(std::span<const Eigen::Vector3d> points, double radius,
-                                     int min_neighbours, unsigned threads = 0);
+                                     int min_neighbours, unsigned threads = 0,
+                                     std::span<const std::size_t> at = {});
 
 }  // namespace tlsmon::campaign

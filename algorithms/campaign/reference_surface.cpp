@@ -14,6 +14,8 @@ void validate(const ReferenceSurfaceParameters& p) {
         throw Error("campaign: max_distance must lie in (0, 100] m");
     if (!(p.max_variation > 0 && p.max_variation <= 1.0 / 3))
         throw Error("campaign: max_variation must lie in (0, 1/3]");
+    if (!(p.plane_spacing >= 0 && p.plane_spacing <= p.plane_radius))
+        throw Error("campaign: plane_spacing must lie in [0, plane_radius]");
 }
 
 namespace {
@@ -28,7 +30,14 @@ ReferenceSurface::ReferenceSurface(std::span<const Eigen::Vector3d> points,
     : points_(points),
       parameters_(checked(parameters)),
       grid_(points, std::max(parameters.plane_radius, parameters.max_distance / 2)),
-      planes_(local_planes(points, parameters.plane_radius, parameters.min_neighbours, threads)) {}
+      voxels_(thin_by_voxel(points, parameters.plane_spacing, {}, threads)),
+      planes_(local_planes(points, parameters.plane_radius, parameters.min_neighbours, threads,
+                           voxels_.kept)) {
+    // Non-finite points (never a nearest point) share one undefined plane.
+    for (auto& v : voxels_.of)
+        if (v == VoxelThinning::kNone) v = std::uint32_t(planes_.size());
+    planes_.emplace_back();
+}
 
 std::int64_t ReferenceSurface::nearest(const Eigen::Vector3d& x) const {
     // Growing spheres: most points have a neighbour within a small fraction of max_distance,

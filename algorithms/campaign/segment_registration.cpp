@@ -123,6 +123,19 @@ double residual_size(const Pair& pr, const ReferenceSurface& ref, IcpMetric metr
 
 }  // namespace
 
+void SegmentTransform::add_translation_variance(double variance) {
+    if (!registered() || !(variance > 0)) return;
+    // z = observed·p, so Cov(z) gains observed_t·(v·I)·observed_tᵀ; p's covariance in the
+    // observed span is Ds·Cov(z)·Dsᵀ with Ds = D⁻¹·U and U = (observed·D⁻¹)ᵀ.
+    const Eigen::MatrixXd added =
+        variance * observed.rightCols<3>() * observed.rightCols<3>().transpose();
+    observed_covariance += added;
+    Matrix6 Dinv = Matrix6::Identity();
+    Dinv.diagonal().head<3>().setConstant(1.0 / radius);
+    const Eigen::Matrix<double, 6, Eigen::Dynamic> Ds = Dinv * (observed * Dinv).transpose();
+    covariance += Ds * added * Ds.transpose();
+}
+
 SegmentTransform register_segment(const ReferenceSurface& ref,
                                   std::span<const Eigen::Vector3d> segment,
                                   const SegmentIcpParameters& P, unsigned threads) {

@@ -84,6 +84,9 @@ struct SegmentTransform {
     bool parameter_observed(int k) const;
     bool translation_observed(int axis) const { return parameter_observed(3 + axis); }
     Eigen::Matrix4d matrix() const;  // x' = M·x
+    // Adds `variance` (m²) to each translation, in the observed combinations and in
+    // `covariance`: a systematic error of that size in any direction (cut_bias.hpp).
+    void add_translation_variance(double variance);
 };
 
 // The segment's parameters (as SegmentTransform::parameters) of a rigid transformation M of

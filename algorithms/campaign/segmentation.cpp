@@ -136,7 +136,7 @@ Segmentation segment_cloud(std::span<const Eigen::Vector3d> points,
     std::vector<std::int32_t> segment_of_root(points.size(), -1);
     for (const auto r : roots) {
         segment_of_root[r] = std::int32_t(out.segments.size());
-        out.segments.push_back({joined(classes[r]), out.cluster[r], part_size[r]});
+        out.segments.push_back({joined(classes[r]), out.cluster[r], part_size[r], part_size[r]});
     }
     for (std::size_t i = 0; i < points.size(); ++i)
         if (points[i].allFinite()) out.segment[i] = segment_of_root[parts.find(std::uint32_t(i))];

@@ -24,6 +24,9 @@ struct Segment {
     VerticalityClass kind = VerticalityClass::other;
     std::int32_t cluster = 0;  // its stage-1 cluster
     std::size_t points = 0;
+    // Of a thinned cloud (pipeline/campaign_comparison.hpp): its voxels, while `points` counts
+    // the points they stand for. Otherwise equal to `points`.
+    std::size_t voxels = 0;
 };
 
 struct Segmentation {

@@ -153,7 +153,7 @@ TEST(CampaignCommand, AMissingFileOrCloudsApartAreRefusedWithTheReason) {
 TEST(CampaignCommand, ASimulatedCampaignWithDriftIsFoundToDiffer) {
     const tlsmon::test::TempDir dir("campaign-simulated");
     const CommandRun sim = run_tlsmon(
-        "simulate --preset small --campaign linear --pulse-rate 5000 "
+        "simulate --preset small --campaign linear --pulse-rate 10000 "
         "--seed 3 --out " +
         (dir.path() / "walk").string());
     ASSERT_EQ(sim.status, 0) << sim.out;

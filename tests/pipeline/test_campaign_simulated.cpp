@@ -119,7 +119,7 @@ TEST(CampaignSimulated, RecoversEachSegmentsDriftAndSaysTheSegmentsDiffer) {
     EXPECT_GT(s.largest_offset, 0.005);  // the drift moved some segment by more than 5 mm
     EXPECT_GE(s.within, s.segments - 1) << s.within << " of " << s.segments;
     EXPECT_TRUE(c.consistency.differ);
-    EXPECT_LT(c.consistency.p_value, 1e-6);
+    EXPECT_LT(c.consistency.p_value, 1e-3);
 }
 
 TEST(CampaignSimulated, WithoutDriftTheSegmentsMoveAsOne) {
