@@ -76,6 +76,9 @@ int run_vectors(const VectorsOptions&) {
 int run_campaign_compare(const CampaignCompareOptions&) {
     return hand_over_to_analysis();
 }
+int run_campaign_add(const CampaignAddOptions&) {
+    return hand_over_to_analysis();
+}
 int run_keypoints(const KeypointsOptions&) {
     return hand_over_to_analysis();
 }

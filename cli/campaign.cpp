@@ -5,20 +5,27 @@
 // (every campaign point after its registration, its segment, class, ground flag and C2C
 // vector), and prints the global registration, the ground, the consistency test and the C2C
 // summary.
+// `tlsmon campaign add FILE --instrument NAME --config SITE`: the same comparison against the
+// site's reference epoch, stored as a campaign epoch (pipeline/campaign_epoch.hpp).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli/campaign_tables.hpp"
 #include "cli/commands.hpp"
 #include "cli/result_file.hpp"
+#include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
+#include "daemon/ingest_files.hpp"
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/campaign_comparison.hpp"
+#include "pipeline/campaign_epoch.hpp"
 #include "report/campaign_plot.hpp"
 
 namespace tlsmon {
@@ -60,55 +67,11 @@ CampaignParameters parameters_of(const CampaignCompareOptions& o) {
     return p;
 }
 
-// Parameter k (0–2 rotations, 3–5 translations) and its σ, empty where the segment's surfaces
-// do not observe it: there it is the start, not a measurement.
-std::string value_or_empty(const campaign::SegmentTransform& t, int k) {
-    return t.registered() && t.parameter_observed(k) ? csv_number(t.parameters(k)) : "";
-}
-std::string sigma_or_empty(const campaign::SegmentTransform& t, int k) {
-    return t.registered() && t.parameter_observed(k) ? csv_number(std::sqrt(t.covariance(k, k)))
-                                                     : "";
-}
-
 void write_segments(const std::filesystem::path& path, const CampaignComparison& c) {
+    std::ostringstream text;
+    print(text, campaign_segments_table(segment_rows(c)), OutputFormat::csv);
     ResultFile f(path.string());
-    f.write(
-        "segment,class,cluster,points,voxels,outcome,pairs,rank,centroid_x_m,centroid_y_m,"
-        "centroid_z_m,tx_m,ty_m,tz_m,sigma_tx_m,sigma_ty_m,sigma_tz_m,rx_rad,ry_rad,rz_rad,"
-        "sigma_rx_rad,sigma_ry_rad,sigma_rz_rad,cut_fraction,cut_bias_m,rmse_m,iterations,"
-        "converged,test_statistic,test_dof,test_p,c2c_mean_m,c2c_sigma_m,c2c_median_m,"
-        "c2c_p95_m,c2c_max_m\n");
-    for (std::size_t s = 0; s < c.segments.size(); ++s) {
-        const auto& r = c.segments[s];
-        const auto& t = r.transform;
-        const bool registered = t.registered();
-        std::vector<std::string> row{
-            std::to_string(s),
-            campaign::class_name(r.segment.kind),
-            std::to_string(r.segment.cluster),
-            std::to_string(r.segment.points),
-            std::to_string(r.segment.voxels),
-            registered || t.points > 0 ? campaign::outcome_name(t.outcome) : "too small",
-            std::to_string(t.pairs),
-            std::to_string(t.rank())};
-        for (int k = 0; k < 3; ++k) row.push_back(registered ? csv_number(t.centroid(k)) : "");
-        for (int k = 3; k < 6; ++k) row.push_back(value_or_empty(t, k));
-        for (int k = 3; k < 6; ++k) row.push_back(sigma_or_empty(t, k));
-        for (int k = 0; k < 3; ++k) row.push_back(value_or_empty(t, k));
-        for (int k = 0; k < 3; ++k) row.push_back(sigma_or_empty(t, k));
-        row.push_back(registered ? csv_number(r.cut_fraction) : "");
-        row.push_back(registered ? csv_number(r.cut_bias) : "");
-        row.push_back(registered ? csv_number(t.rmse) : "");
-        row.push_back(std::to_string(t.iterations));
-        row.push_back(t.converged ? "true" : "false");
-        const double T = c.consistency.segment_statistic[s];
-        row.push_back(std::isfinite(T) ? csv_number(T) : "");
-        row.push_back(std::isfinite(T) ? std::to_string(c.consistency.segment_dof[s]) : "");
-        row.push_back(std::isfinite(T) ? csv_number(c.consistency.segment_p_value[s]) : "");
-        for (const double v : {r.c2c.mean, r.c2c.sigma, r.c2c.median, r.c2c.p95, r.c2c.max})
-            row.push_back(std::isfinite(v) ? csv_number(v) : "");
-        f.write(csv_line(row));
-    }
+    f.write(text.str());
     f.close();
 }
 
@@ -146,6 +109,46 @@ std::string mm(double metres) {
     return fixed(1e3 * metres, 2);
 }
 
+// The comparison's lines: the global registration, the ground, the segments, their test and
+// the C2C summary.
+void print_summary(const CampaignComparison& c, const CampaignParameters& p) {
+    const auto& g = c.global;
+    std::cout << "global registration (point-to-plane): " << g.pairs << " pairs, rank " << g.rank()
+              << ", centroid shift (" << mm(g.parameters(3)) << ", " << mm(g.parameters(4)) << ", "
+              << mm(g.parameters(5)) << ") mm, RMSE " << mm(g.rmse) << " mm\n";
+    if (p.remove_ground)
+        std::cout << "ground (cloth simulation filter): " << c.ground.ground_points
+                  << " points, left out of the segments\n";
+    std::size_t registered = 0;
+    for (const auto& s : c.segments) registered += s.transform.registered();
+    std::cout << c.segmentation.segments.size() << " segments (of " << c.thinned << " voxels at "
+              << csv_number(p.thinning) << " m, spacing " << mm(c.segmentation.spacing) << " mm), "
+              << registered << " registered (" << campaign::metric_name(p.icp.metric) << ")\n";
+    const auto& t = c.consistency;
+    if (t.dof > 0)
+        std::cout << "segments moved as one: T = " << fixed(t.statistic, 1) << ", dof " << t.dof
+                  << ", p " << (t.p_value < 1e-4 ? "< 0.0001" : "= " + fixed(t.p_value, 4))
+                  << " -> " << (t.differ ? "no, they differ" : "yes") << " (α "
+                  << csv_number(p.alpha) << ")\n";
+    else
+        std::cout << "segments moved as one: not testable (" << t.segments
+                  << " registered segments do not hold every direction together)\n";
+    std::cout << "C2C ("
+              << (p.c2c == campaign::C2cModel::local_plane ? "local plane" : "nearest point")
+              << "): mean " << mm(c.c2c_all.mean) << " mm, σ " << mm(c.c2c_all.sigma)
+              << " mm, 95 % " << mm(c.c2c_all.p95) << " mm, " << c.c2c_all.missing
+              << " points without\n";
+}
+
+const InstrumentConfig& instrument_named(const Config& config, const std::string& name) {
+    for (const auto& i : config.instruments)
+        if (i.name == name) return i;
+    std::string names;
+    for (const auto& i : config.instruments) names += (names.empty() ? "" : ", ") + i.name;
+    throw Error("no [[instrument]] named '" + name + "' in " + config.file.string() +
+                (names.empty() ? " (it has none)" : " (it has " + names + ")"));
+}
+
 }  // namespace
 
 int run_campaign_compare(const CampaignCompareOptions& o) {
@@ -157,34 +160,7 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
         std::cout << "reference: " << reference.size() << " points; campaign: " << cloud.size()
                   << " points\n";
         const CampaignComparison c = compare_campaign(reference, cloud, p);
-        const auto& g = c.global;
-        std::cout << "global registration (point-to-plane): " << g.pairs << " pairs, rank "
-                  << g.rank() << ", centroid shift (" << mm(g.parameters(3)) << ", "
-                  << mm(g.parameters(4)) << ", " << mm(g.parameters(5)) << ") mm, RMSE "
-                  << mm(g.rmse) << " mm\n";
-        if (p.remove_ground)
-            std::cout << "ground (cloth simulation filter): " << c.ground.ground_points
-                      << " points, left out of the segments\n";
-        std::size_t registered = 0;
-        for (const auto& s : c.segments) registered += s.transform.registered();
-        std::cout << c.segmentation.segments.size() << " segments (of " << c.thinned
-                  << " voxels at " << csv_number(p.thinning) << " m, spacing "
-                  << mm(c.segmentation.spacing) << " mm), " << registered << " registered ("
-                  << campaign::metric_name(p.icp.metric) << ")\n";
-        const auto& t = c.consistency;
-        if (t.dof > 0)
-            std::cout << "segments moved as one: T = " << fixed(t.statistic, 1) << ", dof " << t.dof
-                      << ", p " << (t.p_value < 1e-4 ? "< 0.0001" : "= " + fixed(t.p_value, 4))
-                      << " -> " << (t.differ ? "no, they differ" : "yes") << " (α "
-                      << csv_number(p.alpha) << ")\n";
-        else
-            std::cout << "segments moved as one: not testable (" << t.segments
-                      << " registered segments do not hold every direction together)\n";
-        std::cout << "C2C ("
-                  << (p.c2c == campaign::C2cModel::local_plane ? "local plane" : "nearest point")
-                  << "): mean " << mm(c.c2c_all.mean) << " mm, σ " << mm(c.c2c_all.sigma)
-                  << " mm, 95 % " << mm(c.c2c_all.p95) << " mm, " << c.c2c_all.missing
-                  << " points without\n";
+        print_summary(c, p);
         std::filesystem::create_directories(o.out);
         write_segments(std::filesystem::path(o.out) / "segments.csv", c);
         write_points(std::filesystem::path(o.out) / "segments.ply", c);
@@ -200,6 +176,47 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon campaign compare: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+int run_campaign_add(const CampaignAddOptions& o) {
+    try {
+        const Config config = load_config(o.config);
+        const InstrumentConfig& instrument = instrument_named(config, o.instrument);
+        CampaignSource source;
+        source.file = fs::absolute(o.file);
+        source.instrument = instrument.name;
+        source.kind = kind_name(instrument.kind);
+        if (o.acquired) {
+            source.acquired = parse_utc(*o.acquired);
+        } else {
+            std::string used;
+            source.acquired = acquisition_time(source.file, config.ingest.acquisition_time, used);
+        }
+        CampaignParameters p;
+        p.range_sigma = instrument.range_sigma;
+        EpochDatabase db =
+            EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
+        const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file), p);
+        if (stored.known) {
+            std::cout << o.file << " is campaign " << stored.row.id << " already ("
+                      << stored.row.instrument << ", acquired " << format_utc(stored.row.acquired)
+                      << "): not compared again\n";
+            return 0;
+        }
+        std::cout << "campaign: " << stored.row.points << " points; reference epoch "
+                  << stored.row.reference_epoch << "\n";
+        print_summary(*stored.comparison, p);
+        db.events().record({now_utc(), "info", "campaign",
+                            "campaign " + std::to_string(stored.row.id) + " of instrument '" +
+                                instrument.name + "' added from " + source.file.string(),
+                            std::nullopt});
+        std::cout << "-> campaign " << stored.row.id
+                  << " (tlsmon query campaign-segments --campaign " << stored.row.id << ")\n";
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "tlsmon campaign add: " << e.what() << "\n";
         return 1;
     }
 }

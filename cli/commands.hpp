@@ -262,6 +262,26 @@ struct CampaignCompareOptions {
 };
 int run_campaign_compare(const CampaignCompareOptions& options);
 
+// `tlsmon campaign add FILE --instrument NAME [--config SITE]`: a campaign cloud compared with
+// the site's reference epoch and stored as a campaign epoch (docs/campaigns.md).
+struct CampaignAddOptions {
+    std::string file;
+    std::string instrument;  // an [[instrument]] of the configuration
+    std::string config;
+    std::optional<std::string> acquired;  // ISO 8601 UTC; default as the ingest finds it
+};
+// 0: stored, or stored before; 1 with the error on stderr.
+int run_campaign_add(const CampaignAddOptions& options);
+
+// `tlsmon query campaigns`, `tlsmon query campaign-segments --campaign N`: the campaign epochs
+// acquired in a range, or one campaign's segments.
+int run_query_campaigns(const ReadOptions& options);
+struct CampaignSegmentsOptions {
+    ReadOptions read;
+    std::int64_t campaign = 0;
+};
+int run_query_campaign_segments(const CampaignSegmentsOptions& options);
+
 // `tlsmon primitives REFERENCE COMPARED --config SITE --out RESULT.csv`: the primitives the
 // site's zones name, fitted in both files, their change tested (docs/primitives.md); without
 // --config one zone --box holding one --kind, in the files' own frame.

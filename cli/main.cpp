@@ -80,6 +80,10 @@ struct CommandLine {
     PrimitivesOptions primitives;
     VectorsOptions vectors;
     CampaignCompareOptions campaign_compare;
+    CampaignAddOptions campaign_add;
+    ReadOptionsOnTheCommandLine campaigns;
+    ReadOptionsOnTheCommandLine campaign_segments_read;
+    CampaignSegmentsOptions campaign_segments;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -229,6 +233,27 @@ void add_query(CLI::App& app, CommandLine& c) {
     keypoints->callback([&] {
         keypoints_options.read = keypoints_read.finish();
         c.code = run_query_keypoints(keypoints_options);
+    });
+
+    auto& campaigns_options = c.campaigns;
+    auto* campaigns = query->add_subcommand(
+        "campaigns",
+        "Campaign epochs acquired in a time range: instrument, global registration, whether the "
+        "segments moved as one, C2C (docs/campaigns.md)");
+    campaigns_options.add_to(campaigns, true);
+    campaigns->callback([&] { c.code = run_query_campaigns(campaigns_options.finish()); });
+
+    auto& segments_read = c.campaign_segments_read;
+    auto& segments_options = c.campaign_segments;
+    auto* segments = query->add_subcommand(
+        "campaign-segments",
+        "One campaign's segments: class, outcome, parameters with their σ where observed, the "
+        "test against the others, C2C (docs/campaigns.md)");
+    segments->add_option("--campaign", segments_options.campaign, "The campaign's id")->required();
+    segments_read.add_to(segments, false);
+    segments->callback([&] {
+        segments_options.read = segments_read.finish();
+        c.code = run_query_campaign_segments(segments_options);
     });
 
     auto& series_read = c.series_read;
@@ -598,6 +623,23 @@ void add_campaign(CLI::App& app, CommandLine& c) {
                             std::to_string(defaults.ground.rigidness) + ")");
     compare->add_option("--threads", o.threads, "Threads (0: every core)");
     compare->callback([&] { c.code = run_campaign_compare(o); });
+
+    auto& a = c.campaign_add;
+    auto* add = cmd->add_subcommand(
+        "add",
+        "FILE of an [[instrument]] compared with the site's reference epoch as `compare` does, "
+        "and stored as a campaign epoch (its segments with it), apart from the station's series "
+        "and alarms; the same file again is known by its sha256 and not compared twice");
+    add->add_option("FILE", a.file, "The campaign's scan file, in the reference's frame")
+        ->required();
+    add->add_option("--instrument", a.instrument, "An [[instrument]] of the configuration")
+        ->required();
+    add->add_option("--config", a.config, "Site configuration (its database and instruments)")
+        ->required();
+    add->add_option("--acquired", a.acquired,
+                    "Acquisition time, ISO 8601 UTC (default: as the daemon takes it, "
+                    "ingest.acquisition_time)");
+    add->callback([&] { c.code = run_campaign_add(a); });
 }
 
 void add_keypoints(CLI::App& app, CommandLine& c) {

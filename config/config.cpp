@@ -446,6 +446,8 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         c.registration.targets.push_back(read_target(t, target_names));
         target_names.insert(c.registration.targets.back().name);
     }
+    for (auto& t : top.array_of_tables("instrument"))
+        c.instruments.push_back(read_instrument(t, c.instruments));
     std::set<std::string> region_names;
     for (auto& t : top.array_of_tables("stable_region")) {
         c.icp.regions.push_back(read_stable_region(t, region_names));
@@ -523,6 +525,7 @@ std::vector<std::string> describe(const Config& c) {
                     ": min = " + triple({r.min.x(), r.min.y(), r.min.z()}) +
                     ", max = " + triple({r.max.x(), r.max.y(), r.max.z()}));
     }
+    for (const auto& i : c.instruments) l.push_back(describe(i));
     for (const auto& r : c.alarm.rules) l.push_back(describe_alarm_rule(r));
     for (auto& line : describe_notify_tables(c.notify)) l.push_back(std::move(line));
     return l;

@@ -15,6 +15,7 @@
 
 #include "algorithms/zones/zone_shape.hpp"
 #include "config/http_config.hpp"
+#include "config/instrument_config.hpp"
 #include "config/modbus_config.hpp"
 #include "config/notify_config.hpp"
 #include "config/time_source.hpp"
@@ -132,8 +133,9 @@ struct Config {
     ModbusConfig modbus;
     HttpConfig http;
     AlarmConfig alarm;
-    NotifyConfig notify;            // after [alarm]: its routes name alarm events
-    std::vector<ZoneConfig> zones;  // [[zone]] tables, then the bands of [[zone_bands]]
+    NotifyConfig notify;                        // after [alarm]: its routes name alarm events
+    std::vector<ZoneConfig> zones;              // [[zone]] tables, then the bands of [[zone_bands]]
+    std::vector<InstrumentConfig> instruments;  // [[instrument]] tables: campaign scanners
 };
 
 // Reads, resolves and validates; throws ConfigError "file:line:col: key 'a.b': what".

@@ -65,26 +65,6 @@ IngestOutcome record_unreadable(IngestContext& ctx, const fs::path& file,
     return IngestOutcome::unreadable;
 }
 
-// The file to quarantine with its reason (`tag` keeps names apart there) and a system
-// event; no new epoch.
-IngestOutcome quarantine(IngestContext& ctx, const fs::path& file, const std::string& tag,
-                         const std::string& reason, std::optional<EpochId> epoch) {
-    const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(), tag);
-    write_reason_file(to, file.string(), reason);
-    try {
-        move_file(file, to);
-        ctx.events.record(ctx.db, "error", "quarantine",
-                          file.string() + ": " + reason + "; moved to " + to.string(), epoch);
-    } catch (const Error& e) {
-        std::error_code ignored;
-        fs::remove(to.string() + ".reason.txt", ignored);
-        ctx.events.record(ctx.db, "error", "quarantine",
-                          file.string() + ": " + reason + "; left in place (" + e.what() + ")",
-                          epoch);
-    }
-    return IngestOutcome::quarantined;
-}
-
 // A file that is no duplicate to delete (empty, or a copy of an epoch that failed) goes to
 // quarantine with its reason; no new epoch (the content has one), a system event instead.
 IngestOutcome quarantine_copy(IngestContext& ctx, const fs::path& file, const Epoch& epoch,
@@ -181,6 +161,24 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
 }
 
 }  // namespace
+
+IngestOutcome quarantine(IngestContext& ctx, const fs::path& file, const std::string& tag,
+                         const std::string& reason, std::optional<EpochId> epoch) {
+    const fs::path to = free_name(ctx.config.paths.quarantine, file.filename().string(), tag);
+    write_reason_file(to, file.string(), reason);
+    try {
+        move_file(file, to);
+        ctx.events.record(ctx.db, "error", "quarantine",
+                          file.string() + ": " + reason + "; moved to " + to.string(), epoch);
+    } catch (const Error& e) {
+        std::error_code ignored;
+        fs::remove(to.string() + ".reason.txt", ignored);
+        ctx.events.record(ctx.db, "error", "quarantine",
+                          file.string() + ": " + reason + "; left in place (" + e.what() + ")",
+                          epoch);
+    }
+    return IngestOutcome::quarantined;
+}
 
 namespace {
 

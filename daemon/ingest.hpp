@@ -33,6 +33,12 @@ struct IngestContext {
     HashedBytes* new_epoch_bytes = nullptr;
 };
 
+// The file moved to quarantine with its <name>.reason.txt (`tag` keeps names apart there) and
+// an error event; left in place, and the event says why, when it cannot be moved.
+IngestOutcome quarantine(IngestContext& ctx, const std::filesystem::path& file,
+                         const std::string& tag, const std::string& reason,
+                         std::optional<EpochId> epoch);
+
 // An empty file, or a copy of a scan that could not be read, is never a duplicate to
 // delete: it goes to quarantine with its reason. A copy of an epoch not yet processed
 // waits (wait_for_epoch) until that epoch is done or failed. `epoch` receives the epoch the

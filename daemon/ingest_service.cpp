@@ -17,6 +17,7 @@
 #include "daemon/alarm_shelving.hpp"
 #include "daemon/http/http_service.hpp"
 #include "daemon/ingest.hpp"
+#include "daemon/ingest_campaign.hpp"
 #include "daemon/ingest_files.hpp"
 #include "daemon/ingest_meteo.hpp"
 #include "daemon/logging.hpp"
@@ -149,6 +150,8 @@ class Daemon {
     void ingest(const fs::path& file);
     // Processes pending epochs until none is left, a retry is due later, or stop.
     void process_backlog();
+    // The campaign files taken, after the backlog (a campaign needs the reference epoch).
+    void process_campaigns();
     // Feeds the system alarms (daemon/system_alarm_watch.hpp); a failure is logged only.
     void observe(SystemObservation seen);
     void report_status();
@@ -179,6 +182,7 @@ class Daemon {
     };
     std::vector<WaitingCopy> waiting_copies_;
     MeteoSidecars meteo_;
+    CampaignIngest campaigns_;
     // The next epoch in acquisition order waits for its meteo sidecar until then.
     std::optional<Clock::time_point> meteo_wait_;
     Clock::time_point next_status_{};
@@ -428,6 +432,10 @@ void Daemon::ingest(const fs::path& file) {
         meteo_.take(ctx, file, Clock::now());
         return;
     }
+    if (const auto* instrument = instrument_for(config_.instruments, file.filename().string())) {
+        campaigns_.take(file, *instrument);
+        return;
+    }
     HashedBytes bytes;
     ctx.new_epoch_bytes = &bytes;
     EpochId epoch = 0;
@@ -531,6 +539,13 @@ void Daemon::process_backlog() {
     }
 }
 
+void Daemon::process_campaigns() {
+    if (!campaigns_.waiting() || Clock::now() < retry_at_) return;
+    systemd_.watchdog();  // a campaign of 20 M points takes about a minute and a half
+    auto ctx = context();
+    if (!campaigns_.process(ctx)) note_disk();
+}
+
 void Daemon::observe(SystemObservation seen) {
     const SystemAlarmConfig config{.cadence_seconds = config_.alarm.cadence,
                                    .stale_factor = config_.alarm.stale_factor,
@@ -620,6 +635,7 @@ void Daemon::run() {
             meteo_.quarantine_orphans(ctx, now);
         }
         process_backlog();
+        process_campaigns();
         ingest_waiting_copies();
         if (shutdown_.take_reload()) reload();
         systemd_.watchdog_if_due();

@@ -38,7 +38,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       meteo_(*connection_),
       registrations_(*connection_),
       keypoint_models_(*connection_),
-      notifications_(*connection_) {}
+      notifications_(*connection_),
+      campaigns_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

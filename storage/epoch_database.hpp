@@ -21,6 +21,7 @@
 #include <memory>
 
 #include "storage/alarm_store.hpp"
+#include "storage/campaign_store.hpp"
 #include "storage/epoch_results.hpp"
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
@@ -77,6 +78,8 @@ class EpochDatabase {
     const KeypointModelStore& keypoint_models() const { return keypoint_models_; }
     NotificationStore& notifications() { return notifications_; }
     const NotificationStore& notifications() const { return notifications_; }
+    CampaignStore& campaigns() { return campaigns_; }
+    const CampaignStore& campaigns() const { return campaigns_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -94,6 +97,7 @@ class EpochDatabase {
     RegistrationStore registrations_;
     KeypointModelStore keypoint_models_;
     NotificationStore notifications_;
+    CampaignStore campaigns_;
 };
 
 }  // namespace tlsmon

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "formats/scan_file.hpp"
+#include "tests/support/csv_cells.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -45,16 +46,7 @@ void write_xyz(const fs::path& path, const std::vector<Eigen::Vector3d>& points,
 }
 
 std::vector<std::vector<std::string>> csv_rows(const fs::path& path) {
-    std::ifstream in(path);
-    std::vector<std::vector<std::string>> rows;
-    for (std::string line; std::getline(in, line);) {
-        std::vector<std::string> cells;
-        std::stringstream s(line);
-        for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-        if (!line.empty() && line.back() == ',') cells.emplace_back();
-        rows.push_back(cells);
-    }
-    return rows;
+    return tlsmon::test::csv_cells(tlsmon::test::read_file(path));
 }
 
 using tlsmon::test::CommandRun;

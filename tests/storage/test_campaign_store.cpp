@@ -1,0 +1,164 @@
+// Campaign epochs in a real SQLite file: stored with their segments in one transaction, read
+// back by sha256, id and time range with every figure and every empty one; a second copy of
+// the same bytes, a non-finite figure or a malformed sha256 refused with nothing stored.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fake_sha256.hpp"
+#include "storage/epoch_database.hpp"
+#include "storage/series_reader.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace tlsmon {
+namespace {
+
+using Mode = EpochDatabase::Mode;
+
+CampaignRow campaign(int n, UtcSeconds acquired, EpochId reference) {
+    CampaignRow r;
+    r.sha256 = test::fake_sha256(n);
+    r.instrument = "backpack";
+    r.kind = "pls";
+    r.file_path = "/archive/pls_" + std::to_string(n) + ".ply";
+    r.file_size = 1000 + n;
+    r.acquired = acquired;
+    r.added = acquired + 60;
+    r.reference_epoch = reference;
+    r.points = 519110;
+    r.ground_points = 120000;
+    r.global = {1e-5, -2e-5, 3e-5, 0.004, -0.005, 0.006};
+    r.global_pairs = 200000;
+    r.global_rmse = 0.021;
+    r.segments = 2;
+    r.registered_segments = 1;
+    r.test_statistic = 12.5;
+    r.test_dof = 6;
+    r.test_p = 0.052;
+    r.segments_differ = false;
+    r.c2c_mean = 0.016;
+    r.c2c_sigma = 0.012;
+    r.c2c_median = 0.013;
+    r.c2c_p95 = 0.04;
+    r.c2c_missing = 17;
+    r.parameters_json = R"({"metric":"point-to-plane"})";
+    r.seconds = 12.4;
+    return r;
+}
+
+std::vector<CampaignSegmentRow> segments() {
+    CampaignSegmentRow wall;
+    wall.segment = 0;
+    wall.kind = "vertical";
+    wall.cluster = 3;
+    wall.points = 41000;
+    wall.voxels = 9000;
+    wall.outcome = "registered";
+    wall.pairs = 40000;
+    wall.rank = 4;
+    wall.iterations = 7;
+    wall.converged = true;
+    wall.centroid = {10.0, 50.0, 12.5};
+    wall.parameters = {std::nullopt, 2e-4, 3e-4, 0.011, std::nullopt, -0.002};
+    wall.sigmas = {std::nullopt, 1e-5, 2e-5, 0.0004, std::nullopt, 0.0006};
+    wall.cut_fraction = 0.04;
+    wall.cut_bias = 0.0002;
+    wall.rmse = 0.02;
+    wall.test_statistic = 3.1;
+    wall.test_dof = 4;
+    wall.test_p = 0.54;
+    wall.c2c_mean = 0.015;
+    wall.c2c_sigma = 0.011;
+    wall.c2c_median = 0.012;
+    wall.c2c_p95 = 0.037;
+    wall.c2c_max = 0.09;
+    CampaignSegmentRow bush;  // too small: nothing but its size
+    bush.segment = 1;
+    bush.kind = "other";
+    bush.cluster = 5;
+    bush.points = 300;
+    bush.voxels = 80;
+    bush.outcome = "too small";
+    return {wall, bush};
+}
+
+TEST(CampaignStore, StoredWithItsSegmentsAndReadBackWhole) {
+    const test::TempDir dir("campaign-store");
+    auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
+    const auto reference =
+        db.epochs().insert({test::fake_sha256(900), 1000, "/ingest/r.ptx", 10, std::nullopt}).id;
+    const CampaignId first = db.campaigns().add(campaign(1, 5000, reference), segments());
+    CampaignRow untestable = campaign(2, 3000, reference);
+    untestable.test_statistic.reset();
+    untestable.test_dof.reset();
+    untestable.test_p.reset();
+    untestable.segments_differ.reset();
+    untestable.c2c_p95.reset();
+    const CampaignId second = db.campaigns().add(untestable, {});
+    EXPECT_NE(first, second);
+
+    const auto found = db.campaigns().find(test::fake_sha256(1));
+    ASSERT_TRUE(found);
+    EXPECT_EQ(found->id, first);
+    EXPECT_EQ(found->instrument, "backpack");
+    EXPECT_EQ(found->reference_epoch, reference);
+    EXPECT_EQ(found->global[5], 0.006);
+    EXPECT_EQ(found->global_rmse, 0.021);
+    EXPECT_EQ(found->test_dof, 6);
+    ASSERT_TRUE(found->segments_differ);
+    EXPECT_FALSE(*found->segments_differ);
+    EXPECT_EQ(found->c2c_missing, 17);
+    EXPECT_EQ(found->parameters_json, R"({"metric":"point-to-plane"})");
+    EXPECT_FALSE(db.campaigns().find(test::fake_sha256(3)));
+
+    // By acquisition time, oldest first; the window's bounds inclusive.
+    const auto all = db.campaigns().in_range({});
+    ASSERT_EQ(all.size(), 2u);
+    EXPECT_EQ(all[0].id, second);
+    EXPECT_FALSE(all[0].segments_differ);
+    EXPECT_FALSE(all[0].test_p);
+    EXPECT_FALSE(all[0].c2c_p95);
+    EXPECT_EQ(db.campaigns().in_range({5000, std::nullopt}).size(), 1u);
+    EXPECT_EQ(db.campaigns().in_range({3001, 4999}).size(), 0u);
+
+    const auto rows = db.campaigns().segments(first);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].kind, "vertical");
+    EXPECT_FALSE(rows[0].parameters[0]);
+    EXPECT_EQ(rows[0].parameters[3], 0.011);
+    EXPECT_EQ(rows[0].sigmas[5], 0.0006);
+    EXPECT_FALSE(rows[0].sigmas[4]);
+    EXPECT_EQ(rows[0].centroid[2], 12.5);
+    EXPECT_EQ(rows[0].test_dof, 4);
+    EXPECT_EQ(rows[0].c2c_max, 0.09);
+    EXPECT_TRUE(rows[0].converged);
+    EXPECT_EQ(rows[1].outcome, "too small");
+    EXPECT_FALSE(rows[1].rmse);
+    EXPECT_FALSE(rows[1].test_dof);
+    EXPECT_FALSE(rows[1].centroid[0]);
+    EXPECT_TRUE(db.campaigns().segments(second).empty());
+}
+
+TEST(CampaignStore, ACopyOrABadFigureIsRefusedWithNothingStored) {
+    const test::TempDir dir("campaign-store-bad");
+    auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
+    const auto reference =
+        db.epochs().insert({test::fake_sha256(900), 1000, "/ingest/r.ptx", 10, std::nullopt}).id;
+    db.campaigns().add(campaign(1, 5000, reference), segments());
+    EXPECT_THROW(db.campaigns().add(campaign(1, 6000, reference), segments()), StorageError);
+    auto bad = segments();
+    bad[0].parameters[3] = std::nan("");
+    EXPECT_THROW(db.campaigns().add(campaign(2, 6000, reference), bad), StorageError);
+    CampaignRow short_sha = campaign(3, 6000, reference);
+    short_sha.sha256 = "abc";
+    EXPECT_THROW(db.campaigns().add(short_sha, {}), StorageError);
+    // A segment row that breaks the table (the same segment twice) leaves no campaign row.
+    auto twice = segments();
+    twice[1].segment = 0;
+    EXPECT_THROW(db.campaigns().add(campaign(4, 6000, reference), twice), StorageError);
+    EXPECT_FALSE(db.campaigns().find(test::fake_sha256(4)));
+    EXPECT_EQ(db.campaigns().in_range({}).size(), 1u);
+}
+
+}  // namespace
+}  // namespace tlsmon
