@@ -90,20 +90,21 @@ int main(int argc, char** argv) {
 
     auto t0 = std::chrono::steady_clock::now();
     double c0 = bench::process_cpu_seconds();
-    const campaign::ReferenceSurface surface(reference, p.surface, p.threads);
-    std::printf("reference local planes: %.1f s wall, %.1f s CPU\n", bench::seconds_since(t0),
-                bench::process_cpu_seconds() - c0);
+    const CampaignReference prepared(reference, p);
+    std::printf("reference local planes and segments: %.1f s wall (segments %.1f s), %.1f s CPU\n",
+                bench::seconds_since(t0), prepared.seconds, bench::process_cpu_seconds() - c0);
 
     t0 = std::chrono::steady_clock::now();
     c0 = bench::process_cpu_seconds();
-    const CampaignComparison c = compare_campaign(surface, cloud, p);
+    const CampaignComparison c = compare_campaign(prepared, cloud, p);
     const double wall = bench::seconds_since(t0), cpu = bench::process_cpu_seconds() - c0;
     const auto& s = c.seconds;
     std::printf(
         "compare_campaign: %.1f s wall, %.1f s CPU (%zu voxels)\n  global registration %.1f s, "
-        "ground %.1f s, verticality %.1f s, segmentation %.1f s, segment-wise ICP and the test "
-        "%.1f s, C2C %.1f s\n",
-        wall, cpu, c.thinned, s.global, s.ground, s.verticality, s.segmentation, s.segments, s.c2c);
+        "ground %.1f s, verticality %.1f s, segmentation %.1f s, matching %.1f s, segment-wise ICP "
+        "and the test %.1f s, C2C %.1f s\n",
+        wall, cpu, c.thinned, s.global, s.ground, s.verticality, s.segmentation, s.matching,
+        s.segments, s.c2c);
     std::printf("global: %zu pairs, %d iterations, rank %d\n", c.global.pairs, c.global.iterations,
                 c.global.rank());
     std::printf("ground %zu points; %zu segments (spacing %.1f mm)\n", c.ground.ground_points,

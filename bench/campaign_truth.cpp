@@ -150,7 +150,34 @@ struct Tally {
                 segments_all_within = 0;
     std::size_t campaigns = 0, rejected = 0;
     std::vector<double> offsets_mm, c2c_pier_mm;
+    // Segments matched to a reference segment, and those whose majority surface is the
+    // matched one's; the points of each, and of all segments.
+    std::size_t matched = 0, matched_same = 0, unmatched = 0;
+    std::size_t points_matched = 0, points_same = 0, points_all = 0;
 };
+
+// Each campaign segment's match against the truth: is the reference segment it was matched to
+// on the same surface (the majority of each)?
+void score_matching(const sim::PlsCloud& cloud, const CampaignComparison& c,
+                    const std::vector<std::vector<std::size_t>>& reference_members,
+                    std::span<const std::uint8_t> reference_surface, Tally& tally) {
+    const auto members = members_of(c.segmentation);
+    for (std::size_t s = 0; s < c.segments.size(); ++s) {
+        const std::size_t n = members[s].size();
+        tally.points_all += n;
+        const auto r = c.segments[s].reference.reference;
+        if (r < 0) {
+            ++tally.unmatched;
+            continue;
+        }
+        const bool same = majority(members[s], cloud.surface).first ==
+                          majority(reference_members[std::size_t(r)], reference_surface).first;
+        ++tally.matched;
+        tally.matched_same += same;
+        tally.points_matched += n;
+        tally.points_same += same ? n : 0;
+    }
+}
 
 void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud,
                     const CampaignComparison& c, const Scoring& scoring, Tally& tally,
@@ -244,6 +271,13 @@ void print_tally(const char* what, const Tally& t) {
         100.0 * double(t.segments_all_within) / double(std::max<std::size_t>(t.segments, 1)),
         100.0 * double(t.components_within) / double(std::max<std::size_t>(t.components, 1)),
         t.components, 100.0 * double(t.chi2_within) / double(std::max<std::size_t>(t.segments, 1)));
+    std::printf(
+        "  matched to a reference segment: %zu of %zu segments (%.1f %% of their points), on the "
+        "same surface %zu (%.1f %% of the matched points)\n",
+        t.matched, t.matched + t.unmatched,
+        100.0 * double(t.points_matched) / double(std::max<std::size_t>(t.points_all, 1)),
+        t.matched_same,
+        100.0 * double(t.points_same) / double(std::max<std::size_t>(t.points_matched, 1)));
     if (!t.offsets_mm.empty()) {
         auto o = t.offsets_mm;
         std::sort(o.begin(), o.end());
@@ -287,8 +321,10 @@ int main(int argc, char** argv) {
         reference.points.size(), seconds_since(t0), reference.duration);
 
     t0 = std::chrono::steady_clock::now();
-    const campaign::ReferenceSurface surface(reference.points, p.surface, kThreads);
-    std::printf("its local planes: %.1f s\n", seconds_since(t0));
+    const CampaignReference prepared(reference.points, p);
+    std::printf("its local planes and segments: %.1f s (segments %.1f s)\n", seconds_since(t0),
+                prepared.seconds);
+    const auto reference_members = members_of(prepared.segmentation);
 
     Tally drifted, still;
     Scoring scoring;
@@ -308,9 +344,11 @@ int main(int argc, char** argv) {
             c.drift.seed = seed;
             const sim::PlsCloud cloud = sim::render_pls(site, 0, c, kThreads);
             t0 = std::chrono::steady_clock::now();
-            const CampaignComparison result = compare_campaign(surface, cloud.points, p);
+            const CampaignComparison result = compare_campaign(prepared, cloud.points, p);
             compare_seconds += seconds_since(t0);
             if (model == sim::SlamDriftModel::none) ground.add(cloud.surface, result.ground.ground);
+            score_matching(cloud, result, reference_members, reference.surface,
+                           model == sim::SlamDriftModel::none ? still : drifted);
             score_campaign(c, cloud, result, scoring,
                            model == sim::SlamDriftModel::none ? still : drifted,
                            sim::drift_model_name(model));

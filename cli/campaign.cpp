@@ -25,6 +25,7 @@
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/campaign_comparison.hpp"
+#include "pipeline/campaign_config.hpp"
 #include "pipeline/campaign_epoch.hpp"
 #include "report/campaign_plot.hpp"
 
@@ -51,6 +52,7 @@ CampaignParameters parameters_of(const CampaignCompareOptions& o) {
     if (o.radius) p.verticality.radius = p.surface.plane_radius = *o.radius;
     if (o.max_distance) p.surface.max_distance = *o.max_distance;
     if (o.min_segment_points) p.min_segment_points = *o.min_segment_points;
+    if (o.min_planar_share) p.min_planar_share = *o.min_planar_share;
     if (o.thinning) p.thinning = *o.thinning;
     if (o.registration_points) {
         if (*o.registration_points < 1) throw Error("--registration-points must be positive");
@@ -194,8 +196,7 @@ int run_campaign_add(const CampaignAddOptions& o) {
             std::string used;
             source.acquired = acquisition_time(source.file, config.ingest.acquisition_time, used);
         }
-        CampaignParameters p;
-        p.range_sigma = instrument.range_sigma;
+        const CampaignParameters p = campaign_parameters(config.campaign, instrument.range_sigma);
         EpochDatabase db =
             EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
         const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file), p);

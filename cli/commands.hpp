@@ -252,6 +252,7 @@ struct CampaignCompareOptions {
     std::optional<double> radius;           // the local planes' and verticality's
     std::optional<double> max_distance;     // of a pair
     std::optional<int> min_segment_points;
+    std::optional<double> min_planar_share;        // of a segment's points on modelled surfaces
     std::optional<double> thinning;                // m, the classification's voxel
     std::optional<long long> registration_points;  // the most a registration uses
     bool keep_ground = false;                      // segment the ground like the rest

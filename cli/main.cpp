@@ -601,6 +601,10 @@ void add_campaign(CLI::App& app, CommandLine& c) {
     compare->add_option("--min-segment-points", o.min_segment_points,
                         "Smaller segments are not registered (default " +
                             std::to_string(defaults.min_segment_points) + ")");
+    compare->add_option("--min-planar-share", o.min_planar_share,
+                        "A segment with fewer pairs on surfaces a local plane models than this "
+                        "share of its points is unobserved (default " +
+                            toml_number(defaults.min_planar_share) + ")");
     compare->add_option("--thinning", o.thinning,
                         "Voxel (m) the cloud is thinned to for verticality and segmentation, 0: "
                         "every point (default " +

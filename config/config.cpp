@@ -193,6 +193,13 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "http") check_http(t, c.http);
     if (section == "m3c2") check_m3c2(t, c.m3c2);
     if (section == "keypoints") check_keypoints(t, c.keypoints);
+    if (section == "campaign") {
+        try {
+            validate(campaign_parameters(c.campaign, 0.02));
+        } catch (const Error& e) {
+            t.fail("min_segment_points", e.what());
+        }
+    }
     if (section == "registration" &&
         c.registration.global_reject_alpha > c.registration.global_alpha) {
         t.fail("global_reject_alpha", "must be <= registration.global_alpha");

@@ -23,6 +23,7 @@
 #include "core/scanner_noise.hpp"
 #include "core/toml_fields.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/campaign_config.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -135,6 +136,7 @@ struct Config {
     AlarmConfig alarm;
     NotifyConfig notify;                        // after [alarm]: its routes name alarm events
     std::vector<ZoneConfig> zones;              // [[zone]] tables, then the bands of [[zone_bands]]
+    CampaignConfig campaign;                    // how every instrument's campaigns are compared
     std::vector<InstrumentConfig> instruments;  // [[instrument]] tables: campaign scanners
 };
 

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "daemon/ingest_files.hpp"
+#include "pipeline/campaign_config.hpp"
 #include "pipeline/campaign_epoch.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "storage/storage_error.hpp"
@@ -99,8 +100,7 @@ void CampaignIngest::process_one(IngestContext& ctx, const Queued& q) {
     source.acquired = acquisition_time(q.file, ctx.config.ingest.acquisition_time, used);
     if (move)
         source.stored_path = free_name(ctx.config.paths.archive, q.file.filename().string(), tag);
-    CampaignParameters p;
-    p.range_sigma = instrument->range_sigma;
+    const CampaignParameters p = campaign_parameters(ctx.config.campaign, instrument->range_sigma);
     StoredCampaign stored;
     try {
         stored = add_campaign(ctx.db, source, bytes, p);

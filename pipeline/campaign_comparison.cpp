@@ -22,6 +22,10 @@ void validate(const CampaignParameters& p) {
     if (!(p.alpha > 0 && p.alpha < 0.5)) throw Error("campaign: alpha must lie in (0, 0.5)");
     if (!(p.thinning >= 0 && p.thinning <= 1))
         throw Error("campaign: thinning must lie in [0, 1] m");
+    if (!(p.min_planar_share >= 0 && p.min_planar_share <= 1))
+        throw Error("campaign: min_planar_share must lie in [0, 1]");
+    if (!(p.min_overlap > 0 && p.min_overlap <= 1))
+        throw Error("campaign: min_overlap must lie in (0, 1]");
     if (!(p.range_sigma >= 0 && p.range_sigma <= 1))
         throw Error("campaign: range_sigma must lie in [0, 1] m");
     if (!(p.cut_distance > 0 && p.cut_distance <= 10))
@@ -59,19 +63,85 @@ double lap(std::chrono::steady_clock::time_point& start) {
     return seconds;
 }
 
+// A cloud (registered) as its structure: the ground found (kept apart unless remove_ground
+// is off), verticality on the whole cloud thinned to voxels (the ground's own points still
+// hold the structure's verticality at its foot), the segments on the thinned structure —
+// each voxel of points that are not ground kept by its first such point, of its whole
+// voxel's class — and every point given its voxel's segment.
+struct Structure {
+    campaign::GroundClassification ground;
+    campaign::VoxelThinning whole;  // every point's voxel
+    campaign::Segmentation segmentation;
+};
+
+Structure segment_structure(std::span<const Eigen::Vector3d> points, const CampaignParameters& p,
+                            CampaignTimings& seconds) {
+    const unsigned threads = p.threads;
+    auto clock = std::chrono::steady_clock::now();
+    Structure out;
+    if (p.remove_ground) out.ground = campaign::classify_ground(points, p.ground, threads);
+    seconds.ground = lap(clock);
+    out.whole = campaign::thin_by_voxel(points, p.thinning, {}, threads);
+    std::vector<std::uint8_t> structure_flag;
+    if (!out.ground.ground.empty()) {
+        structure_flag.resize(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) structure_flag[i] = !out.ground.ground[i];
+    }
+    const std::vector<float> verticality =
+        campaign::verticality(campaign::kept_points(points, out.whole), p.verticality, threads);
+    seconds.verticality = lap(clock);
+    const campaign::VoxelThinning structure =
+        campaign::thin_by_voxel(points, p.thinning, structure_flag, threads);
+    std::vector<campaign::VerticalityClass> classes;
+    classes.reserve(structure.voxels());
+    for (const auto i : structure.kept)
+        classes.push_back(campaign::classify(verticality[out.whole.of[i]], p.verticality));
+    out.segmentation = campaign::segment_cloud(campaign::kept_points(points, structure), classes,
+                                               p.segmentation, threads);
+    std::vector<std::int32_t> cluster(points.size(), -1), segment(cluster);
+    for (auto& s : out.segmentation.segments) s.points = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const std::uint32_t v = structure.of[i];
+        if (v == campaign::VoxelThinning::kNone) continue;
+        cluster[i] = out.segmentation.cluster[v];
+        segment[i] = out.segmentation.segment[v];
+        if (segment[i] >= 0) ++out.segmentation.segments[std::size_t(segment[i])].points;
+    }
+    out.segmentation.cluster = std::move(cluster);
+    out.segmentation.segment = std::move(segment);
+    seconds.segmentation = lap(clock);
+    return out;
+}
+
 }  // namespace
 
 CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
                                     std::span<const Eigen::Vector3d> cloud,
                                     const CampaignParameters& p) {
     validate(p);
-    return compare_campaign(campaign::ReferenceSurface(reference, p.surface, p.threads), cloud, p);
+    const CampaignReference prepared(reference, p);
+    CampaignComparison out = compare_campaign(prepared, cloud, p);
+    out.seconds.reference = prepared.seconds;
+    return out;
 }
 
-CampaignComparison compare_campaign(const campaign::ReferenceSurface& surface,
+CampaignReference::CampaignReference(std::span<const Eigen::Vector3d> points,
+                                     const CampaignParameters& p)
+    : surface(points, p.surface, p.threads) {
+    validate(p);
+    const auto start = std::chrono::steady_clock::now();
+    CampaignTimings unused;
+    Structure structure = segment_structure(points, p, unused);
+    ground = std::move(structure.ground);
+    segmentation = std::move(structure.segmentation);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+CampaignComparison compare_campaign(const CampaignReference& reference,
                                     std::span<const Eigen::Vector3d> cloud,
                                     const CampaignParameters& p) {
     validate(p);
+    const campaign::ReferenceSurface& surface = reference.surface;
     const unsigned threads = p.threads;
     CampaignComparison out;
     auto clock = std::chrono::steady_clock::now();
@@ -90,46 +160,21 @@ CampaignComparison compare_campaign(const campaign::ReferenceSurface& surface,
     }
     out.registered = transformed(cloud, out.global.matrix(), threads);
     out.seconds.global = lap(clock);
-    if (p.remove_ground) out.ground = campaign::classify_ground(out.registered, p.ground, threads);
-    out.seconds.ground = lap(clock);
-
-    // Verticality on the whole thinned cloud (the ground's own points still hold the
-    // structure's verticality at its foot), the segments on the thinned structure: each voxel
-    // of points that are not ground kept by its first such point, of its whole voxel's class.
-    const campaign::VoxelThinning whole =
-        campaign::thin_by_voxel(out.registered, p.thinning, {}, threads);
+    Structure structure = segment_structure(out.registered, p, out.seconds);
+    out.ground = std::move(structure.ground);
+    out.segmentation = std::move(structure.segmentation);
+    const campaign::VoxelThinning& whole = structure.whole;
     out.thinned = whole.voxels();
-    std::vector<std::uint8_t> structure_flag;
-    if (!out.ground.ground.empty()) {
-        structure_flag.resize(cloud.size());
-        for (std::size_t i = 0; i < cloud.size(); ++i) structure_flag[i] = !out.ground.ground[i];
-    }
-    const std::vector<float> verticality =
-        campaign::verticality(campaign::kept_points(out.registered, whole), p.verticality, threads);
-    out.seconds.verticality = lap(clock);
-    const campaign::VoxelThinning structure =
-        campaign::thin_by_voxel(out.registered, p.thinning, structure_flag, threads);
-    std::vector<campaign::VerticalityClass> classes;
-    classes.reserve(structure.voxels());
-    for (const auto i : structure.kept)
-        classes.push_back(campaign::classify(verticality[whole.of[i]], p.verticality));
-    const std::vector<Eigen::Vector3d> structure_points =
-        campaign::kept_points(out.registered, structure);
-    out.segmentation = campaign::segment_cloud(structure_points, classes, p.segmentation, threads);
-    std::vector<std::int32_t> cluster(cloud.size(), -1), segment(cluster);
-    for (auto& s : out.segmentation.segments) s.points = 0;
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-        const std::uint32_t v = structure.of[i];
-        if (v == campaign::VoxelThinning::kNone) continue;
-        cluster[i] = out.segmentation.cluster[v];
-        segment[i] = out.segmentation.segment[v];
-        if (segment[i] >= 0) ++out.segmentation.segments[std::size_t(segment[i])].points;
-    }
-    out.segmentation.cluster = std::move(cluster);
-    out.segmentation.segment = std::move(segment);
-    out.seconds.segmentation = lap(clock);
-
+    clock = std::chrono::steady_clock::now();
     const std::size_t S = out.segmentation.segments.size();
+    // Each segment as the reference's segment most of its points lie on (up to 2000 of them:
+    // a share to ±1 %).
+    const auto matches = campaign::match_segments(
+        out.registered, out.segmentation.segment, S,
+        [&](const Eigen::Vector3d& x) { return surface.nearest(x); },
+        reference.segmentation.segment, p.min_overlap, 2000, threads);
+    out.seconds.matching = lap(clock);
+
     std::vector<std::vector<std::size_t>> members(S);
     for (std::size_t i = 0; i < cloud.size(); ++i)
         if (out.segmentation.segment[i] >= 0)
@@ -146,12 +191,16 @@ CampaignComparison compare_campaign(const campaign::ReferenceSurface& surface,
     std::vector<campaign::SegmentTransform> transforms(S);
     for (std::size_t s = 0; s < S; ++s) {
         out.segments[s].segment = out.segmentation.segments[s];
+        out.segments[s].reference = matches[s];
         if (members[s].size() < std::size_t(p.min_segment_points)) continue;
         transforms[s] = campaign::register_segment(
             surface,
             subsample(members[s].size(), p.registration_points,
                       [&](std::size_t j) { return out.registered[members[s][j]]; }),
             p.icp, threads);
+        if (transforms[s].registered() &&
+            double(transforms[s].planar_pairs) < p.min_planar_share * double(transforms[s].points))
+            transforms[s].outcome = campaign::SegmentOutcome::unobserved;
         if (!transforms[s].registered()) {
             out.segments[s].transform = transforms[s];
             continue;

@@ -6,8 +6,9 @@
 // segments), verticality and the two-stage segmentation of the rest, each segment registered
 // on its own (verticality and the segments on the cloud thinned to one point per voxel,
 // thinning.hpp, and carried back to every point; the registrations on a subsample in the
-// cloud's order), the test of whether the segments moved as one, and the C2C distance of every
-// point after its segment's registration.
+// cloud's order), each matched to the reference's own segment it lies on (the reference
+// segmented by the same steps), the test of whether the segments moved as one, and the C2C
+// distance of every point after its segment's registration.
 #include <Eigen/Core>
 #include <cstdint>
 #include <span>
@@ -18,6 +19,7 @@
 #include "algorithms/campaign/ground_filter.hpp"
 #include "algorithms/campaign/reference_surface.hpp"
 #include "algorithms/campaign/segment_consistency.hpp"
+#include "algorithms/campaign/segment_matching.hpp"
 #include "algorithms/campaign/segment_registration.hpp"
 #include "algorithms/campaign/segmentation.hpp"
 #include "algorithms/campaign/thinning.hpp"
@@ -43,6 +45,14 @@ struct CampaignParameters {
     campaign::SegmentIcpParameters icp;  // the segments' (the global one is
                                          // point-to-plane whatever icp.metric)
     int min_segment_points = 1000;       // smaller segments are not registered
+    // A registered segment whose pairs on modelled surfaces (local planes that hold) are
+    // fewer than this share of its points is unobserved: its fit stands for a few planar
+    // patches of a bush or a rubble pile, not for the segment, and its σ, from those patches
+    // alone, would be tested as the segment's.
+    double min_planar_share = 0.5;
+    // A campaign segment is the reference segment at least this share of its points lie on
+    // after the global registration (segment_matching.hpp); below it, none.
+    double min_overlap = 0.5;
     // The bound on the bias of a segment's own cut (cut_bias.hpp), added to its translations'
     // variance: the campaign instrument's range noise (m, 1σ) and the band along the cuts.
     double range_sigma = 0.02;
@@ -58,13 +68,30 @@ struct CampaignSegmentResult {
     campaign::SegmentTransform transform;
     double cut_fraction = 0;  // of its points within cut_distance of something else
     double cut_bias = 0;      // m, the bound added to each translation's variance (squared)
+    campaign::SegmentMatch reference;  // the reference's segment it is
     campaign::C2cStatistics c2c;
+};
+
+// The reference prepared once for any number of campaigns: its local planes, and its own
+// segments — ground, verticality and segmentation as a campaign's — that each campaign
+// segment is matched to.
+struct CampaignReference {
+    // `points` must outlive it.
+    CampaignReference(std::span<const Eigen::Vector3d> points, const CampaignParameters& p);
+    campaign::ReferenceSurface surface;
+    campaign::GroundClassification ground;
+    campaign::Segmentation segmentation;  // per reference point, as a campaign's
+    double seconds = 0;                   // wall time to prepare it
 };
 
 // Wall seconds of each step, for the operator to see where the time went.
 struct CampaignTimings {
-    double global = 0, ground = 0, verticality = 0, segmentation = 0, segments = 0, c2c = 0;
-    double total() const { return global + ground + verticality + segmentation + segments + c2c; }
+    double reference = 0;  // preparing the reference, when the comparison did
+    double global = 0, ground = 0, verticality = 0, segmentation = 0, matching = 0, segments = 0,
+           c2c = 0;
+    double total() const {
+        return reference + global + ground + verticality + segmentation + matching + segments + c2c;
+    }
 };
 
 struct CampaignComparison {
@@ -89,8 +116,8 @@ struct CampaignComparison {
 CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
                                     std::span<const Eigen::Vector3d> campaign,
                                     const CampaignParameters& parameters);
-// The same on a reference surface built once (with parameters.surface) for several campaigns.
-CampaignComparison compare_campaign(const campaign::ReferenceSurface& reference,
+// The same on a reference prepared once (with the same parameters) for several campaigns.
+CampaignComparison compare_campaign(const CampaignReference& reference,
                                     std::span<const Eigen::Vector3d> campaign,
                                     const CampaignParameters& parameters);
 

@@ -47,6 +47,8 @@ nlohmann::json parameters_json(const CampaignParameters& p) {
             {"plane_radius_m", p.surface.plane_radius},
             {"max_distance_m", p.surface.max_distance},
             {"min_segment_points", p.min_segment_points},
+            {"min_planar_share", p.min_planar_share},
+            {"min_overlap", p.min_overlap},
             {"range_sigma_m", p.range_sigma},
             {"cut_distance_m", p.cut_distance},
             {"alpha", p.alpha}};
@@ -67,6 +69,8 @@ std::vector<CampaignSegmentRow> segment_rows(const CampaignComparison& c) {
         row.points = std::int64_t(r.segment.points);
         row.voxels = std::int64_t(r.segment.voxels);
         row.outcome = registered || t.points > 0 ? campaign::outcome_name(t.outcome) : "too small";
+        if (r.reference.reference >= 0) row.reference_segment = r.reference.reference;
+        if (r.reference.sampled > 0) row.reference_overlap = r.reference.overlap;
         row.pairs = std::int64_t(t.pairs);
         row.rank = t.rank();
         row.iterations = t.iterations;

@@ -49,6 +49,10 @@ CREATE TABLE campaign_segments (
     points         INTEGER NOT NULL,
     voxels         INTEGER NOT NULL,
     outcome        TEXT NOT NULL,
+    -- The reference's segment (the reference segmented as the campaign) most of its points lie
+    -- on after the global registration, NULL below the overlap asked; the share that does.
+    reference_segment INTEGER,
+    reference_overlap REAL,
     pairs          INTEGER NOT NULL,
     rank           INTEGER NOT NULL,
     centroid_x_m REAL, centroid_y_m REAL, centroid_z_m REAL,

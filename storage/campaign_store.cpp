@@ -21,7 +21,8 @@ constexpr const char* kCampaignColumns =
     " c2c_median_m, c2c_p95_m, c2c_missing, parameters_json, seconds";
 
 constexpr const char* kSegmentColumns =
-    "segment, class, cluster, points, voxels, outcome, pairs, rank, iterations, converged,"
+    "segment, class, cluster, points, voxels, outcome, reference_segment, reference_overlap,"
+    " pairs, rank, iterations, converged,"
     " centroid_x_m, centroid_y_m, centroid_z_m, rx_rad, ry_rad, rz_rad, tx_m, ty_m, tz_m,"
     " sigma_rx_rad, sigma_ry_rad, sigma_rz_rad, sigma_tx_m, sigma_ty_m, sigma_tz_m,"
     " cut_fraction, cut_bias_m, rmse_m, test_statistic, test_dof, test_p, c2c_mean_m,"
@@ -59,6 +60,7 @@ void check(const Connection& c, const CampaignRow& r, const std::vector<Campaign
         auto copy = row;
         for (auto* v : segment_reals(copy)) finite = finite && (!*v || std::isfinite(**v));
         for (auto* v : segment_tail(copy)) finite = finite && (!*v || std::isfinite(**v));
+        finite = finite && (!row.reference_overlap || std::isfinite(*row.reference_overlap));
     }
     if (!finite) throw_storage(c, where + "a figure is not finite");
 }
@@ -163,6 +165,8 @@ CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSe
             seg.bind(k++, row.points);
             seg.bind(k++, row.voxels);
             seg.bind(k++, row.outcome);
+            bind_optional(seg, k++, row.reference_segment);
+            bind_optional(seg, k++, row.reference_overlap);
             seg.bind(k++, row.pairs);
             seg.bind(k++, row.rank);
             seg.bind(k++, row.iterations);
@@ -214,6 +218,8 @@ std::vector<CampaignSegmentRow> CampaignStore::segments(CampaignId id) const {
             r.points = q.getColumn(k++).getInt64();
             r.voxels = q.getColumn(k++).getInt64();
             r.outcome = q.getColumn(k++).getString();
+            r.reference_segment = optional_int64(q.getColumn(k++));
+            r.reference_overlap = optional_double(q.getColumn(k++));
             r.pairs = q.getColumn(k++).getInt64();
             r.rank = q.getColumn(k++).getInt64();
             r.iterations = q.getColumn(k++).getInt64();

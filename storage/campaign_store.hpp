@@ -23,6 +23,10 @@ struct CampaignSegmentRow {
     std::string kind;  // vertical, horizontal, other
     std::int64_t cluster = 0, points = 0, voxels = 0;
     std::string outcome;  // registered, few pairs, unobserved, diverged, too small
+    // The reference's segment it lies on (none: below the overlap asked) and the share of its
+    // points that do (none: no point was looked at).
+    std::optional<std::int64_t> reference_segment;
+    std::optional<double> reference_overlap;
     std::int64_t pairs = 0, rank = 0, iterations = 0;
     bool converged = false;
     std::array<std::optional<double>, 3> centroid;  // m

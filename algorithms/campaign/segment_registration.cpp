@@ -267,6 +267,8 @@ SegmentTransform register_segment(const ReferenceSurface& ref,
             out.parameters.head<3>() = log_so3(R);
             out.parameters.tail<3>() = t;
             out.pairs = pairs.size();
+            out.planar_pairs = std::size_t(std::count_if(pairs.begin(), pairs.end(),
+                                                         [](const Pair& pr) { return pr.planar; }));
             out.clusters = cells.size();
             out.rmse = std::sqrt(rr / rows);
             out.sigma0 = std::sqrt(s02);

@@ -57,7 +57,8 @@ struct SegmentIcpParameters {
 };
 
 // unobserved: no pair lies on a surface a local plane models (a segment of vegetation or of
-// small round parts), so no direction can be said to be observed.
+// small round parts), so no direction can be said to be observed — or, as the campaign
+// comparison decides (min_planar_share), too few of them for the fit to stand for the segment.
 enum class SegmentOutcome { registered, few_pairs, unobserved, diverged };
 const char* outcome_name(SegmentOutcome outcome);
 
@@ -72,8 +73,9 @@ struct SegmentTransform {
     Eigen::MatrixXd observed_covariance;
     Matrix6 covariance = Matrix6::Zero();  // of p, zero along what is not observed
     std::size_t points = 0, pairs = 0, outliers = 0, clusters = 0;
-    double rmse = 0;    // m: of the residuals (distance to the plane or to the point)
-    double sigma0 = 0;  // m: √(Σ r²/(m − rank))
+    std::size_t planar_pairs = 0;  // pairs whose reference plane models the surface
+    double rmse = 0;               // m: of the residuals (distance to the plane or to the point)
+    double sigma0 = 0;             // m: √(Σ r²/(m − rank))
     int iterations = 0;
     bool converged = false;
     int rank() const { return int(observed.rows()); }

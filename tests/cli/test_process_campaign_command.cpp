@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
@@ -77,27 +78,49 @@ TEST(CampaignCommand, RegistersTheCloudAndItsSegmentsAndWritesTheirTableAndPoint
     for (int k = 0; k < 3; ++k)
         EXPECT_NEAR(std::stod(m[k + 1]), -1e3 * shift(k), 1.5) << "axis " << k << "\n" << r.out;
 
-    const auto rows = csv_rows(dir.path() / "one/segments.csv");
-    ASSERT_GE(rows.size(), 5u);
-    const auto& header = rows[0];
-    const auto column = [&](const std::string& name) {
-        const auto it = std::find(header.begin(), header.end(), name);
-        EXPECT_NE(it, header.end()) << name;
-        return std::size_t(it - header.begin());
+    // The room's segments are mostly curved equipment: too few of their pairs lie on surfaces
+    // a local plane models, so none is registered and none is tested (docs/campaigns.md).
+    const auto outcomes = [&](const fs::path& csv, std::size_t& points) {
+        const auto rows = csv_rows(csv);
+        EXPECT_GE(rows.size(), 5u);
+        const auto& header = rows.at(0);
+        const auto column = [&](const std::string& name) {
+            const auto it = std::find(header.begin(), header.end(), name);
+            EXPECT_NE(it, header.end()) << name;
+            return std::size_t(it - header.begin());
+        };
+        std::map<std::string, int> count;
+        for (std::size_t i = 1; i < rows.size(); ++i) {
+            EXPECT_EQ(rows[i].size(), header.size()) << i;
+            points += std::stoul(rows[i][column("points")]);
+            const std::string outcome = rows[i][column("outcome")];
+            ++count[outcome];
+            // A translation is given with its σ, and only for a registered segment.
+            for (const char* axis : {"x", "y", "z"}) {
+                const bool value = !rows[i][column(std::string("t") + axis + "_m")].empty();
+                EXPECT_EQ(value, !rows[i][column(std::string("sigma_t") + axis + "_m")].empty());
+                EXPECT_TRUE(outcome == "registered" || !value) << outcome;
+            }
+            if (outcome == "registered") {
+                EXPECT_LT(std::stod(rows[i][column("c2c_mean_m")]), 0.02);
+            }
+        }
+        return count;
     };
-    std::size_t registered = 0, points = 0;
-    for (std::size_t i = 1; i < rows.size(); ++i) {
-        ASSERT_EQ(rows[i].size(), header.size()) << i;
-        points += std::stoul(rows[i][column("points")]);
-        if (rows[i][column("outcome")] != "registered") continue;
-        ++registered;
-        // A translation is given with its σ or not at all.
-        for (const char* axis : {"x", "y", "z"})
-            EXPECT_EQ(rows[i][column(std::string("t") + axis + "_m")].empty(),
-                      rows[i][column(std::string("sigma_t") + axis + "_m")].empty());
-        EXPECT_LT(std::stod(rows[i][column("c2c_mean_m")]), 0.02) << i;
-    }
-    EXPECT_GE(registered, 4u);
+    std::size_t points = 0;
+    auto count = outcomes(dir.path() / "one/segments.csv", points);
+    EXPECT_EQ(count["registered"], 0);
+    EXPECT_GE(count["unobserved"], 4);
+    // Without the least share, they are registered (and biased: docs/campaigns.md).
+    const CommandRun all =
+        run_tlsmon("campaign compare " + (dir.path() / "reference.xyz").string() + " " +
+                   (dir.path() / "campaign.xyz").string() + " --out " +
+                   (dir.path() / "all").string() + " --min-planar-share 0");
+    ASSERT_EQ(all.status, 0) << all.out;
+    std::size_t all_points = 0;
+    count = outcomes(dir.path() / "all/segments.csv", all_points);
+    EXPECT_GE(count["registered"], 4);
+    EXPECT_EQ(all_points, points);
 
     // The segments' translations drawn (gnuplot), with the plot's script beside.
     ASSERT_TRUE(fs::exists(dir.path() / "one/segments.png")) << r.out;

@@ -62,5 +62,40 @@ TEST(ConfigInstruments, BadTablesNameKeyAndLine) {
     EXPECT_NE(unknown.find("sigma"), std::string::npos) << unknown;
 }
 
+// [campaign]: how every instrument's campaigns are compared, with the instrument's own noise.
+TEST(ConfigInstruments, CampaignKeysMakeTheComparisonsParameters) {
+    const Config c = parse(
+        "[campaign]\nmetric = \"point-to-point\"\nc2c = \"nearest-point\"\nradius = 0.15\n"
+        "thinning = 0\nmin_planar_share = 0.3\nalpha = 0.01\nremove_ground = false\n"
+        "[[instrument]]\nname = \"van\"\nkind = \"mls\"\nrange_sigma = 0.03\n");
+    const CampaignParameters p = campaign_parameters(c.campaign, c.instruments.at(0).range_sigma);
+    EXPECT_EQ(p.icp.metric, campaign::IcpMetric::point_to_point);
+    EXPECT_EQ(p.c2c, campaign::C2cModel::nearest_point);
+    EXPECT_DOUBLE_EQ(p.verticality.radius, 0.15);
+    EXPECT_DOUBLE_EQ(p.surface.plane_radius, 0.15);
+    EXPECT_DOUBLE_EQ(p.thinning, 0);
+    EXPECT_DOUBLE_EQ(p.min_planar_share, 0.3);
+    EXPECT_DOUBLE_EQ(p.alpha, 0.01);
+    EXPECT_FALSE(p.remove_ground);
+    EXPECT_DOUBLE_EQ(p.range_sigma, 0.03);
+    // The defaults are the comparison's own.
+    const CampaignParameters d = campaign_parameters(parse("").campaign, 0.02);
+    const CampaignParameters own;
+    EXPECT_EQ(d.icp.metric, own.icp.metric);
+    EXPECT_DOUBLE_EQ(d.thinning, own.thinning);
+    EXPECT_EQ(d.registration_points, own.registration_points);
+    EXPECT_DOUBLE_EQ(d.min_planar_share, own.min_planar_share);
+    EXPECT_DOUBLE_EQ(d.min_overlap, own.min_overlap);
+    EXPECT_DOUBLE_EQ(d.surface.max_distance, own.surface.max_distance);
+    EXPECT_DOUBLE_EQ(d.alpha, own.alpha);
+
+    const std::string metric = error_of("[campaign]\nmetric = \"closest\"\n");
+    EXPECT_NE(metric.find("'closest' is not one of"), std::string::npos) << metric;
+    const std::string alpha = error_of("[campaign]\nalpha = 0.7\n");
+    EXPECT_NE(alpha.find("alpha"), std::string::npos) << alpha;
+    const std::string few = error_of("[campaign]\nmin_segment_points = 10\n");
+    EXPECT_NE(few.find("min_pairs"), std::string::npos) << few;
+}
+
 }  // namespace
 }  // namespace tlsmon

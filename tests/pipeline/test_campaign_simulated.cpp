@@ -4,10 +4,13 @@
 // against the per-point surfaces, each registered segment's parameters against its true
 // transformation (campaign/paired_fit.hpp on the points as measured without range noise) in
 // what it observes, and the test of whether the
-// segments moved as one — rejecting with SLAM drift, keeping its level without.
+// segments moved as one — rejecting with SLAM drift, keeping its level without — and each
+// segment matched to the reference's segment on the same surface.
 // (bench/campaign_truth.cpp scores 20 seeded campaigns of the `pier` scene the same way.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -86,11 +89,24 @@ Score score(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud,
     return s;
 }
 
+// Per segment, the surface most of its points lie on.
+std::vector<sim::Surface> majority_surfaces(const campaign::Segmentation& s,
+                                            std::span<const std::uint8_t> surface) {
+    std::vector<std::array<std::size_t, sim::kSurfaceKinds>> count(s.segments.size());
+    for (std::size_t i = 0; i < s.segment.size(); ++i)
+        if (s.segment[i] >= 0) ++count[std::size_t(s.segment[i])][surface[i]];
+    std::vector<sim::Surface> out;
+    for (const auto& c : count)
+        out.push_back(sim::Surface(std::max_element(c.begin(), c.end()) - c.begin()));
+    return out;
+}
+
 TEST(CampaignSimulated, RecoversEachSegmentsDriftAndSaysTheSegmentsDiffer) {
     const Fixture& f = fixture();
     const sim::PlsCampaign campaign = f.campaign(sim::SlamDriftModel::linear, 5);
     const sim::PlsCloud cloud = sim::render_pls(f.site, 0, campaign, 2);
-    const CampaignComparison c = compare_campaign(f.reference.points, cloud.points, f.parameters);
+    const CampaignReference reference(f.reference.points, f.parameters);
+    const CampaignComparison c = compare_campaign(reference, cloud.points, f.parameters);
     // The ground: what the cloth found against the renderer's surfaces.
     // The pier stands on a pile cap 0.4 m high whose top the cloth takes for ground
     // (ground_filter.hpp): of the pier, only its foot near that top may go (2.3 % of its points
@@ -120,6 +136,29 @@ TEST(CampaignSimulated, RecoversEachSegmentsDriftAndSaysTheSegmentsDiffer) {
     EXPECT_GE(s.within, s.segments - 1) << s.within << " of " << s.segments;
     EXPECT_TRUE(c.consistency.differ);
     EXPECT_LT(c.consistency.p_value, 1e-3);
+
+    // Each segment matched to the reference's segment on the same surface, the reference
+    // segmented as the campaign: the surface most of either's points lie on agrees.
+    const auto campaign_surface = majority_surfaces(c.segmentation, cloud.surface);
+    const auto reference_surface = majority_surfaces(reference.segmentation, f.reference.surface);
+    std::size_t all = 0, matched = 0, same = 0, segments = 0;
+    for (std::size_t k = 0; k < c.segments.size(); ++k) {
+        const std::size_t n = c.segments[k].segment.points;
+        all += n;
+        const auto r = c.segments[k].reference.reference;
+        if (r < 0) continue;
+        EXPECT_GE(c.segments[k].reference.overlap, f.parameters.min_overlap);
+        matched += n;
+        ++segments;
+        same += campaign_surface[k] == reference_surface[std::size_t(r)] ? n : 0;
+    }
+    // This sparse campaign (6000 pulses/s) sees the small scene's pier as one segment of class
+    // "other" that straddles two of the reference's, 49 % on the larger: no match, by design.
+    // (On the `pier` scene at 30 000 pulses/s, 90–91 % of the segments' points are matched,
+    // docs/campaigns.md.)
+    EXPECT_GE(segments, 6u);
+    EXPECT_GT(double(matched), 0.25 * double(all)) << matched << " of " << all;
+    EXPECT_GT(double(same), 0.98 * double(matched)) << same << " of " << matched;
 }
 
 TEST(CampaignSimulated, WithoutDriftTheSegmentsMoveAsOne) {

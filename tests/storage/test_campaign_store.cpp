@@ -54,6 +54,8 @@ std::vector<CampaignSegmentRow> segments() {
     wall.points = 41000;
     wall.voxels = 9000;
     wall.outcome = "registered";
+    wall.reference_segment = 2;
+    wall.reference_overlap = 0.93;
     wall.pairs = 40000;
     wall.rank = 4;
     wall.iterations = 7;
@@ -79,6 +81,7 @@ std::vector<CampaignSegmentRow> segments() {
     bush.points = 300;
     bush.voxels = 80;
     bush.outcome = "too small";
+    bush.reference_overlap = 0.2;  // on no reference segment enough
     return {wall, bush};
 }
 
@@ -132,7 +135,11 @@ TEST(CampaignStore, StoredWithItsSegmentsAndReadBackWhole) {
     EXPECT_EQ(rows[0].test_dof, 4);
     EXPECT_EQ(rows[0].c2c_max, 0.09);
     EXPECT_TRUE(rows[0].converged);
+    EXPECT_EQ(rows[0].reference_segment, 2);
+    EXPECT_EQ(rows[0].reference_overlap, 0.93);
     EXPECT_EQ(rows[1].outcome, "too small");
+    EXPECT_FALSE(rows[1].reference_segment);
+    EXPECT_EQ(rows[1].reference_overlap, 0.2);
     EXPECT_FALSE(rows[1].rmse);
     EXPECT_FALSE(rows[1].test_dof);
     EXPECT_FALSE(rows[1].centroid[0]);
