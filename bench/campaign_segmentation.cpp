@@ -1,8 +1,9 @@
 // Campaign cloud benchmark (reported, not asserted), 2 threads: the TLS reference's local
-// planes, then compare_campaign (pipeline/campaign_comparison.hpp) step by step — the global
-// registration, the ground, verticality at the study's 0.10 m, the two-stage segmentation,
-// segment-wise ICP with the test of whether the segments moved as one, and C2C of every
-// point — for an unstructured cloud like a personal laser scanner's: a ground 60 × 30 m, two piers
+// planes, segments and planes, then compare_campaign (pipeline/campaign_comparison.hpp) step
+// by step — the coarse frame on planes (the default, auto), the global registration, the
+// ground, verticality at the study's 0.10 m, the two-stage segmentation, segment-wise ICP
+// with the test of whether the segments moved as one, and C2C of every point — for an
+// unstructured cloud like a personal laser scanner's: a ground 60 × 30 m, two piers
 // (3 × 6 m, 20 m high, four faces each) and a deck (60 × 12 m, its soffit and top), points
 // drawn uniformly over the surfaces with N(0, 15 mm) noise along their normals, the second
 // pier's stretch of the walk drifted by 10 mm; the reference the same scene with half as many
@@ -100,11 +101,13 @@ int main(int argc, char** argv) {
     const double wall = bench::seconds_since(t0), cpu = bench::process_cpu_seconds() - c0;
     const auto& s = c.seconds;
     std::printf(
-        "compare_campaign: %.1f s wall, %.1f s CPU (%zu voxels)\n  global registration %.1f s, "
-        "ground %.1f s, verticality %.1f s, segmentation %.1f s, matching %.1f s, segment-wise ICP "
-        "and the test %.1f s, C2C %.1f s\n",
-        wall, cpu, c.thinned, s.global, s.ground, s.verticality, s.segmentation, s.matching,
-        s.segments, s.c2c);
+        "compare_campaign: %.1f s wall, %.1f s CPU (%zu voxels)\n  coarse frame (%s, %zu of %zu "
+        "planes on the reference's %zu) %.1f s, global registration %.1f s, ground %.1f s, "
+        "verticality %.1f s, segmentation %.1f s, matching %.1f s, segment-wise ICP and the test "
+        "%.1f s, C2C %.1f s\n",
+        wall, cpu, c.thinned, coarse_name(c.coarse.used), c.coarse.support,
+        c.coarse.campaign_planes, c.coarse.reference_planes, s.coarse, s.global, s.ground,
+        s.verticality, s.segmentation, s.matching, s.segments, s.c2c);
     std::printf("global: %zu pairs, %d iterations, rank %d\n", c.global.pairs, c.global.iterations,
                 c.global.rank());
     std::printf("ground %zu points; %zu segments (spacing %.1f mm)\n", c.ground.ground_points,

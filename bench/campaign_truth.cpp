@@ -15,7 +15,10 @@
 // comparison can see. It is compared only in what the segment observes: the observed combinations'
 // χ² (rank dof) and, per observed translation, |t̂ − t| ≤ 2σ. Usage: bench_campaign_truth
 // [CAMPAIGNS=20] [FIRST_SEED=1] [PULSE_RATE=30000]
-//                             [DRIFT=random-walk] [TRUTH=point|plane] [verbose]
+//                             [DRIFT=random-walk] [TRUTH=point|plane] [FRAME=scene|slam] [verbose]
+// FRAME=slam writes each campaign in the SLAM's own frame (simulator/pls.hpp, slam_frame: its
+// start, a heading drawn from the seed), so the comparison must find the frame first (the
+// coarse step on planes); the frame found is scored against the one written.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -24,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -154,7 +158,26 @@ struct Tally {
     // matched one's; the points of each, and of all segments.
     std::size_t matched = 0, matched_same = 0, unmatched = 0;
     std::size_t points_matched = 0, points_same = 0, points_all = 0;
+    // The campaign's frame: found on planes, and the error of the frame found (the coarse
+    // step's heading; the whole frame's rotation and its shift at the pier).
+    std::size_t coarse_planes = 0;
+    std::vector<double> coarse_heading_deg, frame_rotation_mrad, frame_shift_mm;
 };
+
+// The frame found (c.frame(), campaign → reference) against the one the campaign was written
+// in (to_campaign: scene → campaign), at the pier's centre `at`.
+void score_frame(const CampaignComparison& c, const Eigen::Matrix4d& to_campaign,
+                 const Vector3d& at, Tally& tally) {
+    if (c.coarse.used != CoarseRegistration::planes) return;
+    ++tally.coarse_planes;
+    const Eigen::Matrix4d coarse = c.coarse.matrix * to_campaign;
+    tally.coarse_heading_deg.push_back(std::atan2(coarse(1, 0), coarse(0, 0)) * 180 /
+                                       std::numbers::pi);
+    const Eigen::Matrix4d E = c.frame() * to_campaign;  // the identity, but for the drift
+    tally.frame_rotation_mrad.push_back(
+        1e3 * Eigen::AngleAxisd(Eigen::Matrix3d(E.topLeftCorner<3, 3>())).angle());
+    tally.frame_shift_mm.push_back(1e3 * ((E * at.homogeneous()).head<3>() - at).norm());
+}
 
 // Each campaign segment's match against the truth: is the reference segment it was matched to
 // on the same surface (the majority of each)?
@@ -180,11 +203,11 @@ void score_matching(const sim::PlsCloud& cloud, const CampaignComparison& c,
 }
 
 void score_campaign(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud,
-                    const CampaignComparison& c, const Scoring& scoring, Tally& tally,
-                    const char* name) {
+                    const Eigen::Matrix4d& to_campaign, const CampaignComparison& c,
+                    const Scoring& scoring, Tally& tally, const char* name) {
     const auto members = members_of(c.segmentation);
     const std::vector<Vector3d> measured = sim::noise_free_points(campaign, cloud);
-    const Eigen::Matrix4d G = c.global.matrix();
+    const Eigen::Matrix4d G = c.frame() * to_campaign;
     std::size_t registered = 0, within = 0;
     double largest = 0, smallest = 1e9;
     for (std::size_t s = 0; s < c.segments.size(); ++s) {
@@ -285,6 +308,18 @@ void print_tally(const char* what, const Tally& t) {
             "  true observed translations: median %.1f mm, 90 %% %.1f mm, largest %.1f mm\n",
             o[o.size() / 2], o[o.size() * 9 / 10], o.back());
     }
+    if (!t.coarse_heading_deg.empty()) {
+        const auto largest = [](std::vector<double> v) {
+            double m = 0;
+            for (const double x : v) m = std::max(m, std::abs(x));
+            return m;
+        };
+        std::printf(
+            "  frame found on planes in %zu of %zu campaigns: coarse heading error up to %.3f°; "
+            "the whole frame's rotation error up to %.3f mrad, shift at the pier up to %.1f mm\n",
+            t.coarse_planes, t.campaigns, largest(t.coarse_heading_deg),
+            largest(t.frame_rotation_mrad), largest(t.frame_shift_mm));
+    }
     if (!t.c2c_pier_mm.empty()) {
         double sum = 0;
         for (const double v : t.c2c_pier_mm) sum += v;
@@ -304,8 +339,10 @@ int main(int argc, char** argv) {
 
     sim::Site site = sim::preset_pier();
     site.occlusion.occluders.clear();  // nobody parked or walking about during the campaign
+    const bool slam_frame = argc > 6 && std::string(argv[6]) == "slam";
     CampaignParameters p;
     p.threads = kThreads;
+    p.coarse = slam_frame ? CoarseRegistration::planes : CoarseRegistration::automatic;
     reference_segments(site, p);
 
     sim::PlsCampaign survey;
@@ -329,7 +366,8 @@ int main(int argc, char** argv) {
     Tally drifted, still;
     Scoring scoring;
     scoring.point_to_plane_truth = !(argc > 5 && std::string(argv[5]) == "point");
-    scoring.verbose = argc > 6;
+    scoring.verbose = argc > 7;
+    const Vector3d pier_centre(site.pier.centre().x(), site.pier.centre().y(), 5.0);
     GroundScore ground;
     double compare_seconds = 0;
     for (int k = 0; k < campaigns; ++k) {
@@ -343,13 +381,25 @@ int main(int argc, char** argv) {
             c.drift.model = model;
             c.drift.seed = seed;
             const sim::PlsCloud cloud = sim::render_pls(site, 0, c, kThreads);
+            // The heading the scanner pointed at the start, drawn from the seed.
+            std::mt19937_64 rng(seed);
+            const double heading =
+                std::uniform_real_distribution<double>(-std::numbers::pi, std::numbers::pi)(rng);
+            const Eigen::Matrix4d to_campaign =
+                slam_frame ? Eigen::Matrix4d(sim::slam_frame(c.trajectory, heading).inverse())
+                           : Eigen::Matrix4d::Identity();
+            std::vector<Vector3d> points(cloud.points.size());
+            for (std::size_t i = 0; i < points.size(); ++i)
+                points[i] = (to_campaign * cloud.points[i].homogeneous()).head<3>();
             t0 = std::chrono::steady_clock::now();
-            const CampaignComparison result = compare_campaign(prepared, cloud.points, p);
+            const CampaignComparison result = compare_campaign(prepared, points, p);
             compare_seconds += seconds_since(t0);
+            score_frame(result, to_campaign, pier_centre,
+                        model == sim::SlamDriftModel::none ? still : drifted);
             if (model == sim::SlamDriftModel::none) ground.add(cloud.surface, result.ground.ground);
             score_matching(cloud, result, reference_members, reference.surface,
                            model == sim::SlamDriftModel::none ? still : drifted);
-            score_campaign(c, cloud, result, scoring,
+            score_campaign(c, cloud, to_campaign, result, scoring,
                            model == sim::SlamDriftModel::none ? still : drifted,
                            sim::drift_model_name(model));
         }

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -35,14 +36,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<Eigen::Vector3d> points_of(const std::string& path) {
-    std::vector<Eigen::Vector3d> out;
-    for (const Scan& scan : read_scans(path))
-        out.insert(out.end(), scan.xyz.begin(), scan.xyz.end());
-    if (out.empty()) throw Error(path + ": no points");
-    return out;
-}
-
 CampaignParameters parameters_of(const CampaignCompareOptions& o) {
     CampaignParameters p;
     p.icp.metric = o.metric == "point-to-point" ? campaign::IcpMetric::point_to_point
@@ -66,6 +59,9 @@ CampaignParameters parameters_of(const CampaignCompareOptions& o) {
         if (*o.threads < 0) throw Error("--threads must not be negative");
         p.threads = unsigned(*o.threads);
     }
+    p.coarse = o.coarse == "planes" ? CoarseRegistration::planes
+               : o.coarse == "none" ? CoarseRegistration::none
+                                    : CoarseRegistration::automatic;
     return p;
 }
 
@@ -111,9 +107,33 @@ std::string mm(double metres) {
     return fixed(1e3 * metres, 2);
 }
 
-// The comparison's lines: the global registration, the ground, the segments, their test and
-// the C2C summary.
+// The campaign's frame onto the reference as four rows of four numbers (CloudCompare's and
+// PDAL's matrix text): x_ref = M·x.
+void write_frame(const fs::path& path, const Eigen::Matrix4d& M) {
+    std::ostringstream text;
+    text.precision(12);
+    for (int r = 0; r < 4; ++r)
+        text << M(r, 0) << " " << M(r, 1) << " " << M(r, 2) << " " << M(r, 3) << "\n";
+    ResultFile f(path.string());
+    f.write(text.str());
+    f.close();
+}
+
+// The comparison's lines: the frame found, the global registration, the ground, the segments,
+// their test and the C2C summary.
 void print_summary(const CampaignComparison& c, const CampaignParameters& p) {
+    const auto& f = c.coarse;
+    if (f.used == CoarseRegistration::planes) {
+        const Eigen::Matrix4d& M = f.matrix;
+        std::cout << "frame (coarse, planes): " << f.support << " of " << f.campaign_planes
+                  << " planes on the reference's " << f.reference_planes << " (next heading "
+                  << f.runner_up << "), heading "
+                  << fixed(std::atan2(M(1, 0), M(0, 0)) * 180.0 / std::numbers::pi, 2)
+                  << "°, shift (" << fixed(M(0, 3), 3) << ", " << fixed(M(1, 3), 3) << ", "
+                  << fixed(M(2, 3), 3) << ") m\n";
+    } else if (!f.note.empty()) {
+        std::cout << "frame (coarse): none, " << f.note << "\n";
+    }
     const auto& g = c.global;
     std::cout << "global registration (point-to-plane): " << g.pairs << " pairs, rank " << g.rank()
               << ", centroid shift (" << mm(g.parameters(3)) << ", " << mm(g.parameters(4)) << ", "
@@ -142,23 +162,15 @@ void print_summary(const CampaignComparison& c, const CampaignParameters& p) {
               << " points without\n";
 }
 
-const InstrumentConfig& instrument_named(const Config& config, const std::string& name) {
-    for (const auto& i : config.instruments)
-        if (i.name == name) return i;
-    std::string names;
-    for (const auto& i : config.instruments) names += (names.empty() ? "" : ", ") + i.name;
-    throw Error("no [[instrument]] named '" + name + "' in " + config.file.string() +
-                (names.empty() ? " (it has none)" : " (it has " + names + ")"));
-}
-
 }  // namespace
 
 int run_campaign_compare(const CampaignCompareOptions& o) {
     try {
         const CampaignParameters p = parameters_of(o);
         validate(p);
-        const std::vector<Eigen::Vector3d> reference = points_of(o.reference);
-        const std::vector<Eigen::Vector3d> cloud = points_of(o.campaign);
+        const std::vector<Eigen::Vector3d> reference =
+            all_points(read_scans(o.reference), o.reference);
+        const std::vector<Eigen::Vector3d> cloud = all_points(read_scans(o.campaign), o.campaign);
         std::cout << "reference: " << reference.size() << " points; campaign: " << cloud.size()
                   << " points\n";
         const CampaignComparison c = compare_campaign(reference, cloud, p);
@@ -167,9 +179,11 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
         write_segments(std::filesystem::path(o.out) / "segments.csv", c);
         write_points(std::filesystem::path(o.out) / "segments.ply", c);
         const fs::path out(o.out);
+        write_frame(out / "frame.txt", c.frame());
         const auto not_drawn = report::draw_segment_parameters(c, p.alpha, out / "segments.plot",
                                                                out / "segments.png");
-        std::cout << "-> " << o.out << "/segments.csv, " << o.out << "/segments.ply";
+        std::cout << "-> " << o.out << "/frame.txt, " << o.out << "/segments.csv, " << o.out
+                  << "/segments.ply";
         if (not_drawn)
             std::cout << "; segments.png " << *not_drawn;
         else
@@ -185,7 +199,8 @@ int run_campaign_compare(const CampaignCompareOptions& o) {
 int run_campaign_add(const CampaignAddOptions& o) {
     try {
         const Config config = load_config(o.config);
-        const InstrumentConfig& instrument = instrument_named(config, o.instrument);
+        const InstrumentConfig& instrument =
+            instrument_named(config.instruments, o.instrument, config.file.string());
         CampaignSource source;
         source.file = fs::absolute(o.file);
         source.instrument = instrument.name;
@@ -199,7 +214,9 @@ int run_campaign_add(const CampaignAddOptions& o) {
         const CampaignParameters p = campaign_parameters(config.campaign, instrument.range_sigma);
         EpochDatabase db =
             EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
-        const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file), p);
+        CampaignReferences references;
+        const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file), p,
+                                                   config.campaign.store_spacing, references);
         if (stored.known) {
             std::cout << o.file << " is campaign " << stored.row.id << " already ("
                       << stored.row.instrument << ", acquired " << format_utc(stored.row.acquired)

@@ -170,6 +170,7 @@ struct SimulateOptions {
     std::string campaign;
     std::optional<double> pulse_rate;   // Hz
     std::optional<double> range_sigma;  // m
+    bool slam_frame = false;            // the campaign in the SLAM's own frame, not the scene's
 };
 // 0, or 1 with the error on stderr.
 int run_simulate(const SimulateOptions& options);
@@ -260,6 +261,7 @@ struct CampaignCompareOptions {
     std::optional<double> cloth_resolution;
     std::optional<int> rigidness;
     std::optional<int> threads;
+    std::string coarse = "auto";  // the campaign's frame: none, planes or auto
 };
 int run_campaign_compare(const CampaignCompareOptions& options);
 
@@ -282,6 +284,9 @@ struct CampaignSegmentsOptions {
     std::int64_t campaign = 0;
 };
 int run_query_campaign_segments(const CampaignSegmentsOptions& options);
+// `tlsmon query campaign-points --campaign N`: the points a campaign kept ([campaign]
+// store_spacing) in the reference's frame, with their segment and C2C vector.
+int run_query_campaign_points(const CampaignSegmentsOptions& options);
 
 // `tlsmon primitives REFERENCE COMPARED --config SITE --out RESULT.csv`: the primitives the
 // site's zones name, fitted in both files, their change tested (docs/primitives.md); without

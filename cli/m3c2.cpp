@@ -30,13 +30,6 @@ namespace tlsmon {
 
 namespace {
 
-std::vector<Eigen::Vector3d> points_of(const std::vector<Scan>& scans, const std::string& path) {
-    std::vector<Eigen::Vector3d> points;
-    for (const auto& scan : scans) points.insert(points.end(), scan.xyz.begin(), scan.xyz.end());
-    if (points.empty()) throw Error(path + ": no points");
-    return points;
-}
-
 // --orient: "scanner" (towards REFERENCE's scanner) or X,Y,Z, into the parameters.
 void set_orientation(const std::string& text, M3c2Config& p) {
     if (text == "scanner") {
@@ -139,13 +132,13 @@ int run_m3c2(const M3c2Options& o) {
             // The stage's own reference product: core points in the zones.
             product = M3c2Stage(p).prepare_reference(*pair.reference_scans);
         } else {
-            const auto points = points_of(*pair.reference_scans, o.reference);
+            const auto points = all_points(*pair.reference_scans, o.reference);
             product.scanner = p.orient_to_scanner
                                   ? scanner_of(*pair.reference_scans, o.reference)
                                   : pair.reference_scans->front().scanner_position();
             auto cores = o.core_file.empty()
                              ? m3c2::subsample(points, p.core_spacing, unsigned(p.threads))
-                             : points_of(read_scans(o.core_file), o.core_file);
+                             : all_points(read_scans(o.core_file), o.core_file);
             product.reference = m3c2::prepare_reference(
                 points, std::move(cores), m3c2::normal_parameters(p, product.scanner),
                 m3c2::cylinder_parameters(p), unsigned(p.threads));

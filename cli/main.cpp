@@ -84,6 +84,8 @@ struct CommandLine {
     ReadOptionsOnTheCommandLine campaigns;
     ReadOptionsOnTheCommandLine campaign_segments_read;
     CampaignSegmentsOptions campaign_segments;
+    ReadOptionsOnTheCommandLine campaign_points_read;
+    CampaignSegmentsOptions campaign_points;
     KeypointsOptions keypoints;
     ModbusMapOptions modbus_map;
     ReadOptionsOnTheCommandLine alarms;
@@ -172,6 +174,10 @@ void add_simulate(CLI::App& app, CommandLine& c) {
            "--range-sigma", o.range_sigma,
            "Campaign: range noise, m (default " + toml_number(sim::PlsScanner{}.range_sigma) + ")")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--slam-frame", o.slam_frame,
+                  "Campaign: written in the SLAM's own frame (origin where the walk starts, a "
+                  "heading drawn from the seed, levelled), as a handheld scanner delivers it; "
+                  "the frame in campaign.truth.json");
     cmd->callback([&] { c.code = run_simulate(o); });
 }
 
@@ -254,6 +260,19 @@ void add_query(CLI::App& app, CommandLine& c) {
     segments->callback([&] {
         segments_options.read = segments_read.finish();
         c.code = run_query_campaign_segments(segments_options);
+    });
+
+    auto& points_read = c.campaign_points_read;
+    auto& points_options = c.campaign_points;
+    auto* points = query->add_subcommand(
+        "campaign-points",
+        "The points one campaign kept ([campaign] store_spacing) in the reference's frame after "
+        "their segment's registration, with their segment and C2C vector (docs/campaigns.md)");
+    points->add_option("--campaign", points_options.campaign, "The campaign's id")->required();
+    points_read.add_to(points, false);
+    points->callback([&] {
+        points_options.read = points_read.finish();
+        c.code = run_query_campaign_points(points_options);
     });
 
     auto& series_read = c.series_read;
@@ -626,6 +645,12 @@ void add_campaign(CLI::App& app, CommandLine& c) {
                         "The cloth's rigidness: 1 steep slopes, 2 relief, 3 flat (default " +
                             std::to_string(defaults.ground.rigidness) + ")");
     compare->add_option("--threads", o.threads, "Threads (0: every core)");
+    compare
+        ->add_option("--coarse", o.coarse,
+                     "The campaign's own frame brought near the reference's by both clouds' "
+                     "planes (planes), not at all (none: the files are in one frame), or planes "
+                     "when they match unambiguously (auto, the default)")
+        ->check(CLI::IsMember({"auto", "planes", "none"}));
     compare->callback([&] { c.code = run_campaign_compare(o); });
 
     auto& a = c.campaign_add;

@@ -1,5 +1,8 @@
-// `tlsmon query campaigns` and `tlsmon query campaign-segments --campaign N`: the campaign
-// epochs (docs/campaigns.md, "Campaign epochs"; docs/schema.md, "campaigns"), read-only.
+// `tlsmon query campaigns`, `tlsmon query campaign-segments --campaign N` and `tlsmon query
+// campaign-points --campaign N`: the campaign epochs (docs/campaigns.md, "Campaign epochs";
+// docs/schema.md, "campaigns"), read-only.
+#include <array>
+#include <cmath>
 #include <iostream>
 
 #include "cli/campaign_tables.hpp"
@@ -10,14 +13,23 @@
 namespace tlsmon {
 
 Table campaigns_table(const std::vector<CampaignRow>& campaigns) {
-    Table t{{"campaign",       "acquired",      "instrument",    "kind",
-             "points",         "ground_points", "global_tx_m",   "global_ty_m",
-             "global_tz_m",    "global_rx_rad", "global_ry_rad", "global_rz_rad",
-             "global_pairs",   "global_rmse_m", "segments",      "registered_segments",
-             "test_statistic", "test_dof",      "test_p",        "segments_differ",
-             "alpha",          "c2c_mean_m",    "c2c_sigma_m",   "c2c_median_m",
-             "c2c_p95_m",      "c2c_missing",   "seconds",       "reference_epoch",
-             "added",          "file",          "size",          "sha256"},
+    Table t{{"campaign",       "acquired",
+             "instrument",     "kind",
+             "points",         "ground_points",
+             "coarse",         "coarse_planes",
+             "global_tx_m",    "global_ty_m",
+             "global_tz_m",    "global_rx_rad",
+             "global_ry_rad",  "global_rz_rad",
+             "global_pairs",   "global_rmse_m",
+             "segments",       "registered_segments",
+             "test_statistic", "test_dof",
+             "test_p",         "segments_differ",
+             "alpha",          "c2c_mean_m",
+             "c2c_sigma_m",    "c2c_median_m",
+             "c2c_p95_m",      "c2c_missing",
+             "seconds",        "reference_epoch",
+             "added",          "file",
+             "size",           "sha256"},
             {}};
     for (const auto& c : campaigns) {
         const auto& g = c.global;
@@ -27,6 +39,8 @@ Table campaigns_table(const std::vector<CampaignRow>& campaigns) {
                           c.kind,
                           c.points,
                           c.ground_points,
+                          c.coarse,
+                          optional_cell(c.coarse_planes),
                           g[3],
                           g[4],
                           g[5],
@@ -151,14 +165,60 @@ int run_query_campaigns(const ReadOptions& options) {
     });
 }
 
+namespace {
+
+void require_campaign(const EpochDatabase& db, CampaignId id) {
+    if (!db.campaigns().get(id))
+        throw Error("no campaign " + std::to_string(id) + " (tlsmon query campaigns lists them)");
+}
+
+}  // namespace
+
 int run_query_campaign_segments(const CampaignSegmentsOptions& options) {
     return run_reporting_errors("query campaign-segments", [&] {
         const auto db = open_for_reading(options.read);
-        if (!db.campaigns().get(options.campaign))
-            throw Error("no campaign " + std::to_string(options.campaign) +
-                        " (tlsmon query campaigns lists them)");
+        require_campaign(db, options.campaign);
         print(std::cout, campaign_segments_table(db.campaigns().segments(options.campaign)),
               options.read.format);
+    });
+}
+
+int run_query_campaign_points(const CampaignSegmentsOptions& options) {
+    return run_reporting_errors("query campaign-points", [&] {
+        const auto db = open_for_reading(options.read);
+        require_campaign(db, options.campaign);
+        const auto points = db.campaigns().points(options.campaign);
+        if (!points)
+            throw Error("campaign " + std::to_string(options.campaign) +
+                        " kept no points (stored before they were kept)");
+        const char* names[] = {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
+        std::array<const std::vector<float>*, 7> a{};
+        for (std::size_t k = 0; k < a.size(); ++k) {
+            a[k] = points->array(names[k]);
+            if (!a[k])
+                throw Error("campaign " + std::to_string(options.campaign) + " has no '" +
+                            names[k] + "' array");
+        }
+        RowPrinter out(
+            std::cout,
+            {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m", "c2c_m"}, {},
+            options.read.format);
+        const auto& o = points->origin;
+        for (std::size_t i = 0; i < points->size(); ++i) {
+            const double dx = (*a[4])[i], dy = (*a[5])[i], dz = (*a[6])[i];
+            const bool c2c = std::isfinite(dx);
+            const auto component = [&](double v) { return c2c ? Cell(v) : Cell(); };
+            const std::array<Cell, 8> row{o[0] + double((*a[0])[i]),
+                                          o[1] + double((*a[1])[i]),
+                                          o[2] + double((*a[2])[i]),
+                                          std::int64_t((*a[3])[i]),
+                                          component(dx),
+                                          component(dy),
+                                          component(dz),
+                                          component(std::sqrt(dx * dx + dy * dy + dz * dz))};
+            out.row(row);
+        }
+        out.finish();
     });
 }
 

@@ -2,10 +2,14 @@
 // scene's pier (simulator/pls.hpp) instead of the station's scans, for `tlsmon campaign
 // compare`: campaign.ply (every point with its time, intensity, the surface its pulse hit and
 // its true position), reference.ply (a drift-free survey of all sides at TLS noise, 2 mm) and
-// campaign.truth.json (the walk, the drift model and the SLAM's pose error every second).
+// campaign.truth.json (the walk, the drift model, the SLAM's pose error every second, and the
+// frame the campaign is written in: the scene's, or with --slam-frame the SLAM's own).
+#include <Eigen/LU>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "cli/commands.hpp"
 #include "cli/result_file.hpp"
@@ -59,7 +63,15 @@ void simulate_campaign(const sim::Site& site, const SimulateOptions& o) {
     survey.scanner.seed = campaign.scanner.seed + 1000003;
     const sim::PlsCloud reference = sim::render_pls(site, 0, survey, o.threads);
     write_cloud(out / "reference.ply", reference);
-    const sim::PlsCloud cloud = sim::render_pls(site, 0, campaign, o.threads);
+    sim::PlsCloud cloud = sim::render_pls(site, 0, campaign, o.threads);
+    // In the SLAM's frame the heading is wherever the scanner pointed at the start: drawn from
+    // the seed (its fractional golden-ratio multiple, spread evenly over the circle).
+    const double heading =
+        2.0 * std::numbers::pi * std::fmod(0.6180339887 * double(campaign.drift.seed), 1.0);
+    const Eigen::Matrix4d frame =
+        o.slam_frame ? sim::slam_frame(campaign.trajectory, heading) : Eigen::Matrix4d::Identity();
+    const Eigen::Matrix4d to_frame = frame.inverse();
+    for (auto& p : cloud.points) p = (to_frame * p.homogeneous()).head<3>();
     write_cloud(out / "campaign.ply", cloud);
 
     nlohmann::json truth;
@@ -70,6 +82,9 @@ void simulate_campaign(const sim::Site& site, const SimulateOptions& o) {
     truth["pulse_rate_hz"] = campaign.scanner.pulse_rate;
     truth["drift"] = {{"model", sim::drift_model_name(campaign.drift.model)},
                       {"seed", campaign.drift.seed}};
+    // x_scene = F·x_campaign (identity unless --slam-frame); true_x/y/z are in the scene's frame.
+    for (int r = 0; r < 4; ++r)
+        truth["frame"].push_back({frame(r, 0), frame(r, 1), frame(r, 2), frame(r, 3)});
     // p = s + τ(t) + R(ω(t))·(q − s), s the sensor at t (docs/campaigns.md).
     const sim::SlamDriftPath drift(campaign.drift, cloud.duration);
     for (double t = 0; t <= cloud.duration + 1e-9; t += 1.0) {

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "core/config_key.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon {
 
@@ -31,6 +32,22 @@ const InstrumentConfig* instrument_for(const std::vector<InstrumentConfig>& inst
     for (const auto& i : instruments)
         if (i.matches(file_name)) return &i;
     return nullptr;
+}
+
+const InstrumentConfig* find_instrument(const std::vector<InstrumentConfig>& instruments,
+                                        const std::string& name) {
+    for (const auto& i : instruments)
+        if (i.name == name) return &i;
+    return nullptr;
+}
+
+const InstrumentConfig& instrument_named(const std::vector<InstrumentConfig>& instruments,
+                                         const std::string& name, const std::string& file) {
+    if (const auto* i = find_instrument(instruments, name)) return *i;
+    std::string names;
+    for (const auto& i : instruments) names += (names.empty() ? "" : ", ") + i.name;
+    throw Error("no [[instrument]] named '" + name + "' in " + file +
+                (names.empty() ? " (it has none)" : " (it has " + names + ")"));
 }
 
 InstrumentConfig read_instrument(TomlFields& t, const std::vector<InstrumentConfig>& taken) {

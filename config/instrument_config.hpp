@@ -31,6 +31,13 @@ struct InstrumentConfig {
 const InstrumentConfig* instrument_for(const std::vector<InstrumentConfig>& instruments,
                                        const std::string& file_name);
 
+// The instrument of that name, or none.
+const InstrumentConfig* find_instrument(const std::vector<InstrumentConfig>& instruments,
+                                        const std::string& name);
+// The same, or an Error naming the configured ones (`file`: the configuration's path).
+const InstrumentConfig& instrument_named(const std::vector<InstrumentConfig>& instruments,
+                                         const std::string& name, const std::string& file);
+
 // One [[instrument]] table; `taken` holds the names read before it.
 InstrumentConfig read_instrument(TomlFields& table, const std::vector<InstrumentConfig>& taken);
 // "instrument "pls": kind = pls, range_sigma = 0.02, pattern = "pls_*.ply"".

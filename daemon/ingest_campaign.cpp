@@ -5,7 +5,6 @@
 #include "core/error.hpp"
 #include "daemon/ingest_files.hpp"
 #include "pipeline/campaign_config.hpp"
-#include "pipeline/campaign_epoch.hpp"
 #include "pipeline/epoch_files.hpp"
 #include "storage/storage_error.hpp"
 
@@ -15,18 +14,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const InstrumentConfig* instrument_named(const Config& config, const std::string& name) {
-    for (const auto& i : config.instruments)
-        if (i.name == name) return &i;
-    return nullptr;
-}
-
 std::string summary(const CampaignRow& r) {
     std::string test = !r.segments_differ   ? "not testable"
                        : *r.segments_differ ? "no, they differ"
                                             : "yes";
-    return std::to_string(r.points) + " points, " + std::to_string(r.registered_segments) + " of " +
-           std::to_string(r.segments) + " segments registered, moved as one: " + test;
+    const std::string frame =
+        r.coarse_planes ? "its frame found on " + std::to_string(*r.coarse_planes) + " planes, "
+                        : "";
+    return std::to_string(r.points) + " points, " + frame + std::to_string(r.registered_segments) +
+           " of " + std::to_string(r.segments) + " segments registered, moved as one: " + test;
 }
 
 }  // namespace
@@ -49,9 +45,11 @@ bool CampaignIngest::process(IngestContext& ctx) {
         return true;
     }
     told_waiting_ = false;
+    // The reference prepared once for the batch, and let go with it (it holds its points).
+    CampaignReferences references;
     while (!queue_.empty()) {
         try {
-            process_one(ctx, queue_.front());
+            process_one(ctx, queue_.front(), references);
         } catch (const StorageError& e) {
             spdlog::warn("{}: {}; the campaign is tried again later", queue_.front().file.string(),
                          e.what());
@@ -62,8 +60,9 @@ bool CampaignIngest::process(IngestContext& ctx) {
     return true;
 }
 
-void CampaignIngest::process_one(IngestContext& ctx, const Queued& q) {
-    const InstrumentConfig* instrument = instrument_named(ctx.config, q.instrument);
+void CampaignIngest::process_one(IngestContext& ctx, const Queued& q,
+                                 CampaignReferences& references) {
+    const InstrumentConfig* instrument = find_instrument(ctx.config.instruments, q.instrument);
     if (!instrument || !instrument->matches(q.file.filename().string())) {
         ctx.events.record(ctx.db, "warning", "campaign",
                           q.file.string() + ": its [[instrument]] '" + q.instrument +
@@ -103,7 +102,8 @@ void CampaignIngest::process_one(IngestContext& ctx, const Queued& q) {
     const CampaignParameters p = campaign_parameters(ctx.config.campaign, instrument->range_sigma);
     StoredCampaign stored;
     try {
-        stored = add_campaign(ctx.db, source, bytes, p);
+        stored =
+            add_campaign(ctx.db, source, bytes, p, ctx.config.campaign.store_spacing, references);
     } catch (const StorageError&) {
         throw;
     } catch (const std::exception& e) {

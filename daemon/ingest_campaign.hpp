@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "daemon/ingest.hpp"
+#include "pipeline/campaign_epoch.hpp"
 
 namespace tlsmon {
 
@@ -25,7 +26,7 @@ class CampaignIngest {
         std::filesystem::path file;
         std::string instrument;
     };
-    void process_one(IngestContext& ctx, const Queued& queued);
+    void process_one(IngestContext& ctx, const Queued& queued, CampaignReferences& references);
     std::vector<Queued> queue_;
     bool told_waiting_ = false;  // the wait for a reference epoch was logged
 };

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "core/error.hpp"
 #include "formats/ascii_reader.hpp"
 #include "formats/e57_reader.hpp"
 #include "formats/format_error.hpp"
@@ -107,6 +108,16 @@ ScanFormat detect_format(const std::filesystem::path& path) {
 std::vector<Scan> read_scans(const std::filesystem::path& path) {
     const MappedFile file(path);
     return parse_scans(file.text(), path);
+}
+
+std::vector<Eigen::Vector3d> all_points(const std::vector<Scan>& scans, const std::string& source) {
+    std::size_t n = 0;
+    for (const Scan& scan : scans) n += scan.xyz.size();
+    if (n == 0) throw Error(source + ": no points");
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(n);
+    for (const Scan& scan : scans) out.insert(out.end(), scan.xyz.begin(), scan.xyz.end());
+    return out;
 }
 
 void check_coordinates(const std::vector<Scan>& scans, const std::filesystem::path& path) {

@@ -39,4 +39,8 @@ std::vector<Scan> parse_scans(std::string_view bytes, const std::filesystem::pat
 // first such point.
 void check_coordinates(const std::vector<Scan>& scans, const std::filesystem::path& path);
 
+// Every scan's points in one list, in file order (a campaign's cloud; a reference taken as
+// points). Throws Error naming `source` when there are none.
+std::vector<Eigen::Vector3d> all_points(const std::vector<Scan>& scans, const std::string& source);
+
 }  // namespace tlsmon

@@ -11,8 +11,21 @@
 
 namespace tlsmon {
 
+const char* coarse_name(CoarseRegistration coarse) {
+    switch (coarse) {
+        case CoarseRegistration::none:
+            return "none";
+        case CoarseRegistration::planes:
+            return "planes";
+        case CoarseRegistration::automatic:
+            return "auto";
+    }
+    return "?";
+}
+
 void validate(const CampaignParameters& p) {
     campaign::validate(p.surface);
+    campaign::validate(p.planes);
     campaign::validate(p.ground);
     campaign::validate(p.verticality);
     campaign::validate(p.segmentation);
@@ -113,6 +126,41 @@ Structure segment_structure(std::span<const Eigen::Vector3d> points, const Campa
     return out;
 }
 
+// The coarse step (campaign_comparison.hpp): the campaign's planes matched to the reference's
+// without a prior. With `automatic`, a failure leaves the frame as it is and says why.
+CoarseFrame coarse_frame(const CampaignReference& reference, std::span<const Eigen::Vector3d> cloud,
+                         const CampaignParameters& p) {
+    CoarseFrame out;
+    if (p.coarse == CoarseRegistration::none) return out;
+    const auto planes = campaign::detect_cloud_planes(cloud, p.planes, p.threads);
+    out.campaign_planes = planes.size();
+    out.reference_planes = reference.planes.size();
+    registration::PriorFreeMatchingParams matching = p.plane_matching;
+    matching.either_sign = true;
+    const auto match = registration::match_planes_without_prior(reference.planes, planes, matching);
+    std::string why;
+    if (!match) {
+        why = "no heading and shift make " + std::to_string(matching.min_support) + " of its " +
+              std::to_string(planes.size()) + " planes fall on the reference's " +
+              std::to_string(reference.planes.size());
+    } else if (match->runner_up >= match->support) {
+        why = "ambiguous: two headings each make " + std::to_string(match->support) +
+              " planes fall on the reference's";
+    }
+    if (why.empty()) {
+        out.used = CoarseRegistration::planes;
+        out.matrix.topLeftCorner<3, 3>() = match->approximate.rotation;
+        out.matrix.topRightCorner<3, 1>() = match->approximate.translation;
+        out.support = match->support;
+        out.runner_up = match->runner_up;
+        return out;
+    }
+    if (p.coarse == CoarseRegistration::planes)
+        throw Error("campaign: no coarse registration on planes (" + why + ")");
+    out.note = why + "; the files are taken as in one frame";
+    return out;
+}
+
 }  // namespace
 
 CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
@@ -134,6 +182,8 @@ CampaignReference::CampaignReference(std::span<const Eigen::Vector3d> points,
     Structure structure = segment_structure(points, p, unused);
     ground = std::move(structure.ground);
     segmentation = std::move(structure.segmentation);
+    if (p.coarse != CoarseRegistration::none)
+        planes = campaign::detect_cloud_planes(points, p.planes, p.threads);
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -145,20 +195,29 @@ CampaignComparison compare_campaign(const CampaignReference& reference,
     const unsigned threads = p.threads;
     CampaignComparison out;
     auto clock = std::chrono::steady_clock::now();
+    out.coarse = coarse_frame(reference, cloud, p);
+    out.seconds.coarse = lap(clock);
     campaign::SegmentIcpParameters global = p.icp;
     global.metric = campaign::IcpMetric::point_to_plane;
+    const Eigen::Matrix4d& C = out.coarse.matrix;
     out.global = campaign::register_segment(
         surface,
-        subsample(cloud.size(), p.registration_points, [&](std::size_t j) { return cloud[j]; }),
+        subsample(
+            cloud.size(), p.registration_points,
+            [&](std::size_t j) { return Eigen::Vector3d((C * cloud[j].homogeneous()).head<3>()); }),
         global, threads);
     if (!out.global.registered()) {
+        const std::string coarse =
+            out.coarse.used == CoarseRegistration::planes
+                ? "after the coarse step on " + std::to_string(out.coarse.support) + " planes"
+            : out.coarse.note.empty() ? "without a coarse step: are both files in one frame?"
+                                      : "without a coarse step: " + out.coarse.note;
         throw Error("campaign: the global registration failed (" +
                     std::string(campaign::outcome_name(out.global.outcome)) + ", " +
                     std::to_string(out.global.pairs) + " pairs of " +
-                    std::to_string(out.global.points) +
-                    " points within max_distance): are both files in one frame?");
+                    std::to_string(out.global.points) + " points within max_distance) " + coarse);
     }
-    out.registered = transformed(cloud, out.global.matrix(), threads);
+    out.registered = transformed(cloud, out.frame(), threads);
     out.seconds.global = lap(clock);
     Structure structure = segment_structure(out.registered, p, out.seconds);
     out.ground = std::move(structure.ground);

@@ -1,7 +1,8 @@
 #pragma once
 // A campaign cloud compared with the TLS reference segment by segment (docs/campaigns.md; the
-// segment-based analysis of Blaskow & Maas): the whole cloud registered on the reference
-// (point-to-plane on the local planes: the fine step, the files already in one frame), then
+// segment-based analysis of Blaskow & Maas): the campaign's own frame brought near the
+// reference's (the coarse step: both clouds' planes matched without a prior), the whole cloud
+// registered on the reference (point-to-plane on the local planes: the fine step), then
 // the ground found by the cloth simulation filter (kept for the registration, left out of the
 // segments), verticality and the two-stage segmentation of the rest, each segment registered
 // on its own (verticality and the segments on the cloud thinned to one point per voxel,
@@ -12,9 +13,11 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "algorithms/campaign/c2c.hpp"
+#include "algorithms/campaign/cloud_planes.hpp"
 #include "algorithms/campaign/cut_bias.hpp"
 #include "algorithms/campaign/ground_filter.hpp"
 #include "algorithms/campaign/reference_surface.hpp"
@@ -24,8 +27,19 @@
 #include "algorithms/campaign/segmentation.hpp"
 #include "algorithms/campaign/thinning.hpp"
 #include "algorithms/campaign/verticality.hpp"
+#include "algorithms/registration/plane_matching_without_prior.hpp"
 
 namespace tlsmon {
+
+// How a campaign's own frame is brought near the reference's before the whole cloud's ICP
+// (docs/campaigns.md, "The campaign's frame"):
+//   none       the files are in one frame (georeferenced in the field, or simulated so);
+//   planes     both clouds' planes (cloud_planes.hpp) matched without a prior
+//              (plane_matching_without_prior.hpp): a SLAM frame is levelled by the scanner's
+//              inertial unit, so the two frames differ by a heading and a shift;
+//   automatic  planes, and none where they give no match that is unambiguous.
+enum class CoarseRegistration { none, planes, automatic };
+const char* coarse_name(CoarseRegistration coarse);  // "none", "planes", "auto"
 
 struct CampaignParameters {
     campaign::ReferenceSurfaceParameters surface;
@@ -60,6 +74,10 @@ struct CampaignParameters {
     campaign::C2cModel c2c = campaign::C2cModel::local_plane;
     double alpha = 0.05;   // of the segments' consistency test
     unsigned threads = 0;  // 0: every core
+    CoarseRegistration coarse = CoarseRegistration::automatic;
+    campaign::CloudPlaneParameters planes;  // of the coarse step, in both clouds
+    // The coarse step's matching; its either_sign is set (unstructured planes have no side).
+    registration::PriorFreeMatchingParams plane_matching;
 };
 
 struct CampaignSegmentResult {
@@ -81,21 +99,38 @@ struct CampaignReference {
     campaign::ReferenceSurface surface;
     campaign::GroundClassification ground;
     campaign::Segmentation segmentation;  // per reference point, as a campaign's
-    double seconds = 0;                   // wall time to prepare it
+    // Its planes for the coarse step (none when the parameters ask for no coarse step).
+    std::vector<registration::FittedPlane> planes;
+    double seconds = 0;  // wall time to prepare it
+};
+
+// The coarse step's outcome. `used` is none or planes; with automatic, `note` says why the
+// planes were not used.
+struct CoarseFrame {
+    CoarseRegistration used = CoarseRegistration::none;
+    Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();  // the campaign's frame, near the
+                                                           // reference's: x' = M·x
+    std::size_t campaign_planes = 0, reference_planes = 0;
+    std::size_t support = 0;    // plane pairs the match rests on
+    std::size_t runner_up = 0;  // the best other heading's pairs
+    std::string note;
 };
 
 // Wall seconds of each step, for the operator to see where the time went.
 struct CampaignTimings {
     double reference = 0;  // preparing the reference, when the comparison did
-    double global = 0, ground = 0, verticality = 0, segmentation = 0, matching = 0, segments = 0,
-           c2c = 0;
+    double coarse = 0, global = 0, ground = 0, verticality = 0, segmentation = 0, matching = 0,
+           segments = 0, c2c = 0;
     double total() const {
-        return reference + global + ground + verticality + segmentation + matching + segments + c2c;
+        return reference + coarse + global + ground + verticality + segmentation + matching +
+               segments + c2c;
     }
 };
 
 struct CampaignComparison {
-    campaign::SegmentTransform global;      // the whole cloud onto the reference
+    CoarseFrame coarse;
+    campaign::SegmentTransform global;      // the whole cloud after the coarse step onto the
+                                            // reference
     std::size_t thinned = 0;                // voxels of the cloud thinned for classification
     campaign::GroundClassification ground;  // of the registered cloud; empty flags: not removed
     // Per campaign point (ground points: segment −1); the segments' point counts are of the
@@ -109,10 +144,12 @@ struct CampaignComparison {
     std::vector<Eigen::Vector3f> c2c;
     campaign::C2cStatistics c2c_all;
     CampaignTimings seconds;
+    // The campaign's frame onto the reference: the coarse step, then the global registration.
+    Eigen::Matrix4d frame() const { return global.matrix() * coarse.matrix; }
 };
 
-// Throws Error when the global registration fails (no overlap within the surface's
-// max_distance: the files are not in one frame).
+// Throws Error when the coarse step asked for fails, or when the global registration fails
+// (no overlap within the surface's max_distance: the frames are not near each other).
 CampaignComparison compare_campaign(std::span<const Eigen::Vector3d> reference,
                                     std::span<const Eigen::Vector3d> campaign,
                                     const CampaignParameters& parameters);

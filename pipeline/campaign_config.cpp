@@ -15,6 +15,12 @@ constexpr std::array<Named<campaign::C2cModel>, 2> kC2c{{
     {campaign::C2cModel::nearest_point, "nearest-point"},
 }};
 
+constexpr std::array<Named<CoarseRegistration>, 3> kCoarse{{
+    {CoarseRegistration::automatic, "auto"},
+    {CoarseRegistration::planes, "planes"},
+    {CoarseRegistration::none, "none"},
+}};
+
 }  // namespace
 
 CampaignParameters campaign_parameters(const CampaignConfig& c, double range_sigma) {
@@ -32,6 +38,7 @@ CampaignParameters campaign_parameters(const CampaignConfig& c, double range_sig
     p.alpha = c.alpha;
     p.threads = unsigned(c.threads);
     p.range_sigma = range_sigma;
+    p.coarse = c.coarse;
     return p;
 }
 
@@ -71,6 +78,14 @@ std::vector<SectionKey<CampaignConfig>> campaign_keys() {
                   "The level of the test of whether the segments moved as one."),
         K::integer(&CampaignConfig::threads, "threads", 0, 256, "",
                    "Threads of a comparison; 0: every core."),
+        K::choice(&CampaignConfig::coarse, "coarse", kCoarse,
+                  "How a campaign's own frame (a SLAM cloud's, levelled) is brought near the "
+                  "reference's before the whole cloud's ICP: both clouds' planes matched without "
+                  "a prior; auto: planes, else the files taken as in one frame; none: they are."),
+        K::number(&CampaignConfig::store_spacing, "store_spacing", 0, 10, "m",
+                  "A stored campaign keeps its registered points thinned to one per voxel this "
+                  "size, each with its segment and C2C vector (for export and drawing); 0: "
+                  "every point."),
     };
 }
 

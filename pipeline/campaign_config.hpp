@@ -24,6 +24,10 @@ struct CampaignConfig {
     bool remove_ground = true;
     double alpha = 0.05;
     int threads = 0;
+    CoarseRegistration coarse = CoarseRegistration::automatic;
+    // m: a stored campaign keeps its registered points thinned to one per voxel this size,
+    // each with its segment and C2C vector; 0: every point.
+    double store_spacing = 0.05;
 };
 
 // The comparison's parameters: these keys over the defaults, and the instrument's range noise.

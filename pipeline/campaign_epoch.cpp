@@ -17,12 +17,6 @@ std::optional<double> finite_or_none(double v) {
     return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
 }
 
-std::vector<Eigen::Vector3d> points_of(const std::vector<Scan>& scans) {
-    std::vector<Eigen::Vector3d> out;
-    for (const Scan& scan : scans) out.insert(out.end(), scan.xyz.begin(), scan.xyz.end());
-    return out;
-}
-
 // The reference epoch's scan: where the archive put it, else where it was read.
 fs::path reference_scan(const EpochDatabase& db, EpochId& id) {
     const auto reference = db.epochs().reference();
@@ -51,7 +45,10 @@ nlohmann::json parameters_json(const CampaignParameters& p) {
             {"min_overlap", p.min_overlap},
             {"range_sigma_m", p.range_sigma},
             {"cut_distance_m", p.cut_distance},
-            {"alpha", p.alpha}};
+            {"alpha", p.alpha},
+            {"coarse", coarse_name(p.coarse)},
+            {"plane_spacing_m", p.planes.spacing},
+            {"plane_radius_coarse_m", p.planes.radius}};
 }
 
 }  // namespace
@@ -126,11 +123,57 @@ CampaignRow campaign_row(const CampaignComparison& c, const CampaignParameters& 
     row.c2c_missing = std::int64_t(c.c2c_all.missing);
     row.parameters_json = parameters_json(p).dump();
     row.seconds = c.seconds.total();
+    row.coarse = coarse_name(c.coarse.used);
+    if (c.coarse.used == CoarseRegistration::planes)
+        row.coarse_planes = std::int64_t(c.coarse.support);
+    row.frame.emplace();
+    const Eigen::Matrix4d M = c.frame();
+    for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) (*row.frame)[std::size_t(4 * r + k)] = M(r, k);
     return row;
 }
 
+const CampaignReference& CampaignReferences::get(const EpochDatabase& db,
+                                                 const CampaignParameters& p, EpochId& epoch) {
+    const fs::path path = reference_scan(db, epoch);
+    const std::string parameters = parameters_json(p).dump();
+    if (reference_ && epoch == epoch_ && parameters == parameters_) return *reference_;
+    reference_.reset();
+    points_ = all_points(read_scans(path), path.string());
+    reference_ = std::make_unique<CampaignReference>(points_, p);
+    epoch_ = epoch;
+    parameters_ = parameters;
+    ++prepared_;
+    return *reference_;
+}
+
+CampaignPoints stored_points(const CampaignComparison& c, double spacing, unsigned threads) {
+    const campaign::VoxelThinning thin =
+        campaign::thin_by_voxel(c.registered, spacing, {}, threads);
+    CampaignPoints out;
+    out.spacing = spacing;
+    if (thin.kept.empty()) return out;
+    // The origin on a whole metre near the points: float32 offsets keep 8 µm at 100 m.
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto i : thin.kept) mean += c.registered[i];
+    mean /= double(thin.kept.size());
+    for (int k = 0; k < 3; ++k) out.origin[std::size_t(k)] = std::round(mean(k));
+    const char* names[] = {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
+    for (const char* name : names) out.arrays.push_back({name, {}});
+    for (auto& a : out.arrays) a.values.reserve(thin.kept.size());
+    for (const auto i : thin.kept) {
+        for (int k = 0; k < 3; ++k)
+            out.arrays[std::size_t(k)].values.push_back(
+                float(c.registered[i](k) - out.origin[std::size_t(k)]));
+        out.arrays[3].values.push_back(float(c.segmentation.segment[i]));
+        for (int k = 0; k < 3; ++k) out.arrays[std::size_t(4 + k)].values.push_back(c.c2c[i](k));
+    }
+    return out;
+}
+
 StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
-                            const HashedBytes& bytes, const CampaignParameters& p) {
+                            const HashedBytes& bytes, const CampaignParameters& p,
+                            double store_spacing, CampaignReferences& references) {
     validate(p);
     StoredCampaign out;
     if (auto known = db.campaigns().find(bytes.sha256)) {
@@ -139,10 +182,9 @@ StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
         return out;
     }
     EpochId reference_id = 0;
-    const fs::path reference_path = reference_scan(db, reference_id);
-    const std::vector<Eigen::Vector3d> cloud = points_of(parse_scans(bytes.bytes, source.file));
-    if (cloud.empty()) throw Error(source.file.string() + ": no points");
-    const std::vector<Eigen::Vector3d> reference = points_of(read_scans(reference_path));
+    const CampaignReference& reference = references.get(db, p, reference_id);
+    const std::vector<Eigen::Vector3d> cloud =
+        all_points(parse_scans(bytes.bytes, source.file), source.file.string());
     out.comparison = compare_campaign(reference, cloud, p);
     out.row = campaign_row(*out.comparison, p);
     out.row.sha256 = bytes.sha256;
@@ -153,7 +195,8 @@ StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
     out.row.file_path = (source.stored_path.empty() ? source.file : source.stored_path).string();
     out.row.file_size = std::int64_t(bytes.bytes.size());
     out.row.reference_epoch = reference_id;
-    out.row.id = db.campaigns().add(out.row, segment_rows(*out.comparison));
+    out.row.id = db.campaigns().add(out.row, segment_rows(*out.comparison),
+                                    stored_points(*out.comparison, store_spacing, p.threads));
     return out;
 }
 

@@ -5,6 +5,7 @@
 // transaction — apart from the station's epochs, so never in its zone series or its alarms.
 // `tlsmon campaign add` and the daemon's ingest of an [[instrument]]'s files both come here.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,13 +31,39 @@ struct StoredCampaign {
     std::optional<CampaignComparison> comparison;  // when compared now
 };
 
+// The reference epoch's scan prepared for campaigns (its local planes, segments and planes:
+// 20 s for 10 M points), kept for the campaigns that follow while the reference epoch and the
+// parameters stay the same. The daemon keeps one for a batch of campaigns, then lets it go
+// (it holds the reference's points).
+class CampaignReferences {
+  public:
+    // Throws Error when there is no reference epoch yet or its scan is gone.
+    const CampaignReference& get(const EpochDatabase& db, const CampaignParameters& parameters,
+                                 EpochId& reference_epoch);
+    int prepared() const { return prepared_; }  // how many times it was prepared
+
+  private:
+    EpochId epoch_ = 0;
+    std::string parameters_;
+    std::vector<Eigen::Vector3d> points_;
+    std::unique_ptr<CampaignReference> reference_;
+    int prepared_ = 0;
+};
+
+// What a stored campaign keeps of a comparison besides its rows: the registered points, thinned
+// to `spacing` (0: every point), with their segment and C2C vector.
+CampaignPoints stored_points(const CampaignComparison& comparison, double spacing,
+                             unsigned threads = 0);
+
 // The file's bytes (read_file_hashed) with their sha256: a campaign already stored is returned
-// as it is. Otherwise the reference epoch's scan is read (from the archive when it was moved
-// there) and compared. Throws Error when there is no reference epoch yet, its scan is gone,
-// the file is no scan or the comparison fails (the clouds do not overlap); StorageError when
-// the database refuses.
+// as it is. Otherwise the cloud is compared with the reference epoch's scan (from the archive
+// when it was moved there; prepared by `references`) and stored with its points thinned to
+// `store_spacing`. Throws Error when there is no reference epoch yet, its scan is gone, the
+// file is no scan or the comparison fails (the clouds do not overlap); StorageError when the
+// database refuses.
 StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
-                            const HashedBytes& bytes, const CampaignParameters& parameters);
+                            const HashedBytes& bytes, const CampaignParameters& parameters,
+                            double store_spacing, CampaignReferences& references);
 
 // The segments as stored and as segments.csv has them.
 std::vector<CampaignSegmentRow> segment_rows(const CampaignComparison& comparison);

@@ -78,6 +78,7 @@ RunReport analyse(const RunData& run, const std::vector<TruthEpoch>& truth,
     out.reference = run.reference;
     out.truth_folder = truth_folder;
     out.truth_epochs = static_cast<int>(truth.size());
+    out.campaigns = run.campaigns;
     for (const TruthEpoch& t : truth) {
         if (t.knocked && !out.knocked) out.knocked = t.knocked;
         if (t.step && !out.step) out.step = t.step;

@@ -123,6 +123,7 @@ struct RunReport {
     std::vector<AlarmCheck> alarms;
     std::vector<ChiSquareTest> chi_square_tests;  // of the accepted epochs, truth or not
     std::size_t epochs_done = 0, epochs_rejected = 0, epochs_failed = 0, epochs_pending = 0;
+    std::vector<CampaignRow> campaigns;  // as stored: nothing of them is scored
 };
 
 // `truth` empty: a run without a truth (nothing is scored).

@@ -80,6 +80,7 @@ RunData read_run(const EpochDatabase& db, const TimeRange& window, ZoneSeries se
         if (e.time > window.upper()) break;  // by time
         if (e.rule.rfind("system.", 0) != 0) r.alarm_events.push_back(e);
     }
+    r.campaigns = db.campaigns().in_range(window);
     return r;
 }
 

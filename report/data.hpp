@@ -36,6 +36,7 @@ struct RunData {
     std::vector<RunZone> zones;    // by id
     std::vector<AlarmRule> rules;  // configured rules (system.* left out)
     std::vector<AlarmEvent> alarm_events;
+    std::vector<CampaignRow> campaigns;  // acquired in the window (docs/campaigns.md)
 };
 
 // Reads everything the report needs of the epochs acquired in `window` (open: all of them);

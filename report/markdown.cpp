@@ -261,6 +261,43 @@ std::vector<std::string> summary_lines(const RunReport& r) {
     return out;
 }
 
+namespace {
+
+// The campaign epochs of the window (docs/campaigns.md): kept apart from the station's series,
+// so listed, not scored.
+std::string campaigns_section(const RunReport& r) {
+    if (r.campaigns.empty()) return "";
+    std::string md =
+        "\n## Campaigns\n\n"
+        "Clouds of a personal or mobile scanner compared with the reference segment by segment "
+        "(docs/campaigns.md); apart from the zone series and the alarms. \"Moved as one: no\" "
+        "says the campaign's cloud is deformed in itself (SLAM drift) or a part moved.\n\n"
+        "| campaign | acquired | instrument | frame | segments registered | moved as one | C2C "
+        "mean | C2C 95 % |\n|---|---|---|---|---|---|---|---|\n";
+    const auto mm = [](const std::optional<double>& v) {
+        return v ? fmt::format("{:.1f} mm", 1e3 * *v) : std::string("—");
+    };
+    for (const CampaignRow& k : r.campaigns) {
+        const std::string moved =
+            !k.segments_differ
+                ? "not testable"
+                : fmt::format("{} (p {})", *k.segments_differ ? "**no**" : "yes",
+                              *k.test_p < 1e-4 ? "< 0.0001" : fmt::format("{:.4f}", *k.test_p));
+        const std::string frame =
+            k.coarse_planes ? fmt::format("found on {} planes", *k.coarse_planes) : "as given";
+        md += fmt::format("| {} | {} | {} ({}) | {} | {} of {} | {} | {} | {} |\n", k.id,
+                          format_utc(k.acquired), k.instrument, k.kind, frame,
+                          k.registered_segments, k.segments, moved, mm(k.c2c_mean), mm(k.c2c_p95));
+    }
+    md += fmt::format(
+        "\nEach campaign's segments: `tlsmon query campaign-segments --db {} --campaign N`; its "
+        "points: `tlsmon query campaign-points`; on the dashboard, /campaigns/N.\n",
+        r.database.string());
+    return md;
+}
+
+}  // namespace
+
 std::string markdown(const RunReport& r, const ReportFiles& files, const ReportContext& c) {
     std::string md =
         r.scored ? "# tlsmon run scored against the simulator's truth\n\n" : "# tlsmon run\n\n";
@@ -453,6 +490,8 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
         }
         for (const auto& e : a.events) md += "  - " + e + "\n";
     }
+
+    md += campaigns_section(r);
 
     // ---- Look further ----
     const std::string db = tlsmon_db(c, r);

@@ -114,6 +114,24 @@ std::vector<Eigen::Vector3d> noise_free_points(const PlsCampaign& c, const PlsCl
     return out;
 }
 
+Eigen::Matrix4d slam_frame(const PlsTrajectory& trajectory, double heading) {
+    const auto& w = trajectory.waypoints;
+    double leg_heading = 0;
+    for (std::size_t i = 1; i < w.size(); ++i) {
+        const Eigen::Vector3d leg = w[i] - w[0];
+        if (leg.head<2>().norm() > 1e-6) {
+            leg_heading = std::atan2(leg.y(), leg.x());
+            break;
+        }
+    }
+    const Eigen::Vector2d x(std::cos(leg_heading + heading), std::sin(leg_heading + heading));
+    Eigen::Matrix4d F = Eigen::Matrix4d::Identity();
+    F.block<3, 1>(0, 0) << x.x(), x.y(), 0;
+    F.block<3, 1>(0, 1) << -x.y(), x.x(), 0;
+    if (!w.empty()) F.block<3, 1>(0, 3) = w.front();
+    return F;
+}
+
 PlsTrajectory walk_around_pier(const Site& site) {
     const Pier& p = site.pier;
     const double x0 = p.x0 - 8.0, x1 = p.x1 + 4.0, y0 = p.y0 - 6.0, y1 = p.y1 + 6.0;

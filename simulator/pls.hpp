@@ -108,6 +108,12 @@ std::vector<Eigen::Vector3d> noise_free_points(const PlsCampaign& campaign, cons
 // the pier, 4 m east, 6 m south and north (clear of the presets' walls and abutment).
 PlsTrajectory walk_around_pier(const Site& site);
 
+// The SLAM's own frame in the scene: its origin where the walk starts, its x axis where the
+// scanner pointed then — `heading` (rad, counter-clockwise) from the first leg — levelled (the
+// scanner's inertial unit finds the vertical): the frame a handheld scanner's cloud comes in
+// before anyone georeferences it. x_scene = F·x_slam.
+Eigen::Matrix4d slam_frame(const PlsTrajectory& trajectory, double heading);
+
 // Throws Error naming the value that cannot give a campaign.
 void validate(const PlsCampaign& campaign);
 

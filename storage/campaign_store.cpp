@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <string_view>
 
+#include "core/error.hpp"
 #include "storage/connection.hpp"
 #include "storage/series_reader.hpp"
 
@@ -18,7 +20,8 @@ constexpr const char* kCampaignColumns =
     " points, ground_points, global_rx_rad, global_ry_rad, global_rz_rad, global_tx_m,"
     " global_ty_m, global_tz_m, global_pairs, global_rmse_m, segments, registered_segments,"
     " test_statistic, test_dof, test_p, segments_differ, alpha, c2c_mean_m, c2c_sigma_m,"
-    " c2c_median_m, c2c_p95_m, c2c_missing, parameters_json, seconds";
+    " c2c_median_m, c2c_p95_m, c2c_missing, parameters_json, seconds, coarse, coarse_planes,"
+    " frame";
 
 constexpr const char* kSegmentColumns =
     "segment, class, cluster, points, voxels, outcome, reference_segment, reference_overlap,"
@@ -62,7 +65,17 @@ void check(const Connection& c, const CampaignRow& r, const std::vector<Campaign
         for (auto* v : segment_tail(copy)) finite = finite && (!*v || std::isfinite(**v));
         finite = finite && (!row.reference_overlap || std::isfinite(*row.reference_overlap));
     }
+    if (r.frame)
+        for (double v : *r.frame) finite = finite && std::isfinite(v);
     if (!finite) throw_storage(c, where + "a figure is not finite");
+}
+
+void check(const Connection& c, const CampaignRow& r, const CampaignPoints& p) {
+    for (const auto& a : p.arrays)
+        if (a.values.size() != p.size())
+            throw_storage(c, "campaign " + r.sha256.substr(0, 12) + ": its point array '" +
+                                 a.quantity + "' has " + std::to_string(a.values.size()) +
+                                 " values, not " + std::to_string(p.size()));
 }
 
 CampaignRow read_campaign(SQLite::Statement& q) {
@@ -96,7 +109,40 @@ CampaignRow read_campaign(SQLite::Statement& q) {
     r.c2c_missing = q.getColumn(k++).getInt64();
     r.parameters_json = q.getColumn(k++).getString();
     r.seconds = q.getColumn(k++).getDouble();
+    r.coarse = q.getColumn(k++).getString();
+    r.coarse_planes = optional_int64(q.getColumn(k++));
+    const auto frame = q.getColumn(k++);
+    if (!frame.isNull()) {
+        if (frame.getBytes() != 128)
+            throw Error("campaign " + std::to_string(r.id) + ": a frame of " +
+                        std::to_string(frame.getBytes()) + " bytes");
+        r.frame.emplace();
+        std::memcpy(r.frame->data(), frame.getBlob(), 128);
+    }
     return r;
+}
+
+void write_points(Connection& c, CampaignId id, const CampaignPoints& p) {
+    SQLite::Statement head(c.db,
+                           "INSERT INTO campaign_points (campaign_id, origin_x_m, origin_y_m,"
+                           " origin_z_m, spacing_m, count) VALUES (?,?,?,?,?,?)");
+    head.bind(1, id);
+    for (int k = 0; k < 3; ++k) head.bind(2 + k, p.origin[std::size_t(k)]);
+    head.bind(5, p.spacing);
+    head.bind(6, std::int64_t(p.size()));
+    head.exec();
+    SQLite::Statement a(c.db,
+                        "INSERT INTO campaign_point_arrays (campaign_id, quantity, count, data)"
+                        " VALUES (?,?,?,?)");
+    for (const auto& array : p.arrays) {
+        a.reset();
+        a.bind(1, id);
+        a.bind(2, array.quantity);
+        a.bind(3, std::int64_t(array.values.size()));
+        // bindNoCopy: the vector outlives exec().
+        a.bindNoCopy(4, array.values.data(), int(array.values.size() * sizeof(float)));
+        a.exec();
+    }
 }
 
 std::vector<CampaignRow> campaigns_where(const Connection& c, const std::string& where,
@@ -113,8 +159,10 @@ std::vector<CampaignRow> campaigns_where(const Connection& c, const std::string&
 
 }  // namespace
 
-CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSegmentRow>& rows) {
+CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSegmentRow>& rows,
+                              const CampaignPoints& points) {
     check(*c_, r, rows);
+    check(*c_, r, points);
     return guarded(*c_, "storing a campaign", [&] {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
         SQLite::Statement insert(c_->db, std::string("INSERT INTO campaigns (") + kCampaignColumns +
@@ -150,6 +198,12 @@ CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSe
         insert.bind(k++, r.c2c_missing);
         insert.bind(k++, r.parameters_json);
         insert.bind(k++, r.seconds);
+        insert.bind(k++, r.coarse);
+        bind_optional(insert, k++, r.coarse_planes);
+        if (r.frame)
+            insert.bindNoCopy(k++, r.frame->data(), 128);  // r outlives exec()
+        else
+            insert.bind(k++);
         insert.exec();
         const CampaignId id = c_->db.getLastInsertRowid();
         SQLite::Statement seg(c_->db, std::string("INSERT INTO campaign_segments (campaign_id, ") +
@@ -176,6 +230,7 @@ CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSe
             for (auto* v : segment_tail(row)) bind_optional(seg, k++, *v);
             seg.exec();
         }
+        if (!points.arrays.empty()) write_points(*c_, id, points);
         tx.commit();
         return id;
     });
@@ -231,6 +286,42 @@ std::vector<CampaignSegmentRow> CampaignStore::segments(CampaignId id) const {
         }
         return out;
     });
+}
+
+std::optional<CampaignPoints> CampaignStore::points(CampaignId id) const {
+    return guarded(*c_, "reading a campaign's points", [&]() -> std::optional<CampaignPoints> {
+        SQLite::Statement head(c_->db,
+                               "SELECT origin_x_m, origin_y_m, origin_z_m, spacing_m, count"
+                               " FROM campaign_points WHERE campaign_id = ?");
+        head.bind(1, id);
+        if (!head.executeStep()) return std::nullopt;
+        CampaignPoints out;
+        for (int k = 0; k < 3; ++k) out.origin[std::size_t(k)] = head.getColumn(k).getDouble();
+        out.spacing = head.getColumn(3).getDouble();
+        const std::int64_t count = head.getColumn(4).getInt64();
+        SQLite::Statement q(c_->db,
+                            "SELECT quantity, count, data FROM campaign_point_arrays"
+                            " WHERE campaign_id = ? ORDER BY rowid");
+        q.bind(1, id);
+        while (q.executeStep()) {
+            CorePointArray a{q.getColumn(0).getString(), {}};
+            const auto data = q.getColumn(2);
+            if (q.getColumn(1).getInt64() != count || data.getBytes() != count * 4)
+                throw_storage(*c_, "campaign " + std::to_string(id) + " point array '" +
+                                       a.quantity + "': " + std::to_string(data.getBytes()) +
+                                       " bytes for " + std::to_string(count) + " points");
+            a.values.resize(std::size_t(count));
+            if (count > 0) std::memcpy(a.values.data(), data.getBlob(), std::size_t(count) * 4);
+            out.arrays.push_back(std::move(a));
+        }
+        return out;
+    });
+}
+
+const std::vector<float>* CampaignPoints::array(const std::string& quantity) const {
+    for (const auto& a : arrays)
+        if (a.quantity == quantity) return &a.values;
+    return nullptr;
 }
 
 }  // namespace tlsmon

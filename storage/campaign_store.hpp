@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/utc_time.hpp"
+#include "storage/epoch_results.hpp"
 #include "storage/ids.hpp"
 
 namespace tlsmon {
@@ -57,20 +58,45 @@ struct CampaignRow {
     std::int64_t c2c_missing = 0;
     std::string parameters_json;
     double seconds = 0;
+    // How the cloud's own frame was brought near the reference before the global
+    // registration: "none" (the files were in one frame) or "planes", with the plane pairs
+    // the match rests on.
+    std::string coarse = "none";
+    std::optional<std::int64_t> coarse_planes;
+    // The campaign's frame onto the reference (the coarse step, then the global
+    // registration): x_ref = M·x, row-major. None for a campaign stored before 0016.
+    std::optional<std::array<double, 16>> frame;
+};
+
+// A stored campaign's points: its registered cloud thinned to one point per `spacing` voxel
+// ([campaign] store_spacing), as float32 arrays of one length, by quantity:
+//   x_m, y_m, z_m           the point after its segment's registration, in the reference's
+//                           frame, less `origin` (float32 keeps 8 µm at 100 m from it)
+//   segment                 its segment (−1: ground, or in no segment)
+//   c2c_dx_m, c2c_dy_m, c2c_dz_m   its C2C vector (NaN: no reference point within reach)
+struct CampaignPoints {
+    std::array<double, 3> origin{};  // m
+    double spacing = 0;              // m, 0: every point
+    std::vector<CorePointArray> arrays;
+    std::size_t size() const { return arrays.empty() ? 0 : arrays.front().values.size(); }
+    const std::vector<float>* array(const std::string& quantity) const;
 };
 
 class CampaignStore {
   public:
     explicit CampaignStore(Connection& connection) : c_(&connection) {}
 
-    // The campaign and its segments in one transaction; returns its id. A sha256 already
-    // stored is a StorageError (find() first).
-    CampaignId add(const CampaignRow& campaign, const std::vector<CampaignSegmentRow>& segments);
+    // The campaign, its segments and its points in one transaction; returns its id. A sha256
+    // already stored is a StorageError (find() first), and so are arrays of unequal lengths.
+    CampaignId add(const CampaignRow& campaign, const std::vector<CampaignSegmentRow>& segments,
+                   const CampaignPoints& points = {});
     std::optional<CampaignRow> find(const std::string& sha256) const;
     std::optional<CampaignRow> get(CampaignId id) const;
     // Acquired in the range, oldest first.
     std::vector<CampaignRow> in_range(const TimeRange& range) const;
     std::vector<CampaignSegmentRow> segments(CampaignId id) const;
+    // None when the campaign kept no points (stored before 0016).
+    std::optional<CampaignPoints> points(CampaignId id) const;
 
   private:
     Connection* c_;

@@ -59,7 +59,7 @@ export function element(tag, attributes = {}, ...children) {
 export function header(station, current) {
   const nav = element('nav');
   for (const [href, label] of [['/', 'Overview'], ['/alarms', 'Alarms'], ['/events', 'Events'],
-    ['/calibration', 'Calibration']]) {
+    ['/calibration', 'Calibration'], ['/campaigns', 'Campaigns']]) {
     nav.append(element('a', { href, text: label, class: href === current ? 'current' : '' }));
   }
   const h = document.querySelector('header');

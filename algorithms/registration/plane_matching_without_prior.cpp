@@ -72,11 +72,12 @@ struct Pair {
     std::size_t reference, epoch;
 };
 
-// The pairs that one (R, t) explains, one per reference plane (the smallest offset).
+// The pairs that one (R, t) explains, one per reference plane (the smallest offset) and one
+// per epoch plane (of `distinct`: with either_sign, plane j and j + distinct are one plane).
 std::vector<Pair> explained(std::span<const FittedPlane> reference,
-                            std::span<const FittedPlane> epoch, const std::vector<Pair>& pairs,
-                            const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                            const PriorFreeMatchingParams& p) {
+                            std::span<const FittedPlane> epoch, std::size_t distinct,
+                            const std::vector<Pair>& pairs, const Eigen::Matrix3d& R,
+                            const Eigen::Vector3d& t, const PriorFreeMatchingParams& p) {
     std::vector<double> best(reference.size(), p.max_offset);
     std::vector<std::optional<std::size_t>> chosen(reference.size());
     for (const auto& [i, j] : pairs) {
@@ -92,10 +93,10 @@ std::vector<Pair> explained(std::span<const FittedPlane> reference,
         chosen[i] = j;
     }
     std::vector<Pair> out;
-    std::vector<bool> epoch_taken(epoch.size());
+    std::vector<bool> epoch_taken(distinct);
     for (std::size_t i = 0; i < reference.size(); ++i) {
-        if (!chosen[i] || epoch_taken[*chosen[i]]) continue;
-        epoch_taken[*chosen[i]] = true;
+        if (!chosen[i] || epoch_taken[*chosen[i] % distinct]) continue;
+        epoch_taken[*chosen[i] % distinct] = true;
         out.push_back({i, *chosen[i]});
     }
     return out;
@@ -108,8 +109,9 @@ struct Hypothesis {
 
 // Step 2 for one heading: translations from three pairs with well-spread normals.
 Hypothesis best_translation(std::span<const FittedPlane> reference,
-                            std::span<const FittedPlane> epoch, const Eigen::Matrix3d& R,
-                            const PriorFreeMatchingParams& p, std::mt19937& rng) {
+                            std::span<const FittedPlane> epoch, std::size_t distinct,
+                            const Eigen::Matrix3d& R, const PriorFreeMatchingParams& p,
+                            std::mt19937& rng) {
     const double cos_max = std::cos(p.max_angle_deg * std::numbers::pi / 180.0);
     std::vector<Pair> pairs;
     for (std::size_t i = 0; i < reference.size(); ++i) {
@@ -133,7 +135,7 @@ Hypothesis best_translation(std::span<const FittedPlane> reference,
         // |det| of three unit normals: 1 for orthogonal ones, 0 for coplanar directions.
         if (std::fabs(N.determinant()) < 0.2) continue;
         const Eigen::Vector3d t = N.partialPivLu().solve(rhs);
-        auto support = explained(reference, epoch, pairs, R, t, p);
+        auto support = explained(reference, epoch, distinct, pairs, R, t, p);
         if (support.size() > best.support.size()) best = {t, std::move(support)};
     }
     return best;
@@ -146,14 +148,27 @@ std::optional<PriorFreeMatch> match_planes_without_prior(std::span<const FittedP
                                                          const PriorFreeMatchingParams& params) {
     reference = reference.first(std::min(reference.size(), params.max_planes));
     epoch = epoch.first(std::min(epoch.size(), params.max_planes));
+    const std::size_t distinct = epoch.size();
+    std::vector<FittedPlane> either;  // each plane, then each with its opposite normal
+    if (params.either_sign) {
+        either.assign(epoch.begin(), epoch.end());
+        for (std::size_t j = 0; j < distinct; ++j) {
+            either.push_back(epoch[j]);
+            either.back().normal = -epoch[j].normal;
+        }
+        epoch = either;
+    }
     std::mt19937 rng(1);
     std::optional<PriorFreeMatch> out;
     std::vector<Pair> winner;
+    // With either_sign every heading's opposite has the same votes: twice the peaks are tried.
+    PriorFreeMatchingParams peaks = params;
+    if (params.either_sign) peaks.heading_peaks *= 2;
     for (const auto& [kappa, votes] :
-         heading_peaks(heading_votes(reference, epoch, params), params)) {
+         heading_peaks(heading_votes(reference, epoch, params), peaks)) {
         const Eigen::Matrix3d R =
             Eigen::AngleAxisd(kappa, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-        Hypothesis h = best_translation(reference, epoch, R, params, rng);
+        Hypothesis h = best_translation(reference, epoch, distinct, R, params, rng);
         if (out && h.support.size() <= out->support) {
             out->runner_up = std::max(out->runner_up, h.support.size());
             continue;

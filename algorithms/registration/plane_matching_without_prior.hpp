@@ -19,7 +19,10 @@
 //    tilt of the standing axis is estimated as well): the approximate transformation from
 //    which match_planes (the datum-dependent matching) and the congruence test proceed.
 // Normals face their scanner in both frames (fit_plane's viewpoint), so only equal signs are
-// paired: a re-set station does not cross a plane of the scene.
+// paired: a re-set station does not cross a plane of the scene. A cloud without one scanner
+// (a campaign's walk) has no side to turn its normals to: with `either_sign`, each epoch
+// plane takes part with its normal and with the opposite one, and a pair takes the sign that
+// agrees with the reference plane.
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -38,6 +41,7 @@ struct PriorFreeMatchingParams {
     int heading_peaks = 4;        // heading candidates tried
     int hypotheses = 3000;        // translation hypotheses per heading
     std::size_t min_support = 4;  // reference planes explained, at least
+    bool either_sign = false;     // the epoch's normals have no side (header)
 };
 
 struct PriorFreeMatch {

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "daemon/http/calibration_api.hpp"
+#include "daemon/http/campaign_api.hpp"
 #include "daemon/http/connection_queue.hpp"
 #include "daemon/http/sessions.hpp"
 #include "daemon/http/users.hpp"
@@ -85,6 +86,17 @@ std::size_t width_parameter(const httplib::Request& req) {
     const auto w = std::stoul(text);
     if (w > 100000) throw BadRequest("parameter 'width': at most 100000");
     return w;
+}
+
+// `max`: the most points of a campaign drawn, 1 to 1 000 000 (default 100 000).
+std::size_t max_points_parameter(const httplib::Request& req) {
+    if (!req.has_param("max")) return 100000;
+    const std::string text = req.get_param_value("max");
+    if (text.empty() || text.size() > 7 ||
+        text.find_first_not_of("0123456789") != std::string::npos || std::stoul(text) < 1 ||
+        std::stoul(text) > 1000000)
+        throw BadRequest("parameter 'max': expected points, 1 to 1000000, not '" + text + "'");
+    return std::stoul(text);
 }
 
 constexpr const char* kSessionCookie = "tlsmon_session";
@@ -267,6 +279,8 @@ void HttpService::State::routes() {
     page("/alarms", "alarms.html");
     page("/events", "events.html");
     page("/calibration", "calibration.html");
+    page("/campaigns", "campaigns.html");
+    page(R"(/campaigns/\d+)", "campaign.html");
     server->Get(R"(/static/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
         const WebFile* f = files.find(req.matches[1].str());
         if (!f) return send_error(res, 404, "no such file");
@@ -365,6 +379,29 @@ void HttpService::State::routes() {
                 if (!absent) throw;
                 send_error(res, 404, e.what());
             }
+        });
+    api("/api/v1/campaigns", [this](const httplib::Request& req, httplib::Response& res) {
+        const auto range = range_parameters(req);
+        send_json(
+            res, with_database([&](const EpochDatabase& db) { return campaigns_json(db, range); }));
+    });
+    api(R"(/api/v1/campaigns/(\d{1,18}))",
+        [this](const httplib::Request& req, httplib::Response& res) {
+            const CampaignId id = std::stoll(req.matches[1].str());
+            const auto body =
+                with_database([&](const EpochDatabase& db) { return campaign_json(db, id); });
+            if (!body) return send_error(res, 404, "no campaign " + std::to_string(id));
+            send_json(res, *body);
+        });
+    api(R"(/api/v1/campaigns/(\d{1,18})/points)",
+        [this](const httplib::Request& req, httplib::Response& res) {
+            const CampaignId id = std::stoll(req.matches[1].str());
+            const std::size_t most = max_points_parameter(req);
+            std::string why;
+            const auto body = with_database(
+                [&](const EpochDatabase& db) { return campaign_points_json(db, id, most, why); });
+            if (!body) return send_error(res, 404, why);
+            send_json(res, *body);
         });
     server->Get("/api/v1/stream",
                 [this](const httplib::Request& req, httplib::Response& res) { stream(req, res); });

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <numbers>
 #include <numeric>
+#include <random>
 
 #include "algorithms/registration/plane_matching.hpp"
 #include "algorithms/registration/plane_matching_without_prior.hpp"
@@ -67,6 +68,32 @@ TEST(PlaneMatchingWithoutPrior, AKnockedStationIsFoundAndEveryPlanePairedWithIts
         const auto matches = match_planes(k.reference, k.epoch, m->approximate);
         EXPECT_EQ(matches.size(), k.reference.size());
         for (const PlaneMatch& p : matches) EXPECT_EQ(k.truth[p.epoch], p.reference);
+    }
+}
+
+TEST(PlaneMatchingWithoutPrior, EitherSignFindsAnyHeadingWhenTheNormalsHaveNoSide) {
+    // A campaign's frame: any heading and tens of metres away; the epoch's normals turned to
+    // either side at random (an unstructured cloud has no scanner for them to face).
+    std::mt19937 rng(79);
+    for (int trial = 0; trial < 10; ++trial) {
+        const double turn = (-170.0 + 37.0 * trial) * kDegree;
+        const Eigen::Affine3d frame = Eigen::Translation3d(-23.0 + trial, 41.0, 0.7) *
+                                      Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ());
+        KnockedEpoch k = knocked(rng, frame);
+        std::bernoulli_distribution flip(0.5);
+        for (auto& e : k.epoch)
+            if (flip(rng)) e.normal = -e.normal;
+
+        PriorFreeMatchingParams p;
+        p.either_sign = true;
+        const auto m = match_planes_without_prior(k.reference, k.epoch, p);
+        ASSERT_TRUE(m) << "trial " << trial;
+        EXPECT_GT(m->support, m->runner_up) << "trial " << trial;
+        const Eigen::AngleAxisd rotation_error(m->approximate.rotation *
+                                               k.station.rotation().transpose());
+        EXPECT_LT(rotation_error.angle(), 0.01 * kDegree) << "trial " << trial;
+        EXPECT_LT((m->approximate.translation - k.station.translation()).norm(), 0.005)
+            << "trial " << trial;
     }
 }
 

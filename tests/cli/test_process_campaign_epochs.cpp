@@ -1,12 +1,16 @@
 // Campaign epochs end to end: the daemon takes a file of an [[instrument]] (its pattern) from
-// the ingest folder, compares it with the reference epoch that came in the same batch, stores
-// it with its segments in the real SQLite file apart from the station's epochs, and archives
-// it; the stored segments are what the one-shot `tlsmon campaign compare` writes for the same
-// two files. The same bytes again are known (`tlsmon campaign add` and the daemon); a cloud
-// that does not overlap the reference is refused by the command and quarantined with its
-// reason by the daemon, nothing stored.
+// the ingest folder — a walk in its SLAM's own frame —, finds its frame on planes, compares it
+// with the reference epoch that came in the same batch, stores it with its segments and its
+// points in the real SQLite file apart from the station's epochs, and archives it; the stored
+// segments are what the one-shot `tlsmon campaign compare` writes for the same two files, and
+// the frame both found is the simulator's. The same bytes again are known (`tlsmon campaign add`
+// and the daemon); a cloud that does not overlap the reference is refused by the command and
+// quarantined with its reason by the daemon, nothing stored.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -36,9 +40,10 @@ nlohmann::json json_of(const std::string& args) {
 
 TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCommandComputesIt) {
     const tlsmon::test::TempDir dir("campaign-epochs");
-    const CommandRun sim =
-        run_tlsmon("simulate --preset small --campaign linear --pulse-rate 10000 --seed 3 --out " +
-                   (dir / "walk").string());
+    const CommandRun sim = run_tlsmon(
+        "simulate --preset small --campaign linear --pulse-rate 10000 --seed 3 "
+        "--slam-frame --out " +
+        (dir / "walk").string());
     ASSERT_EQ(sim.status, 0) << sim.out;
     fs::create_directories(dir / "ingest");
     fs::copy_file(dir / "walk/reference.ply", dir / "ingest/reference.ply");
@@ -75,6 +80,8 @@ TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCom
     EXPECT_LT(c["test_p"].get<double>(), 0.05);
     EXPECT_GT(c["registered_segments"].get<int>(), 3);
     EXPECT_LT(c["c2c_mean_m"].get<double>(), 0.05);
+    EXPECT_EQ(c["coarse"], "planes");
+    EXPECT_GE(c["coarse_planes"].get<int>(), 4);
     // Archived under its own name, gone from the ingest folder.
     const fs::path stored = c["file"].get<std::string>();
     EXPECT_EQ(stored, dir / "archive/pls_walk.ply");
@@ -111,6 +118,76 @@ TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCom
             }
         }
     }
+
+    // The frame the command found (frame.txt, campaign → reference) is the simulator's
+    // (campaign.truth.json, campaign → scene): M·F⁻¹ is the identity but for the drift's mean
+    // pose (20 mm and 0.5 mrad at the walk's end).
+    Eigen::Matrix4d M, F;
+    std::ifstream frame_txt(dir / "one-shot/frame.txt");
+    for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) ASSERT_TRUE(frame_txt >> M(r, k));
+    const auto truth =
+        nlohmann::json::parse(tlsmon::test::read_file(dir / "walk/campaign.truth.json"));
+    for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) F(r, k) = truth["frame"][r][k].get<double>();
+    EXPECT_GT((F.topRightCorner<3, 1>()).norm(), 5.0);  // the walk starts 5 m or more away
+    const Eigen::Matrix4d E = M * F.inverse();
+    EXPECT_LT(Eigen::AngleAxisd(Eigen::Matrix3d(E.topLeftCorner<3, 3>())).angle(), 0.002);
+    const Eigen::Vector3d start(truth["walk"][0][0].get<double>(),
+                                truth["walk"][0][1].get<double>(),
+                                truth["walk"][0][2].get<double>());
+    EXPECT_LT(((E * start.homogeneous()).head<3>() - start).norm(), 0.03);
+
+    // The points the daemon kept: thinned, in the reference's frame (within its extent), on
+    // its surfaces (C2C), with their segments.
+    const CommandRun points_run = run_tlsmon(
+        "query campaign-points --campaign 1 --format csv --config " + config.string(), false);
+    ASSERT_EQ(points_run.status, 0) << points_run.out;
+    const auto points = tlsmon::test::csv_cells(points_run.out);
+    // This sparse walk (10 000 pulses/s) has few points closer than the 5 cm voxels.
+    ASSERT_GT(points.size(), 1000u);
+    EXPECT_LT(points.size(), cloud.at(0).size());
+    ASSERT_EQ(points[0], (std::vector<std::string>{"x_m", "y_m", "z_m", "segment", "c2c_dx_m",
+                                                   "c2c_dy_m", "c2c_dz_m", "c2c_m"}));
+    Eigen::AlignedBox3d extent;
+    const auto reference_scans = tlsmon::read_scans(dir / "walk/reference.ply");
+    for (const auto& p : reference_scans.at(0).xyz) extent.extend(p);
+    extent.extend(extent.min() - Eigen::Vector3d::Constant(0.5));
+    extent.extend(extent.max() + Eigen::Vector3d::Constant(0.5));
+    std::size_t inside = 0, in_segments = 0;
+    std::vector<double> c2c;
+    for (std::size_t i = 1; i < points.size(); ++i) {
+        const Eigen::Vector3d x(std::stod(points[i][0]), std::stod(points[i][1]),
+                                std::stod(points[i][2]));
+        inside += extent.contains(x);
+        if (!points[i][7].empty()) c2c.push_back(std::stod(points[i][7]));
+        in_segments += std::stoi(points[i][3]) >= 0;
+    }
+    const double n = double(points.size() - 1);
+    EXPECT_GT(double(inside), 0.999 * n);
+    // Their C2C as the whole cloud's (thinning keeps one point of each voxel, so the median of
+    // the kept ones is near the cloud's), nearly every point with one.
+    EXPECT_GT(double(c2c.size()), 0.95 * n);
+    std::nth_element(c2c.begin(), c2c.begin() + long(c2c.size() / 2), c2c.end());
+    const double median = c2c[c2c.size() / 2], cloud_median = c["c2c_median_m"].get<double>();
+    EXPECT_GT(median, 0.7 * cloud_median);
+    EXPECT_LT(median, 1.3 * cloud_median);
+    EXPECT_GT(double(in_segments), 0.2 * n);
+    EXPECT_LT(double(in_segments), n);  // the ground is in none
+
+    // The report lists it (its own section: not in the zone series).
+    const CommandRun report = run_tlsmon("report --database " + (dir / "tlsmon.sqlite").string() +
+                                         " --out " + (dir / "report").string());
+    ASSERT_EQ(report.status, 0) << report.out;
+    const std::string md = tlsmon::test::read_file(dir / "report/report.md");
+    const auto section = md.find("## Campaigns");
+    ASSERT_NE(section, std::string::npos) << md;
+    EXPECT_NE(md.find("| 1 | ", section), std::string::npos) << md.substr(section);
+    EXPECT_NE(
+        md.find("found on " + std::to_string(c["coarse_planes"].get<int>()) + " planes", section),
+        std::string::npos)
+        << md.substr(section);
+    EXPECT_NE(md.find("**no** (p", section), std::string::npos) << md.substr(section);
 
     // The same bytes again: known, not compared twice, by the command and by the daemon.
     const CommandRun again = run_tlsmon("campaign add " + stored.string() +

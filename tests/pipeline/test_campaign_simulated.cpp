@@ -9,15 +9,24 @@
 // (bench/campaign_truth.cpp scores 20 seeded campaigns of the `pier` scene the same way.)
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <random>
+#include <string>
 #include <vector>
 
 #include "algorithms/campaign/paired_fit.hpp"
+#include "core/error.hpp"
+#include "formats/ply_writer.hpp"
 #include "pipeline/campaign_comparison.hpp"
+#include "pipeline/campaign_epoch.hpp"
+#include "pipeline/sha256.hpp"
 #include "simulator/pls.hpp"
 #include "simulator/ray_cast.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
 namespace {
@@ -57,14 +66,16 @@ struct Score {
     double largest_offset = 0;     // m, of the true observed translations
 };
 
+// `to_campaign`: the scene into the frame the campaign was given in.
 Score score(const sim::PlsCampaign& campaign, const sim::PlsCloud& cloud,
-            const CampaignComparison& c) {
+            const CampaignComparison& c,
+            const Eigen::Matrix4d& to_campaign = Eigen::Matrix4d::Identity()) {
     const std::vector<Eigen::Vector3d> measured = sim::noise_free_points(campaign, cloud);
     std::vector<std::vector<std::size_t>> members(c.segments.size());
     for (std::size_t i = 0; i < cloud.points.size(); ++i)
         if (c.segmentation.segment[i] >= 0)
             members[std::size_t(c.segmentation.segment[i])].push_back(i);
-    const Eigen::Matrix4d G = c.global.matrix();
+    const Eigen::Matrix4d G = c.frame() * to_campaign;
     Score s;
     for (std::size_t k = 0; k < c.segments.size(); ++k) {
         const auto& t = c.segments[k].transform;
@@ -175,6 +186,149 @@ TEST(CampaignSimulated, WithoutDriftTheSegmentsMoveAsOne) {
     // C2C to the local plane without drift: the campaign's 20 mm range noise seen along the
     // normals, E|d| = σ·√(2/π) for normal noise σ at most (grazing rays see less of it).
     EXPECT_LT(c.c2c_all.mean, 1.5 * 0.02 * std::sqrt(2.0 / M_PI));
+}
+
+TEST(CampaignSimulated, InTheSlamsOwnFrameTheFrameIsFoundOnPlanesAndTheSegmentsAsInTheScenes) {
+    // The walk of the first test written in its SLAM's frame: its start, 131° from its first
+    // leg. The coarse step must find that frame on the planes of both clouds; then everything
+    // proceeds as in the scene's frame.
+    const Fixture& f = fixture();
+    const sim::PlsCampaign campaign = f.campaign(sim::SlamDriftModel::linear, 5);
+    const sim::PlsCloud cloud = sim::render_pls(f.site, 0, campaign, 2);
+    const Eigen::Matrix4d F = sim::slam_frame(campaign.trajectory, 131.0 * M_PI / 180.0);
+    const Eigen::Matrix4d to_campaign = F.inverse();
+    std::vector<Eigen::Vector3d> points(cloud.points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+        points[i] = (to_campaign * cloud.points[i].homogeneous()).head<3>();
+    // As given, the frames lie 10 m and 131° apart: nothing overlaps.
+    CampaignParameters none = f.parameters;
+    none.coarse = CoarseRegistration::none;
+    EXPECT_THROW(compare_campaign(f.reference.points, points, none), Error);
+
+    CampaignParameters planes = f.parameters;
+    planes.coarse = CoarseRegistration::planes;
+    const CampaignReference reference(f.reference.points, planes);
+    ASSERT_GE(reference.planes.size(), 6u);
+    const CampaignComparison c = compare_campaign(reference, points, planes);
+    ASSERT_EQ(c.coarse.used, CoarseRegistration::planes);
+    EXPECT_GE(c.coarse.support, 4u);
+    EXPECT_GT(c.coarse.support, c.coarse.runner_up);
+    // The coarse frame within the fine step's reach (max_distance 0.2 m), the whole frame
+    // as the scene's comparison finds it (the drift's own mean pose, the same in both).
+    const Eigen::Matrix4d coarse = c.coarse.matrix * to_campaign;
+    EXPECT_LT(Eigen::AngleAxisd(Eigen::Matrix3d(coarse.topLeftCorner<3, 3>())).angle(), 0.01);
+    const Eigen::Vector3d pier(f.site.pier.centre().x(), f.site.pier.centre().y(), 3.0);
+    EXPECT_LT(((coarse * pier.homogeneous()).head<3>() - pier).norm(), 0.05);
+    const CampaignComparison scene = compare_campaign(reference, cloud.points, none);
+    const Eigen::Matrix4d E = c.frame() * to_campaign;
+    const Eigen::Matrix4d G = scene.frame();
+    EXPECT_LT(Eigen::AngleAxisd(
+                  Eigen::Matrix3d(E.topLeftCorner<3, 3>() * G.topLeftCorner<3, 3>().transpose()))
+                  .angle(),
+              2e-5);
+    EXPECT_LT(((E * pier.homogeneous()).head<3>() - (G * pier.homogeneous()).head<3>()).norm(),
+              0.0005);
+
+    const Score s = score(campaign, cloud, c, to_campaign);
+    ASSERT_GE(s.segments, 4);
+    EXPECT_GE(s.within, s.segments - 1) << s.within << " of " << s.segments;
+    EXPECT_TRUE(c.consistency.differ);
+}
+
+TEST(CampaignSimulated, AutomaticFindsTheFramesAlreadyOneAndACloudWithoutPlanesIsTakenAsItIs) {
+    const Fixture& f = fixture();
+    const sim::PlsCampaign campaign = f.campaign(sim::SlamDriftModel::none, 6);
+    const sim::PlsCloud cloud = sim::render_pls(f.site, 0, campaign, 2);
+    const CampaignReference reference(f.reference.points, f.parameters);  // automatic
+    const CampaignComparison c = compare_campaign(reference, cloud.points, f.parameters);
+    ASSERT_EQ(c.coarse.used, CoarseRegistration::planes) << c.coarse.note;
+    const Eigen::Matrix4d& C = c.coarse.matrix;
+    EXPECT_LT((C.topRightCorner<3, 1>()).norm(), 0.05);
+    EXPECT_LT(Eigen::AngleAxisd(Eigen::Matrix3d(C.topLeftCorner<3, 3>())).angle(), 0.005);
+
+    // A cloud of scattered points (a hedge) has no planes: auto says so and takes the frame
+    // as it is; planes refuses.
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<Eigen::Vector3d> hedge;
+    for (int i = 0; i < 20000; ++i)
+        hedge.emplace_back(f.site.pier.centre().x() + 3 * u(rng), f.site.pier.y0 - 3 + u(rng),
+                           1.5 + u(rng));
+    const auto error_of = [&](const CampaignParameters& p) -> std::string {
+        try {
+            compare_campaign(reference, hedge, p);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    const std::string automatic = error_of(f.parameters);
+    EXPECT_NE(automatic.find("global registration failed"), std::string::npos) << automatic;
+    EXPECT_NE(automatic.find("without a coarse step: no heading"), std::string::npos) << automatic;
+    CampaignParameters planes = f.parameters;
+    planes.coarse = CoarseRegistration::planes;
+    const std::string refused = error_of(planes);
+    EXPECT_NE(refused.find("no coarse registration on planes"), std::string::npos) << refused;
+}
+
+TEST(CampaignSimulated, StoredCampaignsShareThePreparedReferenceAndKeepTheirFrameAndPoints) {
+    // Two walks of the daemon's batch against one reference epoch: the reference is prepared
+    // once for both, again only when the parameters change; each stored with the frame its
+    // comparison found and its points thinned to the spacing asked.
+    const Fixture& f = fixture();
+    const test::TempDir dir("campaign-references");
+    write_ply(dir / "reference.ply", f.reference.points, {});
+    auto db = EpochDatabase::open(dir / "e.sqlite", EpochDatabase::Mode::read_write);
+    const auto reference = db.epochs().insert(
+        {sha256_file(dir / "reference.ply"), 1000, dir / "reference.ply", 1, std::nullopt});
+    db.epochs().set_reference(reference.id);
+
+    CampaignReferences references;
+    std::vector<CampaignId> ids;
+    for (const std::uint64_t seed : {11, 12}) {
+        sim::PlsCampaign walk = f.campaign(sim::SlamDriftModel::none, seed);
+        walk.scanner.pulse_rate = 3000;
+        const sim::PlsCloud cloud = sim::render_pls(f.site, 0, walk, 2);
+        const std::filesystem::path file = dir / ("walk_" + std::to_string(seed) + ".ply");
+        write_ply(file, cloud.points, {});
+        CampaignSource source;
+        source.file = file;
+        source.instrument = "backpack";
+        source.kind = "pls";
+        source.acquired = 2000 + UtcSeconds(seed);
+        const StoredCampaign stored =
+            add_campaign(db, source, read_file_hashed(file), f.parameters, 0.10, references);
+        ASSERT_FALSE(stored.known);
+        ASSERT_TRUE(stored.comparison);
+        ids.push_back(stored.row.id);
+
+        const auto row = db.campaigns().get(stored.row.id);
+        ASSERT_TRUE(row && row->frame);
+        const Eigen::Matrix4d M = stored.comparison->frame();
+        for (int k = 0; k < 16; ++k) EXPECT_EQ((*row->frame)[std::size_t(k)], M(k / 4, k % 4));
+        const auto points = db.campaigns().points(stored.row.id);
+        ASSERT_TRUE(points);
+        EXPECT_EQ(points->spacing, 0.10);
+        // One point per occupied 0.10 m voxel of the registered cloud.
+        const auto voxels =
+            campaign::thin_by_voxel(stored.comparison->registered, 0.10, {}, 2).voxels();
+        EXPECT_EQ(points->size(), voxels);
+        EXPECT_LT(points->size(), cloud.points.size());
+    }
+    EXPECT_EQ(references.prepared(), 1);
+    EXPECT_NE(ids[0], ids[1]);
+
+    CampaignParameters other = f.parameters;
+    other.thinning = 0.04;
+    sim::PlsCampaign walk = f.campaign(sim::SlamDriftModel::none, 13);
+    walk.scanner.pulse_rate = 3000;
+    write_ply(dir / "walk_13.ply", sim::render_pls(f.site, 0, walk, 2).points, {});
+    CampaignSource source;
+    source.file = dir / "walk_13.ply";
+    source.instrument = "backpack";
+    source.kind = "pls";
+    add_campaign(db, source, read_file_hashed(source.file), other, 0.10, references);
+    EXPECT_EQ(references.prepared(), 2);
 }
 
 }  // namespace

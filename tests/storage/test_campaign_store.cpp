@@ -146,6 +146,69 @@ TEST(CampaignStore, StoredWithItsSegmentsAndReadBackWhole) {
     EXPECT_TRUE(db.campaigns().segments(second).empty());
 }
 
+CampaignPoints points() {
+    CampaignPoints p;
+    p.origin = {100.0, -2000.0, 35.0};
+    p.spacing = 0.05;
+    p.arrays = {{"x_m", {0.5f, -1.25f, 3.0f}},
+                {"y_m", {1.0f, 2.0f, -3.0f}},
+                {"z_m", {0.0f, 0.1f, 0.2f}},
+                {"segment", {-1.0f, 0.0f, 1.0f}},
+                {"c2c_dx_m", {std::nanf(""), 0.001f, -0.002f}}};
+    return p;
+}
+
+TEST(CampaignStore, ItsFrameAndItsPointsReadBackWhole) {
+    const test::TempDir dir("campaign-store-points");
+    auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
+    const auto reference =
+        db.epochs().insert({test::fake_sha256(900), 1000, "/ingest/r.ptx", 10, std::nullopt}).id;
+    CampaignRow row = campaign(1, 5000, reference);
+    row.coarse = "planes";
+    row.coarse_planes = 14;
+    row.frame =
+        std::array<double, 16>{0.6, -0.8, 0, 12.5, 0.8, 0.6, 0, -40.25, 0, 0, 1, 0.75, 0, 0, 0, 1};
+    const CampaignId id = db.campaigns().add(row, segments(), points());
+    const CampaignId bare = db.campaigns().add(campaign(2, 6000, reference), {});
+
+    const auto back = db.campaigns().get(id);
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->coarse, "planes");
+    EXPECT_EQ(back->coarse_planes, 14);
+    ASSERT_TRUE(back->frame);
+    EXPECT_EQ(*back->frame, *row.frame);
+    const auto p = db.campaigns().points(id);
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->origin[1], -2000.0);
+    EXPECT_EQ(p->spacing, 0.05);
+    ASSERT_EQ(p->size(), 3u);
+    ASSERT_EQ(p->arrays.size(), 5u);
+    EXPECT_EQ(p->arrays[0].quantity, "x_m");  // in the order stored
+    ASSERT_TRUE(p->array("x_m"));
+    EXPECT_EQ((*p->array("x_m"))[1], -1.25f);
+    EXPECT_EQ((*p->array("segment"))[0], -1.0f);
+    EXPECT_TRUE(std::isnan((*p->array("c2c_dx_m"))[0]));
+    EXPECT_EQ((*p->array("c2c_dx_m"))[2], -0.002f);
+    EXPECT_FALSE(p->array("c2c_dz_m"));
+
+    // Without a frame or points: "none", and nothing to read.
+    const auto none = db.campaigns().get(bare);
+    EXPECT_EQ(none->coarse, "none");
+    EXPECT_FALSE(none->coarse_planes);
+    EXPECT_FALSE(none->frame);
+    EXPECT_FALSE(db.campaigns().points(bare));
+
+    // Arrays of unequal lengths, or a frame that is not finite: refused, nothing stored.
+    CampaignPoints uneven = points();
+    uneven.arrays[2].values.pop_back();
+    EXPECT_THROW(db.campaigns().add(campaign(3, 7000, reference), {}, uneven), StorageError);
+    CampaignRow bad_frame = campaign(4, 7000, reference);
+    bad_frame.frame = std::array<double, 16>{};
+    (*bad_frame.frame)[3] = std::nan("");
+    EXPECT_THROW(db.campaigns().add(bad_frame, {}, points()), StorageError);
+    EXPECT_EQ(db.campaigns().in_range({}).size(), 2u);
+}
+
 TEST(CampaignStore, ACopyOrABadFigureIsRefusedWithNothingStored) {
     const test::TempDir dir("campaign-store-bad");
     auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);

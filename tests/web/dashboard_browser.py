@@ -8,6 +8,7 @@ and a screenshot per page in OUT_DIR. The comparison with the database is the ca
   dashboard_browser.py pages BASE OUT_DIR ZONE QUANTITY EPOCH
   dashboard_browser.py operator BASE OUT_DIR USER PASSWORD RULE COMMENT
   dashboard_browser.py live BASE OUT_DIR READY_FILE TIMEOUT_S
+  dashboard_browser.py campaign BASE OUT_DIR CAMPAIGN
 """
 import json
 import sys
@@ -191,12 +192,44 @@ def live(base, out_dir, ready_file, timeout):
         d.quit()
 
 
+def campaign(base, out_dir, number):
+    """The campaigns' list and one campaign's page: rows, what was drawn, the segments."""
+    d = browser()
+    report = {"errors": {}}
+    try:
+        report["errors"]["campaigns"] = visit(
+            d, base + "/campaigns", "window.tlsmonCampaigns !== undefined", out_dir, "campaigns")
+        report["list"] = d.execute_script("""
+            return [...document.querySelectorAll('tr[data-campaign]')].map((r) => ({
+              campaign: Number(r.dataset.campaign),
+              cells: [...r.querySelectorAll('td')].map((c) => c.textContent),
+              link: r.querySelector('a').getAttribute('href')}));""")
+        report["errors"]["campaign"] = visit(
+            d, f"{base}/campaigns/{number}",
+            "window.tlsmonCampaign && window.tlsmonCampaign.drawn.points > 0", out_dir, "campaign")
+        report["page"] = d.execute_script("""
+            const c = window.tlsmonCampaign;
+            return {
+              title: document.querySelector('#title').textContent,
+              drawn: c.drawn,
+              views: [...document.querySelectorAll('figure[data-view]')].map((f) => f.dataset.view),
+              segments: document.querySelectorAll('tr[data-segment]').length,
+              frame: document.querySelector('#frame').textContent,
+              moved: document.querySelector('#summary').textContent,
+            };""")
+    finally:
+        d.quit()
+    return report
+
+
 if __name__ == "__main__":
     mode, base, out_dir = sys.argv[1:4]
     if mode == "pages":
         result = pages(base, out_dir, sys.argv[4], sys.argv[5], int(sys.argv[6]))
     elif mode == "operator":
         result = operator(base, out_dir, *sys.argv[4:8])
+    elif mode == "campaign":
+        result = campaign(base, out_dir, int(sys.argv[4]))
     else:
         result = live(base, out_dir, sys.argv[4], float(sys.argv[5]))
     print(json.dumps(result))
