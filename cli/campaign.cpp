@@ -7,6 +7,8 @@
 // summary.
 // `tlsmon campaign add FILE --instrument NAME --config SITE`: the same comparison against the
 // site's reference epoch, stored as a campaign epoch (pipeline/campaign_epoch.hpp).
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +22,7 @@
 #include "cli/commands.hpp"
 #include "cli/result_file.hpp"
 #include "config/config.hpp"
+#include "config/site_definition.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
 #include "daemon/ingest_files.hpp"
@@ -214,9 +217,13 @@ int run_campaign_add(const CampaignAddOptions& o) {
         const CampaignParameters p = campaign_parameters(config.campaign, instrument.range_sigma);
         EpochDatabase db =
             EpochDatabase::open(config.paths.database, EpochDatabase::Mode::read_write);
+        // Its zone rows need the configured zones and rules stored, as the daemon does.
+        const std::optional<CampaignFeed> feed = campaign_feed(config);
+        if (feed) store_zones_and_rules(db, config);
         CampaignReferences references;
-        const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file), p,
-                                                   config.campaign.store_spacing, references);
+        const StoredCampaign stored =
+            add_campaign(db, source, read_file_hashed(source.file), p,
+                         config.campaign.store_spacing, references, feed ? &*feed : nullptr);
         if (stored.known) {
             std::cout << o.file << " is campaign " << stored.row.id << " already ("
                       << stored.row.instrument << ", acquired " << format_utc(stored.row.acquired)
@@ -226,6 +233,12 @@ int run_campaign_add(const CampaignAddOptions& o) {
         std::cout << "campaign: " << stored.row.points << " points; reference epoch "
                   << stored.row.reference_epoch << "\n";
         print_summary(*stored.comparison, p);
+        for (const auto& z : db.campaigns().zone_results(stored.row.id)) {
+            std::cout << fmt::format("zone {}: {} {:+.1f} mm, LoD95 {:.1f} mm, {} points{}\n",
+                                     z.zone, z.quantity, z.value * 1e3,
+                                     z.uncertainty.value_or(0) * 1e3, z.n,
+                                     z.significant ? ", significant" : "");
+        }
         db.events().record({now_utc(), "info", "campaign",
                             "campaign " + std::to_string(stored.row.id) + " of instrument '" +
                                 instrument.name + "' added from " + source.file.string(),

@@ -51,8 +51,17 @@ const std::vector<std::string> kSeriesColumns{"epoch", "acquired",    "value",  
                                               "n",     "significant", "quality", "datum"};
 
 void series_row(const SeriesPoint& p, std::vector<Cell>& row) {
-    row = {p.epoch, format_utc(p.acquired), p.value,       optional_cell(p.uncertainty),
-           p.n,     p.significant,          quality_of(p), p.datum};
+    // A campaign quantity's point has no epoch: its datum names the campaign.
+    const std::optional<std::int64_t> epoch =
+        p.campaign ? std::nullopt : std::optional<std::int64_t>(p.epoch);
+    row = {optional_cell(epoch),
+           format_utc(p.acquired),
+           p.value,
+           optional_cell(p.uncertainty),
+           p.n,
+           p.significant,
+           quality_of(p),
+           p.campaign ? "campaign " + std::to_string(*p.campaign) : p.datum};
 }
 
 std::string joined(const std::vector<std::string>& names) {

@@ -191,18 +191,10 @@ int run_query_campaign_points(const CampaignSegmentsOptions& options) {
         if (!points)
             throw Error("campaign " + std::to_string(options.campaign) +
                         " kept no points (stored before they were kept)");
-        const char* names[] = {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
-        std::array<const std::vector<float>*, 7> a{};
-        for (std::size_t k = 0; k < a.size(); ++k) {
-            a[k] = points->array(names[k]);
-            if (!a[k])
-                throw Error("campaign " + std::to_string(options.campaign) + " has no '" +
-                            names[k] + "' array");
-        }
-        RowPrinter out(
-            std::cout,
-            {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m", "c2c_m"}, {},
-            options.read.format);
+        const auto a = points->columns();
+        std::vector<std::string> columns(kCampaignPointArrays.begin(), kCampaignPointArrays.end());
+        columns.push_back("c2c_m");
+        RowPrinter out(std::cout, columns, {}, options.read.format);
         const auto& o = points->origin;
         for (std::size_t i = 0; i < points->size(); ++i) {
             const double dx = (*a[4])[i], dy = (*a[5])[i], dz = (*a[6])[i];

@@ -16,6 +16,7 @@
 #include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/primitive_stage.hpp"
 #include "pipeline/vector_stage.hpp"
+#include "storage/campaign_store.hpp"
 
 namespace tlsmon {
 
@@ -101,6 +102,7 @@ std::set<std::string> stage_quantities(const Config* runs = nullptr) {
     if (!runs || runs->registration.uses_planes()) {
         q.insert(kPlaneQuantities.begin(), kPlaneQuantities.end());
     }
+    if (!runs || runs->campaign.zone_series) q.insert(kCampaignC2cMedian);
     return q;
 }
 
@@ -440,7 +442,8 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
                 if (!file->empty()) *file = resolve(*file, base);
         }
         check_section(section, *t, c);
-        // [m3c2] and [keypoints] come before [alarm]: a rule names what their stages write.
+        // [m3c2], [keypoints] and [campaign] come before [alarm]: a rule names what their
+        // stages write.
         if (section == "alarm") {
             c.alarm.rules = read_alarm_rules(*t, zone_names, stage_quantities(&c));
         }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "config/site_definition.hpp"
 #include "core/error.hpp"
 #include "daemon/ingest_files.hpp"
 #include "pipeline/campaign_config.hpp"
@@ -100,10 +101,11 @@ void CampaignIngest::process_one(IngestContext& ctx, const Queued& q,
     if (move)
         source.stored_path = free_name(ctx.config.paths.archive, q.file.filename().string(), tag);
     const CampaignParameters p = campaign_parameters(ctx.config.campaign, instrument->range_sigma);
+    const std::optional<CampaignFeed> feed = campaign_feed(ctx.config);
     StoredCampaign stored;
     try {
-        stored =
-            add_campaign(ctx.db, source, bytes, p, ctx.config.campaign.store_spacing, references);
+        stored = add_campaign(ctx.db, source, bytes, p, ctx.config.campaign.store_spacing,
+                              references, feed ? &*feed : nullptr);
     } catch (const StorageError&) {
         throw;
     } catch (const std::exception& e) {

@@ -7,12 +7,12 @@
 #include <chrono>
 #include <functional>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <thread>
 #include <utility>
 
 #include "config/config.hpp"
 #include "config/reload.hpp"
+#include "config/site_definition.hpp"
 #include "daemon/alarm_actions.hpp"
 #include "daemon/alarm_shelving.hpp"
 #include "daemon/http/http_service.hpp"
@@ -29,7 +29,6 @@
 #include "daemon/systemd_notify.hpp"
 #include "daemon/watcher.hpp"
 #include "formats/meteo_csv.hpp"
-#include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 
 namespace tlsmon {
@@ -43,15 +42,6 @@ namespace {
 
 Clock::duration seconds(double s) {
     return duration_cast<Clock::duration>(duration<double>(s));
-}
-
-std::string zone_json(const ZoneConfig& z) {
-    nlohmann::json j{{"type", z.polygon.empty() ? "box" : "prism"}, {"min", z.min}, {"max", z.max}};
-    if (!z.polygon.empty()) j["polygon"] = z.polygon;
-    if (!z.band_of.empty()) j["band_of"] = z.band_of;
-    if (z.normal) j["normal"] = *z.normal;
-    if (z.no_change) j["no_change"] = true;
-    return j.dump();
 }
 
 // The pause after a database or disk failure: retry_initial, doubling up to retry_max.
@@ -229,9 +219,8 @@ bool Daemon::start() {
 
 void Daemon::store_site() {
     station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
-    for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
     // The rules' definitions; their states (and memories) stay as stored.
-    store_alarm_rules(db_, config_.alarm.rules);
+    store_zones_and_rules(db_, config_);
     store_system_alarm_rules(db_);
     const std::int64_t recovered = db_.epochs().recover_interrupted();
     events_.record(db_, "info", "start",
@@ -343,8 +332,7 @@ void Daemon::reload() {
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
         station_ = db_.site().upsert_station(config_.station.name, {0.0, 0.0, 0.0});
-        for (const auto& z : config_.zones) db_.site().upsert_zone(z.name, zone_json(z));
-        store_alarm_rules(db_, config_.alarm.rules);
+        store_zones_and_rules(db_, config_);
         log_config(config_);
         for (const auto& removed : changes.removed) {
             events_.record(db_, "warning", "config_reload", "reload removes " + removed);

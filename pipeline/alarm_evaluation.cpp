@@ -9,6 +9,7 @@
 #include "alarms/alarm_rate.hpp"
 #include "core/utc_time.hpp"
 #include "pipeline/alarm_rows.hpp"
+#include "storage/campaign_store.hpp"
 
 namespace tlsmon {
 
@@ -23,28 +24,84 @@ EpochQuality epoch_quality(const EpochResults& r) {
     return EpochQuality::accepted;
 }
 
-std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Epoch& epoch,
-                                    const EpochResults& results, const SeriesReader& series,
-                                    EpochQuality quality) {
+// What the rules are evaluated on: a station epoch or a stored campaign.
+struct Occasion {
+    UtcSeconds acquired = 0;
+    std::optional<EpochId> epoch;  // none for a campaign
+    std::string name;              // "epoch 12", "campaign 3"
+    bool campaign = false;         // only the rules on campaign quantities, or only the others
+    EpochQuality quality = EpochQuality::accepted;
+};
+
+std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Occasion& at,
+                                    const std::vector<ZoneResult>& results,
+                                    const SeriesReader& series) {
+    EpochQuality quality = at.quality;
     if (quality == EpochQuality::unregistered && rule.evaluate_unregistered) {
         quality = EpochQuality::accepted;
     }
     if (quality != EpochQuality::accepted) return RuleInput{0, false, quality};
     const ZoneResult* own = nullptr;
-    for (const auto& z : results.zone_results) {
+    for (const auto& z : results) {
         if (z.zone == rule.zone && z.quantity == rule.quantity) own = &z;
     }
     if (!own) return std::nullopt;  // this epoch says nothing about the rule's quantity
     if (!rule.rate_window_seconds) return RuleInput{own->value, own->significant, quality};
     const auto window = static_cast<UtcSeconds>(*rule.rate_window_seconds);
     std::vector<TimedValue> pts;
-    for (const auto& p : series.points(rule.zone, rule.quantity,
-                                       TimeRange{epoch.acquired - window, epoch.acquired})) {
+    for (const auto& p :
+         series.points(rule.zone, rule.quantity, TimeRange{at.acquired - window, at.acquired})) {
         pts.push_back({p.acquired, p.value});
     }
-    const auto rate = rate_mm_per_day(pts, epoch.acquired, *rule.rate_window_seconds);
+    const auto rate = rate_mm_per_day(pts, at.acquired, *rule.rate_window_seconds);
     if (!rate) return std::nullopt;
     return RuleInput{*rate, true, quality};
+}
+
+AlarmRows evaluate_alarms(const std::vector<AlarmRuleSpec>& rules, const Occasion& at,
+                          const std::vector<ZoneResult>& results, const AlarmStore& alarms,
+                          const SeriesReader& series) {
+    std::set<std::string> stored;
+    for (const auto& r : alarms.rules()) stored.insert(r.name);
+    std::map<std::string, AlarmState> rows;
+    for (const auto& s : alarms.states()) rows.emplace(s.rule, s);
+    AlarmRows out;
+    for (const auto& rule : rules) {
+        if (!stored.count(rule.name) || is_campaign_quantity(rule.quantity) != at.campaign)
+            continue;
+        const auto row = rows.find(rule.name);
+        const AlarmRuleStatus status =
+            row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
+        const auto input = rule_input(rule, at, results, series);
+        const auto step = step_rule(rule, status, input, at.acquired);
+        if (step.late) {
+            // Never silently: the value is stored in the series, the rule keeps its time.
+            out.system_events.push_back(SystemEvent{
+                now_utc(), "warning", "alarm_rule_late_epoch",
+                fmt::format("rule {}: {} was acquired {}, before the newest {} the rule "
+                            "evaluated ({}); its values are stored, the rule does not step "
+                            "back in time",
+                            rule.name, at.name, format_utc(at.acquired),
+                            at.campaign ? "campaign" : "epoch", format_utc(*status.evaluated)),
+                at.epoch});
+        }
+        if (!step.evaluated && step.events.empty()) continue;
+        const std::optional<double> value =
+            step.evaluated ? std::optional<double>(input->value) : std::nullopt;
+        const std::optional<EpochId> id = step.evaluated ? at.epoch : std::nullopt;
+        auto state = state_row(rule.name, step.status, value, id);
+        if (!step.evaluated && row != rows.end()) {  // keep the last value and its epoch
+            state.value = row->second.value;
+            state.epoch = row->second.epoch;
+        }
+        out.states.push_back(state);
+        for (const auto& t : step.events) {
+            auto event = event_row(rule.name, t, value, id);
+            if (at.campaign && step.evaluated) event.message += " (" + at.name + ")";
+            out.events.push_back(std::move(event));
+        }
+    }
+    return out;
 }
 
 }  // namespace
@@ -52,43 +109,17 @@ std::optional<RuleInput> rule_input(const AlarmRuleSpec& rule, const Epoch& epoc
 AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const Epoch& epoch,
                                 const EpochResults& results, const AlarmStore& alarms,
                                 const SeriesReader& series) {
-    std::set<std::string> stored;
-    for (const auto& r : alarms.rules()) stored.insert(r.name);
-    std::map<std::string, AlarmState> rows;
-    for (const auto& s : alarms.states()) rows.emplace(s.rule, s);
-    const EpochQuality quality = epoch_quality(results);
-    AlarmRows out;
-    for (const auto& rule : rules) {
-        if (!stored.count(rule.name)) continue;
-        const auto row = rows.find(rule.name);
-        const AlarmRuleStatus status =
-            row == rows.end() ? AlarmRuleStatus{} : rule_status(row->second);
-        const auto input = rule_input(rule, epoch, results, series, quality);
-        const auto step = step_rule(rule, status, input, epoch.acquired);
-        if (step.late) {
-            // Never silently: the value is stored in the series, the rule keeps its time.
-            out.system_events.push_back(SystemEvent{
-                now_utc(), "warning", "alarm_rule_late_epoch",
-                fmt::format("rule {}: epoch {} was acquired {}, before the newest epoch the "
-                            "rule evaluated ({}); its values are stored, the rule does not "
-                            "step back in time",
-                            rule.name, epoch.id, format_utc(epoch.acquired),
-                            format_utc(*status.evaluated)),
-                epoch.id});
-        }
-        if (!step.evaluated && step.events.empty()) continue;
-        const std::optional<double> value =
-            step.evaluated ? std::optional<double>(input->value) : std::nullopt;
-        const std::optional<EpochId> id = step.evaluated ? std::optional(epoch.id) : std::nullopt;
-        auto state = state_row(rule.name, step.status, value, id);
-        if (!step.evaluated && row != rows.end()) {  // keep the last value and its epoch
-            state.value = row->second.value;
-            state.epoch = row->second.epoch;
-        }
-        out.states.push_back(state);
-        for (const auto& t : step.events) out.events.push_back(event_row(rule.name, t, value, id));
-    }
-    return out;
+    const Occasion at{epoch.acquired, epoch.id, "epoch " + std::to_string(epoch.id), false,
+                      epoch_quality(results)};
+    return evaluate_alarms(rules, at, results.zone_results, alarms, series);
+}
+
+AlarmRows evaluate_campaign_alarms(const std::vector<AlarmRuleSpec>& rules, std::int64_t campaign,
+                                   UtcSeconds acquired, const std::vector<ZoneResult>& results,
+                                   const AlarmStore& alarms, const SeriesReader& series) {
+    const Occasion at{acquired, std::nullopt, "campaign " + std::to_string(campaign), true,
+                      EpochQuality::accepted};
+    return evaluate_alarms(rules, at, results, alarms, series);
 }
 
 std::string rule_definition_json(const AlarmRuleSpec& r) {

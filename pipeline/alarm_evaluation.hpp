@@ -13,10 +13,17 @@
 namespace tlsmon {
 
 // Rules not (yet) stored in alarm_rules are left out: the daemon stores the configured rules
-// at start (store_alarm_rules).
+// at start (store_alarm_rules). Rules on a campaign quantity are not the station's: an epoch
+// leaves them alone.
 AlarmRows evaluate_epoch_alarms(const std::vector<AlarmRuleSpec>& rules, const Epoch& epoch,
                                 const EpochResults& results, const AlarmStore& alarms,
                                 const SeriesReader& series);
+// The same for a stored campaign (docs/campaigns.md, "Zone series"): only the rules on a
+// campaign quantity, at the campaign's acquisition time; their states and events carry no
+// epoch, their messages name the campaign.
+AlarmRows evaluate_campaign_alarms(const std::vector<AlarmRuleSpec>& rules, std::int64_t campaign,
+                                   UtcSeconds acquired, const std::vector<ZoneResult>& results,
+                                   const AlarmStore& alarms, const SeriesReader& series);
 
 // The rule's definition as JSON for alarm_rules.definition (levels, deadband, delays).
 std::string rule_definition_json(const AlarmRuleSpec& rule);

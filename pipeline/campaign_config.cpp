@@ -86,6 +86,14 @@ std::vector<SectionKey<CampaignConfig>> campaign_keys() {
                   "A stored campaign keeps its registered points thinned to one per voxel this "
                   "size, each with its segment and C2C vector (for export and drawing); 0: "
                   "every point."),
+        K::flag(&CampaignConfig::zone_series, "zone_series",
+                "Each stored campaign adds campaign_c2c_median_m to every zone with a design "
+                "normal its points cover (the change of shape within its segment, after each "
+                "segment's registration; docs/campaigns.md), which alarm rules may watch; off: "
+                "campaigns stay out of the zone series and the alarms."),
+        K::integer(&CampaignConfig::zone_min_points, "zone_min_points", 1, 100000000, "",
+                   "The fewest stored points of registered segments a campaign's zone value "
+                   "rests on."),
     };
 }
 

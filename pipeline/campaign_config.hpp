@@ -28,6 +28,11 @@ struct CampaignConfig {
     // m: a stored campaign keeps its registered points thinned to one per voxel this size,
     // each with its segment and C2C vector; 0: every point.
     double store_spacing = 0.05;
+    // Whether each campaign adds its values to the zone series (campaign_* quantities, which
+    // alarm rules may watch; docs/campaigns.md, "Zone series"), and the fewest of its stored
+    // points a zone's value rests on.
+    bool zone_series = false;
+    int zone_min_points = 30;
 };
 
 // The comparison's parameters: these keys over the defaults, and the instrument's range noise.

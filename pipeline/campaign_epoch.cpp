@@ -6,6 +6,8 @@
 
 #include "core/error.hpp"
 #include "formats/scan_file.hpp"
+#include "pipeline/alarm_evaluation.hpp"
+#include "pipeline/campaign_zones.hpp"
 
 namespace tlsmon {
 
@@ -136,7 +138,13 @@ CampaignRow campaign_row(const CampaignComparison& c, const CampaignParameters& 
 const CampaignReference& CampaignReferences::get(const EpochDatabase& db,
                                                  const CampaignParameters& p, EpochId& epoch) {
     const fs::path path = reference_scan(db, epoch);
-    const std::string parameters = parameters_json(p).dump();
+    // Only what the prepared reference depends on (its surface, segments and planes): a batch
+    // of instruments that differ in their range noise shares one.
+    auto key = parameters_json(p);
+    for (const char* unused : {"range_sigma_m", "cut_distance_m", "alpha", "metric", "c2c",
+                               "registration_points", "min_overlap"})
+        key.erase(unused);
+    const std::string parameters = key.dump();
     if (reference_ && epoch == epoch_ && parameters == parameters_) return *reference_;
     reference_.reset();
     points_ = all_points(read_scans(path), path.string());
@@ -158,8 +166,7 @@ CampaignPoints stored_points(const CampaignComparison& c, double spacing, unsign
     for (const auto i : thin.kept) mean += c.registered[i];
     mean /= double(thin.kept.size());
     for (int k = 0; k < 3; ++k) out.origin[std::size_t(k)] = std::round(mean(k));
-    const char* names[] = {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
-    for (const char* name : names) out.arrays.push_back({name, {}});
+    for (const char* name : kCampaignPointArrays) out.arrays.push_back({name, {}});
     for (auto& a : out.arrays) a.values.reserve(thin.kept.size());
     for (const auto i : thin.kept) {
         for (int k = 0; k < 3; ++k)
@@ -173,7 +180,8 @@ CampaignPoints stored_points(const CampaignComparison& c, double spacing, unsign
 
 StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
                             const HashedBytes& bytes, const CampaignParameters& p,
-                            double store_spacing, CampaignReferences& references) {
+                            double store_spacing, CampaignReferences& references,
+                            const CampaignFeed* feed) {
     validate(p);
     StoredCampaign out;
     if (auto known = db.campaigns().find(bytes.sha256)) {
@@ -195,8 +203,18 @@ StoredCampaign add_campaign(EpochDatabase& db, const CampaignSource& source,
     out.row.file_path = (source.stored_path.empty() ? source.file : source.stored_path).string();
     out.row.file_size = std::int64_t(bytes.bytes.size());
     out.row.reference_epoch = reference_id;
-    out.row.id = db.campaigns().add(out.row, segment_rows(*out.comparison),
-                                    stored_points(*out.comparison, store_spacing, p.threads));
+    const auto segments = segment_rows(*out.comparison);
+    const auto points = stored_points(*out.comparison, store_spacing, p.threads);
+    std::vector<ZoneResult> zones;
+    CampaignStore::AlarmEvaluation evaluate;
+    if (feed) {
+        zones = campaign_zone_results(points, segments, feed->zones, feed->min_points);
+        evaluate = [&](CampaignId id, const AlarmStore& alarms, const SeriesReader& series) {
+            return evaluate_campaign_alarms(feed->rules, id, out.row.acquired, zones, alarms,
+                                            series);
+        };
+    }
+    out.row.id = db.campaigns().add(out.row, segments, points, zones, evaluate);
     return out;
 }
 

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "storage/connection.hpp"
 #include "storage/series_reader.hpp"
+#include "storage/shared_rows.hpp"
 
 namespace tlsmon {
 
@@ -122,6 +123,38 @@ CampaignRow read_campaign(SQLite::Statement& q) {
     return r;
 }
 
+void check(const Connection& c, const CampaignRow& r, const std::vector<ZoneResult>& zones) {
+    for (const auto& z : zones) {
+        const std::string where =
+            "campaign " + r.sha256.substr(0, 12) + ", zone '" + z.zone + "': ";
+        if (!is_campaign_quantity(z.quantity))
+            throw_storage(c, where + "'" + z.quantity + "' is not a campaign quantity (" +
+                                 std::string(kCampaignQuantityPrefix) + "…)");
+        if (!std::isfinite(z.value) || (z.uncertainty && !std::isfinite(*z.uncertainty)))
+            throw_storage(c, where + "a figure is not finite");
+    }
+}
+
+void write_zone_results(Connection& c, CampaignId id, UtcSeconds acquired,
+                        const std::vector<ZoneResult>& zones) {
+    SQLite::Statement s(c.db,
+                        "INSERT INTO campaign_zone_results (zone_id, quantity_id, acquired,"
+                        " campaign_id, value, uncertainty, n, significant)"
+                        " VALUES (?,?,?,?,?,?,?,?)");
+    for (const auto& z : zones) {
+        s.reset();
+        s.bind(1, zone_id_by_name(c, z.zone));
+        s.bind(2, quantity_id(c, z.quantity));
+        s.bind(3, acquired);
+        s.bind(4, id);
+        s.bind(5, z.value);
+        bind_optional(s, 6, z.uncertainty);
+        s.bind(7, z.n);
+        s.bind(8, z.significant ? 1 : 0);
+        s.exec();
+    }
+}
+
 void write_points(Connection& c, CampaignId id, const CampaignPoints& p) {
     SQLite::Statement head(c.db,
                            "INSERT INTO campaign_points (campaign_id, origin_x_m, origin_y_m,"
@@ -160,9 +193,12 @@ std::vector<CampaignRow> campaigns_where(const Connection& c, const std::string&
 }  // namespace
 
 CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSegmentRow>& rows,
-                              const CampaignPoints& points) {
+                              const CampaignPoints& points,
+                              const std::vector<ZoneResult>& zone_results,
+                              const AlarmEvaluation& evaluate) {
     check(*c_, r, rows);
     check(*c_, r, points);
+    check(*c_, r, zone_results);
     return guarded(*c_, "storing a campaign", [&] {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
         SQLite::Statement insert(c_->db, std::string("INSERT INTO campaigns (") + kCampaignColumns +
@@ -231,6 +267,13 @@ CampaignId CampaignStore::add(const CampaignRow& r, const std::vector<CampaignSe
             seg.exec();
         }
         if (!points.arrays.empty()) write_points(*c_, id, points);
+        write_zone_results(*c_, id, r.acquired, zone_results);
+        if (evaluate) {
+            const AlarmRows alarm_rows = evaluate(id, AlarmStore(*c_), SeriesReader(*c_));
+            for (const auto& a : alarm_rows.states) write_alarm_state(*c_, a);
+            for (const auto& e : alarm_rows.events) write_alarm_event(*c_, e);
+            for (const auto& e : alarm_rows.system_events) write_system_event(*c_, e);
+        }
         tx.commit();
         return id;
     });
@@ -318,10 +361,39 @@ std::optional<CampaignPoints> CampaignStore::points(CampaignId id) const {
     });
 }
 
+std::vector<ZoneResult> CampaignStore::zone_results(CampaignId id) const {
+    return guarded(*c_, "reading a campaign's zone rows", [&] {
+        SQLite::Statement q(c_->db,
+                            "SELECT z.name, q.name, r.value, r.uncertainty, r.n, r.significant"
+                            " FROM campaign_zone_results r JOIN zones z ON z.id = r.zone_id"
+                            " JOIN quantities q ON q.id = r.quantity_id"
+                            " WHERE r.campaign_id = ? ORDER BY z.name, q.name");
+        q.bind(1, id);
+        std::vector<ZoneResult> out;
+        while (q.executeStep()) {
+            out.push_back(ZoneResult{q.getColumn(0).getString(), q.getColumn(1).getString(),
+                                     q.getColumn(2).getDouble(), optional_double(q.getColumn(3)),
+                                     q.getColumn(4).getInt64(), q.getColumn(5).getInt() != 0});
+        }
+        return out;
+    });
+}
+
 const std::vector<float>* CampaignPoints::array(const std::string& quantity) const {
     for (const auto& a : arrays)
         if (a.quantity == quantity) return &a.values;
     return nullptr;
+}
+
+std::array<const std::vector<float>*, 7> CampaignPoints::columns() const {
+    std::array<const std::vector<float>*, 7> out{};
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        out[k] = array(kCampaignPointArrays[k]);
+        if (!out[k])
+            throw Error(std::string("a campaign's points without their '") +
+                        kCampaignPointArrays[k] + "' array");
+    }
+    return out;
 }
 
 }  // namespace tlsmon

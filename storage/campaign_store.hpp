@@ -1,11 +1,14 @@
 #pragma once
 // Campaign epochs (docs/campaigns.md, "Campaign epochs"; docs/schema.md, "campaigns"): a
 // cloud of an [[instrument]] compared with the station's reference segment by segment, with
-// one row per segment. Apart from the station's epochs: no zone series, no alarms.
+// one row per segment. Apart from the station's epochs; in the zone series and the alarms only
+// under quantities of its own (campaign_*) when [campaign] zone_series says so.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/utc_time.hpp"
@@ -15,7 +18,16 @@
 namespace tlsmon {
 
 struct TimeRange;
+class SeriesReader;
 using CampaignId = std::int64_t;
+
+// The campaigns' own zone quantities (docs/campaigns.md, "Zone series"): stored apart from
+// the station's (campaign_zone_results), read through the same series.
+inline constexpr std::string_view kCampaignQuantityPrefix = "campaign_";
+inline constexpr const char* kCampaignC2cMedian = "campaign_c2c_median_m";
+inline bool is_campaign_quantity(std::string_view quantity) {
+    return quantity.substr(0, kCampaignQuantityPrefix.size()) == kCampaignQuantityPrefix;
+}
 
 // One segment, as segments.csv has it: a parameter and its σ are empty where the segment's
 // surfaces do not observe it (there it is the start, not a measurement).
@@ -74,22 +86,36 @@ struct CampaignRow {
 //                           frame, less `origin` (float32 keeps 8 µm at 100 m from it)
 //   segment                 its segment (−1: ground, or in no segment)
 //   c2c_dx_m, c2c_dy_m, c2c_dz_m   its C2C vector (NaN: no reference point within reach)
+inline constexpr std::array<const char*, 7> kCampaignPointArrays{
+    "x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
+
 struct CampaignPoints {
     std::array<double, 3> origin{};  // m
     double spacing = 0;              // m, 0: every point
     std::vector<CorePointArray> arrays;
     std::size_t size() const { return arrays.empty() ? 0 : arrays.front().values.size(); }
     const std::vector<float>* array(const std::string& quantity) const;
+    // The arrays of kCampaignPointArrays, in its order; Error naming the first one missing.
+    std::array<const std::vector<float>*, 7> columns() const;
 };
 
 class CampaignStore {
   public:
     explicit CampaignStore(Connection& connection) : c_(&connection) {}
 
-    // The campaign, its segments and its points in one transaction; returns its id. A sha256
-    // already stored is a StorageError (find() first), and so are arrays of unequal lengths.
+    // The alarm evaluation of a campaign, run inside its transaction once its zone rows are
+    // written (as ResultsWriter's for an epoch): it gets the campaign's id.
+    using AlarmEvaluation = std::function<AlarmRows(CampaignId id, const AlarmStore& alarms,
+                                                    const SeriesReader& series)>;
+
+    // The campaign, its segments, its points, its zone rows (campaign_* quantities only; the
+    // zones must exist) and the alarm rows `evaluate` returns, in one transaction; returns its
+    // id. A sha256 already stored is a StorageError (find() first), and so are arrays of
+    // unequal lengths and a zone row of another quantity.
     CampaignId add(const CampaignRow& campaign, const std::vector<CampaignSegmentRow>& segments,
-                   const CampaignPoints& points = {});
+                   const CampaignPoints& points = {},
+                   const std::vector<ZoneResult>& zone_results = {},
+                   const AlarmEvaluation& evaluate = {});
     std::optional<CampaignRow> find(const std::string& sha256) const;
     std::optional<CampaignRow> get(CampaignId id) const;
     // Acquired in the range, oldest first.
@@ -97,6 +123,8 @@ class CampaignStore {
     std::vector<CampaignSegmentRow> segments(CampaignId id) const;
     // None when the campaign kept no points (stored before 0016).
     std::optional<CampaignPoints> points(CampaignId id) const;
+    // Its zone rows, by zone and quantity.
+    std::vector<ZoneResult> zone_results(CampaignId id) const;
 
   private:
     Connection* c_;

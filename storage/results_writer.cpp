@@ -231,19 +231,6 @@ void write_zone_sigmas(Connection& c, EpochId id,
     }
 }
 
-// The id of a quantity name, inserted on first use (inside the epoch's transaction).
-std::int64_t quantity_id(Connection& c, const std::string& name) {
-    if (name.empty()) throw_storage(c, "a zone result needs a quantity name");
-    SQLite::Statement insert(
-        c.db, "INSERT INTO quantities (name) VALUES (?) ON CONFLICT (name) DO NOTHING");
-    insert.bind(1, name);
-    insert.exec();
-    SQLite::Statement s(c.db, "SELECT id FROM quantities WHERE name = ?");
-    s.bind(1, name);
-    if (!s.executeStep()) throw_storage(c, "quantity '" + name + "' vanished");
-    return s.getColumn(0).getInt64();
-}
-
 void write_zone_results(Connection& c, EpochId id, const std::vector<ZoneResult>& results) {
     if (results.empty()) return;
     std::map<std::string, ZoneId> zone_ids;

@@ -1,11 +1,14 @@
 // Read functions for `tlsmon status|query|events` and the HTTP API.
 #include "storage/series_reader.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <tuple>
 
 #include "storage/alarm_store.hpp"
+#include "storage/campaign_store.hpp"
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
 
@@ -94,6 +97,8 @@ std::vector<SeriesPoint> SeriesReader::points(const std::string& zone, const std
 void SeriesReader::for_each_point(const std::string& zone, const std::string& quantity,
                                   const TimeRange& range,
                                   const std::function<void(const SeriesPoint&)>& visit) const {
+    if (is_campaign_quantity(quantity))
+        return for_each_campaign_point(zone, quantity, range, visit);
     guarded(*c_, "reading a time series", [&] {
         // One range scan of the key (zone_id, quantity_id, acquired, epoch_id); the datum
         // from the covering index of 0013_registrations_datum.sql, not the large rows.
@@ -126,6 +131,38 @@ void SeriesReader::for_each_point(const std::string& zone, const std::string& qu
     });
 }
 
+void SeriesReader::for_each_campaign_point(
+    const std::string& zone, const std::string& quantity, const TimeRange& range,
+    const std::function<void(const SeriesPoint&)>& visit) const {
+    guarded(*c_, "reading a campaign series", [&] {
+        // One range scan of the key (zone_id, quantity_id, acquired, campaign_id); only
+        // registered segments' points make a campaign's zone value, so it is accepted.
+        SQLite::Statement s(c_->db,
+                            "SELECT r.campaign_id, r.acquired, r.value, r.uncertainty, r.n,"
+                            " r.significant FROM campaign_zone_results r"
+                            " WHERE r.zone_id = (SELECT id FROM zones WHERE name = ?)"
+                            " AND r.quantity_id = (SELECT id FROM quantities WHERE name = ?)"
+                            " AND r.acquired BETWEEN ? AND ?"
+                            " ORDER BY r.acquired, r.campaign_id");
+        s.bind(1, zone);
+        s.bind(2, quantity);
+        s.bind(3, range.lower());
+        s.bind(4, range.upper());
+        SeriesPoint p;
+        p.datum = "campaign";
+        p.registration_accepted = true;
+        while (s.executeStep()) {
+            p.campaign = s.getColumn(0).getInt64();
+            p.acquired = s.getColumn(1).getInt64();
+            p.value = s.getColumn(2).getDouble();
+            p.uncertainty = optional_double(s.getColumn(3));
+            p.n = s.getColumn(4).getInt64();
+            p.significant = s.getColumn(5).getInt() != 0;
+            visit(p);
+        }
+    });
+}
+
 std::vector<LatestValue> SeriesReader::latest_values() const {
     return guarded(*c_, "reading the latest values", [&] {
         // Per zone quantity, one seek to the end of its key (zone_id, quantity_id, acquired,
@@ -149,8 +186,34 @@ std::vector<LatestValue> SeriesReader::latest_values() const {
                            SeriesPoint{s.getColumn(2).getInt64(), s.getColumn(3).getInt64(),
                                        s.getColumn(4).getDouble(), optional_double(s.getColumn(5)),
                                        s.getColumn(6).getInt64(), s.getColumn(7).getInt() != 0,
-                                       s.getColumn(8).getString(), s.getColumn(9).getInt() != 0}});
+                                       s.getColumn(8).getString(), s.getColumn(9).getInt() != 0,
+                                       std::nullopt}});
         }
+        // The campaigns' own quantities: few rows, one query.
+        SQLite::Statement c(c_->db,
+                            "SELECT z.name, q.name, r.campaign_id, r.acquired, r.value,"
+                            " r.uncertainty, r.n, r.significant"
+                            " FROM campaign_zone_results r JOIN zones z ON z.id = r.zone_id"
+                            " JOIN quantities q ON q.id = r.quantity_id"
+                            " WHERE (r.acquired, r.campaign_id) = (SELECT r2.acquired,"
+                            "  r2.campaign_id FROM campaign_zone_results r2 WHERE r2.zone_id ="
+                            "  r.zone_id AND r2.quantity_id = r.quantity_id"
+                            "  ORDER BY r2.acquired DESC, r2.campaign_id DESC LIMIT 1)");
+        while (c.executeStep()) {
+            SeriesPoint p{0,
+                          c.getColumn(3).getInt64(),
+                          c.getColumn(4).getDouble(),
+                          optional_double(c.getColumn(5)),
+                          c.getColumn(6).getInt64(),
+                          c.getColumn(7).getInt() != 0,
+                          "campaign",
+                          true,
+                          c.getColumn(2).getInt64()};
+            out.push_back({c.getColumn(0).getString(), c.getColumn(1).getString(), p});
+        }
+        std::stable_sort(out.begin(), out.end(), [](const LatestValue& a, const LatestValue& b) {
+            return std::tie(a.zone, a.quantity) < std::tie(b.zone, b.quantity);
+        });
         return out;
     });
 }
@@ -160,7 +223,9 @@ std::vector<std::string> SeriesReader::quantities(const std::string& zone) const
         SQLite::Statement s(c_->db,
                             "SELECT q.name FROM quantities q WHERE EXISTS (SELECT 1"
                             " FROM zone_results r WHERE r.zone_id ="
-                            " (SELECT id FROM zones WHERE name = ?) AND r.quantity_id = q.id)"
+                            " (SELECT id FROM zones WHERE name = ?1) AND r.quantity_id = q.id)"
+                            " OR EXISTS (SELECT 1 FROM campaign_zone_results r WHERE r.zone_id ="
+                            " (SELECT id FROM zones WHERE name = ?1) AND r.quantity_id = q.id)"
                             " ORDER BY q.name");
         s.bind(1, zone);
         std::vector<std::string> out;

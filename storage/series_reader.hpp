@@ -38,6 +38,9 @@ struct SeriesPoint {
     // gate accepted it.
     std::string datum;
     bool registration_accepted = false;
+    // A campaign quantity's point (docs/campaigns.md, "Zone series"): the campaign it came
+    // from; `epoch` is 0 and `datum` "campaign" then.
+    std::optional<std::int64_t> campaign;
 };
 
 // The newest point of one zone quantity.
@@ -81,7 +84,8 @@ class SeriesReader {
     // By acquisition time; only those of `status` when given.
     std::vector<Epoch> epochs_in_range(const TimeRange& range,
                                        std::optional<EpochStatus> status = std::nullopt) const;
-    // The time series of one quantity in one zone, by acquisition time.
+    // The time series of one quantity in one zone, by acquisition time; a campaign
+    // quantity's (campaign_*) from the campaigns' zone rows.
     std::vector<SeriesPoint> points(const std::string& zone, const std::string& quantity,
                                     const TimeRange& range) const;
     // The same, one point at a time, for a reader that does not keep them all.
@@ -102,6 +106,10 @@ class SeriesReader {
     std::int64_t database_bytes() const;  // main file + WAL on disk
 
   private:
+    void for_each_campaign_point(const std::string& zone, const std::string& quantity,
+                                 const TimeRange& range,
+                                 const std::function<void(const SeriesPoint&)>& visit) const;
+
     Connection* c_;
 };
 

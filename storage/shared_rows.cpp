@@ -37,6 +37,19 @@ ZoneId zone_id_by_name(Connection& c, const std::string& zone) {
     return s.getColumn(0).getInt64();
 }
 
+// The id of a quantity name, inserted on first use (inside the caller's transaction).
+std::int64_t quantity_id(Connection& c, const std::string& name) {
+    if (name.empty()) throw_storage(c, "a zone result needs a quantity name");
+    SQLite::Statement insert(
+        c.db, "INSERT INTO quantities (name) VALUES (?) ON CONFLICT (name) DO NOTHING");
+    insert.bind(1, name);
+    insert.exec();
+    SQLite::Statement s(c.db, "SELECT id FROM quantities WHERE name = ?");
+    s.bind(1, name);
+    if (!s.executeStep()) throw_storage(c, "quantity '" + name + "' vanished");
+    return s.getColumn(0).getInt64();
+}
+
 AlarmRuleId rule_id_by_name(Connection& c, const std::string& rule) {
     SQLite::Statement s(c.db, "SELECT id FROM alarm_rules WHERE name = ?");
     s.bind(1, rule);

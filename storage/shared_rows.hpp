@@ -3,6 +3,7 @@
 // epoch commit writes alarm and system events in its own transaction). No transaction here.
 #include <SQLiteCpp/SQLiteCpp.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,8 @@ Epoch read_epoch(SQLite::Statement& s);
 // Lookups by name; an unknown name is a StorageError naming it.
 ZoneId zone_id_by_name(Connection& c, const std::string& zone);
 AlarmRuleId rule_id_by_name(Connection& c, const std::string& rule);
+// The id of a quantity name, inserted on first use.
+std::int64_t quantity_id(Connection& c, const std::string& name);
 
 void write_alarm_state(Connection& c, const AlarmState& state);
 void write_alarm_event(Connection& c, const AlarmEvent& event);

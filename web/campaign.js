@@ -7,6 +7,7 @@
 // grey: not tested. The arrows share one scale, with its bar.
 import { element, formatTime, getJson, header, showError } from './common.js';
 import { frameText, movedAsOne } from './campaigns.js';
+import { colourBar, roundLength, scaleBar } from './map_legend.js';
 
 const id = Number(location.pathname.split('/').pop());
 const mm = (m, digits = 1) => (m === null || m === undefined ? '—' : `${(m * 1000).toFixed(digits)} mm`);
@@ -23,15 +24,8 @@ function heat(t) {
 }
 
 function heatLegend(limit) {
-  const bar = element('canvas', { width: 160, height: 12 });
-  const ctx = bar.getContext('2d');
-  for (let x = 0; x < 160; ++x) {
-    ctx.fillStyle = heat(x / 159);
-    ctx.fillRect(x, 0, 1, 12);
-  }
-  return element('div', { class: 'map-legend' }, element('span', { text: 'C2C 0 mm' }), bar,
-    element('span', { text: `${(limit * 1000).toFixed(0)} mm` }),
-    element('span', { class: 'quiet', text: ' (grey: no reference point within reach)' }));
+  return colourBar(heat, 'C2C 0 mm', `${(limit * 1000).toFixed(0)} mm`,
+    ' (grey: no reference point within reach)');
 }
 
 function arrowColour(s) {
@@ -124,22 +118,11 @@ function arrowScale(points, segments) {
   return largest > 0 ? (0.1 * width) / (largest * 1000) : 1;
 }
 
+// The arrows' scale: a round number of millimetres drawn about 60 px long.
 function arrowLegend(mPerMm, pxPerMetre) {
-  const target = 60 / (mPerMm * pxPerMetre);  // mm that span about 60 px
-  const base = 10 ** Math.floor(Math.log10(target));
-  const length = [1, 2, 5, 10].map((m) => m * base).reduce((p, q) => (Math.abs(q - target) < Math.abs(p - target) ? q : p));
-  const pixels = length * mPerMm * pxPerMetre;
-  const bar = element('canvas', { width: Math.ceil(pixels) + 4, height: 12 });
-  const ctx = bar.getContext('2d');
-  ctx.lineWidth = 2;
-  ctx.beginPath();
-  ctx.moveTo(1, 6); ctx.lineTo(1 + pixels, 6);
-  ctx.moveTo(1, 1); ctx.lineTo(1, 11);
-  ctx.moveTo(1 + pixels, 1); ctx.lineTo(1 + pixels, 11);
-  ctx.stroke();
-  return element('div', { class: 'map-legend' }, element('span', { text: 'translation: ' }), bar,
-    element('span', { text: ` ${Number(length.toPrecision(2))} mm` }),
-    element('span', { class: 'quiet', text: ' (plan; red: differs from the others, blue: does not, ×: neither direction observed)' }));
+  const length = roundLength(60 / (mPerMm * pxPerMetre));
+  return scaleBar(length * mPerMm * pxPerMetre, 'translation', `${Number(length.toPrecision(2))} mm`,
+    'plan; red: differs from the others, blue: does not, ×: neither direction observed');
 }
 
 function segmentTable(segments) {

@@ -7,6 +7,7 @@
 // tip, all arrows to one scale with a scale bar; where the 3-D vectors stage measured, every
 // area's vector along the wall as a thin arrow from its centre, to a scale of their own.
 import { element, formatTime, getJson, header, showError } from './common.js';
+import { colourBar, roundLength, scaleBar } from './map_legend.js';
 
 const id = Number(location.pathname.split('/').pop());
 
@@ -24,41 +25,14 @@ function diverging(t) {
 }
 
 function legend(limit) {
-  const bar = element('canvas', { width: 160, height: 12 });
-  const ctx = bar.getContext('2d');
-  for (let x = 0; x < 160; ++x) {
-    ctx.fillStyle = diverging((x / 159) * 2 - 1);
-    ctx.fillRect(x, 0, 1, 12);
-  }
-  return element('div', { class: 'map-legend' },
-    element('span', { text: `−${(limit * 1000).toFixed(1)} mm` }), bar,
-    element('span', { text: `+${(limit * 1000).toFixed(1)} mm` }),
-    element('span', { class: 'quiet', text: ' grey: within LoD95' }));
+  return colourBar((t) => diverging(t * 2 - 1), `−${(limit * 1000).toFixed(1)} mm`,
+    `+${(limit * 1000).toFixed(1)} mm`, ' grey: within LoD95');
 }
 
-// A round length for the scale bar: 1, 2 or 5 × 10^k metres, drawn 40 to 100 px long.
-function scaleBarLength(pxPerMetre) {
-  const target = 60 / pxPerMetre;
-  const base = 10 ** Math.floor(Math.log10(target));
-  return [1, 2, 5, 10].map((m) => m * base).reduce((a, b) => (Math.abs(b - target) < Math.abs(a - target) ? b : a));
-}
-
+// The arrows' scale: a round length drawn about 60 px long.
 function arrowLegend(pxPerMetre, label, note) {
-  const length = scaleBarLength(pxPerMetre);
-  const bar = element('canvas', { width: Math.ceil(length * pxPerMetre) + 12, height: 12 });
-  const ctx = bar.getContext('2d');
-  ctx.strokeStyle = '#000';
-  ctx.lineWidth = 2;
-  ctx.beginPath();
-  ctx.moveTo(1, 6);
-  ctx.lineTo(1 + length * pxPerMetre, 6);
-  ctx.moveTo(1, 1); ctx.lineTo(1, 11);
-  ctx.moveTo(1 + length * pxPerMetre, 1); ctx.lineTo(1 + length * pxPerMetre, 11);
-  ctx.stroke();
-  return element('div', { class: 'map-legend' },
-    element('span', { text: `${label}: ` }), bar,
-    element('span', { text: ` ${Number((length * 1000).toPrecision(2))} mm` }),
-    element('span', { class: 'quiet', text: ` (${note})` }));
+  const length = roundLength(60 / pxPerMetre);
+  return scaleBar(length * pxPerMetre, label, `${Number((length * 1000).toPrecision(2))} mm`, note);
 }
 
 // An arrow from (x, y) to (tx, ty).

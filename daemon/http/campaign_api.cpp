@@ -103,12 +103,7 @@ std::optional<Json> campaign_points_json(const EpochDatabase& db, CampaignId id,
         why = "campaign " + std::to_string(id) + " kept no points";
         return std::nullopt;
     }
-    const char* names[] = {"x_m", "y_m", "z_m", "segment", "c2c_dx_m", "c2c_dy_m", "c2c_dz_m"};
-    std::array<const std::vector<float>*, 7> a{};
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        a[k] = points->array(names[k]);
-        if (!a[k]) throw Error("campaign " + std::to_string(id) + " has no '" + names[k] + "'");
-    }
+    const auto a = points->columns();
     const std::size_t n = points->size();
     const std::size_t step =
         std::max<std::size_t>(1, (n + most - 1) / std::max<std::size_t>(most, 1));

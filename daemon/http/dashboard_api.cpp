@@ -40,6 +40,7 @@ Json point_json(const SeriesPoint& p, bool with_time_text = true) {
     j["significant"] = p.significant;
     j["datum"] = p.datum;
     j["registration_accepted"] = p.registration_accepted;
+    if (p.campaign) j["campaign"] = *p.campaign;
     return j;
 }
 

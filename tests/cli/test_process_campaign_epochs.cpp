@@ -21,6 +21,7 @@
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/sha256.hpp"
+#include "storage/epoch_database.hpp"
 #include "tests/support/csv_cells.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -57,7 +58,15 @@ TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCom
                              "[ingest]\narchive = \"move\"\nstable_seconds = 0\n"
                              "[meteo]\nwait_seconds = 0\n"
                              "[[instrument]]\nname = \"backpack\"\nkind = \"pls\"\n"
-                             "range_sigma = 0.02\npattern = \"pls_*.ply\"\n");
+                             "range_sigma = 0.02\npattern = \"pls_*.ply\"\n"
+                             // The pier's south face (simulator/scene.hpp: y = 45 m), fed by
+                             // the campaign, and a rule on it.
+                             "[campaign]\nzone_series = true\n"
+                             "[[zone]]\nname = \"pier_south\"\nmin = [4.0, 44.5, -5.0]\n"
+                             "max = [15.0, 45.5, 20.0]\nnormal = [0.0, -1.0, 0.0]\n"
+                             "[[alarm.rule]]\nname = \"pier_south.shape\"\n"
+                             "zone = \"pier_south\"\nquantity = \"campaign_c2c_median_m\"\n"
+                             "alarm = { high = 0.010, low = -0.010 }\n");
     const CommandRun run = run_tlsmon("run --once --config " + config.string());
     ASSERT_EQ(run.status, 0) << run.out;
 
@@ -88,6 +97,39 @@ TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCom
     EXPECT_TRUE(fs::exists(stored));
     EXPECT_FALSE(fs::exists(dir / "ingest/pls_walk.ply"));
     EXPECT_NE(run.out.find("campaign 1 of instrument 'backpack'"), std::string::npos) << run.out;
+
+    // Its value on the pier's face is in the zone's series under its own quantity, named by
+    // the campaign and with no epoch: the walk's drift is its segments', so no change of shape
+    // is left. The rule watching it was evaluated at the campaign's time, and stays normal.
+    const auto series = json_of(
+        "query series --zone pier_south --quantity campaign_c2c_median_m "
+        "--config " +
+        config.string());
+    ASSERT_EQ(series.size(), 1u) << series.dump();
+    EXPECT_EQ(series[0]["datum"], "campaign 1");
+    EXPECT_TRUE(series[0]["epoch"].is_null());
+    EXPECT_GE(series[0]["n"].get<int>(), 30);
+    const double lod95 = series[0]["uncertainty"].get<double>();
+    EXPECT_GT(lod95, 0.0);
+    EXPECT_LT(lod95, 0.005);
+    EXPECT_LT(std::abs(series[0]["value"].get<double>()), 0.005) << series.dump();
+    // The station's own series of the zone holds its epochs only.
+    for (const auto& row : json_of("query series --zone pier_south --quantity m3c2_median_m "
+                                   "--config " +
+                                   config.string())) {
+        EXPECT_EQ(row["epoch"], epochs[0]["epoch"]);
+        EXPECT_EQ(row["datum"].get<std::string>().find("campaign"), std::string::npos);
+    }
+    {
+        const auto db = tlsmon::EpochDatabase::open(dir / "tlsmon.sqlite",
+                                                    tlsmon::EpochDatabase::Mode::read_only);
+        const auto states = db.alarms().states();
+        ASSERT_EQ(states.size(), 1u);
+        EXPECT_EQ(states[0].rule, "pier_south.shape");
+        EXPECT_EQ(states[0].state, "normal");
+        EXPECT_EQ(states[0].value, series[0]["value"].get<double>());
+        EXPECT_FALSE(states[0].epoch);
+    }
 
     // The stored segments are the one-shot command's on the same files.
     const CommandRun compare =

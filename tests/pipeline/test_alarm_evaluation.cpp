@@ -1,13 +1,14 @@
 // The alarm rules evaluated inside an epoch's commit on a real SQLite file: a step series
 // raises within on-delay + 1 epochs and none before, states survive a reopen, a backlog is
 // evaluated in acquisition order, rate rules read the stored series, rejected and degraded
-// epochs are not evaluated.
+// epochs are not evaluated; rules on a campaign quantity step on stored campaigns only.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
 #include "pipeline/alarm_evaluation.hpp"
+#include "storage/campaign_store.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
@@ -239,6 +240,79 @@ TEST(AlarmEvaluation, RateRuleReadsTheStoredSeries) {
     const auto events = site.db->alarms().events(std::nullopt, rate.name);
     ASSERT_EQ(events.size(), 1u);
     EXPECT_EQ(events[0].time, kT0 + 900);
+}
+
+// A stored campaign with one zone value, its rules evaluated inside its transaction.
+CampaignId add_campaign_value(Site& site, UtcSeconds t, double value, bool significant = true) {
+    CampaignRow c;
+    c.sha256 = sha(1000 + ++site.n);
+    c.instrument = "backpack";
+    c.kind = "pls";
+    c.file_path = "/archive/pls.ply";
+    c.acquired = t;
+    c.added = t;
+    c.reference_epoch = 1;  // the station's first epoch (added before)
+    c.parameters_json = "{}";
+    const std::vector<ZoneResult> zones{
+        {kZone, kCampaignC2cMedian, value, 0.004, 300, significant}};
+    return site.db->campaigns().add(
+        c, {}, {}, zones, [&](CampaignId id, const AlarmStore& a, const SeriesReader& s) {
+            return evaluate_campaign_alarms(site.rules, id, t, zones, a, s);
+        });
+}
+
+TEST(AlarmEvaluation, CampaignRulesStepOnCampaignsAndStationRulesOnEpochsOnly) {
+    Site site;
+    AlarmRuleSpec bulge;
+    bulge.name = "P3 bulge";
+    bulge.zone = kZone;
+    bulge.quantity = kCampaignC2cMedian;
+    bulge.levels[2] = LevelLimits{0.015, std::nullopt, 0.002};
+    AlarmRuleSpec bulge_rate = bulge;
+    bulge_rate.name = "P3 bulge rate";
+    bulge_rate.levels[2] = LevelLimits{5.0, std::nullopt, 0.5};  // mm/day
+    bulge_rate.rate_window_seconds = 3 * 86400;
+    site.rules = {settlement_rule(), bulge, bulge_rate};
+    store_alarm_rules(*site.db, site.rules);
+
+    // Station epochs far above the campaign rule's level: only the station's rule moves.
+    for (int k = 0; k < 4; ++k) site.add(kT0 + 900 * k, 0.030);
+    EXPECT_EQ(site.state().state, "unack");
+    EXPECT_EQ(site.state("P3 bulge").state, "normal");
+    EXPECT_FALSE(site.state("P3 bulge").evaluated);
+
+    // A campaign inside the level, then one a day later above it: raised at its time, with
+    // no epoch and the campaign named; the rate over the two is 20 mm/day.
+    add_campaign_value(site, kT0 + 3600, 0.002);
+    EXPECT_EQ(site.state("P3 bulge").state, "normal");
+    const CampaignId second = add_campaign_value(site, kT0 + 3600 + 86400, 0.022);
+    const auto s = site.state("P3 bulge");
+    EXPECT_EQ(s.state, "unack");
+    EXPECT_EQ(s.level, "alarm");
+    EXPECT_EQ(*s.value, 0.022);
+    EXPECT_FALSE(s.epoch);
+    const auto events = site.db->alarms().events(std::nullopt, "P3 bulge");
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].time, kT0 + 3600 + 86400);
+    EXPECT_NE(events[0].message.find("(campaign " + std::to_string(second) + ")"),
+              std::string::npos)
+        << events[0].message;
+    const auto rate = site.state("P3 bulge rate");
+    EXPECT_EQ(rate.state, "unack");
+    EXPECT_NEAR(*rate.value, 20.0, 1e-9);
+    // The station's rule kept the state the epochs gave it.
+    EXPECT_EQ(site.state().state, "unack");
+    EXPECT_EQ(site.db->alarms().events(std::nullopt, "P3 settlement").size(), 1u);
+
+    // A campaign acquired before the newest one the rule took: stored, not stepped back to,
+    // said in an event.
+    add_campaign_value(site, kT0 + 7200, 0.0);
+    EXPECT_EQ(site.state("P3 bulge").state, "unack");
+    EXPECT_EQ(site.db->series().points(kZone, kCampaignC2cMedian, {}).size(), 3u);
+    bool said = false;
+    for (const auto& e : site.db->series().events({}, std::string("alarm_rule_late_epoch")))
+        said = said || e.message.find("campaign") != std::string::npos;
+    EXPECT_TRUE(said);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "algorithms/campaign/paired_fit.hpp"
 #include "core/error.hpp"
 #include "formats/ply_writer.hpp"
+#include "pipeline/alarm_evaluation.hpp"
 #include "pipeline/campaign_comparison.hpp"
 #include "pipeline/campaign_epoch.hpp"
 #include "pipeline/sha256.hpp"
@@ -273,8 +275,8 @@ TEST(CampaignSimulated, AutomaticFindsTheFramesAlreadyOneAndACloudWithoutPlanesI
 
 TEST(CampaignSimulated, StoredCampaignsShareThePreparedReferenceAndKeepTheirFrameAndPoints) {
     // Two walks of the daemon's batch against one reference epoch: the reference is prepared
-    // once for both, again only when the parameters change; each stored with the frame its
-    // comparison found and its points thinned to the spacing asked.
+    // once for both, again only when the parameters it depends on change; each stored with the
+    // frame its comparison found and its points thinned to the spacing asked.
     const Fixture& f = fixture();
     const test::TempDir dir("campaign-references");
     write_ply(dir / "reference.ply", f.reference.points, {});
@@ -329,6 +331,93 @@ TEST(CampaignSimulated, StoredCampaignsShareThePreparedReferenceAndKeepTheirFram
     source.kind = "pls";
     add_campaign(db, source, read_file_hashed(source.file), other, 0.10, references);
     EXPECT_EQ(references.prepared(), 2);
+    // Another instrument's range noise changes the comparison, not the reference.
+    other.range_sigma = 2 * f.parameters.range_sigma;
+    walk.scanner.seed = 14;
+    write_ply(dir / "walk_14.ply", sim::render_pls(f.site, 0, walk, 2).points, {});
+    source.file = dir / "walk_14.ply";
+    add_campaign(db, source, read_file_hashed(source.file), other, 0.10, references);
+    EXPECT_EQ(references.prepared(), 2);
+}
+
+TEST(CampaignSimulated, ZoneSeriesMeasuresABulgeWithinItsSegmentAndRaisesItsRule) {
+    // A drifted walk whose pier bulged 25 mm outward on a 2 m × 2 m patch of its south face:
+    // the segment's registration takes the drift away, the bulge stays — less the part the
+    // segment's fit follows (docs/campaigns.md, "Zone series": up to a fifth here) — so a zone
+    // on the patch says most of 25 mm, significantly, where a zone on the same face beside it
+    // says nothing significant; the zone's rule raises at the campaign's time.
+    const Fixture& f = fixture();
+    const sim::PlsCampaign walk = f.campaign(sim::SlamDriftModel::linear, 21);
+    sim::PlsCloud cloud = sim::render_pls(f.site, 0, walk, 2);
+    std::vector<double> face_z;
+    const auto on_south_face = [&](std::size_t i) {
+        return cloud.surface[i] == std::uint8_t(sim::Surface::pier) && cloud.normal[i].y() < -0.95f;
+    };
+    for (std::size_t i = 0; i < cloud.points.size(); ++i)
+        if (on_south_face(i)) face_z.push_back(cloud.truth[i].z());
+    ASSERT_GT(face_z.size(), 1000u);
+    std::sort(face_z.begin(), face_z.end());
+    const double z0 = face_z[face_z.size() / 10] + 0.5;
+    const double y = f.site.pier.y0;
+    const double bulge = 0.025;
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+        const Eigen::Vector3d& q = cloud.truth[i];
+        if (!on_south_face(i) || q.x() < 8.5 || q.x() > 10.5 || q.z() < z0 || q.z() > z0 + 2)
+            continue;
+        cloud.points[i] += bulge * cloud.normal[i].cast<double>();
+        ++moved;
+    }
+    ASSERT_GT(moved, 200u);
+
+    const test::TempDir dir("campaign-zone-series");
+    write_ply(dir / "reference.ply", f.reference.points, {});
+    write_ply(dir / "walk.ply", cloud.points, {});
+    auto db = EpochDatabase::open(dir / "e.sqlite", EpochDatabase::Mode::read_write);
+    const auto reference = db.epochs().insert(
+        {sha256_file(dir / "reference.ply"), 1000, dir / "reference.ply", 1, std::nullopt});
+    db.epochs().set_reference(reference.id);
+    CampaignFeed feed;
+    for (const auto& [name, x0] : {std::pair{"bulge", 8.5}, std::pair{"beside", 12.5}}) {
+        ZoneShape zone = box_zone(name, {x0, y - 0.5, z0}, {x0 + 2, y + 0.5, z0 + 2});
+        zone.normal = Eigen::Vector3d(0, -1, 0);
+        feed.zones.push_back(zone);
+        db.site().upsert_zone(name, "{}");
+        AlarmRuleSpec rule;
+        rule.name = std::string(name) + ".shape";
+        rule.zone = name;
+        rule.quantity = kCampaignC2cMedian;
+        rule.levels[2] = LevelLimits{0.010, -0.010, 0.002};
+        rule.significant_only = true;
+        feed.rules.push_back(rule);
+    }
+    store_alarm_rules(db, feed.rules);
+    CampaignSource source;
+    source.file = dir / "walk.ply";
+    source.instrument = "backpack";
+    source.kind = "pls";
+    source.acquired = 5000;
+    CampaignReferences references;
+    const StoredCampaign stored = add_campaign(db, source, read_file_hashed(source.file),
+                                               f.parameters, 0.05, references, &feed);
+
+    const auto bulged = db.series().points("bulge", kCampaignC2cMedian, {});
+    const auto beside = db.series().points("beside", kCampaignC2cMedian, {});
+    ASSERT_EQ(bulged.size(), 1u);
+    ASSERT_EQ(beside.size(), 1u);
+    EXPECT_EQ(bulged[0].campaign, stored.row.id);
+    EXPECT_GE(bulged[0].n, 30);
+    EXPECT_GT(bulged[0].value, 0.75 * bulge) << bulged[0].value << " ± " << *bulged[0].uncertainty;
+    EXPECT_LT(bulged[0].value, bulge + *bulged[0].uncertainty) << *bulged[0].uncertainty;
+    EXPECT_TRUE(bulged[0].significant);
+    EXPECT_LT(*bulged[0].uncertainty, 0.010);
+    EXPECT_FALSE(beside[0].significant) << beside[0].value << " ± " << *beside[0].uncertainty;
+    std::map<std::string, AlarmState> states;
+    for (const auto& st : db.alarms().states()) states[st.rule] = st;
+    EXPECT_EQ(states["bulge.shape"].state, "unack");
+    EXPECT_EQ(states["bulge.shape"].level, "alarm");
+    EXPECT_EQ(states["bulge.shape"].since, 5000);
+    EXPECT_EQ(states["beside.shape"].state, "normal");
 }
 
 }  // namespace

@@ -230,5 +230,90 @@ TEST(CampaignStore, ACopyOrABadFigureIsRefusedWithNothingStored) {
     EXPECT_EQ(db.campaigns().in_range({}).size(), 1u);
 }
 
+TEST(CampaignStore, ItsZoneRowsAreASeriesOfTheirOwnWithTheAlarmRowsOfItsTransaction) {
+    const test::TempDir dir("campaign-store-zones");
+    auto db = EpochDatabase::open(dir / "e.sqlite", Mode::read_write);
+    const auto reference =
+        db.epochs().insert({test::fake_sha256(900), 1000, "/ingest/r.ptx", 10, std::nullopt}).id;
+    db.site().upsert_zone("pier_east", "{}");
+    db.alarms().upsert_rule({0, "pier_east.bulge", "pier_east", kCampaignC2cMedian, "{}", true});
+    // A station value of another quantity in the same zone: not mixed with the campaigns'.
+    EpochResults station;
+    station.outcome = EpochStatus::done;
+    station.zone_results = {{"pier_east", "m3c2_median_m", 0.0007, 0.0004, 900, true}};
+    ASSERT_TRUE(db.epochs().claim(reference));
+    db.results().commit(reference, station);
+
+    const auto evaluate = [](CampaignId id, const AlarmStore& alarms, const SeriesReader& series) {
+        // Inside the transaction: the campaign's own row is in the series already.
+        const auto points = series.points("pier_east", kCampaignC2cMedian, {});
+        EXPECT_EQ(points.size(), 1u);
+        EXPECT_EQ(alarms.rules().size(), 1u);
+        AlarmRows rows;
+        rows.states.push_back({"pier_east.bulge", "unack", "alarm", 5000, points.back().value,
+                               std::nullopt, "alarm", std::nullopt, "", 5000});
+        rows.events.push_back({5000, "pier_east.bulge", "raise", "alarm", points.back().value,
+                               std::nullopt,
+                               "normal -> unack (campaign " + std::to_string(id) + ")", "rule"});
+        return rows;
+    };
+    const CampaignId first =
+        db.campaigns().add(campaign(1, 5000, reference), segments(), {},
+                           {{"pier_east", kCampaignC2cMedian, 0.021, 0.004, 340, true}}, evaluate);
+    const CampaignId second =
+        db.campaigns().add(campaign(2, 9000, reference), {}, {},
+                           {{"pier_east", kCampaignC2cMedian, -0.001, 0.003, 310, false}});
+
+    const auto series = db.series().points("pier_east", kCampaignC2cMedian, {});
+    ASSERT_EQ(series.size(), 2u);
+    EXPECT_EQ(series[0].campaign, first);
+    EXPECT_EQ(series[0].epoch, 0);
+    EXPECT_EQ(series[0].acquired, 5000);
+    EXPECT_EQ(series[0].value, 0.021);
+    EXPECT_EQ(series[0].uncertainty, 0.004);
+    EXPECT_EQ(series[0].n, 340);
+    EXPECT_TRUE(series[0].significant);
+    EXPECT_EQ(series[0].datum, "campaign");
+    EXPECT_EQ(series[1].campaign, second);
+    EXPECT_EQ(db.series().points("pier_east", kCampaignC2cMedian, {{6000}, {}}).size(), 1u);
+    // The station's series is untouched, and both quantities are the zone's.
+    const auto m3c2 = db.series().points("pier_east", "m3c2_median_m", {});
+    ASSERT_EQ(m3c2.size(), 1u);
+    EXPECT_FALSE(m3c2[0].campaign);
+    EXPECT_EQ(db.series().quantities("pier_east"),
+              (std::vector<std::string>{kCampaignC2cMedian, "m3c2_median_m"}));
+    const auto latest = db.series().latest_values();
+    ASSERT_EQ(latest.size(), 2u);
+    EXPECT_EQ(latest[0].quantity, kCampaignC2cMedian);
+    EXPECT_EQ(latest[0].point.campaign, second);
+    EXPECT_EQ(latest[0].point.value, -0.001);
+    EXPECT_EQ(latest[1].quantity, "m3c2_median_m");
+    EXPECT_EQ(db.campaigns().zone_results(first).size(), 1u);
+    EXPECT_EQ(db.campaigns().zone_results(first)[0].value, 0.021);
+
+    // The alarm rows were written with the first campaign.
+    const auto states = db.alarms().states();
+    ASSERT_EQ(states.size(), 1u);
+    EXPECT_EQ(states[0].state, "unack");
+    EXPECT_FALSE(states[0].epoch);
+    const auto events = db.alarms().events(std::nullopt);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_NE(events[0].message.find("campaign " + std::to_string(first)), std::string::npos);
+
+    // A station quantity, an unknown zone or a value that is not finite: nothing stored.
+    EXPECT_THROW(db.campaigns().add(campaign(3, 9500, reference), {}, {},
+                                    {{"pier_east", "m3c2_median_m", 0.001, 0.001, 10, false}}),
+                 StorageError);
+    EXPECT_THROW(db.campaigns().add(campaign(4, 9500, reference), {}, {},
+                                    {{"nowhere", kCampaignC2cMedian, 0.001, 0.001, 10, false}}),
+                 StorageError);
+    EXPECT_THROW(
+        db.campaigns().add(campaign(5, 9500, reference), {}, {},
+                           {{"pier_east", kCampaignC2cMedian, std::nan(""), 0.001, 10, false}}),
+        StorageError);
+    EXPECT_EQ(db.campaigns().in_range({}).size(), 2u);
+    EXPECT_EQ(db.series().points("pier_east", kCampaignC2cMedian, {}).size(), 2u);
+}
+
 }  // namespace
 }  // namespace tlsmon
