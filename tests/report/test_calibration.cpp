@@ -102,7 +102,8 @@ TEST(Calibration, RegistrationParametersAndZonesOfARun) {
     zone.box = ZoneBox{{2.0, 44.5, 30.0}, {17.0, 45.5, 40.0}};
     for (int i = 0; i < 4; ++i)
         zone.series["m3c2_median_m"].push_back({i + 1, truth[static_cast<std::size_t>(i)].time_unix,
-                                                0.0005, 0.00196, 50, false, "targets", true});
+                                                0.0005, 0.00196, 50, false, "targets", true,
+                                                std::nullopt});
     run.zones.push_back(zone);
 
     const auto rows = calibration(analyse(run, truth, "truth"));

@@ -114,7 +114,7 @@ TEST(ReportAnalysis, RegistrationErrorAndStepLatencyAgainstTheTruth) {
     for (int i = 0; i < 4; ++i) {
         zone.series["m3c2_median_m"].push_back({i + 1, t[static_cast<std::size_t>(i)].time_unix,
                                                 i >= 2 ? 0.0205 : 0.0005, 0.002, 50, i >= 2,
-                                                "targets", true});
+                                                "targets", true, std::nullopt});
     }
     run.zones.push_back(zone);
     run.rules.push_back({1, "step", "top", "m3c2_median_m", "{}", true});

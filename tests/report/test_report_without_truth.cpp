@@ -33,9 +33,10 @@ RunData three_epochs() {
     zone.id = 1;
     zone.name = "top";
     zone.box = ZoneBox{{2.0, 44.5, 30.0}, {17.0, 45.5, 40.0}};
-    zone.series["m3c2_median_m"] = {{1, 1'000'000, 0.0, 0.002, 50, false, "targets", true},
-                                    {2, 1'000'900, -0.0031, 0.002, 50, true, "targets", true},
-                                    {3, 1'001'800, 0.0062, 0.0025, 50, true, "targets", true}};
+    zone.series["m3c2_median_m"] = {
+        {1, 1'000'000, 0.0, 0.002, 50, false, "targets", true, std::nullopt},
+        {2, 1'000'900, -0.0031, 0.002, 50, true, "targets", true, std::nullopt},
+        {3, 1'001'800, 0.0062, 0.0025, 50, true, "targets", true, std::nullopt}};
     run.zones.push_back(zone);
     run.rules.push_back({1, "step", "top", "m3c2_median_m", "{}", true});
     run.alarm_events.push_back({1'001'800, "step", "raise", "alarm", 0.0062, 3, "", "rule"});
