@@ -121,7 +121,7 @@ json browser(const std::string& arguments) {
 
 TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {
     TempDir tmp("dashboard");
-    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, start_now());
+    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, next_midnight());
     const fs::path run = tmp.path() / "run";
     const int modbus_port = free_tcp_port();
     int http_port = free_tcp_port();
@@ -505,7 +505,7 @@ long proc_entries(pid_t pid, const char* what) {
 TEST(Dashboard, TenThousandIdleConnectionsStayWithinTheConfiguredLimits) {
     constexpr int kThreads = 4, kConnections = 10000;
     TempDir tmp("dashboard-flood");
-    const Scenario s = render_scenario(tmp.path() / "scenario", 2, start_now());
+    const Scenario s = render_scenario(tmp.path() / "scenario", 2, next_midnight());
     const fs::path run = tmp.path() / "run";
     const int http_port = free_tcp_port();
     fs::path config = write_config(s, run, http_port + 1, false, http_port);  // Modbus off
@@ -578,7 +578,7 @@ TEST(Dashboard, TenThousandIdleConnectionsStayWithinTheConfiguredLimits) {
 // one without the other is a configuration error.
 TEST(Dashboard, ServesHttpsWithTheConfiguredCertificateOnly) {
     TempDir tmp("dashboard-tls");
-    const Scenario s = render_scenario(tmp.path() / "scenario", 1, start_now());
+    const Scenario s = render_scenario(tmp.path() / "scenario", 1, next_midnight());
     const fs::path run = tmp.path() / "run";
     const int http_port = free_tcp_port();
     const fs::path config = write_config(s, run, http_port + 1, false, http_port);

@@ -383,7 +383,7 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
 TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
     const auto t0 = Clock::now();
     const TempDir tmp("e2e");
-    const Scenario s = render_scenario(tmp.path(), kEpochs, start_now());
+    const Scenario s = render_scenario(tmp.path(), kEpochs, next_midnight());
     ASSERT_EQ(s.truth.size(), static_cast<std::size_t>(kEpochs));
     const double render_s = seconds_since(t0);
     const int step_epoch = s.scene.step_epoch, knocked_epoch = s.scene.knocked_epoch;
@@ -794,8 +794,8 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
     // Alarms: the step rule raises within on_delay + 1 epochs of the step, never before it;
     // no other rule raises. No system alarm either: the knocked target is excluded and the
     // epochs keep four targets (accepted, so no system.registration_rejected); no epoch fails;
-    // the acquisition times run from the quarter hour of the start on, so system.stale (no
-    // new epoch for 3 × 15 min of wall time) has no cause.
+    // the acquisition times run from the next midnight on, ahead of the wall clock, so
+    // system.stale (no new epoch for 3 × 15 min of wall time) has no cause.
     const int on_delay = 1;  // demo_daemon_config
     std::optional<int> raised_at;
     int acks = 0;

@@ -148,7 +148,7 @@ std::string channels_toml(const Receivers& r, const fs::path& run) {
 TEST(Notify, AlarmReachesMailWebhookAndMqttAndEachSendIsAnEvent) {
     TempDir tmp("notify");
     constexpr int kEpochs = 4;  // the step at epoch 2
-    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, start_now());
+    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, next_midnight());
     const fs::path run = tmp.path() / "run";
     std::set<int> ports;
     const int modbus_port = another_port(ports);
