@@ -101,6 +101,18 @@ struct CorePointsOptions {
 };
 int run_query_corepoints(const CorePointsOptions& options);
 
+// `tlsmon export (--epoch N [--map m3c2|pbm3c2|vectors] | --campaign N) --out FILE`: one
+// stored map's per-point results as LAS 1.4 with extra bytes, or CSV (by FILE's extension).
+struct ExportOptions {
+    ReadOptions read;
+    std::int64_t epoch = 0;
+    std::int64_t campaign = 0;
+    std::string map = "m3c2";
+    std::string out;
+    std::string crs;  // "" = the configuration's [station] crs, if any
+};
+int run_export(const ExportOptions& options);
+
 // `tlsmon query planes --epoch N`: the reference planes the registration on planes matched
 // in one epoch, each with its role (datum, moved, monitored), tilt and shift with σ, and test.
 struct PlanesQueryOptions {

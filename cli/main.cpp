@@ -34,8 +34,11 @@ struct ReadOptionsOnTheCommandLine {
         cmd->add_option("--format", format, "Output format")
             ->check(CLI::IsMember({"table", "csv", "json"}));
         if (with_time_range) {
-            cmd->add_option("--from", options.from, "Start, ISO-8601 UTC (e.g. 2026-03-01T00:00Z)");
-            cmd->add_option("--to", options.to, "End (inclusive), ISO-8601 UTC");
+            cmd->add_option("--from", options.from,
+                            "Start: ISO-8601 UTC (e.g. 2026-03-01T00:00Z), or before now "
+                            "(e.g. -7d, -12h, -30min)");
+            cmd->add_option("--to", options.to,
+                            "End (inclusive): ISO-8601 UTC, now, or before now");
         }
     }
     const ReadOptions& finish() {
@@ -75,6 +78,8 @@ struct CommandLine {
     StableAreasQueryOptions stable_areas;
     ReadOptionsOnTheCommandLine events_read;
     EventsOptions events;
+    ReadOptionsOnTheCommandLine export_read;
+    ExportOptions export_;
     M3c2Options m3c2;
     PbM3c2Options pbm3c2;
     PrimitivesOptions primitives;
@@ -369,6 +374,33 @@ void add_events(CLI::App& app, CommandLine& c) {
     cmd->callback([&] {
         o.read = read.finish();
         c.code = run_events(o);
+    });
+}
+
+void add_export(CLI::App& app, CommandLine& c) {
+    auto& read = c.export_read;
+    auto& o = c.export_;
+    auto* cmd = app.add_subcommand(
+        "export",
+        "One stored map's per-point results as LAS 1.4 (every attribute as extra bytes) or CSV, "
+        "by the file's extension (docs/export.md)");
+    auto* epoch = cmd->add_option("--epoch", o.epoch, "Epoch id");
+    cmd->add_option("--map", o.map, "Which of the epoch's maps")
+        ->check(CLI::IsMember({"m3c2", "pbm3c2", "vectors"}))
+        ->capture_default_str()
+        ->needs(epoch);
+    auto* campaign = cmd->add_option("--campaign", o.campaign, "A campaign's id: its kept points");
+    epoch->excludes(campaign);
+    cmd->add_option("--out", o.out, "The file to write: .las or .csv")->required();
+    cmd->add_option("--crs", o.crs,
+                    "The coordinate system for the LAS file's WKT record (e.g. EPSG:25832); "
+                    "default: the configuration's [station] crs");
+    read.add_to(cmd, false);
+    cmd->callback([&] {
+        if (o.epoch <= 0 && o.campaign <= 0)
+            throw CLI::ValidationError("give --epoch or --campaign");
+        o.read = read.finish();
+        c.code = run_export(o);
     });
 }
 
@@ -899,6 +931,7 @@ int main(int argc, char** argv) {
         {"status", tlsmon::add_status},
         {"query", tlsmon::add_query},
         {"events", tlsmon::add_events},
+        {"export", tlsmon::add_export},
         {"m3c2", tlsmon::add_m3c2},
         {"pbm3c2", tlsmon::add_pbm3c2},
         {"primitives", tlsmon::add_primitives},

@@ -66,11 +66,7 @@ void write_csv(const std::string& path, const PbM3c2Reference& reference,
         const auto r1 = patches::fit_plane(reference.moments[k]);
         const auto r2 = patches::fit_plane(epoch.moments[k]);
         const auto& r = epoch.results[k];
-        // The place the distance is taken at: the reference plane over its points' centroid.
-        const Eigen::Vector3d at =
-            r1.valid ? Eigen::Vector3d(frame.origin + r1.centroid.x() * frame.u +
-                                       r1.centroid.y() * frame.v + r1.height * frame.normal)
-                     : frame.origin;
+        const Eigen::Vector3d at = reference.measured_at(k);
         const std::string row = csv_line(std::vector<std::string>{
             std::to_string(k), std::to_string(reference.supervoxel[k]), zones[k],
             csv_number(at.x()), csv_number(at.y()), csv_number(at.z()),

@@ -11,6 +11,7 @@
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/text_escape.hpp"
+#include "core/toml_fields.hpp"
 #include "core/utc_time.hpp"
 
 namespace tlsmon {
@@ -25,10 +26,23 @@ EpochDatabase open_for_reading(const ReadOptions& options) {
     return EpochDatabase::open(path, EpochDatabase::Mode::read_only);
 }
 
+UtcSeconds time_bound(const std::string& text, UtcSeconds now) {
+    if (text == "now") return now;
+    if (text.starts_with('-')) {
+        try {
+            return now - std::llround(parse_duration_seconds(text.substr(1)));
+        } catch (const ConfigError& e) {
+            throw Error("time '" + text + "': " + e.what());
+        }
+    }
+    return parse_utc(text);
+}
+
 TimeRange time_range(const ReadOptions& options) {
     TimeRange range;
-    if (!options.from.empty()) range.from = parse_utc(options.from);
-    if (!options.to.empty()) range.to = parse_utc(options.to);
+    const UtcSeconds now = now_utc();
+    if (!options.from.empty()) range.from = time_bound(options.from, now);
+    if (!options.to.empty()) range.to = time_bound(options.to, now);
     if (range.from && range.to && *range.from > *range.to) {
         throw Error("--from " + options.from + " is after --to " + options.to);
     }

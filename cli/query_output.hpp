@@ -48,12 +48,14 @@ struct ReadOptions {
     std::string db;
     std::string config;
     OutputFormat format = OutputFormat::table;
-    std::string from, to;  // ISO-8601 UTC, empty = open
+    std::string from, to;  // ISO-8601 UTC, "now" or a duration before now ("-7d"); empty = open
 };
 
 // The database named by --db, or the one of --config's file; opened read-only.
 EpochDatabase open_for_reading(const ReadOptions& options);
 TimeRange time_range(const ReadOptions& options);  // throws Error for unreadable times
+// One bound: ISO-8601 UTC, "now", or a duration before `now` ("-7d", "-12h", "-30min").
+UtcSeconds time_bound(const std::string& text, UtcSeconds now);
 
 Cell optional_cell(const std::optional<double>& v);
 Cell optional_cell(const std::optional<std::int64_t>& v);

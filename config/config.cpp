@@ -11,6 +11,7 @@
 #include "config/alarm_rules.hpp"
 #include "config/folder_overlap.hpp"
 #include "config/keys.hpp"
+#include "formats/coordinate_system.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_stage.hpp"
@@ -50,6 +51,13 @@ const std::map<std::string, std::string> kMovedKeys = {
 void check_station(TomlFields& t, StationConfig& c) {
     if (c.name.empty() || c.name.find('/') != std::string::npos) {
         t.fail("name", "expected a non-empty station name without '/'");
+    }
+    if (!c.crs.empty()) {
+        try {
+            coordinate_system_wkt(c.crs);
+        } catch (const Error& e) {
+            t.fail("crs", e.what());
+        }
     }
 }
 

@@ -31,6 +31,7 @@ namespace tlsmon {
 // The station and its scanner's stochastic model (core/scanner_noise.hpp).
 struct StationConfig : ScannerNoise {
     std::string name = "station";
+    std::string crs;  // the project frame's coordinate system as PROJ names it; "" = none
 };
 
 struct PathsConfig {

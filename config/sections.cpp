@@ -49,6 +49,10 @@ std::vector<SectionKey<StationConfig>> station_keys() {
                   "The range noise's part proportional to the range."),
         K::number(&StationConfig::angular_sigma_arcsec, "angular_sigma_arcsec", 0, 100, "″",
                   "The σ of the beam's direction."),
+        K::text(&StationConfig::crs, "crs", "a system PROJ knows, or empty",
+                "The coordinate system of the project frame (the reference's, which every result "
+                "is in), e.g. `\"EPSG:25832\"` or a WKT: written into exported LAS files as "
+                "their WKT record (docs/export.md). Empty: the frame is local, none is written."),
     };
 }
 

@@ -2,8 +2,9 @@
 # Installs the Debian 12 packages tlsmon builds and runs with; with --tests also those the
 # test suite drives (a headless browser and its WebDriver, a JSON Schema validator for the
 # API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP server and
-# an MQTT broker with its clients for the notification tests). Idempotent: when every package
-# is already installed it changes nothing and asks no mirror.
+# an MQTT broker with its clients for the notification tests, and an independent LAS reader,
+# copc.js from the npm registry, for the export tests). Idempotent: when everything is already
+# installed it changes nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
@@ -11,6 +12,7 @@ packages=(
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev sqlite3 libsqlitecpp-dev libssl-dev
   libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev libcurl4-openssl-dev libmosquitto-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
+  libproj-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-dev clang-format
   mbpoll gnuplot-nox libjs-dygraphs
@@ -18,6 +20,8 @@ packages=(
 if [ "${1:-}" = --tests ]; then
   packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl
              python3-aiosmtpd mosquitto mosquitto-clients)
+  # Node.js runs the independent LAS reader; a machine's own Node.js and npm are kept.
+  if ! command -v node > /dev/null || ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
 fi
 
 missing=()
@@ -26,14 +30,22 @@ for p in "${packages[@]}"; do
     missing+=("$p")
   fi
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
-fi
-
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-echo "install-deps: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -q
-$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+else
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# The export tests' LAS reader, at the version package-lock.json pins (tests/export).
+if [ "${1:-}" = --tests ]; then
+  checks="$(cd "$(dirname "$0")/.." && pwd)/tests/export"
+  if [ ! -f "$checks/node_modules/copc/package.json" ]; then
+    echo "install-deps: installing copc.js for the export tests"
+    npm ci --prefix "$checks" --no-audit --no-fund
+  fi
+fi

@@ -13,6 +13,7 @@
 
 #include "core/utc_time.hpp"
 #include "formats/format_error.hpp"
+#include "formats/las_points.hpp"
 #include "formats/mapped_file.hpp"
 
 namespace tlsmon {
@@ -34,8 +35,9 @@ constexpr std::size_t kEvlrStartAt = 235;  // 1.4
 constexpr std::size_t kEvlrCountAt = 243;
 constexpr std::size_t kPointCountAt = 247;
 
-constexpr std::size_t kVlrHeaderSize = 54;   // reserved, user id, record id, length, text
-constexpr std::size_t kEvlrHeaderSize = 60;  // the same with a 64-bit length
+constexpr std::size_t kVlrHeaderSize = 54;  // reserved, user id, record id, length, text
+constexpr std::size_t kExtraBytesDescriptorSize = 192;  // R15 Table 24
+constexpr std::size_t kEvlrHeaderSize = 60;             // the same with a 64-bit length
 
 // Per point data record format 0–10 (LAS 1.4 R15 §2.6): the base record length and where
 // GPS time and RGB sit in it (0: the format has none).
@@ -76,6 +78,19 @@ class LasParser {
         check_point_records();
         skip_evlrs();
         return read_points();
+    }
+
+    LasPoints parse_with_attributes() {
+        Scan scan = parse();
+        LasPoints out;
+        out.xyz = std::move(scan.xyz);
+        out.acquired_utc = scan.acquired_utc;
+        read_extra_bytes(out);
+        if (const Vlr* w = find_vlr("LASF_Projection", 2112)) {
+            out.wkt.assign(data_ + w->at, w->length);
+            out.wkt.erase(out.wkt.find_last_not_of('\0') + 1);
+        }
+        return out;
     }
 
   private:
@@ -190,7 +205,94 @@ class LasParser {
                                   std::to_string(length) + " runs past the point data at byte " +
                                   std::to_string(point_offset_));
             }
+            vlrs_.push_back({std::string(data_ + at + 2, ::strnlen(data_ + at + 2, 16)),
+                             load<std::uint16_t>(data_ + at + 18), at + kVlrHeaderSize, length});
             at += kVlrHeaderSize + length;
+        }
+    }
+
+    struct Vlr {
+        std::string user;
+        std::uint16_t record = 0;
+        std::uint64_t at = 0, length = 0;  // the content
+    };
+
+    const Vlr* find_vlr(std::string_view user, std::uint16_t record) const {
+        for (const auto& v : vlrs_)
+            if (v.user == user && v.record == record) return &v;
+        return nullptr;
+    }
+
+    // The Extra Bytes VLR's fields (R15 §2.5.3): each descriptor's type and options; values
+    // with its scale and offset applied. Undocumented bytes (type 0) are stepped over; the
+    // deprecated arrays of two or three values (types 11–30, LAS 1.4 R13) give one attribute
+    // per element, "name[k]", with the element's scale and offset.
+    void read_extra_bytes(LasPoints& out) const {
+        const Vlr* v = find_vlr("LASF_Spec", 4);
+        if (v == nullptr) return;
+        if (v->length % kExtraBytesDescriptorSize != 0) {
+            fail(v->at, "Extra Bytes VLR of " + std::to_string(v->length) +
+                            " bytes is not a whole number of 192-byte descriptors");
+        }
+        constexpr std::array<std::uint8_t, 11> kSize{0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+        std::size_t offset = kBaseRecordLength[format_];
+        for (std::uint64_t d = v->at; d < v->at + v->length; d += kExtraBytesDescriptorSize) {
+            const char* e = data_ + d;
+            const unsigned type = load<std::uint8_t>(e + 2), options = load<std::uint8_t>(e + 3);
+            if (type > 30)
+                fail(d + 2, "extra bytes data type " + std::to_string(type) + " is not defined");
+            const unsigned scalar = type == 0 ? 0 : (type - 1) % 10 + 1;
+            const unsigned elements = type == 0 ? 1 : (type - 1) / 10 + 1;
+            const std::size_t size = type == 0 ? options : kSize[scalar];
+            if (offset + size * elements > record_length_) {
+                fail(d, "extra bytes field runs past the point record length " +
+                            std::to_string(record_length_));
+            }
+            const std::string name(e + 4, ::strnlen(e + 4, 32));
+            for (unsigned k = 0; type != 0 && k < elements; ++k) {
+                LasAttribute a;
+                a.name = elements == 1 ? name : name + "[" + std::to_string(k) + "]";
+                a.description.assign(e + 160, ::strnlen(e + 160, 32));
+                a.type = scalar == 1   ? LasAttribute::Type::u8
+                         : scalar == 5 ? LasAttribute::Type::u32
+                         : scalar == 6 ? LasAttribute::Type::i32
+                         : scalar == 9 ? LasAttribute::Type::f32
+                                       : LasAttribute::Type::f64;
+                const double scale = (options & 0x08) ? load<double>(e + 112 + 8 * k) : 1.0;
+                const double shift = (options & 0x10) ? load<double>(e + 136 + 8 * k) : 0.0;
+                a.values.resize(point_count_);
+                const char* r = data_ + point_offset_ + offset + k * size;
+                for (std::size_t i = 0; i < point_count_; ++i, r += record_length_) {
+                    a.values[i] = field_value(r, scalar) * scale + shift;
+                }
+                out.attributes.push_back(std::move(a));
+            }
+            offset += size * elements;
+        }
+    }
+
+    static double field_value(const char* p, unsigned type) {
+        switch (type) {
+            case 1:
+                return load<std::uint8_t>(p);
+            case 2:
+                return load<std::int8_t>(p);
+            case 3:
+                return load<std::uint16_t>(p);
+            case 4:
+                return load<std::int16_t>(p);
+            case 5:
+                return load<std::uint32_t>(p);
+            case 6:
+                return load<std::int32_t>(p);
+            case 7:
+                return static_cast<double>(load<std::uint64_t>(p));
+            case 8:
+                return static_cast<double>(load<std::int64_t>(p));
+            case 9:
+                return load<float>(p);
+            default:
+                return load<double>(p);
         }
     }
 
@@ -305,12 +407,23 @@ class LasParser {
     std::uint16_t global_encoding_ = 0;
     std::array<double, 3> scale_{};
     std::array<double, 3> offset_{};
+    std::vector<Vlr> vlrs_;
 };
 
 }  // namespace
 
 Scan parse_las(const char* data, std::size_t size, const std::filesystem::path& source) {
     return LasParser(data, size, source).parse();
+}
+
+LasPoints parse_las_points(const char* data, std::size_t size,
+                           const std::filesystem::path& source) {
+    return LasParser(data, size, source).parse_with_attributes();
+}
+
+LasPoints read_las_points(const std::filesystem::path& path) {
+    const MappedFile file(path);
+    return parse_las_points(file.data(), file.size(), path);
 }
 
 std::vector<Scan> read_las(const std::filesystem::path& path) {

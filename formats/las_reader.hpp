@@ -14,12 +14,14 @@
 // - acquired_utc: the earliest GPS time, when the global encoding says it is Adjusted
 //   Standard GPS time (GPS seconds − 1e9); GPS week time has no date and gives none.
 // VLRs and extended VLRs are skipped but bounds-checked; extra bytes after the format's
-// base record are skipped. LAZ and COPC (compressed) are rejected with a clear message.
+// base record are skipped (read_las_points reads them). LAZ and COPC (compressed) are rejected with
+// a clear message.
 #include <cstddef>
 #include <filesystem>
 #include <vector>
 
 #include "core/scan.hpp"
+#include "formats/las_points.hpp"
 
 namespace tlsmon {
 
@@ -28,5 +30,11 @@ std::vector<Scan> read_las(const std::filesystem::path& path);
 
 // The same from a LAS file already in memory; `source` names it in errors and Scan::source.
 Scan parse_las(const char* data, std::size_t size, const std::filesystem::path& source);
+
+// The points with the attributes of the Extra Bytes VLR (every scalar type, as doubles with
+// the descriptor's scale and offset applied) and the OGC WKT VLR: what `tlsmon export`
+// wrote, read back by the same checks as a scan.
+LasPoints read_las_points(const std::filesystem::path& path);
+LasPoints parse_las_points(const char* data, std::size_t size, const std::filesystem::path& source);
 
 }  // namespace tlsmon

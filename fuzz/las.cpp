@@ -1,4 +1,5 @@
-// libFuzzer target for the LAS reader: any byte string is either one scan or a FormatError.
+// libFuzzer target for the LAS reader: any byte string is either one scan or a FormatError;
+// so it is for the reader of points with their extra bytes.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -13,6 +14,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             tlsmon::parse_las(reinterpret_cast<const char*>(data), size, source);
         // Every point came from a record inside the input (records are at least 20 bytes).
         if (scan.size() > size / 20 || scan.intensity.size() != scan.size()) __builtin_trap();
+    } catch (const tlsmon::FormatError&) {
+    }
+    try {
+        const tlsmon::LasPoints points =
+            tlsmon::parse_las_points(reinterpret_cast<const char*>(data), size, source);
+        for (const auto& a : points.attributes)
+            if (a.values.size() != points.xyz.size()) __builtin_trap();
     } catch (const tlsmon::FormatError&) {
     }
     return 0;

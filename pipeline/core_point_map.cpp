@@ -1,28 +1,9 @@
 #include "pipeline/core_point_map.hpp"
 
 #include "core/error.hpp"
+#include "pipeline/stored_product.hpp"
 
 namespace tlsmon {
-
-namespace {
-
-// The m3c2 stage's reference product as the database holds it (whatever its parameters).
-M3c2Reference stored_reference(const EpochDatabase& db) {
-    for (const auto& e : db.reference_cache().entries()) {
-        if (e.stage != M3c2Reference::kStage) continue;
-        const CachedPayload cached = db.reference_cache().load(
-            ReferenceCacheKey{e.stage, e.reference_sha256, e.params_hash, e.format_version});
-        if (cached.status != CacheLookup::hit) {
-            throw Error("the m3c2 reference product in " + db.path().string() +
-                        " cannot be read: " + cached.reason);
-        }
-        return M3c2Reference::decode(cached.payload);
-    }
-    throw Error("no m3c2 reference product in " + db.path().string() +
-                " (has the m3c2 stage run?)");
-}
-
-}  // namespace
 
 CorePointMap read_core_point_map(const EpochDatabase& db, EpochId id) {
     const auto epoch = db.epochs().find(id);
@@ -46,7 +27,7 @@ CorePointMap read_core_point_map(const EpochDatabase& db, EpochId id) {
     m.lod95 = array("m3c2_lod95_m");
     m.n1 = array("m3c2_n1");
     m.n2 = array("m3c2_n2");
-    m.reference = stored_reference(db);
+    m.reference = stored_product<M3c2Reference>(db);
     if (m.reference.reference.size() != m.distance.size()) {
         throw Error("epoch " + std::to_string(id) + " has " + std::to_string(m.distance.size()) +
                     " core points, the stored m3c2 reference " +

@@ -1,9 +1,18 @@
 #include "pipeline/pbm3c2_reference.hpp"
 
+#include "algorithms/patches/patch_plane.hpp"
 #include "core/error.hpp"
 #include "core/payload.hpp"
 
 namespace tlsmon {
+
+Eigen::Vector3d PbM3c2Reference::measured_at(std::size_t k) const {
+    const auto& frame = patches[k].frame;
+    const auto r1 = patches::fit_plane(moments[k]);
+    if (!r1.valid) return frame.origin;
+    return frame.origin + r1.centroid.x() * frame.u + r1.centroid.y() * frame.v +
+           r1.height * frame.normal;
+}
 
 namespace {
 

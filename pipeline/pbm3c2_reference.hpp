@@ -23,6 +23,10 @@ struct PbM3c2Reference {
     std::vector<std::string> zone_names;                   // in the configuration's order
     std::vector<std::vector<std::uint32_t>> zone_patches;  // per zone, its patches (ascending)
 
+    // Where patch k's distance is taken: the reference plane over its points' centroid (the
+    // patch's origin when its plane could not be fitted).
+    Eigen::Vector3d measured_at(std::size_t k) const;
+
     std::string encode() const;
     static PbM3c2Reference decode(std::string_view payload);  // throws Error when malformed
 };

@@ -14,15 +14,18 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "formats/las_reader.hpp"
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/sha256.hpp"
 #include "storage/epoch_database.hpp"
 #include "tests/support/csv_cells.hpp"
+#include "tests/support/independent_las.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -216,6 +219,41 @@ TEST(CampaignEpochs, TheDaemonStoresAnInstrumentsFileApartFromTheStationAsTheCom
     EXPECT_LT(median, 1.3 * cloud_median);
     EXPECT_GT(double(in_segments), 0.2 * n);
     EXPECT_LT(double(in_segments), n);  // the ground is in none
+
+    // `tlsmon export` writes the same points as LAS 1.4 (read by tlsmon and by copc.js):
+    // coordinates to 1 µm, segment and C2C vector as stored.
+    const auto las = dir / "campaign.las";
+    const CommandRun exported =
+        run_tlsmon("export --campaign 1 --out " + las.string() + " --config " + config.string());
+    ASSERT_EQ(exported.status, 0) << exported.out;
+    const tlsmon::LasPoints own = tlsmon::read_las_points(las);
+    const nlohmann::json other = tlsmon::test::read_las_independently(las);
+    ASSERT_EQ(own.xyz.size(), points.size() - 1);
+    ASSERT_EQ(own.attributes.size(), 5u);
+    const auto& theirs = other.at("points");
+    const auto cell = [](const std::string& text) {
+        return text.empty() ? std::numeric_limits<double>::quiet_NaN() : std::stod(text);
+    };
+    // c2c_m is the length of the stored float32 vector, computed in double by both.
+    const auto same = [](double a, double b) {
+        return std::abs(a - b) <= 1e-12 * std::abs(b) || (std::isnan(a) && std::isnan(b));
+    };
+    for (std::size_t i = 1; i < points.size(); ++i) {
+        const std::size_t k = i - 1;
+        for (int a = 0; a < 3; ++a) {
+            const double x = std::stod(points[i][std::size_t(a)]);
+            ASSERT_NEAR(own.xyz[k][a], x, 0.5e-6 + 1e-9) << k;
+            ASSERT_NEAR(theirs.at(std::string(1, "XYZ"[a]))[k].get<double>(), x, 0.5e-6 + 1e-9);
+        }
+        for (std::size_t col = 3; col < 8; ++col) {
+            const double stored = cell(points[i][col]);
+            const tlsmon::LasAttribute& attribute = own.attributes[col - 3];
+            ASSERT_EQ(attribute.name, points[0][col]);
+            ASSERT_TRUE(same(attribute.values[k], stored)) << attribute.name << " " << k;
+            ASSERT_TRUE(same(tlsmon::test::las_number(theirs.at(attribute.name)[k]), stored))
+                << attribute.name << " " << k;
+        }
+    }
 
     // The report lists it (its own section: not in the zone series).
     const CommandRun report = run_tlsmon("report --database " + (dir / "tlsmon.sqlite").string() +

@@ -7,6 +7,7 @@
 #include <regex>
 #include <sstream>
 
+#include "core/utc_time.hpp"
 #include "storage/epoch_database.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -205,6 +206,15 @@ TEST_F(QueryCommands, EpochsInAllFormats) {
     EXPECT_EQ(l[1], "3,2026-03-01T12:30:00Z,rejected,,,,/ingest/s2.ptx,1002," + sha(2) +
                         ",registration RMS 12.0 mm > 5.0 mm");
 
+    // Relative to now: from 20 min after the first epoch on (the command runs within the
+    // minute), up to a day ago and "now".
+    const UtcSeconds minutes = (now_utc() - (kT0 + 20 * 60)) / 60;
+    const auto relative = run("query epochs --format csv --from -" + std::to_string(minutes) +
+                              "min --to now " + db());
+    ASSERT_EQ(relative.status, 0) << relative.out;
+    EXPECT_EQ(lines(relative.out).size(), 3u) << relative.out;
+    EXPECT_EQ(lines(run("query epochs --format csv --to -1d " + db()).out).size(), 5u);
+
     const auto table = run("query epochs --to 2026-03-01T12:00:00Z " + db());
     ASSERT_EQ(table.status, 0);
     const auto t = lines(table.out);
@@ -292,6 +302,10 @@ TEST_F(QueryCommands, MistakesAreClearErrors) {
     EXPECT_NE(r.out.find("time '01.03.2026'"), std::string::npos) << r.out;
     r = run("query epochs --from 2026-03-02 --to 2026-03-01 " + db(), true);
     EXPECT_EQ(r.status, 1);
+    r = run("query epochs --from -7y " + db(), true);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.out.find("time '-7y'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("unknown unit 'y'"), std::string::npos) << r.out;
     r = run("status --db " + (dir_ / "missing.sqlite").string(), true);
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.out.find("missing.sqlite: no such epoch database"), std::string::npos) << r.out;

@@ -22,14 +22,7 @@ std::vector<std::string> fields(const std::string& line) {
 TEST(QueryCorePoints, WritesOneRowPerCorePointOfTheEpoch) {
     PipelineSite site;
     M3c2Config& c = site.config.m3c2;
-    c.core_spacing = 2.0;
-    c.normal_radii = {1.5};
-    c.cylinder_radius = 1.0;
-    c.max_depth = 0.5;
-    c.min_points = 3;
-    c.orient_to_scanner = false;
-    c.orientation = Eigen::Vector3d::UnitZ();
-    c.registration_error = 0.001;
+    c = plate_m3c2_config();
     c.zones = {box_zone("plate", {-0.1, -0.1, -1.0}, {10.1, 10.1, 1.0}),
                prism_zone("triangle", {{0, 0}, {10, 0}, {0, 10}}, -1.0, 1.0)};
     for (const auto& z : c.zones) site.db->site().upsert_zone(z.name, "{}");

@@ -15,6 +15,9 @@
 #include <sstream>
 #include <string>
 
+#include "formats/las_reader.hpp"
+#include "tests/support/csv_cells.hpp"
+#include "tests/support/independent_las.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -101,6 +104,43 @@ TEST(VectorsCommand, OneShotReproducesTheDaemonOnAPierThatDidNotMove) {
     int measured = 0;
     for (std::string l; std::getline(in, l);) measured += l.find(",measured") != std::string::npos;
     EXPECT_GE(measured, rows.at("vector_count").value);
+
+    // `tlsmon export --map vectors`: every area at its centre, the stored vector and σ (float32)
+    // of a measured one, NaN elsewhere; the same file read by tlsmon and by copc.js.
+    const fs::path las = dir / "v.las";
+    const auto exported = run_tlsmon("export --epoch 2 --map vectors --out " + las.string() +
+                                     " --config " + config.string());
+    ASSERT_EQ(exported.status, 0) << exported.out;
+    const auto cells = tlsmon::test::csv_cells(tlsmon::test::read_file(csv));
+    const tlsmon::LasPoints own = tlsmon::read_las_points(las);
+    const nlohmann::json other = tlsmon::test::read_las_independently(las);
+    ASSERT_EQ(own.xyz.size(), cells.size() - 1);
+    ASSERT_EQ(own.attributes.size(), 7u);
+    int exported_measured = 0;
+    for (std::size_t k = 0; k < own.xyz.size(); ++k) {
+        const auto& row = cells[k + 1];
+        const bool is_measured = row.back() == "measured";
+        exported_measured += is_measured;
+        for (int c = 0; c < 3; ++c) {
+            const double x = std::stod(row[std::size_t(3 + c)]);
+            EXPECT_NEAR(own.xyz[k][c], x, 0.5e-6 + 1e-9) << k;
+            EXPECT_NEAR(other.at("points").at(std::string(1, "XYZ"[c]))[k].get<double>(), x,
+                        0.5e-6 + 1e-9);
+            for (const std::size_t column : {std::size_t(9 + c), std::size_t(12 + c)}) {
+                const auto& attribute = own.attributes[column - 9];
+                const double value = attribute.values[k];
+                const double theirs =
+                    tlsmon::test::las_number(other.at("points").at(attribute.name)[k]);
+                if (is_measured) {
+                    EXPECT_EQ(value, double(float(std::stod(row[column])))) << attribute.name;
+                    EXPECT_EQ(theirs, value) << attribute.name;
+                } else {
+                    EXPECT_TRUE(std::isnan(value) && std::isnan(theirs)) << attribute.name;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(exported_measured, measured);
 
     // Bad input: a clear error, exit 1, nothing written.
     const auto tiny =

@@ -119,6 +119,19 @@ TEST(Config, CrossFieldRules) {
     EXPECT_NE(e.find("key 'ingest.reference_epoch'"), std::string::npos) << e;
 }
 
+// The coordinate system is checked by PROJ when the file is read, not when a LAS file is
+// written months later.
+TEST(Config, TheCoordinateSystemIsOnePROJKnows) {
+    EXPECT_EQ(parse("[station]\ncrs = \"EPSG:25832\"\n").station.crs, "EPSG:25832");
+    EXPECT_EQ(parse("").station.crs, "");
+    std::string e = error_of("[station]\ncrs = \"EPSG:99999999\"\n");
+    EXPECT_NE(e.find("site.toml:2:"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'station.crs'"), std::string::npos) << e;
+    EXPECT_NE(e.find("crs not found"), std::string::npos) << e;
+    e = error_of("[station]\ncrs = \"+proj=utm +zone=32\"\n");
+    EXPECT_NE(e.find("not a coordinate reference system"), std::string::npos) << e;
+}
+
 // The folders compared as folders, not as text: "ingest/" is "ingest", and a folder inside
 // another is refused (a scan archived into the ingest folder is taken again and removed as
 // a duplicate of itself).

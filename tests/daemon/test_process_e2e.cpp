@@ -25,7 +25,9 @@
 #include <set>
 #include <sstream>
 
+#include "formats/las_reader.hpp"
 #include "tests/support/e2e_scenario.hpp"
+#include "tests/support/independent_las.hpp"
 #include "tests/support/modbus_client.hpp"
 
 namespace tlsmon::test::e2e {
@@ -348,6 +350,40 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     }
     // The south face at least: the grazing west face holds few patches of plane (docs/pbm3c2.md).
     EXPECT_GE(pb_zones, 1);
+
+    // `tlsmon export --map pbm3c2`: every patch at its centre with the stored distance and LoD
+    // (float32 of the one-shot's), NaN where none; read back by tlsmon and by copc.js.
+    const fs::path las = dir / "pbm3c2.las";
+    const auto exported =
+        shell(std::string(TLSMON_BINARY) + " export --map pbm3c2 --epoch " +
+              std::to_string(epoch_id) + " --out " + las.string() + " --config " + config.string());
+    ASSERT_EQ(exported.status, 0) << exported.output;
+    const auto patches = csv_rows(dir / "pbm3c2.csv");
+    const LasPoints own = read_las_points(las);
+    const json other = read_las_independently(las);
+    ASSERT_EQ(own.xyz.size(), patches.size());
+    ASSERT_EQ(own.attributes.at(0).name, "pbm3c2_distance_m");
+    ASSERT_EQ(own.attributes.at(1).name, "pbm3c2_lod95_m");
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            const double x = std::stod(patches[k].at(std::string(1, "xyz"[c]) + "_m"));
+            EXPECT_NEAR(own.xyz[k][c], x, 0.5e-6 + 1e-9) << k;
+            EXPECT_NEAR(other.at("points").at(std::string(1, "XYZ"[c]))[k].get<double>(), x,
+                        0.5e-6 + 1e-9);
+        }
+        for (const auto& [column, a] : {std::pair{"distance_m", 0}, std::pair{"lod95_m", 1}}) {
+            const auto& attribute = own.attributes[std::size_t(a)];
+            const double value = attribute.values[k];
+            const double theirs = las_number(other.at("points").at(attribute.name)[k]);
+            if (patches[k].at(column).empty()) {
+                EXPECT_TRUE(std::isnan(value) && std::isnan(theirs)) << k;
+                continue;
+            }
+            const double one_shot = std::stod(patches[k].at(column));
+            EXPECT_NEAR(value, one_shot, 2e-9 + 1e-7 * std::abs(one_shot)) << column << " " << k;
+            EXPECT_EQ(theirs, value) << column << " " << k;
+        }
+    }
 
     const auto keypoints =
         shell(std::string(TLSMON_BINARY) + " keypoints " + pair + " --out " +

@@ -325,6 +325,36 @@ TEST(LasReader, ExtraBytesAreSkipped) {
     EXPECT_EQ(unregistered.xyz[1], Eigen::Vector3d(2, 2, 2));
 }
 
+// read_las_points: the extra bytes by their descriptors. laspy's sample repeats each point's
+// intensity and colour as extra bytes (an unsigned long "Intensity" and a 3-element array of
+// doubles "Colors", the deprecated array types of LAS 1.4 R13), so the base record checks them.
+TEST(LasReader, ExtraBytesAreReadByTheirDescriptors) {
+    for (const char* f : {"laspy/extrabytes.las", "laz-perf/extrabytes.las"}) {
+        SCOPED_TRACE(f);
+        const Scan scan = read_las(kLasDir / f).at(0);
+        const LasPoints points = read_las_points(kLasDir / f);
+        ASSERT_EQ(points.xyz, scan.xyz);
+        std::vector<std::string> names;
+        for (const auto& a : points.attributes) names.push_back(a.name);
+        ASSERT_EQ(names, (std::vector<std::string>{"Colors[0]", "Colors[1]", "Colors[2]",
+                                                   "Flags[0]", "Flags[1]", "Intensity", "Time"}));
+        EXPECT_EQ(points.attributes[5].description, "Brightness");
+        EXPECT_EQ(points.attributes[5].type, LasAttribute::Type::u32);
+        for (std::size_t i = 0; i < scan.size(); ++i) {
+            EXPECT_EQ(points.attributes[5].values[i], std::round(scan.intensity[i] * 65535.0)) << i;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(points.attributes[std::size_t(c)].values[i], scan.rgb[i][std::size_t(c)])
+                    << i;
+        }
+        EXPECT_TRUE(points.wkt.empty());
+    }
+    // The OGC WKT record of a LAS 1.4 file that also has GeoTIFF keys.
+    const LasPoints wkt = read_las_points(kLasDir / "more/file_with_both_wkt_and_geotiff_vlrs.las");
+    EXPECT_EQ(wkt.xyz.size(), 25408u);
+    EXPECT_EQ(wkt.wkt.rfind("PROJCS[\"NAD83_2011_Nebraska_ft\"", 0), 0u) << wkt.wkt;
+    EXPECT_EQ(wkt.wkt.back(), ']');
+}
+
 TEST(LasReader, AdjustedStandardGpsTimeGivesTheAcquisitionTime) {
     // Earliest GPS time + 1e9 s from 1980-01-06, less the leap seconds then in force (16 in
     // May 2014, 18 since 2017), computed with Python's datetime.

@@ -45,6 +45,7 @@ struct PipelineSite {
     Epoch add_epoch(const std::string& name, UtcSeconds acquired, double height = 0.0,
                     const Eigen::Vector3d& offset = Eigen::Vector3d::Zero()) {
         std::ostringstream text;
+        text.precision(12);  // millimetres at UTM-sized coordinates
         for (int i = 0; i <= 20; ++i) {
             for (int j = 0; j <= 20; ++j) {
                 const Eigen::Vector3d p = Eigen::Vector3d(0.5 * i, 0.5 * j, height) + offset;
@@ -65,5 +66,20 @@ struct PipelineSite {
         return process_epoch(ctx, epoch);
     }
 };
+
+// M3C2 parameters for the plate of PipelineSite::add_epoch: core points on cubes of 2 m,
+// normals of radius 1.5 m oriented up, cylinders of 1 m; no zones (the caller's).
+inline M3c2Config plate_m3c2_config() {
+    M3c2Config c;
+    c.core_spacing = 2.0;
+    c.normal_radii = {1.5};
+    c.cylinder_radius = 1.0;
+    c.max_depth = 0.5;
+    c.min_points = 3;
+    c.orient_to_scanner = false;
+    c.orientation = Eigen::Vector3d::UnitZ();
+    c.registration_error = 0.001;
+    return c;
+}
 
 }  // namespace tlsmon::test

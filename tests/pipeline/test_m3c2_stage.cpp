@@ -17,15 +17,7 @@ namespace {
 // Core points of the 21 x 21 grid (0.5 m, x, y in 0..10) on cubes of 2 m: at 1, 3, 5, 7, 9
 // (the cube's centre) and 10 (the only points of the cube 10..12) in x and y.
 M3c2Config plate_config() {
-    M3c2Config c;
-    c.core_spacing = 2.0;
-    c.normal_radii = {1.5};
-    c.cylinder_radius = 1.0;
-    c.max_depth = 0.5;
-    c.min_points = 3;
-    c.orient_to_scanner = false;
-    c.orientation = Eigen::Vector3d::UnitZ();
-    c.registration_error = 0.001;
+    M3c2Config c = plate_m3c2_config();
     c.zones.push_back(box_zone("plate", {-0.1, -0.1, -1.0}, {10.1, 10.1, 1.0}));
     // x + y <= 10: 5 + 4 + 3 + 2 + 1 + 0 core points.
     c.zones.push_back(prism_zone("triangle", {{0, 0}, {10, 0}, {0, 10}}, -1.0, 1.0));
