@@ -41,8 +41,15 @@ UtcSeconds time_bound(const std::string& text, UtcSeconds now) {
 TimeRange time_range(const ReadOptions& options) {
     TimeRange range;
     const UtcSeconds now = now_utc();
-    if (!options.from.empty()) range.from = time_bound(options.from, now);
-    if (!options.to.empty()) range.to = time_bound(options.to, now);
+    const auto bound = [&](const char* argument, const std::string& text) {
+        try {
+            return time_bound(text, now);
+        } catch (const Error& e) {
+            throw Error(std::string(argument) + ": " + e.what());
+        }
+    };
+    if (!options.from.empty()) range.from = bound("--from", options.from);
+    if (!options.to.empty()) range.to = bound("--to", options.to);
     if (range.from && range.to && *range.from > *range.to) {
         throw Error("--from " + options.from + " is after --to " + options.to);
     }

@@ -299,12 +299,12 @@ TEST_F(QueryCommands, MistakesAreClearErrors) {
     EXPECT_NE(r.out.find("no quantity 'm3c2_mean'"), std::string::npos) << r.out;
     r = run("query epochs --from 01.03.2026 " + db(), true);
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.out.find("time '01.03.2026'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--from: time '01.03.2026'"), std::string::npos) << r.out;
     r = run("query epochs --from 2026-03-02 --to 2026-03-01 " + db(), true);
     EXPECT_EQ(r.status, 1);
-    r = run("query epochs --from -7y " + db(), true);
+    r = run("query epochs --to -7y " + db(), true);
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.out.find("time '-7y'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--to: time '-7y'"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("unknown unit 'y'"), std::string::npos) << r.out;
     r = run("status --db " + (dir_ / "missing.sqlite").string(), true);
     EXPECT_EQ(r.status, 1);
