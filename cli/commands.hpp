@@ -101,17 +101,28 @@ struct CorePointsOptions {
 };
 int run_query_corepoints(const CorePointsOptions& options);
 
-// `tlsmon export (--epoch N [--map m3c2|pbm3c2|vectors] | --campaign N) --out FILE`: one
-// stored map's per-point results as LAS 1.4 with extra bytes, or CSV (by FILE's extension).
+// `tlsmon export (--epoch N [--map m3c2|pbm3c2|vectors|zones] | --campaign N) --out FILE`:
+// one stored map's per-point results as LAS 1.4 with extra bytes, CSV or GeoJSON, or the
+// epoch's zones with their values as GeoJSON or CSV (by FILE's extension).
 struct ExportOptions {
     ReadOptions read;
     std::int64_t epoch = 0;
     std::int64_t campaign = 0;
-    std::string map = "m3c2";
+    std::string map = "m3c2";  // or pbm3c2, vectors, zones
     std::string out;
-    std::string crs;  // "" = the configuration's [station] crs, if any
+    std::string crs;     // "" = the configuration's [station] crs, if any
+    std::string bundle;  // `--bundle DIR`: the window of read.from/read.to as a folder
 };
 int run_export(const ExportOptions& options);
+int run_export_bundle(const ExportOptions& options);
+
+// `tlsmon backup DEST`: a consistent copy of the database while the daemon runs
+// (docs/backup.md); DEST a new file, or a folder to put a time-stamped copy in.
+struct BackupOptions {
+    ReadOptions read;
+    std::string destination;
+};
+int run_backup(const BackupOptions& options);
 
 // `tlsmon query planes --epoch N`: the reference planes the registration on planes matched
 // in one epoch, each with its role (datum, moved, monitored), tilt and shift with σ, and test.
@@ -326,6 +337,7 @@ struct ReportOptions {
     std::string out;
     std::string config;  // the daemon's configuration, named in the example commands
     int modbus_port = 1502;
+    std::string from, to;  // the window, as ReadOptions; empty = open
 };
 int run_report(const ReportOptions& options);
 

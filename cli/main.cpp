@@ -80,6 +80,8 @@ struct CommandLine {
     EventsOptions events;
     ReadOptionsOnTheCommandLine export_read;
     ExportOptions export_;
+    ReadOptionsOnTheCommandLine backup_read;
+    BackupOptions backup;
     M3c2Options m3c2;
     PbM3c2Options pbm3c2;
     PrimitivesOptions primitives;
@@ -382,25 +384,55 @@ void add_export(CLI::App& app, CommandLine& c) {
     auto& o = c.export_;
     auto* cmd = app.add_subcommand(
         "export",
-        "One stored map's per-point results as LAS 1.4 (every attribute as extra bytes) or CSV, "
-        "by the file's extension (docs/export.md)");
+        "One stored map's per-point results as LAS 1.4 (every attribute as extra bytes), CSV "
+        "or GeoJSON, or an epoch's zones and their values as GeoJSON or CSV, by the file's "
+        "extension (docs/export.md)");
     auto* epoch = cmd->add_option("--epoch", o.epoch, "Epoch id");
-    cmd->add_option("--map", o.map, "Which of the epoch's maps")
-        ->check(CLI::IsMember({"m3c2", "pbm3c2", "vectors"}))
+    auto* bundle = cmd->add_option(
+        "--bundle", o.bundle,
+        "A new folder for the window's (--from/--to) database extract, maps as LAS, series "
+        "CSV, manifest and SHA256SUMS");
+    cmd->add_option("--map", o.map,
+                    "Which of the epoch's maps; zones: every zone's footprint and values")
+        ->check(CLI::IsMember({"m3c2", "pbm3c2", "vectors", "zones"}))
         ->capture_default_str()
         ->needs(epoch);
     auto* campaign = cmd->add_option("--campaign", o.campaign, "A campaign's id: its kept points");
     epoch->excludes(campaign);
-    cmd->add_option("--out", o.out, "The file to write: .las or .csv")->required();
+    auto* out = cmd->add_option("--out", o.out, "The file to write: .las, .csv or .geojson");
+    bundle->excludes(epoch)->excludes(campaign)->excludes(out);
     cmd->add_option("--crs", o.crs,
-                    "The coordinate system for the LAS file's WKT record (e.g. EPSG:25832); "
+                    "The coordinate system the LAS or GeoJSON file names (e.g. EPSG:25832); "
                     "default: the configuration's [station] crs");
+    read.add_to(cmd, true);
+    cmd->callback([&] {
+        o.read = read.finish();
+        if (!o.bundle.empty()) {
+            c.code = run_export_bundle(o);
+            return;
+        }
+        if (o.epoch <= 0 && o.campaign <= 0)
+            throw CLI::ValidationError("give --epoch or --campaign (or --bundle)");
+        if (o.out.empty()) throw CLI::ValidationError("give --out FILE");
+        if (!o.read.from.empty() || !o.read.to.empty())
+            throw CLI::ValidationError("--from/--to choose the epochs of a --bundle");
+        c.code = run_export(o);
+    });
+}
+
+void add_backup(CLI::App& app, CommandLine& c) {
+    auto& read = c.backup_read;
+    auto& o = c.backup;
+    auto* cmd = app.add_subcommand(
+        "backup",
+        "A consistent copy of the epoch database, also while the daemon runs (docs/backup.md)");
+    cmd->add_option("DEST", o.destination,
+                    "The copy: a new file, or a folder for <database>-<UTC time>.sqlite")
+        ->required();
     read.add_to(cmd, false);
     cmd->callback([&] {
-        if (o.epoch <= 0 && o.campaign <= 0)
-            throw CLI::ValidationError("give --epoch or --campaign");
         o.read = read.finish();
-        c.code = run_export(o);
+        c.code = run_backup(o);
     });
 }
 
@@ -789,6 +821,9 @@ void add_report(CLI::App& app, CommandLine& c) {
     cmd->add_option("--modbus-port", o.modbus_port, "Modbus port named in the examples")
         ->check(CLI::Range(1, 65535))
         ->capture_default_str();
+    cmd->add_option("--from", o.from,
+                    "Only epochs acquired from: ISO-8601 UTC, now, or before now (e.g. -7d)");
+    cmd->add_option("--to", o.to, "Only epochs acquired until (inclusive)");
     cmd->callback([&] { c.code = run_report(o); });
 }
 
@@ -932,6 +967,7 @@ int main(int argc, char** argv) {
         {"query", tlsmon::add_query},
         {"events", tlsmon::add_events},
         {"export", tlsmon::add_export},
+        {"backup", tlsmon::add_backup},
         {"m3c2", tlsmon::add_m3c2},
         {"pbm3c2", tlsmon::add_pbm3c2},
         {"primitives", tlsmon::add_primitives},

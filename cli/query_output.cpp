@@ -16,14 +16,14 @@
 
 namespace tlsmon {
 
+std::filesystem::path database_path(const ReadOptions& options) {
+    if (!options.db.empty()) return options.db;
+    if (options.config.empty()) throw Error("give the database with --db PATH or --config FILE");
+    return load_config(options.config).paths.database;
+}
+
 EpochDatabase open_for_reading(const ReadOptions& options) {
-    std::filesystem::path path = options.db;
-    if (path.empty()) {
-        if (options.config.empty())
-            throw Error("give the database with --db PATH or --config FILE");
-        path = load_config(options.config).paths.database;
-    }
-    return EpochDatabase::open(path, EpochDatabase::Mode::read_only);
+    return EpochDatabase::open(database_path(options), EpochDatabase::Mode::read_only);
 }
 
 UtcSeconds time_bound(const std::string& text, UtcSeconds now) {

@@ -51,7 +51,9 @@ struct ReadOptions {
     std::string from, to;  // ISO-8601 UTC, "now" or a duration before now ("-7d"); empty = open
 };
 
-// The database named by --db, or the one of --config's file; opened read-only.
+// The database named by --db, or the one of --config's file.
+std::filesystem::path database_path(const ReadOptions& options);
+// That database, opened read-only.
 EpochDatabase open_for_reading(const ReadOptions& options);
 TimeRange time_range(const ReadOptions& options);  // throws Error for unreadable times
 // One bound: ISO-8601 UTC, "now", or a duration before `now` ("-7d", "-12h", "-30min").

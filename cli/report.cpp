@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
+#include "core/utc_time.hpp"
 #include "report/output.hpp"
 #include "storage/storage_error.hpp"
 
@@ -19,7 +20,11 @@ int run_report(const ReportOptions& o) {
         if (!fs::exists(o.database)) throw Error("no database at " + o.database);
         const auto truth = o.truth.empty() ? std::vector<report::TruthEpoch>{}
                                            : report::read_truth_folder(o.truth);
-        const report::RunData run = report::read_run(fs::path(o.database));
+        ReadOptions window_options;
+        window_options.from = o.from;
+        window_options.to = o.to;
+        const TimeRange window = time_range(window_options);
+        const report::RunData run = report::read_run(fs::path(o.database), window);
         const report::RunReport r = report::analyse(run, truth, o.truth);
         const fs::path out(o.out);
         fs::create_directories(out);
@@ -28,7 +33,12 @@ int run_report(const ReportOptions& o) {
         report::draw_plots(r, out, files);
         files.markdown = out / "report.md";
         const std::string md = report::markdown(
-            r, files, {o.config.empty() ? fs::path() : fs::path(o.config), o.modbus_port});
+            r, files,
+            {o.config.empty() ? fs::path() : fs::path(o.config), o.modbus_port,
+             window.from || window.to
+                 ? (window.from ? format_utc(*window.from) : std::string("the start")) + " to " +
+                       (window.to ? format_utc(*window.to) : std::string("now"))
+                 : std::string()});
         std::ofstream f(files.markdown, std::ios::binary | std::ios::trunc);
         f << md;
         f.close();

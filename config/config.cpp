@@ -54,7 +54,7 @@ void check_station(TomlFields& t, StationConfig& c) {
     }
     if (!c.crs.empty()) {
         try {
-            coordinate_system_wkt(c.crs);
+            coordinate_system(c.crs);
         } catch (const Error& e) {
             t.fail("crs", e.what());
         }

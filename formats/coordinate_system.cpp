@@ -8,7 +8,7 @@
 
 namespace tlsmon {
 
-std::string coordinate_system_wkt(const std::string& crs) {
+CoordinateSystem coordinate_system(const std::string& crs) {
     const std::unique_ptr<PJ_CONTEXT, decltype(&proj_context_destroy)> ctx(proj_context_create(),
                                                                            &proj_context_destroy);
     if (!ctx) throw Error("cannot start PROJ");
@@ -32,7 +32,14 @@ std::string coordinate_system_wkt(const std::string& crs) {
     const char* wkt = proj_as_wkt(ctx.get(), object.get(), PJ_WKT1_GDAL, one_line);
     if (wkt == nullptr) wkt = proj_as_wkt(ctx.get(), object.get(), PJ_WKT2_2019, one_line);
     if (wkt == nullptr) throw Error("PROJ cannot write '" + crs + "' as WKT");
-    return wkt;
+    CoordinateSystem out{wkt, ""};
+    // The OGC URN form (OGC 07-092r1), as GeoJSON's 2008 "crs" member and GDAL read it.
+    const char* authority = proj_get_id_auth_name(object.get(), 0);
+    const char* code = proj_get_id_code(object.get(), 0);
+    if (authority != nullptr && code != nullptr) {
+        out.urn = std::string("urn:ogc:def:crs:") + authority + "::" + code;
+    }
+    return out;
 }
 
 }  // namespace tlsmon

@@ -302,6 +302,10 @@ std::string markdown(const RunReport& r, const ReportFiles& files, const ReportC
     std::string md =
         r.scored ? "# tlsmon run scored against the simulator's truth\n\n" : "# tlsmon run\n\n";
     md += fmt::format("- Epoch database: `{}`\n", r.database.string());
+    if (!c.window.empty()) {
+        md +=
+            fmt::format("- Window: epochs acquired from {} (and the reference epoch)\n", c.window);
+    }
     if (r.scored) {
         md += fmt::format("- Truth files: `{}` ({} epochs)\n", r.truth_folder.string(),
                           r.truth_epochs);

@@ -13,6 +13,8 @@ struct ReportContext {
     std::filesystem::path
         config;  // the daemon's configuration, for the example commands ("": none)
     int modbus_port = 1502;
+    // The window the report was limited to, as "2026-03-01T00:00:00Z to open"; "": all epochs.
+    std::string window;
 };
 
 struct ReportFiles {

@@ -10,6 +10,8 @@
 #include <initializer_list>
 #include <mutex>
 
+#include "storage/database_backup.hpp"
+#include "storage/event_log.hpp"
 #include "storage/file_access.hpp"
 #include "storage/migrations.hpp"
 
@@ -89,6 +91,26 @@ void check_version_for_reading(Connection& c, int version) {
     }
 }
 
+// A file with data is copied as it was before its first migration, beside it, and the copy
+// named in a system event (docs/backup.md, "Schema migrations"): the way back to the older
+// tlsmon. Once per process at a time (the daemon's services open at once); a second process
+// migrating at the same instant at worst makes a second copy. When the copy cannot be made
+// (a full disk) the migration does not run: the StorageError says why.
+void migrate_after_backup(Connection& c) {
+    static std::mutex one_at_a_time;
+    const std::lock_guard lock(one_at_a_time);
+    const int version = applied_version(c);
+    if (version >= EpochDatabase::latest_schema_version()) return;  // another thread did it
+    const auto backup = backup_database(c.path, migration_backup_path(c.path, version));
+    migrate(c, version);
+    EventLog(c).record({now_utc(), "info", "schema_migrated",
+                        "schema " + std::to_string(version) + " migrated to " +
+                            std::to_string(EpochDatabase::latest_schema_version()) +
+                            "; the database as it was before: " + backup.path.string() +
+                            " (docs/backup.md)",
+                        std::nullopt});
+}
+
 std::unique_ptr<Connection> open_and_migrate(const fs::path& path,
                                              std::chrono::milliseconds busy_timeout) {
     auto c = connect(path, path.string(), Mode::read_write,
@@ -109,7 +131,11 @@ std::unique_ptr<Connection> open_and_migrate(const fs::path& path,
     });
     int version = applied_version(*c);
     check_not_newer(*c, version);
-    migrate(*c, version);
+    if (version > 0 && version < EpochDatabase::latest_schema_version()) {
+        migrate_after_backup(*c);
+    } else {
+        migrate(*c, version);
+    }
     version = applied_version(*c);
     check_not_newer(*c, version);
     c->version = version;

@@ -163,6 +163,29 @@ void SeriesReader::for_each_campaign_point(
     });
 }
 
+std::vector<EpochZoneValue> SeriesReader::epoch_zone_values(EpochId id) const {
+    return guarded(*c_, "reading an epoch's zone values", [&] {
+        // One seek per zone quantity at the epoch's key (zone_id, quantity_id, acquired,
+        // epoch_id); CROSS JOIN keeps that loop order, as in latest_values.
+        SQLite::Statement s(c_->db,
+                            "SELECT z.name, z.definition, q.name, r.value, r.uncertainty, r.n,"
+                            " r.significant FROM epochs e CROSS JOIN zones z"
+                            " CROSS JOIN quantities q CROSS JOIN zone_results r"
+                            " WHERE e.id = ? AND r.zone_id = z.id AND r.quantity_id = q.id"
+                            " AND r.acquired = e.acquired AND r.epoch_id = e.id"
+                            " ORDER BY z.name, q.name");
+        s.bind(1, id);
+        std::vector<EpochZoneValue> out;
+        while (s.executeStep()) {
+            out.push_back({s.getColumn(0).getString(), s.getColumn(1).getString(),
+                           s.getColumn(2).getString(), s.getColumn(3).getDouble(),
+                           optional_double(s.getColumn(4)), s.getColumn(5).getInt64(),
+                           s.getColumn(6).getInt() != 0});
+        }
+        return out;
+    });
+}
+
 std::vector<LatestValue> SeriesReader::latest_values() const {
     return guarded(*c_, "reading the latest values", [&] {
         // Per zone quantity, one seek to the end of its key (zone_id, quantity_id, acquired,

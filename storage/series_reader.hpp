@@ -50,6 +50,17 @@ struct LatestValue {
     SeriesPoint point;
 };
 
+// One zone quantity of one epoch, with the zone's stored definition (zones.definition).
+struct EpochZoneValue {
+    std::string zone;
+    std::string definition;  // JSON
+    std::string quantity;
+    double value = 0;
+    std::optional<double> uncertainty;
+    std::int64_t n = 0;
+    bool significant = false;
+};
+
 // A system or alarm event in one list (tlsmon events).
 struct EventRow {
     UtcSeconds time = 0;
@@ -95,6 +106,8 @@ class SeriesReader {
     // The newest point (by acquisition time) of every zone quantity stored, by zone and
     // quantity name.
     std::vector<LatestValue> latest_values() const;
+    // Every zone quantity the epoch stored, by zone and quantity name.
+    std::vector<EpochZoneValue> epoch_zone_values(EpochId id) const;
     // Distinct quantities stored for a zone.
     std::vector<std::string> quantities(const std::string& zone) const;
     // System and alarm events by time; `kind` filters on the event kind when given.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "fake_sha256.hpp"
+#include "schema_1_database.hpp"
 #include "storage/epoch_database.hpp"
 #include "storage/schema_migrations.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -73,18 +74,7 @@ TEST(Migrations, ReopenIsIdempotentAndKeepsData) {
 TEST(Migrations, OlderDatabaseIsMigratedKeepingData) {
     test::TempDir dir;
     const auto path = dir / "epochs.sqlite";
-    {
-        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-        raw.exec(
-            "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT NULL,"
-            " applied INTEGER NOT NULL)");
-        raw.exec(schema_migrations()[0].sql);
-        raw.exec("INSERT INTO schema_migrations VALUES (1, '0001_initial', 0)");
-        raw.exec(
-            "INSERT INTO epochs (sha256, acquired, discovered, updated, file_path, file_size)"
-            " VALUES ('" +
-            test::fake_sha256(7) + "', 100, 100, 100, '/ingest/a.ptx', 1)");
-    }
+    test::write_schema_1_database(path);
     EXPECT_THROW(EpochDatabase::open(path, Mode::read_only), StorageError);
     auto db = EpochDatabase::open(path, Mode::read_write);
     EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
