@@ -24,16 +24,6 @@ Cell time_cell(const std::optional<std::int64_t>& t) {
     return t ? Cell(format_utc(*t)) : Cell();
 }
 
-EpochDatabase open_for_writing(const AlarmActionOptions& o) {
-    std::filesystem::path path = o.db;
-    if (path.empty()) {
-        if (o.config.empty()) throw Error("give the database with --db PATH or --config FILE");
-        path = load_config(o.config).paths.database;
-    }
-    if (!std::filesystem::exists(path)) throw Error("no epoch database " + path.string());
-    return EpochDatabase::open(path, EpochDatabase::Mode::read_write);
-}
-
 }  // namespace
 
 int run_alarms(const ReadOptions& options) {
@@ -77,7 +67,7 @@ std::string command_user() {
 
 int run_alarm_action(const AlarmActionOptions& o) {
     return run_reporting_errors("alarms " + o.action, [&] {
-        auto db = open_for_writing(o);
+        auto db = open_for_writing(o.db, o.config);
         const UtcSeconds now = now_utc();
         const std::string who = command_user();
         int changed = 0;

@@ -124,6 +124,26 @@ struct BackupOptions {
 };
 int run_backup(const BackupOptions& options);
 
+// `tlsmon epochs pin N [--note TEXT] [--by WHO]`, `unpin N`, `pinned`: epochs whose
+// per-core-point maps the retention policy never thins (docs/retention.md); each pin and
+// unpin is a system event naming who.
+struct EpochPinOptions {
+    std::string action;  // "pin", "unpin", "pinned"
+    ReadOptions read;
+    std::int64_t epoch = 0;
+    std::string note;
+    std::string by;  // empty: "cli:$USER"
+};
+int run_epoch_pins(const EpochPinOptions& options);
+
+// `tlsmon retention plan|run`: what a pass of the site's [retention] policy (the defaults with
+// --db) keeps and thins, or one pass now, as the daemon runs it (docs/retention.md).
+struct RetentionOptions {
+    std::string action;  // "plan", "run"
+    ReadOptions read;
+};
+int run_retention(const RetentionOptions& options);
+
 // `tlsmon query planes --epoch N`: the reference planes the registration on planes matched
 // in one epoch, each with its role (datum, moved, monitored), tilt and shift with σ, and test.
 struct PlanesQueryOptions {

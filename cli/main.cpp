@@ -82,6 +82,10 @@ struct CommandLine {
     ExportOptions export_;
     ReadOptionsOnTheCommandLine backup_read;
     BackupOptions backup;
+    std::map<std::string, EpochPinOptions> epoch_pins;
+    std::map<std::string, RetentionOptions> retention;
+    std::map<std::string, ReadOptionsOnTheCommandLine> retention_read;
+    ReadOptionsOnTheCommandLine epochs_pinned;
     M3c2Options m3c2;
     PbM3c2Options pbm3c2;
     PrimitivesOptions primitives;
@@ -434,6 +438,60 @@ void add_backup(CLI::App& app, CommandLine& c) {
         o.read = read.finish();
         c.code = run_backup(o);
     });
+}
+
+void add_epochs(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "epochs",
+        "Pin epochs whose per-core-point maps the retention policy keeps (docs/retention.md)");
+    cmd->require_subcommand(1);
+    const std::pair<const char*, const char*> actions[] = {
+        {"pin", "Keep epoch N's maps whatever its age (recorded as an event naming who)"},
+        {"unpin", "Let epoch N's maps follow the retention policy again"}};
+    for (const auto& [name, help] : actions) {
+        auto& o = c.epoch_pins[name];
+        o.action = name;
+        auto* sub = cmd->add_subcommand(name, help);
+        auto* db = sub->add_option("--db", o.read.db, "Epoch database (SQLite file)");
+        sub->add_option("--config", o.read.config, "Configuration file naming the database")
+            ->excludes(db);
+        sub->add_option("N", o.epoch, "Epoch id (tlsmon query epochs)")->required();
+        sub->add_option("--by", o.by, "Who acts (default: cli:$USER)");
+        if (std::string(name) == "pin") {
+            sub->add_option("--note", o.note, "Why it is kept (shown by `epochs pinned`)");
+        }
+        sub->callback([&] { c.code = run_epoch_pins(o); });
+    }
+    auto& o = c.epoch_pins["pinned"];
+    o.action = "pinned";
+    auto* pinned = cmd->add_subcommand("pinned", "List the pinned epochs");
+    c.epochs_pinned.add_to(pinned, false);
+    pinned->callback([&] {
+        o.read = c.epochs_pinned.finish();
+        c.code = run_epoch_pins(o);
+    });
+}
+
+void add_retention(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "retention",
+        "The retention policy of per-core-point maps: `plan` (what a pass would keep and thin), "
+        "`run` (one pass now, as the daemon does) (docs/retention.md)");
+    cmd->require_subcommand(1);
+    const std::pair<const char*, const char*> actions[] = {
+        {"plan", "What a pass of the policy (the site's with --config) would keep and thin"},
+        {"run", "One pass now: thin, then give the freed space back to the file system"}};
+    for (const auto& [name, help] : actions) {
+        auto& o = c.retention[name];
+        o.action = name;
+        auto* sub = cmd->add_subcommand(name, help);
+        auto& read = c.retention_read[name];
+        read.add_to(sub, false);
+        sub->callback([&] {
+            o.read = read.finish();
+            c.code = run_retention(o);
+        });
+    }
 }
 
 void add_alarms(CLI::App& app, CommandLine& c) {
@@ -968,6 +1026,8 @@ int main(int argc, char** argv) {
         {"events", tlsmon::add_events},
         {"export", tlsmon::add_export},
         {"backup", tlsmon::add_backup},
+        {"epochs", tlsmon::add_epochs},
+        {"retention", tlsmon::add_retention},
         {"m3c2", tlsmon::add_m3c2},
         {"pbm3c2", tlsmon::add_pbm3c2},
         {"primitives", tlsmon::add_primitives},

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string_view>
@@ -24,6 +25,18 @@ std::filesystem::path database_path(const ReadOptions& options) {
 
 EpochDatabase open_for_reading(const ReadOptions& options) {
     return EpochDatabase::open(database_path(options), EpochDatabase::Mode::read_only);
+}
+
+EpochDatabase open_for_writing(const std::string& db, const std::string& config) {
+    const auto path = database_path(ReadOptions{db, config, OutputFormat::table, "", ""});
+    if (!std::filesystem::exists(path)) throw Error("no epoch database " + path.string());
+    return EpochDatabase::open(path, EpochDatabase::Mode::read_write);
+}
+
+std::string cli_actor(const std::string& by) {
+    if (!by.empty()) return by;
+    const char* user = std::getenv("USER");
+    return user && *user ? std::string("cli:") + user : "cli";
 }
 
 UtcSeconds time_bound(const std::string& text, UtcSeconds now) {

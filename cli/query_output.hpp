@@ -55,6 +55,11 @@ struct ReadOptions {
 std::filesystem::path database_path(const ReadOptions& options);
 // That database, opened read-only.
 EpochDatabase open_for_reading(const ReadOptions& options);
+// The database of --db, or of --config's file, opened to write (an operator's action); an
+// Error when it does not exist (never created by an action).
+EpochDatabase open_for_writing(const std::string& db, const std::string& config);
+// Who acts, for the audit in system events: `by` when given, else "cli:$USER".
+std::string cli_actor(const std::string& by);
 TimeRange time_range(const ReadOptions& options);  // throws Error for unreadable times
 // One bound: ISO-8601 UTC, "now", or a duration before `now` ("-7d", "-12h", "-30min").
 UtcSeconds time_bound(const std::string& text, UtcSeconds now);

@@ -21,16 +21,6 @@ namespace tlsmon {
 
 namespace {
 
-EpochDatabase open_for_writing(const TargetResurveyOptions& o) {
-    std::filesystem::path path = o.db;
-    if (path.empty()) {
-        if (o.config.empty()) throw Error("give the database with --db PATH or --config FILE");
-        path = load_config(o.config).paths.database;
-    }
-    if (!std::filesystem::exists(path)) throw Error("no epoch database " + path.string());
-    return EpochDatabase::open(path, EpochDatabase::Mode::read_write);
-}
-
 // Why the excluding epoch excluded the target, from its stored observation.
 std::string exclusion_reason(const std::vector<TargetObservation>& observed,
                              const std::string& target) {
@@ -99,12 +89,8 @@ int run_targets(const ReadOptions& options) {
 int run_target_resurvey(const TargetResurveyOptions& o) {
     return run_reporting_errors("targets resurvey", [&] {
         if (o.target.empty()) throw Error("name the target to mark re-surveyed");
-        auto db = open_for_writing(o);
-        std::string actor = o.by;
-        if (actor.empty()) {
-            const char* user = std::getenv("USER");
-            actor = user && *user ? std::string("cli:") + user : "cli";
-        }
+        auto db = open_for_writing(o.db, o.config);
+        const std::string actor = cli_actor(o.by);
         const int cleared = db.registrations().resurvey(o.target, now_utc(), actor);
         if (cleared == 0) {
             std::string excluded;

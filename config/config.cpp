@@ -90,6 +90,12 @@ void check_ingest(TomlFields& t, IngestConfig& c) {
     if (c.retry_max < c.retry_initial) t.fail("retry_max", "must be >= ingest.retry_initial");
 }
 
+void check_retention(TomlFields& t, const RetentionPolicy& c) {
+    if (c.keep_daily_days < c.keep_all_days) {
+        t.fail("keep_daily_days", "must be >= retention.keep_all_days");
+    }
+}
+
 bool is_ipv4(const std::string& text) {
     in_addr a{};
     return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
@@ -199,6 +205,7 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "station") check_station(t, c.station);
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
+    if (section == "retention") check_retention(t, c.retention);
     if (section == "modbus") check_modbus(t, c.modbus);
     if (section == "http") check_http(t, c.http);
     if (section == "m3c2") check_m3c2(t, c.m3c2);

@@ -40,6 +40,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "http", &Config::http, http_keys());
     collect(keys, "alarm", &Config::alarm, alarm_keys());
     collect(keys, "notify", &Config::notify, notify_keys());
+    collect(keys, "retention", &Config::retention, retention_keys());
     return keys;
 }
 

@@ -21,7 +21,8 @@ struct ConfigKey : SectionKey<Config> {
 };
 
 // In file order: [station], [paths], [ingest], [meteo], [logging], [daemon], [coverage],
-// [registration], [m3c2], [keypoints], [modbus], [http], [alarm].
+// [registration], [m3c2], [pbm3c2], [primitives], [vectors], [keypoints], [campaign],
+// [modbus], [http], [alarm], [notify], [retention].
 const std::vector<ConfigKey>& config_keys();
 
 // The sections of config_keys(), in that order.

@@ -161,4 +161,32 @@ std::vector<SectionKey<AlarmConfig>> alarm_keys() {
     };
 }
 
+std::vector<SectionKey<RetentionPolicy>> retention_keys() {
+    using K = Keys<RetentionPolicy>;
+    constexpr double day = 86400.0;
+    return {
+        K::flag(&RetentionPolicy::enabled, "enabled",
+                "Thin the per-core-point maps (M3C2 distances, LoD95, ...) of older epochs "
+                "(docs/retention.md). Zone series, events and alarms are always kept; so are the "
+                "maps of the reference epoch, of epochs with alarm events or standing alarm "
+                "state, of epochs that excluded a target, and of pinned epochs "
+                "(`tlsmon epochs pin N`). `false`: every map is kept and the database grows "
+                "by every epoch."),
+        K::number(&RetentionPolicy::keep_all_days, "keep_all_days", 1, 36500, "d",
+                  "Every epoch's maps are kept while it is younger than this. Age counts from the "
+                  "newest epoch's acquisition time, not the clock."),
+        K::number(&RetentionPolicy::keep_daily_days, "keep_daily_days", 1, 36500,
+                  "d, >= `keep_all_days`",
+                  "Older than `keep_all_days`: only the first epoch of each UTC day keeps its "
+                  "maps, until this age; older still: only the first of each ISO week."),
+        K::integer(&RetentionPolicy::batch_epochs, "batch_epochs", 1, 10000, "",
+                   "Epochs thinned per transaction (an epoch commit waits for at most one)."),
+        K::integer(&RetentionPolicy::vacuum_pages, "vacuum_pages", 16, 1 << 20, "",
+                   "Free pages given back to the file system per transaction (incremental "
+                   "vacuum)."),
+        K::seconds(&RetentionPolicy::interval, "interval", 60, 7 * day, "",
+                   "Time between the daemon's retention passes (the first runs at start)."),
+    };
+}
+
 }  // namespace tlsmon

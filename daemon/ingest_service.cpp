@@ -23,6 +23,7 @@
 #include "daemon/logging.hpp"
 #include "daemon/modbus/modbus_service.hpp"
 #include "daemon/notify/notify_service.hpp"
+#include "daemon/retention_service.hpp"
 #include "daemon/shutdown.hpp"
 #include "daemon/startup_checks.hpp"
 #include "daemon/system_alarm_watch.hpp"
@@ -128,6 +129,7 @@ class Daemon {
     // Likewise for config_.notify; when it is off, the notifier's cursor passes over the
     // alarm events (turning it on later must not send the history).
     void start_notify();
+    void start_retention();
     // After a reload: `start` (again), each outcome an event ("Modbus server restarted on
     // ADDRESS:PORT", or why it could not be and what is `without` it meanwhile).
     void restart_server(const std::string& name, const std::string& section,
@@ -186,6 +188,7 @@ class Daemon {
     std::unique_ptr<HttpService> http_;
     std::unique_ptr<ModbusService> modbus_;
     std::unique_ptr<NotifyService> notify_;
+    std::unique_ptr<RetentionService> retention_;
 };
 
 // Modbus first: SCADA sees the daemon (and a full disk) while the database refuses writes;
@@ -211,6 +214,7 @@ bool Daemon::start() {
         }
     }
     if (shutdown_.stop_requested()) return false;
+    start_retention();  // after the site is stored: its first pass runs now
     backoff_ = 0;
     watcher_.rescan(Clock::now());
     next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
@@ -283,6 +287,13 @@ void Daemon::start_notify() {
         std::make_unique<NotifyService>(config_.notify, config_.paths.database, std::move(site));
 }
 
+void Daemon::start_retention() {
+    retention_.reset();
+    if (config_.retention.enabled) {
+        retention_ = std::make_unique<RetentionService>(config_.retention, config_.paths.database);
+    }
+}
+
 void Daemon::restart_server(const std::string& name, const std::string& section,
                             const std::function<void()>& start, bool enabled,
                             const std::string& address, int port, const std::string& without) {
@@ -328,6 +339,7 @@ void Daemon::reload() {
         setup_logging(fresh.logging);
         const bool restart_modbus = changes.modbus;
         const bool restart_http = changes.http;
+        const bool restart_retention = !(fresh.retention == config_.retention);
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
@@ -362,6 +374,13 @@ void Daemon::reload() {
                                std::string("notifications could not be restarted: ") + e.what() +
                                    "; none are sent until the next reload");
             }
+        }
+        if (restart_retention) {
+            start_retention();
+            events_.record(db_, "info", "config_reload",
+                           config_.retention.enabled ? "retention policy restarted"
+                                                     : "retention stopped (retention.enabled = "
+                                                       "false): every map is kept");
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {

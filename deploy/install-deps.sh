@@ -3,8 +3,9 @@
 # test suite drives (a headless browser and its WebDriver, a JSON Schema validator for the
 # API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP server and
 # an MQTT broker with its clients for the notification tests, and independent readers for the
-# export tests: GDAL's ogrinfo for GeoJSON, copc.js from the npm registry for LAS). Idempotent: when everything is already
-# installed it changes nothing and asks no mirror.
+# export tests: GDAL's ogrinfo for GeoJSON, copc.js from the npm registry for LAS; lintian
+# for the Debian package). Idempotent: when everything is already installed it changes
+# nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
@@ -19,7 +20,7 @@ packages=(
 )
 if [ "${1:-}" = --tests ]; then
   packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl
-             python3-aiosmtpd mosquitto mosquitto-clients gdal-bin)
+             python3-aiosmtpd mosquitto mosquitto-clients gdal-bin lintian)
   # Node.js runs the independent LAS reader; a machine's own Node.js and npm are kept.
   if ! command -v node > /dev/null || ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
 fi

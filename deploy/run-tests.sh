@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fresh Debian 12 machine -> dependencies installed, tlsmon built, the whole suite run.
+# Fresh Debian 12 machine -> dependencies installed, tlsmon built, the whole suite run, the
+# Debian package built and checked (deploy/build-package.sh).
 # With CI=true (as .ci/run is run) warnings are errors (-DTLSMON_WERROR=ON), and after the
 # suite a second build under AddressSanitizer + UndefinedBehaviorSanitizer runs the core,
 # formats and storage tests and replays the fuzz corpora (deploy/run-sanitizers.sh). A
@@ -15,4 +16,6 @@ cmake_args=()
 if [ "${CI:-}" = true ]; then cmake_args+=(-DTLSMON_WERROR=ON); fi
 bash deploy/build.sh "${cmake_args[@]}"
 (cd build && ctest --output-on-failure -j "$(nproc)" --timeout 900)
+# The Debian package: built, inspected (dpkg-deb, lintian), installed and purged again.
+bash deploy/build-package.sh --install
 if [ "${CI:-}" = true ]; then bash deploy/run-sanitizers.sh; fi

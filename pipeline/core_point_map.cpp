@@ -1,6 +1,7 @@
 #include "pipeline/core_point_map.hpp"
 
 #include "core/error.hpp"
+#include "core/utc_time.hpp"
 #include "pipeline/stored_product.hpp"
 
 namespace tlsmon {
@@ -11,6 +12,13 @@ CorePointMap read_core_point_map(const EpochDatabase& db, EpochId id) {
         throw NoCorePointMap("no epoch " + std::to_string(id) + " in " + db.path().string());
     const auto distance = db.series().core_point_array(id, "m3c2_distance_m");
     if (!distance) {
+        if (const auto thinned = db.retention().maps_thinned_at(id)) {
+            throw NoCorePointMap("epoch " + std::to_string(id) +
+                                 ": its per-core-point maps were thinned by the retention policy "
+                                 "on " +
+                                 format_utc(*thinned) +
+                                 " (docs/retention.md); its zone series is kept");
+        }
         throw NoCorePointMap("epoch " + std::to_string(id) + " (" +
                              std::string(to_string(epoch->status)) + ") has no M3C2 core points");
     }

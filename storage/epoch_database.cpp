@@ -39,7 +39,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       registrations_(*connection_),
       keypoint_models_(*connection_),
       notifications_(*connection_),
-      campaigns_(*connection_) {}
+      campaigns_(*connection_),
+      retention_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

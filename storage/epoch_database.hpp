@@ -7,7 +7,7 @@
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
 // alarms(), events(), meteo(), registrations(), keypoint_models(),
-// notifications()) and live as long as it does.
+// notifications(), campaigns(), retention()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -32,6 +32,7 @@
 #include "storage/reference_cache_store.hpp"
 #include "storage/registration_store.hpp"
 #include "storage/results_writer.hpp"
+#include "storage/retention_store.hpp"
 #include "storage/series_reader.hpp"
 #include "storage/site.hpp"
 #include "storage/storage_error.hpp"
@@ -80,6 +81,8 @@ class EpochDatabase {
     const NotificationStore& notifications() const { return notifications_; }
     CampaignStore& campaigns() { return campaigns_; }
     const CampaignStore& campaigns() const { return campaigns_; }
+    RetentionStore& retention() { return retention_; }
+    const RetentionStore& retention() const { return retention_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -98,6 +101,7 @@ class EpochDatabase {
     KeypointModelStore keypoint_models_;
     NotificationStore notifications_;
     CampaignStore campaigns_;
+    RetentionStore retention_;
 };
 
 }  // namespace tlsmon

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "storage/database_backup.hpp"
+#include "storage/state_epochs.hpp"
 #include "storage/storage_error.hpp"
 
 namespace tlsmon {
@@ -13,16 +14,6 @@ namespace tlsmon {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<std::string> tables_with_column(SQLite::Database& db, const std::string& column) {
-    SQLite::Statement s(db,
-                        "SELECT m.name FROM sqlite_master m, pragma_table_info(m.name) p"
-                        " WHERE m.type = 'table' AND p.name = ? ORDER BY m.name");
-    s.bind(1, column);
-    std::vector<std::string> out;
-    while (s.executeStep()) out.push_back(s.getColumn(0).getString());
-    return out;
-}
 
 std::string quoted(const std::string& name) {
     return "\"" + name + "\"";
@@ -39,15 +30,7 @@ void reduce(SQLite::Database& db, const TimeRange& window) {
     in_window.bind(2, static_cast<std::int64_t>(window.upper()));
     in_window.exec();
     // The epochs the current state names, wherever they lie in time.
-    db.exec("INSERT OR IGNORE INTO kept_epochs SELECT epoch_id FROM reference_epoch");
-    for (const auto& t : tables_with_column(db, "reference_epoch_id")) {
-        db.exec("INSERT OR IGNORE INTO kept_epochs SELECT reference_epoch_id FROM " + quoted(t) +
-                " WHERE reference_epoch_id IS NOT NULL");
-    }
-    for (const char* t : {"alarm_states", "target_exclusions"}) {
-        db.exec(std::string("INSERT OR IGNORE INTO kept_epochs SELECT epoch_id FROM ") + t +
-                " WHERE epoch_id IS NOT NULL");
-    }
+    db.exec("INSERT OR IGNORE INTO kept_epochs " + epochs_named_by_state(db));
     db.exec("CREATE TEMP TABLE kept_campaigns (id INTEGER PRIMARY KEY)");
     SQLite::Statement campaigns(
         db, "INSERT INTO kept_campaigns SELECT id FROM campaigns WHERE acquired BETWEEN ? AND ?");

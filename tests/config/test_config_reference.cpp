@@ -35,7 +35,7 @@ TEST(ConfigReference, DocsTablesAreTheDeclarations) {
     EXPECT_EQ(sections, (std::vector<std::string>{
                             "station", "paths", "ingest", "meteo", "logging", "daemon", "coverage",
                             "registration", "m3c2", "pbm3c2", "primitives", "vectors", "keypoints",
-                            "campaign", "modbus", "http", "alarm", "notify"}));
+                            "campaign", "modbus", "http", "alarm", "notify", "retention"}));
     for (const auto& section : sections) {
         EXPECT_EQ(docs_table(docs, section), reference_table(section))
             << "docs/configuration.md, section [" << section

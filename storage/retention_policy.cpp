@@ -1,0 +1,56 @@
+#include "storage/retention_policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace tlsmon {
+
+namespace {
+
+constexpr std::int64_t kDay = 86400;
+
+// Floor division: a day or week index also before 1970.
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+    return a / b - ((a % b != 0) && ((a < 0) != (b < 0)));
+}
+
+// ISO weeks start on Monday; 1970-01-01 was a Thursday, so day 4 (1970-01-05) starts one.
+std::int64_t iso_week(UtcSeconds t) {
+    return floor_div(floor_div(t, kDay) - 4, 7);
+}
+
+}  // namespace
+
+RetentionPlan plan_retention(std::vector<MapEpoch> epochs, UtcSeconds now,
+                             const RetentionPolicy& policy) {
+    std::sort(epochs.begin(), epochs.end(), [](const MapEpoch& a, const MapEpoch& b) {
+        return a.acquired != b.acquired ? a.acquired < b.acquired : a.id < b.id;
+    });
+    const auto young_after =
+        now - static_cast<UtcSeconds>(std::llround(policy.keep_all_days * kDay));
+    const auto daily_after =
+        now - static_cast<UtcSeconds>(std::llround(policy.keep_daily_days * kDay));
+    RetentionPlan plan;
+    plan.now = now;
+    std::set<std::int64_t> days_seen, weeks_seen;
+    for (const auto& e : epochs) {
+        // Every epoch claims its day and week, so the first one of each is the one kept.
+        const bool first_of_day = days_seen.insert(floor_div(e.acquired, kDay)).second;
+        const bool first_of_week = weeks_seen.insert(iso_week(e.acquired)).second;
+        if (e.acquired >= young_after) {
+            ++plan.kept_young;
+        } else if (e.acquired >= daily_after && first_of_day) {
+            ++plan.kept_daily;
+        } else if (e.acquired < daily_after && first_of_week) {
+            ++plan.kept_weekly;
+        } else if (e.is_protected) {
+            ++plan.kept_protected;
+        } else {
+            plan.thin.push_back(e.id);
+        }
+    }
+    return plan;
+}
+
+}  // namespace tlsmon
