@@ -123,10 +123,12 @@ std::unique_ptr<Connection> open_and_migrate(const fs::path& path,
     }
     guarded(*c, "setting connection pragmas", [&] {
         c->db.exec("PRAGMA foreign_keys = ON");
-        // Takes effect only in a file without tables (a new database) or at a VACUUM: the
-        // retention policy's freed pages can then go back to the file system in small steps
-        // (docs/retention.md).
-        c->db.exec("PRAGMA auto_vacuum = INCREMENTAL");
+        // A new file is made incremental, so the retention policy's freed pages can go back
+        // to the file system in small steps (docs/retention.md). Only a new one: on an
+        // existing file the pragma would wait for another connection's write lock.
+        if (c->db.execAndGet("PRAGMA page_count").getInt64() == 0) {
+            c->db.exec("PRAGMA auto_vacuum = INCREMENTAL");
+        }
         const std::string journal = c->db.execAndGet("PRAGMA journal_mode = WAL");
         if (journal != "wal") {
             throw SQLite::Exception("journal_mode is '" + journal + "', not 'wal'");

@@ -23,13 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using Mode = EpochDatabase::Mode;
-constexpr UtcSeconds kStart = 1767225600;  // 2026-01-01T00:00:00Z
-
-std::int64_t count(const fs::path& path, const std::string& sql) {
-    // Read-write: the first reader after a kill recovers the WAL index.
-    SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE);
-    return raw.execAndGet(sql).getInt64();
-}
+constexpr UtcSeconds kStart = test::kSeriesStart;
 
 // `tlsmon retention run --config FILE` killed with SIGKILL after `ms`; false when it had
 // finished by then.
@@ -82,24 +76,26 @@ TEST(RetentionCommand, KillNineDuringThinningLosesNothingThatShouldStay) {
     for (int ms : {150, 300, 450, 700, 1000, 1500}) {
         if (!killed_after(config, ms)) continue;
         const auto with_maps =
-            count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays");
+            test::sql_count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays");
         if (with_maps > kept && with_maps < kept + to_thin) ++interrupted;
-        ASSERT_EQ(count(path,
-                        "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check"
-                        " <> 'ok'"),
-                  0)
+        ASSERT_EQ(
+            test::sql_count(path,
+                            "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check"
+                            " <> 'ok'"),
+            0)
             << "killed after " << ms << " ms";
-        EXPECT_EQ(count(path, "SELECT count(*) FROM zone_results"), 60 * 24);
-        EXPECT_EQ(count(path,
-                        "SELECT count(*) FROM (SELECT epoch_id FROM core_point_arrays"
-                        " GROUP BY epoch_id HAVING count(*) <> 2)"),
+        EXPECT_EQ(test::sql_count(path, "SELECT count(*) FROM zone_results"), 60 * 24);
+        EXPECT_EQ(test::sql_count(path,
+                                  "SELECT count(*) FROM (SELECT epoch_id FROM core_point_arrays"
+                                  " GROUP BY epoch_id HAVING count(*) <> 2)"),
                   0);
         // Every epoch with maps gone is recorded as thinned, in the same transaction.
-        EXPECT_EQ(count(path, "SELECT count(*) FROM thinned_maps"), 60 * 24 - with_maps);
+        EXPECT_EQ(test::sql_count(path, "SELECT count(*) FROM thinned_maps"), 60 * 24 - with_maps);
         for (int i : protected_index) {
-            EXPECT_EQ(count(path, "SELECT count(*) FROM core_point_arrays WHERE epoch_id = " +
-                                      std::to_string(s.ids[i])),
-                      2)
+            EXPECT_EQ(
+                test::sql_count(path, "SELECT count(*) FROM core_point_arrays WHERE epoch_id = " +
+                                          std::to_string(s.ids[i])),
+                2)
                 << "epoch index " << i << ", killed after " << ms << " ms";
         }
     }
@@ -108,9 +104,10 @@ TEST(RetentionCommand, KillNineDuringThinningLosesNothingThatShouldStay) {
     const auto run =
         test::run_tlsmon("retention run --config " + config.string() + " --format json", false);
     ASSERT_EQ(run.status, 0) << run.out;
-    EXPECT_EQ(count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"), kept);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM thinned_maps"), to_thin);
-    EXPECT_EQ(count(path, "PRAGMA freelist_count"), 0);
+    EXPECT_EQ(test::sql_count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"),
+              kept);
+    EXPECT_EQ(test::sql_count(path, "SELECT count(*) FROM thinned_maps"), to_thin);
+    EXPECT_EQ(test::sql_count(path, "PRAGMA freelist_count"), 0);
 }
 
 TEST(RetentionCommand, PinsAreAuditedAndAThinnedMapSaysSo) {
@@ -150,7 +147,8 @@ TEST(RetentionCommand, PinsAreAuditedAndAThinnedMapSaysSo) {
     EXPECT_EQ(pass.at("epochs_thinned").get<std::int64_t>(), 9 * 3 + 2 - 1);
     EXPECT_LT(pass.at("size_after").get<std::int64_t>(),
               pass.at("size_before").get<std::int64_t>());
-    EXPECT_EQ(count(path, "SELECT count(*) FROM core_point_arrays WHERE epoch_id = " + pinned_id),
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM core_point_arrays WHERE epoch_id = " + pinned_id),
               2);
     r = test::run_tlsmon("query corepoints --epoch " + std::to_string(s.ids[10]) + db);
     EXPECT_NE(r.status, 0);
@@ -158,9 +156,9 @@ TEST(RetentionCommand, PinsAreAuditedAndAThinnedMapSaysSo) {
 
     r = test::run_tlsmon("epochs unpin " + pinned_id + db + " --by ana");
     EXPECT_EQ(r.status, 0) << r.out;
-    EXPECT_EQ(count(path,
-                    "SELECT count(*) FROM system_events WHERE kind IN ('epoch_pinned',"
-                    " 'epoch_unpinned') AND message LIKE '%by ana%'"),
+    EXPECT_EQ(test::sql_count(path,
+                              "SELECT count(*) FROM system_events WHERE kind IN ('epoch_pinned',"
+                              " 'epoch_unpinned') AND message LIKE '%by ana%'"),
               2);
     r = test::run_tlsmon("epochs unpin " + pinned_id + db);
     EXPECT_EQ(r.status, 1);

@@ -13,12 +13,7 @@ namespace tlsmon {
 namespace {
 
 using Mode = EpochDatabase::Mode;
-constexpr UtcSeconds kStart = 1767225600;  // 2026-01-01T00:00:00Z
-
-std::int64_t count(const std::filesystem::path& path, const std::string& sql) {
-    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
-    return raw.execAndGet(sql).getInt64();
-}
+constexpr UtcSeconds kStart = test::kSeriesStart;
 
 RetentionPolicy policy() {
     RetentionPolicy p;
@@ -46,10 +41,12 @@ TEST(RetentionPass, ThinsInBatchesAndShrinksTheFile) {
     EXPECT_FALSE(r.stopped);
     EXPECT_GT(r.pages_released, 0);
     EXPECT_LT(r.size_after, r.size_before - r.map_bytes_deleted * 9 / 10);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
               (r.epochs_thinned + 39) / 40);
-    EXPECT_EQ(count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"), 73 + 7 + 2);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM zone_results"), 480);
+    EXPECT_EQ(test::sql_count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"),
+              73 + 7 + 2);
+    EXPECT_EQ(test::sql_count(path, "SELECT count(*) FROM zone_results"), 480);
     // A second pass finds nothing to do.
     const auto again = run_retention_pass(db, policy());
     EXPECT_EQ(again.epochs_thinned, 0);
@@ -78,12 +75,14 @@ TEST(RetentionPass, ConvertsAnOlderDatabaseOnceByAVacuum) {
     EXPECT_EQ(r.vacuum_error, "");
     EXPECT_TRUE(db.retention().incremental_vacuum());
     EXPECT_LT(r.size_after, r.size_before - r.map_bytes_deleted * 9 / 10);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM system_events WHERE kind = 'database_vacuumed'"),
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM system_events WHERE kind = 'database_vacuumed'"),
               1);
-    EXPECT_EQ(count(path,
-                    "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check <> "
-                    "'ok'"),
-              0);
+    EXPECT_EQ(
+        test::sql_count(path,
+                        "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check <> "
+                        "'ok'"),
+        0);
 }
 
 TEST(RetentionPass, StopsBetweenTransactions) {
@@ -95,7 +94,8 @@ TEST(RetentionPass, StopsBetweenTransactions) {
     const auto r = run_retention_pass(db, policy(), [&] { return ++asked > 2; });
     EXPECT_TRUE(r.stopped);
     EXPECT_EQ(r.epochs_thinned, 80);  // two batches of 40
-    EXPECT_EQ(count(path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
               2);
     // The next pass finishes the work.
     const auto rest = run_retention_pass(db, policy());

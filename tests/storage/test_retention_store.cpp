@@ -14,12 +14,7 @@ namespace tlsmon {
 namespace {
 
 using Mode = EpochDatabase::Mode;
-constexpr UtcSeconds kStart = 1767225600;  // 2026-01-01T00:00:00Z
-
-std::int64_t count(const std::filesystem::path& path, const std::string& sql) {
-    SQLite::Database raw(path.string(), SQLite::OPEN_READONLY);
-    return raw.execAndGet(sql).getInt64();
-}
+constexpr UtcSeconds kStart = test::kSeriesStart;
 
 RetentionPolicy short_policy() {
     RetentionPolicy p;
@@ -54,9 +49,9 @@ TEST(RetentionStore, ProtectsReferenceAlarmExclusionAndPinnedEpochs) {
     EXPECT_EQ(pins[0].pinned_by, "cli:test");
     EXPECT_EQ(pins[0].note, "crack seen");
     EXPECT_TRUE(pins[0].has_maps);
-    EXPECT_EQ(count(path,
-                    "SELECT count(*) FROM system_events WHERE kind = 'epoch_pinned' AND "
-                    "message LIKE '%by cli:test: crack seen%'"),
+    EXPECT_EQ(test::sql_count(path,
+                              "SELECT count(*) FROM system_events WHERE kind = 'epoch_pinned' AND "
+                              "message LIKE '%by cli:test: crack seen%'"),
               1);
 }
 
@@ -65,7 +60,7 @@ TEST(RetentionStore, ThinsOnlyMapsAndHonoursAPinMadeAfterThePlan) {
     const auto path = dir / "epochs.sqlite";
     auto db = EpochDatabase::open(path, Mode::read_write);
     const auto s = test::write_map_series(db, 30, 8, 500, kStart);
-    const auto zone_rows = count(path, "SELECT count(*) FROM zone_results");
+    const auto zone_rows = test::sql_count(path, "SELECT count(*) FROM zone_results");
     const auto plan = db.retention().plan(short_policy());
     ASSERT_GT(plan.thin.size(), 100u);
     const EpochId pinned_late = plan.thin[3];
@@ -78,14 +73,16 @@ TEST(RetentionStore, ThinsOnlyMapsAndHonoursAPinMadeAfterThePlan) {
     EXPECT_FALSE(db.retention().has_maps(plan.thin[0]));
     EXPECT_EQ(db.retention().maps_thinned_at(plan.thin[0]), kStart + 30 * 86400);
     EXPECT_EQ(db.retention().maps_thinned_at(pinned_late), std::nullopt);
-    EXPECT_EQ(count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"),
+    EXPECT_EQ(test::sql_count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays"),
               static_cast<std::int64_t>(s.ids.size() - plan.thin.size() + 1));
-    EXPECT_EQ(count(path, "SELECT count(*) FROM zone_results"), zone_rows);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
+    EXPECT_EQ(test::sql_count(path, "SELECT count(*) FROM zone_results"), zone_rows);
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
               1);
     // A second thinning of the same epochs finds nothing left and records nothing.
     EXPECT_EQ(db.retention().thin(plan.thin, kStart + 30 * 86400).epochs, 0);
-    EXPECT_EQ(count(path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
+    EXPECT_EQ(test::sql_count(
+                  path, "SELECT count(*) FROM system_events WHERE kind = 'retention_thinned'"),
               1);
 
     // A new database is incremental: the freed pages go back to the file system.
@@ -101,10 +98,11 @@ TEST(RetentionStore, ThinsOnlyMapsAndHonoursAPinMadeAfterThePlan) {
     EXPECT_EQ(released, free_pages);
     EXPECT_EQ(db.retention().free_pages(), 0);
     EXPECT_LT(db.retention().size_bytes(), before - done.bytes / 2);
-    EXPECT_EQ(count(path,
-                    "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check <> "
-                    "'ok'"),
-              0);
+    EXPECT_EQ(
+        test::sql_count(path,
+                        "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check <> "
+                        "'ok'"),
+        0);
 }
 
 TEST(RetentionStore, UnpinRecordsWhoAndReturnsFalseWhenNotPinned) {
@@ -116,10 +114,11 @@ TEST(RetentionStore, UnpinRecordsWhoAndReturnsFalseWhenNotPinned) {
     ASSERT_TRUE(db.retention().pin(s.ids[1], "cli:test", "", kStart));
     EXPECT_TRUE(db.retention().unpin(s.ids[1], "cli:ana", kStart));
     EXPECT_TRUE(db.retention().pins().empty());
-    EXPECT_EQ(count(path,
-                    "SELECT count(*) FROM system_events WHERE kind = 'epoch_unpinned' AND "
-                    "message LIKE '%unpinned by cli:ana%'"),
-              1);
+    EXPECT_EQ(
+        test::sql_count(path,
+                        "SELECT count(*) FROM system_events WHERE kind = 'epoch_unpinned' AND "
+                        "message LIKE '%unpinned by cli:ana%'"),
+        1);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 // retention tests: `days` x `per_day` epochs from `start` (UTC), each with one zone value and
 // two float32 maps of `core_points` values; epoch 0 is the reference; the epochs named in
 // `alarm_at` raise an alarm, those in `exclusion_at` exclude a target.
+#include <SQLiteCpp/SQLiteCpp.h>
+
 #include <cstdio>
 #include <set>
 #include <string>
@@ -11,6 +13,15 @@
 #include "storage/epoch_database.hpp"
 
 namespace tlsmon::test {
+
+inline constexpr UtcSeconds kSeriesStart = 1767225600;  // 2026-01-01T00:00:00Z, a Thursday
+
+// One number `sql` reads from the file, through a connection of its own (read-write: the
+// first reader after a killed writer recovers the WAL index).
+inline std::int64_t sql_count(const std::filesystem::path& path, const std::string& sql) {
+    SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE);
+    return raw.execAndGet(sql).getInt64();
+}
 
 struct MapSeries {
     std::vector<EpochId> ids;  // in acquisition order
