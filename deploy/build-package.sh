@@ -32,7 +32,7 @@ dpkg-deb -I "$deb" conffiles | grep -qx /etc/tlsmon/tlsmon.toml ||
 echo "build-package: contents and control data as expected"
 
 # lintian: errors fail the build; warnings are printed for the record.
-lintian --fail-on error --no-tag-display-limit "$deb" || { echo "build-package: lintian found errors" >&2; exit 1; }
+lintian --fail-on error --tag-display-limit 0 "$deb" || { echo "build-package: lintian found errors" >&2; exit 1; }
 echo "build-package: lintian: no errors"
 
 if [ "${1:-}" = --install ] && [ "$(id -u)" -eq 0 ]; then
