@@ -69,9 +69,9 @@ int run_retention(const RetentionOptions& o) {
         if (o.action == "plan") {
             const auto db = open_for_reading(o.read);
             const RetentionPlan p = db.retention().plan(policy);
-            auto fields = policy_fields;
-            fields.insert(fields.end(), {{"enabled", policy.enabled},
-                                         {"series_time", time_cell(p.now)},
+            std::vector<std::pair<std::string, Cell>> fields = {{"enabled", policy.enabled}};
+            fields.insert(fields.end(), policy_fields.begin(), policy_fields.end());
+            fields.insert(fields.end(), {{"series_time", time_cell(p.now)},
                                          {"kept_young", p.kept_young},
                                          {"kept_daily", p.kept_daily},
                                          {"kept_weekly", p.kept_weekly},
