@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages tlsmon builds and runs with; with --tests also those the
-# test suite drives (a headless browser and its WebDriver, a JSON Schema validator for the
-# API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP server and
-# an MQTT broker with its clients for the notification tests, and independent readers for the
-# export tests: GDAL's ogrinfo for GeoJSON, copc.js from the npm registry for LAS; lintian
-# for the Debian package). Idempotent: when everything is already installed it changes
-# nothing and asks no mirror.
+# test suite is built with (GoogleTest, clang for the fuzz targets, clang-format for CI's
+# format check) and drives (a headless browser and its WebDriver, a JSON Schema validator for
+# the API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP
+# server and an MQTT broker with its clients for the notification tests, and independent
+# readers for the export tests: GDAL's ogrinfo for GeoJSON, copc.js from the npm registry
+# for LAS; lintian for the Debian package). Idempotent: when everything is already installed
+# it changes nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
@@ -14,11 +15,10 @@ packages=(
   libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev libcurl4-openssl-dev libmosquitto-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
   libproj-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  clang libclang-rt-dev clang-format
   mbpoll gnuplot-nox libjs-dygraphs
 )
 if [ "${1:-}" = --tests ]; then
+  packages+=(libgtest-dev libgmock-dev clang libclang-rt-dev clang-format)
   packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl
              python3-aiosmtpd mosquitto mosquitto-clients gdal-bin lintian)
   # Node.js runs the independent LAS reader; a machine's own Node.js and npm are kept.

@@ -9,7 +9,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
-TLSMON_TARGETS=tlsmon bash deploy/build.sh  # the program only, not the test suite
+# The program only: neither the test suite nor the benchmarks are configured or built.
+TLSMON_TARGETS=tlsmon bash deploy/build.sh -DTLSMON_TESTS=OFF -DTLSMON_BENCH=OFF
 
 args=(--workdir var/demo)
 [ -n "${EPOCHS:-}" ] && args+=(--epochs "$EPOCHS")

@@ -12,7 +12,8 @@ bash deploy/install-deps.sh --tests
 if [ "${CI:-}" = true ]; then
   git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run -Werror
 fi
-cmake_args=()
+# Explicitly on: a build folder configured by run-demo.sh has them off.
+cmake_args=(-DTLSMON_TESTS=ON -DTLSMON_BENCH=ON)
 if [ "${CI:-}" = true ]; then cmake_args+=(-DTLSMON_WERROR=ON); fi
 bash deploy/build.sh "${cmake_args[@]}"
 (cd build && ctest --output-on-failure -j "$(nproc)" --timeout 900)
