@@ -143,6 +143,9 @@ struct RetentionOptions {
     ReadOptions read;
 };
 int run_retention(const RetentionOptions& options);
+// `tlsmon archive plan|run --config FILE`: the same for the site's [archive] policy of the
+// scans in paths.archive (docs/retention.md).
+int run_archive(const RetentionOptions& options);
 
 // `tlsmon query planes --epoch N`: the reference planes the registration on planes matched
 // in one epoch, each with its role (datum, moved, monitored), tilt and shift with σ, and test.

@@ -472,26 +472,43 @@ void add_epochs(CLI::App& app, CommandLine& c) {
     });
 }
 
-void add_retention(CLI::App& app, CommandLine& c) {
-    auto* cmd = app.add_subcommand(
-        "retention",
-        "The retention policy of per-core-point maps: `plan` (what a pass would keep and thin), "
-        "`run` (one pass now, as the daemon does) (docs/retention.md)");
+// `tlsmon retention plan|run` and `tlsmon archive plan|run`: a policy's plan, or one pass.
+void add_policy_passes(CLI::App& app, CommandLine& c, const std::string& command,
+                       const std::string& description, const char* plan_help, const char* run_help,
+                       int (*run)(const RetentionOptions&)) {
+    auto* cmd = app.add_subcommand(command, description);
     cmd->require_subcommand(1);
-    const std::pair<const char*, const char*> actions[] = {
-        {"plan", "What a pass of the policy (the site's with --config) would keep and thin"},
-        {"run", "One pass now: thin, then give the freed space back to the file system"}};
+    const std::pair<const char*, const char*> actions[] = {{"plan", plan_help}, {"run", run_help}};
     for (const auto& [name, help] : actions) {
-        auto& o = c.retention[name];
+        auto& o = c.retention[command + " " + name];
         o.action = name;
         auto* sub = cmd->add_subcommand(name, help);
-        auto& read = c.retention_read[name];
+        auto& read = c.retention_read[command + " " + name];
         read.add_to(sub, false);
-        sub->callback([&] {
+        sub->callback([&o, &read, &c, run] {
             o.read = read.finish();
-            c.code = run_retention(o);
+            c.code = run(o);
         });
     }
+}
+
+void add_retention(CLI::App& app, CommandLine& c) {
+    add_policy_passes(
+        app, c, "retention",
+        "The retention policy of per-core-point maps: `plan` (what a pass would keep and thin), "
+        "`run` (one pass now, as the daemon does) (docs/retention.md)",
+        "What a pass of the policy (the site's with --config) would keep and thin",
+        "One pass now: thin, then give the freed space back to the file system", run_retention);
+}
+
+void add_archive(CLI::App& app, CommandLine& c) {
+    add_policy_passes(
+        app, c, "archive",
+        "The archive policy of raw scans (needs --config): `plan` (the archive's size, what a "
+        "pass would remove, re-encode and free), `run` (one pass now, as the daemon does) "
+        "(docs/retention.md)",
+        "The archive now and what a pass of the site's [archive] policy would do",
+        "One pass now: remove the scans the policy thins, re-encode those it keeps", run_archive);
 }
 
 void add_alarms(CLI::App& app, CommandLine& c) {
@@ -1028,6 +1045,7 @@ int main(int argc, char** argv) {
         {"backup", tlsmon::add_backup},
         {"epochs", tlsmon::add_epochs},
         {"retention", tlsmon::add_retention},
+        {"archive", tlsmon::add_archive},
         {"m3c2", tlsmon::add_m3c2},
         {"pbm3c2", tlsmon::add_pbm3c2},
         {"primitives", tlsmon::add_primitives},

@@ -42,6 +42,25 @@ add_custom_command(
 add_custom_target(tlsmon_changelog ALL DEPENDS ${_pkg}/changelog.Debian.gz)
 install(FILES ${_pkg}/changelog.Debian.gz DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
+# Manual pages, made from the programs' own --help and --version by help2man (installed by
+# deploy/install-deps.sh --tests, which the package is built with); tlsmon-analysis, which
+# `tlsmon` calls with the same arguments, points to tlsmon's page.
+find_program(HELP2MAN help2man)
+if(HELP2MAN)
+  add_custom_command(
+    OUTPUT ${_pkg}/tlsmon.1.gz ${_pkg}/tlsmon-analysis.1.gz
+    COMMAND ${HELP2MAN} --no-info --section 1 --version-string ${PROJECT_VERSION}
+            --name "unattended deformation monitoring with a terrestrial laser scanner"
+            --output ${_pkg}/tlsmon.1 $<TARGET_FILE:tlsmon>
+    COMMAND gzip -9nf ${_pkg}/tlsmon.1
+    COMMAND ${CMAKE_COMMAND} -E echo ".so man1/tlsmon.1" > ${_pkg}/tlsmon-analysis.1
+    COMMAND gzip -9nf ${_pkg}/tlsmon-analysis.1
+    DEPENDS tlsmon tlsmon-analysis)
+  add_custom_target(tlsmon_man ALL DEPENDS ${_pkg}/tlsmon.1.gz)
+  install(FILES ${_pkg}/tlsmon.1.gz ${_pkg}/tlsmon-analysis.1.gz
+          DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+endif()
+
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tlsmon)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})

@@ -90,9 +90,11 @@ void check_ingest(TomlFields& t, IngestConfig& c) {
     if (c.retry_max < c.retry_initial) t.fail("retry_max", "must be >= ingest.retry_initial");
 }
 
-void check_retention(TomlFields& t, const RetentionPolicy& c) {
-    if (c.keep_daily_days < c.keep_all_days) {
-        t.fail("keep_daily_days", "must be >= retention.keep_all_days");
+// The maps' and the scans' policies have the same tiers (storage/retention_policy.hpp).
+void check_tiers(TomlFields& t, const std::string& section, double keep_all_days,
+                 double keep_daily_days) {
+    if (keep_daily_days < keep_all_days) {
+        t.fail("keep_daily_days", "must be >= " + section + ".keep_all_days");
     }
 }
 
@@ -205,7 +207,12 @@ void check_section(const std::string& section, TomlFields& t, Config& c) {
     if (section == "station") check_station(t, c.station);
     if (section == "paths") check_paths(t, c.paths);
     if (section == "ingest") check_ingest(t, c.ingest);
-    if (section == "retention") check_retention(t, c.retention);
+    if (section == "retention") {
+        check_tiers(t, section, c.retention.keep_all_days, c.retention.keep_daily_days);
+    }
+    if (section == "archive") {
+        check_tiers(t, section, c.archive.keep_all_days, c.archive.keep_daily_days);
+    }
     if (section == "modbus") check_modbus(t, c.modbus);
     if (section == "http") check_http(t, c.http);
     if (section == "m3c2") check_m3c2(t, c.m3c2);

@@ -25,6 +25,7 @@
 #include "formats/scan_file.hpp"
 #include "pipeline/campaign_config.hpp"
 #include "pipeline/epoch_pipeline.hpp"
+#include "storage/archive_policy.hpp"
 #include "storage/retention_policy.hpp"
 
 namespace tlsmon {
@@ -115,6 +116,7 @@ std::vector<SectionKey<LoggingConfig>> logging_keys();
 std::vector<SectionKey<DaemonConfig>> daemon_keys();
 std::vector<SectionKey<AlarmConfig>> alarm_keys();
 std::vector<SectionKey<RetentionPolicy>> retention_keys();
+std::vector<SectionKey<ArchivePolicy>> archive_keys();
 
 struct Config {
     std::filesystem::path file;  // the configuration file read ("" for built-in defaults)
@@ -139,6 +141,7 @@ struct Config {
     AlarmConfig alarm;
     NotifyConfig notify;                        // after [alarm]: its routes name alarm events
     RetentionPolicy retention;                  // thinning the per-core-point maps by age
+    ArchivePolicy archive;                      // thinning the archived scans by age
     std::vector<ZoneConfig> zones;              // [[zone]] tables, then the bands of [[zone_bands]]
     CampaignConfig campaign;                    // how every instrument's campaigns are compared
     std::vector<InstrumentConfig> instruments;  // [[instrument]] tables: campaign scanners

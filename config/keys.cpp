@@ -41,6 +41,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "alarm", &Config::alarm, alarm_keys());
     collect(keys, "notify", &Config::notify, notify_keys());
     collect(keys, "retention", &Config::retention, retention_keys());
+    collect(keys, "archive", &Config::archive, archive_keys());
     return keys;
 }
 

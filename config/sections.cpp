@@ -1,6 +1,6 @@
 // The keys of the daemon's own sections ([station], [paths], [ingest], [logging], [daemon],
-// [alarm]), declared beside their structs (config/config.hpp) as the stages' are beside
-// theirs; config/keys.cpp collects them all.
+// [alarm], [retention], [archive]), declared beside their structs (config/config.hpp) as the
+// stages' are beside theirs; config/keys.cpp collects them all.
 #include <array>
 
 #include "config/config.hpp"
@@ -12,6 +12,10 @@ namespace {
 constexpr std::array<Named<ArchiveMode>, 2> kArchiveModes{{
     {ArchiveMode::move, "move"},
     {ArchiveMode::keep, "keep"},
+}};
+constexpr std::array<Named<ScanReencoding>, 2> kScanReencodings{{
+    {ScanReencoding::none, "none"},
+    {ScanReencoding::e57, "e57"},
 }};
 constexpr std::array<Named<TimeSource>, 3> kTimeSources{{
     {TimeSource::scan, "scan"},
@@ -186,6 +190,37 @@ std::vector<SectionKey<RetentionPolicy>> retention_keys() {
                    "vacuum)."),
         K::seconds(&RetentionPolicy::interval, "interval", 60, 7 * day, "",
                    "Time between the daemon's retention passes (the first runs at start)."),
+    };
+}
+
+std::vector<SectionKey<ArchivePolicy>> archive_keys() {
+    using K = Keys<ArchivePolicy>;
+    return {
+        K::flag(&ArchivePolicy::enabled, "enabled",
+                "Thin the scan files in `paths.archive` by age (docs/retention.md), in the "
+                "retention thread every `retention.interval`. Never removed: the scans of the "
+                "reference epoch, of epochs with alarm events or standing alarm state, of epochs "
+                "that excluded a target, and of pinned epochs. Their results stay in the "
+                "database. Needs `ingest.archive = \"move\"` (with `keep` the scans stay in the "
+                "ingest folder, which the policy never touches). `false`: every scan is kept."),
+        K::number(&ArchivePolicy::keep_all_days, "keep_all_days", 0, 36500, "d",
+                  "Every scan is kept while its epoch is younger than this (age from the newest "
+                  "epoch's acquisition time)."),
+        K::number(&ArchivePolicy::keep_daily_days, "keep_daily_days", 0, 36500,
+                  "d, >= `keep_all_days`",
+                  "Then only the first scan of each UTC day, until this age; older still: the "
+                  "first of each ISO week."),
+        K::choice(&ArchivePolicy::reencode, "reencode", kScanReencodings,
+                  "`e57`: a kept scan older than `keep_all_days` is rewritten as E57 (coordinates "
+                  "as scaled integers of `e57_resolution`, bit-packed; grid, intensity in 12 "
+                  "bits, colour, pose and time kept), read back and compared point by point "
+                  "before the original is deleted. The scans the state names (the reference) "
+                  "stay as they were ingested. `none`: scans are kept as ingested."),
+        K::number(&ArchivePolicy::e57_resolution, "e57_resolution", 1e-6, 1e-3, "m",
+                  "The step of the re-encoded coordinates: every point stays within "
+                  "√3/2 of it (10 µm: far below any scanner's noise)."),
+        K::integer(&ArchivePolicy::batch_scans, "batch_scans", 1, 10000, "",
+                   "Scans removed per transaction."),
     };
 }
 

@@ -125,8 +125,10 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
         // is processed.
         return IngestOutcome::wait_for_epoch;
     }
+    // (Not for a scan the archive policy removed or re-encoded: its absence is intended.)
     if (epoch.archive_path && !fs::exists(*epoch.archive_path) &&
-        fs::path(*epoch.archive_path).filename().string().starts_with(file.stem().string())) {
+        fs::path(*epoch.archive_path).filename().string().starts_with(file.stem().string()) &&
+        !ctx.db.archive().record(epoch.id)) {
         // The epoch was committed but the daemon stopped before moving its file: finish.
         try {
             move_file(file, *epoch.archive_path);

@@ -289,8 +289,9 @@ void Daemon::start_notify() {
 
 void Daemon::start_retention() {
     retention_.reset();
-    if (config_.retention.enabled) {
-        retention_ = std::make_unique<RetentionService>(config_.retention, config_.paths.database);
+    if (config_.retention.enabled || config_.archive.enabled) {
+        retention_ = std::make_unique<RetentionService>(
+            config_.retention, config_.archive, config_.paths.archive, config_.paths.database);
     }
 }
 
@@ -339,7 +340,8 @@ void Daemon::reload() {
         setup_logging(fresh.logging);
         const bool restart_modbus = changes.modbus;
         const bool restart_http = changes.http;
-        const bool restart_retention = !(fresh.retention == config_.retention);
+        const bool restart_retention =
+            !(fresh.retention == config_.retention) || !(fresh.archive == config_.archive);
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
@@ -377,10 +379,14 @@ void Daemon::reload() {
         }
         if (restart_retention) {
             start_retention();
-            events_.record(db_, "info", "config_reload",
-                           config_.retention.enabled ? "retention policy restarted"
-                                                     : "retention stopped (retention.enabled = "
-                                                       "false): every map is kept");
+            events_.record(
+                db_, "info", "config_reload",
+                std::string(config_.retention.enabled
+                                ? "retention policy restarted"
+                                : "retention stopped (retention.enabled = false): every map is "
+                                  "kept") +
+                    (config_.archive.enabled ? "; archive policy on"
+                                             : "; archive policy off: every scan is kept"));
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {

@@ -17,7 +17,8 @@ contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/tlsmon ./usr/bin/tlsmon-analysis ./lib/systemd/system/tlsmon.service \
          ./etc/tlsmon/tlsmon.toml ./usr/share/tlsmon/web/index.html \
          ./usr/share/doc/tlsmon/copyright ./usr/share/doc/tlsmon/changelog.Debian.gz \
-         ./usr/share/doc/tlsmon/configuration.md; do
+         ./usr/share/doc/tlsmon/configuration.md ./usr/share/man/man1/tlsmon.1.gz \
+         ./usr/share/man/man1/tlsmon-analysis.1.gz; do
   grep -q " $f\$" <<< "$contents" || { echo "build-package: $f is not in $deb" >&2; exit 1; }
 done
 if grep -v ' root/root ' <<< "$contents" | grep -q .; then

@@ -5,12 +5,12 @@
 # the API's OpenAPI description, curl and openssl for the HTTP and HTTPS tests, an SMTP
 # server and an MQTT broker with its clients for the notification tests, and independent
 # readers for the export tests: GDAL's ogrinfo for GeoJSON, copc.js from the npm registry
-# for LAS; lintian for the Debian package). Idempotent: when everything is already installed
-# it changes nothing and asks no mirror.
+# for LAS; lintian and help2man for the Debian package). Idempotent: when everything is
+# already installed it changes nothing and asks no mirror.
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config ccache git
+  build-essential cmake pkg-config ccache mold git
   libeigen3-dev libspdlog-dev libfmt-dev libsqlite3-dev sqlite3 libsqlitecpp-dev libssl-dev
   libpcl-dev libopencv-dev libmodbus-dev libsystemd-dev libtbb-dev libcurl4-openssl-dev libmosquitto-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libcpp-httplib-dev libpugixml-dev libboost-dev libpng-dev
@@ -18,7 +18,7 @@ packages=(
   mbpoll gnuplot-nox libjs-dygraphs
 )
 if [ "${1:-}" = --tests ]; then
-  packages+=(libgtest-dev libgmock-dev clang libclang-rt-dev clang-format)
+  packages+=(libgtest-dev libgmock-dev clang libclang-rt-dev clang-format help2man)
   packages+=(chromium chromium-driver python3-selenium python3-jsonschema curl openssl
              python3-aiosmtpd mosquitto mosquitto-clients gdal-bin lintian)
   # Node.js runs the independent LAS reader; a machine's own Node.js and npm are kept.

@@ -40,7 +40,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       keypoint_models_(*connection_),
       notifications_(*connection_),
       campaigns_(*connection_),
-      retention_(*connection_) {}
+      retention_(*connection_),
+      archive_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

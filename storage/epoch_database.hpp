@@ -7,7 +7,7 @@
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
 // alarms(), events(), meteo(), registrations(), keypoint_models(),
-// notifications(), campaigns(), retention()) and live as long as it does.
+// notifications(), campaigns(), retention(), archive()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
 // an epoch are written in ONE transaction together with its status (ResultsWriter::commit),
@@ -21,6 +21,7 @@
 #include <memory>
 
 #include "storage/alarm_store.hpp"
+#include "storage/archive_store.hpp"
 #include "storage/campaign_store.hpp"
 #include "storage/epoch_results.hpp"
 #include "storage/epochs.hpp"
@@ -83,6 +84,8 @@ class EpochDatabase {
     const CampaignStore& campaigns() const { return campaigns_; }
     RetentionStore& retention() { return retention_; }
     const RetentionStore& retention() const { return retention_; }
+    ArchiveStore& archive() { return archive_; }
+    const ArchiveStore& archive() const { return archive_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -102,6 +105,7 @@ class EpochDatabase {
     NotificationStore notifications_;
     CampaignStore campaigns_;
     RetentionStore retention_;
+    ArchiveStore archive_;
 };
 
 }  // namespace tlsmon

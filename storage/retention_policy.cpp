@@ -22,15 +22,13 @@ std::int64_t iso_week(UtcSeconds t) {
 
 }  // namespace
 
-RetentionPlan plan_retention(std::vector<MapEpoch> epochs, UtcSeconds now,
-                             const RetentionPolicy& policy) {
+RetentionPlan plan_by_age(std::vector<MapEpoch> epochs, UtcSeconds now, double keep_all_days,
+                          double keep_daily_days) {
     std::sort(epochs.begin(), epochs.end(), [](const MapEpoch& a, const MapEpoch& b) {
         return a.acquired != b.acquired ? a.acquired < b.acquired : a.id < b.id;
     });
-    const auto young_after =
-        now - static_cast<UtcSeconds>(std::llround(policy.keep_all_days * kDay));
-    const auto daily_after =
-        now - static_cast<UtcSeconds>(std::llround(policy.keep_daily_days * kDay));
+    const auto young_after = now - static_cast<UtcSeconds>(std::llround(keep_all_days * kDay));
+    const auto daily_after = now - static_cast<UtcSeconds>(std::llround(keep_daily_days * kDay));
     RetentionPlan plan;
     plan.now = now;
     std::set<std::int64_t> days_seen, weeks_seen;
@@ -51,6 +49,11 @@ RetentionPlan plan_retention(std::vector<MapEpoch> epochs, UtcSeconds now,
         }
     }
     return plan;
+}
+
+RetentionPlan plan_retention(std::vector<MapEpoch> epochs, UtcSeconds now,
+                             const RetentionPolicy& policy) {
+    return plan_by_age(std::move(epochs), now, policy.keep_all_days, policy.keep_daily_days);
 }
 
 }  // namespace tlsmon

@@ -24,7 +24,7 @@ struct RetentionPolicy {
     bool operator==(const RetentionPolicy&) const = default;
 };
 
-// An epoch that still has per-core-point maps.
+// An epoch that still has per-core-point maps (or, for the archive, its scan).
 struct MapEpoch {
     EpochId id = 0;
     UtcSeconds acquired = 0;
@@ -41,9 +41,16 @@ struct RetentionPlan {
     std::int64_t kept_protected = 0;  // protected and not counted above
 };
 
-// The plan for `epochs` (any order) at `now`. Pure. The day's (week's) first epoch is taken
-// among the epochs that still have maps, so the epoch kept for a day is also the one kept for
-// its week later: a pass never needs what an earlier pass thinned.
+// The tiers by age for `epochs` (any order) at `now`: every epoch younger than
+// `keep_all_days`, then the first of each UTC day until `keep_daily_days`, then the first of
+// each ISO week, and the protected ones; the rest is thinned. Pure. The day's (week's) first
+// epoch is taken among the epochs given (those that still have what is thinned), so the epoch
+// kept for a day is also the one kept for its week later: a pass never needs what an earlier
+// pass thinned. The maps' policy and the archive's (storage/archive_policy.hpp) share it.
+RetentionPlan plan_by_age(std::vector<MapEpoch> epochs, UtcSeconds now, double keep_all_days,
+                          double keep_daily_days);
+
+// The plan for the maps of `epochs`.
 RetentionPlan plan_retention(std::vector<MapEpoch> epochs, UtcSeconds now,
                              const RetentionPolicy& policy);
 

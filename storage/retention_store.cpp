@@ -1,30 +1,10 @@
 #include "storage/retention_store.hpp"
 
-#include <cstdio>
-
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
 #include "storage/state_epochs.hpp"
 
 namespace tlsmon {
-
-namespace {
-
-// The epochs never thinned: those the state names, every epoch of an alarm event (an alarm
-// state change or an operator's action on it), and the pinned ones.
-std::string protected_epochs(SQLite::Database& db) {
-    return epochs_named_by_state(db) +
-           " UNION SELECT epoch_id FROM alarm_events WHERE epoch_id IS NOT NULL"
-           " UNION SELECT epoch_id FROM epoch_pins";
-}
-
-std::string mib(std::int64_t bytes) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
-    return text;
-}
-
-}  // namespace
 
 bool RetentionStore::pin(EpochId epoch, const std::string& by, const std::string& note,
                          UtcSeconds at) {
@@ -164,13 +144,13 @@ ThinnedBatch RetentionStore::thin(std::span<const EpochId> epochs, UtcSeconds at
             last = id;
         }
         if (done.epochs > 0) {
-            write_system_event(
-                *c_, {at, "info", "retention_thinned",
-                      "per-core-point maps of " + std::to_string(done.epochs) +
-                          " epochs thinned by the retention policy (epochs " +
-                          std::to_string(first) + " to " + std::to_string(last) +
-                          "): " + mib(done.bytes) + " of map data; their zone series are kept",
-                      std::nullopt});
+            write_system_event(*c_, {at, "info", "retention_thinned",
+                                     "per-core-point maps of " + std::to_string(done.epochs) +
+                                         " epochs thinned by the retention policy (epochs " +
+                                         std::to_string(first) + " to " + std::to_string(last) +
+                                         "): " + format_mib(done.bytes) +
+                                         " of map data; their zone series are kept",
+                                     std::nullopt});
         }
         tx.commit();
         return done;

@@ -1,6 +1,8 @@
 // Row reads and single-row writes shared by the stores (see shared_rows.hpp).
 #include "storage/shared_rows.hpp"
 
+#include <cstdio>
+
 #include "storage/connection.hpp"
 
 namespace tlsmon {
@@ -105,6 +107,12 @@ void write_system_event(Connection& c, const SystemEvent& event) {
     s.bind(4, event.message);
     bind_optional(s, 5, event.epoch);
     s.exec();
+}
+
+std::string format_mib(std::int64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+    return text;
 }
 
 }  // namespace tlsmon

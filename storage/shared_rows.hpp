@@ -29,6 +29,8 @@ std::int64_t quantity_id(Connection& c, const std::string& name);
 void write_alarm_state(Connection& c, const AlarmState& state);
 void write_alarm_event(Connection& c, const AlarmEvent& event);
 void write_system_event(Connection& c, const SystemEvent& event);
+// "12.3 MiB", for event messages.
+std::string format_mib(std::int64_t bytes);
 // meteo_store.cpp
 void write_meteo_sidecar(Connection& c, const MeteoSidecar& sidecar);
 // keypoint_models.cpp: the epoch's model rows (checked whole: StorageError otherwise).

@@ -24,4 +24,10 @@ std::string epochs_named_by_state(SQLite::Database& db) {
     return sql;
 }
 
+std::string protected_epochs(SQLite::Database& db) {
+    return epochs_named_by_state(db) +
+           " UNION SELECT epoch_id FROM alarm_events WHERE epoch_id IS NOT NULL"
+           " UNION SELECT epoch_id FROM epoch_pins";
+}
+
 }  // namespace tlsmon

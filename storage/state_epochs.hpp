@@ -16,4 +16,9 @@ std::vector<std::string> tables_with_column(SQLite::Database& db, const std::str
 // A SELECT of one column: the ids of those epochs (a UNION, no NULLs).
 std::string epochs_named_by_state(SQLite::Database& db);
 
+// The same for the epochs the retention and archive policies never thin: those the state
+// names, every epoch of an alarm event (an alarm state change or an operator's action on
+// it), and the pinned ones.
+std::string protected_epochs(SQLite::Database& db);
+
 }  // namespace tlsmon

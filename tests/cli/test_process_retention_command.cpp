@@ -3,16 +3,10 @@
 // of its pass: every time the file is intact, every protected epoch and every zone value is
 // there, and the run that is finally let finish leaves exactly what the plan said.
 #include <SQLiteCpp/SQLiteCpp.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "tests/support/map_series.hpp"
 #include "tests/support/run_tlsmon.hpp"
@@ -24,25 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using Mode = EpochDatabase::Mode;
 constexpr UtcSeconds kStart = test::kSeriesStart;
-
-// `tlsmon retention run --config FILE` killed with SIGKILL after `ms`; false when it had
-// finished by then.
-bool killed_after(const fs::path& config, int ms) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const int null = ::open("/dev/null", O_WRONLY);
-        ::dup2(null, 1);
-        ::dup2(null, 2);
-        ::execl(TLSMON_BINARY, TLSMON_BINARY, "retention", "run", "--config", config.c_str(),
-                nullptr);
-        ::_exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(ms));
-    const bool running = ::waitpid(pid, nullptr, WNOHANG) == 0;
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, nullptr, 0);
-    return running;
-}
 
 TEST(RetentionCommand, KillNineDuringThinningLosesNothingThatShouldStay) {
     test::TempDir dir;
@@ -74,7 +49,7 @@ TEST(RetentionCommand, KillNineDuringThinningLosesNothingThatShouldStay) {
     const int protected_index[] = {0, 50, 25 * 24 + 5, 30 * 24 + 7};
     int interrupted = 0;
     for (int ms : {150, 300, 450, 700, 1000, 1500}) {
-        if (!killed_after(config, ms)) continue;
+        if (!test::killed_after({"retention", "run", "--config", config.string()}, ms)) continue;
         const auto with_maps =
             test::sql_count(path, "SELECT count(DISTINCT epoch_id) FROM core_point_arrays");
         if (with_maps > kept && with_maps < kept + to_thin) ++interrupted;

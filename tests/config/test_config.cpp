@@ -199,6 +199,24 @@ TEST(Config, PipelineGetsTheArchiveModeAndFolders) {
     EXPECT_EQ(p.quarantine, "/srv/tlsmon/quarantine");
 }
 
+TEST(Config, ThinningTiersMustGrowWithAge) {
+    for (const char* section : {"retention", "archive"}) {
+        const std::string e =
+            error_of("[" + std::string(section) + "]\nkeep_all_days = 40\nkeep_daily_days = 20\n");
+        EXPECT_NE(e.find(std::string(section) + ".keep_daily_days"), std::string::npos) << e;
+        EXPECT_NE(e.find("must be >= " + std::string(section) + ".keep_all_days"),
+                  std::string::npos)
+            << e;
+    }
+    const Config c = parse("[archive]\nenabled = true\nreencode = \"e57\"\nkeep_all_days = 2\n");
+    EXPECT_TRUE(c.archive.enabled);
+    EXPECT_EQ(c.archive.reencode, ScanReencoding::e57);
+    EXPECT_EQ(c.archive.keep_all_days, 2);
+    EXPECT_EQ(c.archive.keep_daily_days, 90);
+    EXPECT_NE(error_of("[archive]\nreencode = \"laz\"\n").find("archive.reencode"),
+              std::string::npos);
+}
+
 TEST(Config, MissingFileSaysWhy) {
     try {
         load_config("/nonexistent/tlsmon-site.toml");

@@ -1,11 +1,17 @@
 #pragma once
 // The built `tlsmon` binary (TLSMON_BINARY, set for the process tests) run with arguments
-// through the shell: its exit status and what it printed.
+// through the shell: its exit status and what it printed; or killed in the middle.
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace tlsmon::test {
 
@@ -31,6 +37,27 @@ inline CommandRun run_tlsmon_at(const std::string& program, const std::string& a
 
 inline CommandRun run_tlsmon(const std::string& args, bool with_stderr = true) {
     return run_tlsmon_at(TLSMON_BINARY, args, with_stderr);
+}
+
+// `tlsmon ARGS...` killed with SIGKILL after `ms` milliseconds; false when it had finished by
+// then. Its output goes to /dev/null.
+inline bool killed_after(const std::vector<std::string>& args, int ms) {
+    std::vector<char*> argv{const_cast<char*>(TLSMON_BINARY)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, 1);
+        ::dup2(null, 2);
+        ::execv(TLSMON_BINARY, argv.data());
+        ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+    const bool running = ::waitpid(pid, nullptr, WNOHANG) == 0;
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+    return running;
 }
 
 }  // namespace tlsmon::test
