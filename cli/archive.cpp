@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/policy_fields.hpp"
 #include "config/config.hpp"
-#include "core/utc_time.hpp"
 #include "daemon/archive_pass.hpp"
 
 namespace tlsmon {
@@ -27,15 +27,9 @@ int run_archive(const RetentionOptions& o) {
             {"keep_daily_days", policy.keep_daily_days},
             {"reencode", std::string(policy.reencode == ScanReencoding::e57 ? "e57" : "none")}};
         const auto add_plan = [&](const ArchivePlan& p) {
-            fields.insert(
-                fields.end(),
-                {{"series_time", p.tiers.now == 0 ? Cell() : Cell(format_utc(p.tiers.now))},
-                 {"scans", p.scans},
-                 {"bytes", p.bytes},
-                 {"kept_young", p.tiers.kept_young},
-                 {"kept_daily", p.tiers.kept_daily},
-                 {"kept_weekly", p.tiers.kept_weekly},
-                 {"kept_protected", p.tiers.kept_protected}});
+            fields.insert(fields.end(), {{"scans", p.scans}, {"bytes", p.bytes}});
+            const auto tiers = tier_fields(p.tiers);
+            fields.insert(fields.end(), tiers.begin(), tiers.end());
         };
         if (o.action == "plan") {
             const auto db = open_for_reading(o.read);

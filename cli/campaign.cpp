@@ -25,6 +25,7 @@
 #include "config/site_definition.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
+#include "core/fixed_decimals.hpp"
 #include "daemon/ingest_files.hpp"
 #include "formats/ply_writer.hpp"
 #include "formats/scan_file.hpp"
@@ -101,13 +102,8 @@ void write_points(const std::filesystem::path& path, const CampaignComparison& c
     write_ply(path, c.registered, attributes);
 }
 
-std::string fixed(double value, int decimals) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*f", decimals, value);
-    return text;
-}
 std::string mm(double metres) {
-    return fixed(1e3 * metres, 2);
+    return fixed_decimals(1e3 * metres, 2);
 }
 
 // The campaign's frame onto the reference as four rows of four numbers (CloudCompare's and
@@ -131,9 +127,9 @@ void print_summary(const CampaignComparison& c, const CampaignParameters& p) {
         std::cout << "frame (coarse, planes): " << f.support << " of " << f.campaign_planes
                   << " planes on the reference's " << f.reference_planes << " (next heading "
                   << f.runner_up << "), heading "
-                  << fixed(std::atan2(M(1, 0), M(0, 0)) * 180.0 / std::numbers::pi, 2)
-                  << "°, shift (" << fixed(M(0, 3), 3) << ", " << fixed(M(1, 3), 3) << ", "
-                  << fixed(M(2, 3), 3) << ") m\n";
+                  << fixed_decimals(std::atan2(M(1, 0), M(0, 0)) * 180.0 / std::numbers::pi, 2)
+                  << "°, shift (" << fixed_decimals(M(0, 3), 3) << ", "
+                  << fixed_decimals(M(1, 3), 3) << ", " << fixed_decimals(M(2, 3), 3) << ") m\n";
     } else if (!f.note.empty()) {
         std::cout << "frame (coarse): none, " << f.note << "\n";
     }
@@ -151,10 +147,11 @@ void print_summary(const CampaignComparison& c, const CampaignParameters& p) {
               << registered << " registered (" << campaign::metric_name(p.icp.metric) << ")\n";
     const auto& t = c.consistency;
     if (t.dof > 0)
-        std::cout << "segments moved as one: T = " << fixed(t.statistic, 1) << ", dof " << t.dof
-                  << ", p " << (t.p_value < 1e-4 ? "< 0.0001" : "= " + fixed(t.p_value, 4))
-                  << " -> " << (t.differ ? "no, they differ" : "yes") << " (α "
-                  << csv_number(p.alpha) << ")\n";
+        std::cout << "segments moved as one: T = " << fixed_decimals(t.statistic, 1) << ", dof "
+                  << t.dof << ", p "
+                  << (t.p_value < 1e-4 ? "< 0.0001" : "= " + fixed_decimals(t.p_value, 4)) << " -> "
+                  << (t.differ ? "no, they differ" : "yes") << " (α " << csv_number(p.alpha)
+                  << ")\n";
     else
         std::cout << "segments moved as one: not testable (" << t.segments
                   << " registered segments do not hold every direction together)\n";

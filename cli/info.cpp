@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "core/fixed_decimals.hpp"
 #include "formats/scan_file.hpp"
 
 namespace tlsmon {
@@ -72,14 +73,9 @@ std::string iso_utc(double seconds) {
     return buf;
 }
 
-std::string num(double v, int decimals) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
-}
-
 std::string vec(const Eigen::Vector3d& v, int decimals) {
-    return num(v.x(), decimals) + " " + num(v.y(), decimals) + " " + num(v.z(), decimals);
+    return fixed_decimals(v.x(), decimals) + " " + fixed_decimals(v.y(), decimals) + " " +
+           fixed_decimals(v.z(), decimals);
 }
 
 nlohmann::json json_vec(const Eigen::Vector3d& v) {
@@ -147,9 +143,9 @@ void print_scan(std::ostream& out, const Scan& s, std::size_t k) {
         const auto cells = s.grid->cells();
         out << "    grid: " << s.grid->rows << " rows x " << s.grid->columns << " columns, "
             << m.points << " of " << cells << " cells filled ("
-            << num(100.0 * static_cast<double>(m.points) /
-                       static_cast<double>(std::max<std::uint64_t>(cells, 1)),
-                   1)
+            << fixed_decimals(100.0 * static_cast<double>(m.points) /
+                                  static_cast<double>(std::max<std::uint64_t>(cells, 1)),
+                              1)
             << " %)\n";
     } else {
         out << "    grid: none (unstructured)\n";
@@ -157,9 +153,10 @@ void print_scan(std::ostream& out, const Scan& s, std::size_t k) {
     if (s.intensity.empty()) {
         out << "    intensity: none\n";
     } else {
-        out << "    intensity: " << num(m.intensity_min, 6) << " .. " << num(m.intensity_max, 6)
-            << " (raw " << num(raw_intensity(s, m.intensity_min), 6) << " .. "
-            << num(raw_intensity(s, m.intensity_max), 6) << " on the raw scale "
+        out << "    intensity: " << fixed_decimals(m.intensity_min, 6) << " .. "
+            << fixed_decimals(m.intensity_max, 6) << " (raw "
+            << fixed_decimals(raw_intensity(s, m.intensity_min), 6) << " .. "
+            << fixed_decimals(raw_intensity(s, m.intensity_max), 6) << " on the raw scale "
             << s.intensity_raw_min << " .. " << s.intensity_raw_max << ")\n";
     }
     out << "    colour: " << (s.rgb.empty() ? "no" : "yes") << "\n";
@@ -173,7 +170,7 @@ void print_scan(std::ostream& out, const Scan& s, std::size_t k) {
         << "; " << vec(r.row(2).transpose(), 6) << "]";
     if (m.is_rotation) {
         out << ", axis " << vec(m.axis_angle.axis(), 6) << " angle "
-            << num(m.axis_angle.angle() * 180.0 / std::numbers::pi, 4) << " deg\n";
+            << fixed_decimals(m.axis_angle.angle() * 180.0 / std::numbers::pi, 4) << " deg\n";
     } else {
         out << " (not a pure rotation: scale or shear)\n";
     }

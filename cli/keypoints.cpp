@@ -26,6 +26,7 @@
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
+#include "core/fixed_decimals.hpp"
 #include "formats/png_file.hpp"
 #include "pipeline/keypoint_stage.hpp"
 
@@ -34,15 +35,6 @@ namespace tlsmon {
 namespace {
 
 using namespace keypoints;
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-// "nan" for NaN, else the number with `decimals` decimals.
-std::string number(double v, int decimals) {
-    if (std::isnan(v)) return "nan";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
-}
 
 KeypointConfig parameters_of(const KeypointsOptions& o, const std::optional<Config>& site) {
     KeypointConfig p;
@@ -146,9 +138,9 @@ void print_summary(const KeypointSegmentsResult& segments) {
             std::cout << "  " << d.undefined_reason << "\n";
             continue;
         }
-        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.mean(k), 2);
-        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.std_dev(k), 2);
-        for (int k = 0; k < 3; ++k) std::cout << "  " << number(1000 * d.along(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << fixed_decimals(1000 * d.mean(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << fixed_decimals(1000 * d.std_dev(k), 2);
+        for (int k = 0; k < 3; ++k) std::cout << "  " << fixed_decimals(1000 * d.along(k), 2);
         if (!d.wall.defined()) std::cout << "  (wall frame: " << d.wall.undefined_reason << ")";
         std::cout << "\n";
     }
@@ -230,11 +222,12 @@ int run_keypoints(const KeypointsOptions& o) {
                   << p.window_deg << " deg (at least " << p.window_m << " m at the object), "
                   << epoch.dropped_patch << " without their patch, " << in_3d << " in 3-D -> "
                   << o.out << "\n";
-        std::cout << "epoch steps, s: images " << number(epoch.images_s, 2) << ", detection "
-                  << number(epoch.detection_s, 2) << ", description "
-                  << number(epoch.description_s, 2) << ", matching " << number(epoch.matching_s, 2)
-                  << ", 3-D " << number(epoch.to_3d_s, 2) << ", filtering "
-                  << number(segments.filtering_s, 2) << "\n";
+        std::cout << "epoch steps, s: images " << fixed_decimals(epoch.images_s, 2)
+                  << ", detection " << fixed_decimals(epoch.detection_s, 2) << ", description "
+                  << fixed_decimals(epoch.description_s, 2) << ", matching "
+                  << fixed_decimals(epoch.matching_s, 2) << ", 3-D "
+                  << fixed_decimals(epoch.to_3d_s, 2) << ", filtering "
+                  << fixed_decimals(segments.filtering_s, 2) << "\n";
         print_summary(segments);
         return 0;
     } catch (const std::exception& e) {

@@ -23,6 +23,7 @@
 #include "config/config.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
+#include "core/fixed_decimals.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/m3c2_stage.hpp"
 
@@ -62,14 +63,6 @@ Eigen::Vector3d scanner_of(const std::vector<Scan>& scans, const std::string& pa
             throw Error("orientation \"scanner\": " + path +
                         " holds scans from several scanner positions; give --orient X,Y,Z");
     return position;
-}
-
-// "nan" for NaN whatever its sign bit, else the number with `decimals` decimals.
-std::string number(double v, int decimals) {
-    if (std::isnan(v)) return "nan";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
 }
 
 void write_csv(const std::string& path, const m3c2::Reference& reference,
@@ -164,8 +157,8 @@ int run_m3c2(const M3c2Options& o) {
             median = m3c2::statistic_of(values, m3c2::CylinderStatistic::median).centre;
         }
         std::cout << prepared.size() << " core points, " << valid << " with a distance, "
-                  << significant << " significant; mean " << number(mean, 6) << " m, median "
-                  << number(median, 6) << " m -> " << o.out << "\n";
+                  << significant << " significant; mean " << fixed_decimals(mean, 6)
+                  << " m, median " << fixed_decimals(median, 6) << " m -> " << o.out << "\n";
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "tlsmon m3c2: " << e.what() << "\n";

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/policy_fields.hpp"
 #include "config/config.hpp"
 #include "core/utc_time.hpp"
 #include "daemon/retention_pass.hpp"
@@ -16,10 +17,6 @@ namespace {
 // The site's policy with --config, the defaults with --db.
 RetentionPolicy policy_of(const ReadOptions& read) {
     return read.config.empty() ? RetentionPolicy{} : load_config(read.config).retention;
-}
-
-Cell time_cell(UtcSeconds t) {
-    return t == 0 ? Cell() : Cell(format_utc(t));
 }
 
 }  // namespace
@@ -71,12 +68,9 @@ int run_retention(const RetentionOptions& o) {
             const RetentionPlan p = db.retention().plan(policy);
             std::vector<std::pair<std::string, Cell>> fields = {{"enabled", policy.enabled}};
             fields.insert(fields.end(), policy_fields.begin(), policy_fields.end());
-            fields.insert(fields.end(), {{"series_time", time_cell(p.now)},
-                                         {"kept_young", p.kept_young},
-                                         {"kept_daily", p.kept_daily},
-                                         {"kept_weekly", p.kept_weekly},
-                                         {"kept_protected", p.kept_protected},
-                                         {"to_thin", static_cast<std::int64_t>(p.thin.size())}});
+            const auto tiers = tier_fields(p);
+            fields.insert(fields.end(), tiers.begin(), tiers.end());
+            fields.emplace_back("to_thin", static_cast<std::int64_t>(p.thin.size()));
             print_fields(std::cout, fields, o.read.format);
             return;
         }

@@ -10,6 +10,13 @@ function(tlsmon_warnings target)
      AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
     target_compile_options(${target} PRIVATE -Wno-restrict)
   endif()
+  # In a unity build GCC takes every joined .cpp for a header and reports a class holding a
+  # type of the .cpp's anonymous namespace (-Wsubobject-linkage): a warning for headers that
+  # no such file is.
+  get_target_property(_unity ${target} UNITY_BUILD)
+  if(_unity AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
   if(TLSMON_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

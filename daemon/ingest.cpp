@@ -20,10 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool finished(EpochStatus s) {
-    return s == EpochStatus::done || s == EpochStatus::failed || s == EpochStatus::rejected;
-}
-
 // A file whose bytes cannot be read has no content hash; it is identified by what can be
 // seen of it (name, size, mtime), so the same unreadable file is recorded once.
 std::string unreadable_identity(const fs::path& file) {
@@ -118,7 +114,7 @@ IngestOutcome handle_known(IngestContext& ctx, const fs::path& file, const Epoch
     }
     struct stat st {};
     const bool empty = ::lstat(file.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0;
-    if (!finished(epoch.status)) {
+    if (!is_finished(epoch.status)) {
         if (same_path) return IngestOutcome::known;  // queued already (e.g. after a restart)
         if (empty) return quarantine_copy(ctx, file, epoch, "the file is empty");
         // Whether this is a duplicate or a copy of a broken file is known once the epoch

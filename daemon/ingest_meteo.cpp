@@ -23,10 +23,6 @@ SteadyTime after(SteadyTime now, double seconds) {
            std::chrono::duration_cast<SteadyTime::duration>(std::chrono::duration<double>(seconds));
 }
 
-bool finished(EpochStatus s) {
-    return s == EpochStatus::done || s == EpochStatus::failed || s == EpochStatus::rejected;
-}
-
 // The sidecar's content hash, or for a file that cannot be read one of its name, as for an
 // unreadable scan. nullopt when it is gone or is no regular file.
 std::optional<std::string> identity(const fs::path& sidecar) {
@@ -164,7 +160,7 @@ void MeteoSidecars::settle(IngestContext& ctx, const fs::path& sidecar, SteadyTi
         }
         const std::string stem = name.substr(0, name.size() - kSuffix.size());
         const auto epoch = ctx.db.meteo().scan_epoch(sidecar.parent_path(), stem);
-        if (epoch && finished(epoch->status)) {
+        if (epoch && is_finished(epoch->status)) {
             ready_.erase(sidecar);
             record_unused(ctx, sidecar, *sha, *epoch);
             return;

@@ -13,6 +13,7 @@
 
 #include "core/utc_time.hpp"
 #include "formats/format_error.hpp"
+#include "formats/las_layout.hpp"
 #include "formats/las_points.hpp"
 #include "formats/mapped_file.hpp"
 
@@ -35,9 +36,7 @@ constexpr std::size_t kEvlrStartAt = 235;  // 1.4
 constexpr std::size_t kEvlrCountAt = 243;
 constexpr std::size_t kPointCountAt = 247;
 
-constexpr std::size_t kVlrHeaderSize = 54;  // reserved, user id, record id, length, text
-constexpr std::size_t kExtraBytesDescriptorSize = 192;  // R15 Table 24
-constexpr std::size_t kEvlrHeaderSize = 60;             // the same with a 64-bit length
+constexpr std::size_t kEvlrHeaderSize = 60;  // the same with a 64-bit length
 
 // Per point data record format 0–10 (LAS 1.4 R15 §2.6): the base record length and where
 // GPS time and RGB sit in it (0: the format has none).
@@ -57,7 +56,7 @@ T load(const char* p) {
 }
 
 std::size_t required_header_size(unsigned minor) {
-    if (minor >= 4) return 375;
+    if (minor >= 4) return las::kHeaderSize14;
     if (minor == 3) return 235;
     return 227;
 }
@@ -193,21 +192,22 @@ class LasParser {
     void skip_vlrs() {
         std::uint64_t at = header_size_;
         for (std::uint32_t i = 0; i < vlr_count_; ++i) {
-            if (at + kVlrHeaderSize > point_offset_) {
+            if (at + las::kVlrHeaderSize > point_offset_) {
                 fail(at, "VLR " + std::to_string(i + 1) + " of " + std::to_string(vlr_count_) +
                              " does not fit before the point data at byte " +
                              std::to_string(point_offset_));
             }
             if (is_laszip_vlr(data_ + at + 2)) fail_compressed(at + 2);
             const std::uint64_t length = load<std::uint16_t>(data_ + at + 20);
-            if (at + kVlrHeaderSize + length > point_offset_) {
+            if (at + las::kVlrHeaderSize + length > point_offset_) {
                 fail(at + 20, "VLR " + std::to_string(i + 1) + " record length " +
                                   std::to_string(length) + " runs past the point data at byte " +
                                   std::to_string(point_offset_));
             }
             vlrs_.push_back({std::string(data_ + at + 2, ::strnlen(data_ + at + 2, 16)),
-                             load<std::uint16_t>(data_ + at + 18), at + kVlrHeaderSize, length});
-            at += kVlrHeaderSize + length;
+                             load<std::uint16_t>(data_ + at + 18), at + las::kVlrHeaderSize,
+                             length});
+            at += las::kVlrHeaderSize + length;
         }
     }
 
@@ -230,13 +230,13 @@ class LasParser {
     void read_extra_bytes(LasPoints& out) const {
         const Vlr* v = find_vlr("LASF_Spec", 4);
         if (v == nullptr) return;
-        if (v->length % kExtraBytesDescriptorSize != 0) {
+        if (v->length % las::kExtraBytesDescriptorSize != 0) {
             fail(v->at, "Extra Bytes VLR of " + std::to_string(v->length) +
                             " bytes is not a whole number of 192-byte descriptors");
         }
         constexpr std::array<std::uint8_t, 11> kSize{0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
         std::size_t offset = kBaseRecordLength[format_];
-        for (std::uint64_t d = v->at; d < v->at + v->length; d += kExtraBytesDescriptorSize) {
+        for (std::uint64_t d = v->at; d < v->at + v->length; d += las::kExtraBytesDescriptorSize) {
             const char* e = data_ + d;
             const unsigned type = load<std::uint8_t>(e + 2), options = load<std::uint8_t>(e + 3);
             if (type > 30)

@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/utc_time.hpp"
+#include "formats/las_layout.hpp"
 
 namespace tlsmon {
 
@@ -22,10 +23,7 @@ static_assert(std::endian::native == std::endian::little, "LAS is little-endian"
 
 namespace {
 
-constexpr std::size_t kHeaderSize = 375;            // LAS 1.4 public header (R15 Table 3)
-constexpr std::size_t kVlrHeaderSize = 54;          // R15 Table 13
-constexpr std::size_t kBaseRecordLength = 30;       // point data record format 6 (Table 12)
-constexpr std::size_t kDescriptorSize = 192;        // one Extra Bytes descriptor (Table 24)
+constexpr std::size_t kFormat6RecordLength = 30;    // point data record format 6 (Table 12)
 constexpr std::uint16_t kGpsTimeAdjusted = 0x0001;  // global encoding bit 0
 constexpr std::uint16_t kWktCrs = 0x0010;           // bit 4: required for formats 6–10
 
@@ -79,7 +77,7 @@ bool is_float(LasAttribute::Type t) {
 // "anytype" fields hold a double for floats and a 64-bit integer of the type's sign
 // otherwise.
 std::string descriptor(const LasAttribute& a) {
-    Bytes d(kDescriptorSize);
+    Bytes d(las::kExtraBytesDescriptorSize);
     d.put<std::uint8_t>(2, static_cast<std::uint8_t>(a.type));
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double v : a.values)
@@ -101,7 +99,7 @@ std::string descriptor(const LasAttribute& a) {
 
 std::string vlr(std::string_view user, std::uint16_t record, std::string_view description,
                 const std::string& content) {
-    Bytes h(kVlrHeaderSize);
+    Bytes h(las::kVlrHeaderSize);
     h.text(2, user, 16);
     h.put<std::uint16_t>(18, record);
     h.put<std::uint16_t>(20, static_cast<std::uint16_t>(content.size()));
@@ -129,7 +127,8 @@ void check(const std::filesystem::path& path, const LasPoints& p) {
     }
     if (p.wkt.size() + 1 > std::numeric_limits<std::uint16_t>::max())
         throw Error(path.string() + ": the coordinate system's WKT is too long for a VLR");
-    if ((p.attributes.size() * kDescriptorSize) > std::numeric_limits<std::uint16_t>::max())
+    if ((p.attributes.size() * las::kExtraBytesDescriptorSize) >
+        std::numeric_limits<std::uint16_t>::max())
         throw Error(path.string() + ": too many attributes for one Extra Bytes VLR");
 }
 
@@ -152,7 +151,7 @@ LasQuantisation las_quantisation(const std::vector<Eigen::Vector3d>& xyz) {
 void write_las(const std::filesystem::path& path, const LasPoints& p) {
     check(path, p);
     const std::size_t n = p.xyz.size();
-    std::size_t record_length = kBaseRecordLength;
+    std::size_t record_length = kFormat6RecordLength;
     for (const auto& a : p.attributes) record_length += field_size(a.type);
 
     std::string vlrs;
@@ -173,7 +172,7 @@ void write_las(const std::filesystem::path& path, const LasPoints& p) {
     if (n > 0) lo = hi = p.xyz.front();
     for (const auto& x : p.xyz) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
 
-    Bytes h(kHeaderSize);
+    Bytes h(las::kHeaderSize14);
     h.text(0, "LASF", 4);
     h.put<std::uint16_t>(6, kWktCrs | (p.acquired_utc ? kGpsTimeAdjusted : 0));
     h.put<std::uint8_t>(24, 1);
@@ -185,8 +184,8 @@ void write_las(const std::filesystem::path& path, const LasPoints& p) {
     gmtime_r(&now, &utc);
     h.put<std::uint16_t>(90, static_cast<std::uint16_t>(utc.tm_yday + 1));
     h.put<std::uint16_t>(92, static_cast<std::uint16_t>(utc.tm_year + 1900));
-    h.put<std::uint16_t>(94, kHeaderSize);
-    h.put<std::uint32_t>(96, static_cast<std::uint32_t>(kHeaderSize + vlrs.size()));
+    h.put<std::uint16_t>(94, las::kHeaderSize14);
+    h.put<std::uint32_t>(96, static_cast<std::uint32_t>(las::kHeaderSize14 + vlrs.size()));
     h.put<std::uint32_t>(100, vlr_count);
     h.put<std::uint8_t>(104, 6);
     h.put<std::uint16_t>(105, static_cast<std::uint16_t>(record_length));
@@ -212,7 +211,7 @@ void write_las(const std::filesystem::path& path, const LasPoints& p) {
         }
         put(14, std::uint8_t{0x11});  // return 1 of 1
         put(22, gps);
-        std::size_t at = kBaseRecordLength;
+        std::size_t at = kFormat6RecordLength;
         for (const auto& a : p.attributes) {
             const double v = a.values[i];
             switch (a.type) {

@@ -15,6 +15,7 @@
 #include "algorithms/keypoints/patch_refinement.hpp"
 #include "algorithms/keypoints/zone_strata.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "core/angles.hpp"
 #include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "pipeline/keypoint_results.hpp"
@@ -27,7 +28,6 @@ namespace {
 using namespace keypoints;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 // Pixels kept between a keypoint and an empty pixel (spherical_image.hpp, detection_mask).
 constexpr int kMaskMargin = 2;
 // Zone boxes grown by this before they confine detection: an epoch's scan lies in its file's

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "simulator/footprint.hpp"
@@ -20,7 +21,6 @@ namespace tlsmon::sim {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kArcsec = kDeg / 3600.0;
 constexpr std::uint64_t kNoiseStream = 0x6e6f697365ULL;
 

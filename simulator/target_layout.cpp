@@ -4,14 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "core/error.hpp"
 #include "simulator/terrain.hpp"
 
 namespace tlsmon::sim {
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 double base_at(const Site& site, const std::string& name, Target::Mount mount, double x, double y) {
     int block = -1;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "simulator/atmosphere.hpp"
 #include "simulator/random.hpp"
 
@@ -13,7 +14,6 @@ namespace tlsmon::sim {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 constexpr std::uint64_t kTemperatureStream = 0x74656d70ULL;
 constexpr std::uint64_t kPressureStream = 0x70726573ULL;
 constexpr std::uint64_t kCloudStream = 0x636c6f75ULL;

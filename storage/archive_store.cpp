@@ -8,6 +8,28 @@ namespace fs = std::filesystem;
 
 namespace tlsmon {
 
+namespace {
+
+// The row of a scan the pass kept: its re-encoding (`detail` the new sha256_after) or why
+// there was none (`detail` the reason).
+void record_kept_scan(SQLite::Database& db, const ArchivedScan& scan, const char* action,
+                      UtcSeconds at, std::int64_t bytes_after, const char* detail_column,
+                      const std::string& detail) {
+    SQLite::Statement record(db, std::string("INSERT INTO archived_scans (epoch_id, action, at,"
+                                             " original_path, bytes_before, bytes_after, ") +
+                                     detail_column + ") VALUES (?, ?, ?, ?, ?, ?, ?)");
+    record.bind(1, scan.id);
+    record.bind(2, action);
+    record.bind(3, at);
+    record.bind(4, scan.path);
+    record.bind(5, scan.bytes);
+    record.bind(6, bytes_after);
+    record.bind(7, detail);
+    record.exec();
+}
+
+}  // namespace
+
 ArchivePlan ArchiveStore::plan(const fs::path& folder, const ArchivePolicy& policy) const {
     return guarded(*c_, "planning the archive pass", [&] {
         // One read transaction: the scans, their protection and the clock agree.
@@ -86,17 +108,7 @@ void ArchiveStore::record_reencoded(const ArchivedScan& scan, const fs::path& wr
                                     UtcSeconds at) {
     guarded(*c_, "recording a re-encoded scan", [&] {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
-        SQLite::Statement record(
-            c_->db,
-            "INSERT INTO archived_scans (epoch_id, action, at, original_path, bytes_before,"
-            " bytes_after, sha256_after) VALUES (?, 'reencoded', ?, ?, ?, ?, ?)");
-        record.bind(1, scan.id);
-        record.bind(2, at);
-        record.bind(3, scan.path);
-        record.bind(4, scan.bytes);
-        record.bind(5, bytes_after);
-        record.bind(6, sha256_after);
-        record.exec();
+        record_kept_scan(c_->db, scan, "reencoded", at, bytes_after, "sha256_after", sha256_after);
         SQLite::Statement move(c_->db, "UPDATE epochs SET archive_path = ? WHERE id = ?");
         move.bind(1, written.string());
         move.bind(2, scan.id);
@@ -109,17 +121,7 @@ void ArchiveStore::record_not_reencoded(const ArchivedScan& scan, const std::str
                                         UtcSeconds at) {
     guarded(*c_, "recording a scan not re-encoded", [&] {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::IMMEDIATE);
-        SQLite::Statement record(
-            c_->db,
-            "INSERT INTO archived_scans (epoch_id, action, at, original_path, bytes_before,"
-            " bytes_after, reason) VALUES (?, 'not_reencoded', ?, ?, ?, ?, ?)");
-        record.bind(1, scan.id);
-        record.bind(2, at);
-        record.bind(3, scan.path);
-        record.bind(4, scan.bytes);
-        record.bind(5, scan.bytes);
-        record.bind(6, reason);
-        record.exec();
+        record_kept_scan(c_->db, scan, "not_reencoded", at, scan.bytes, "reason", reason);
         write_system_event(*c_, {at, "warning", "archive_not_reencoded",
                                  "the scan of epoch " + std::to_string(scan.id) +
                                      " is kept as it was ingested: " + reason,

@@ -14,6 +14,10 @@
 namespace tlsmon {
 
 enum class EpochStatus { pending, processing, done, failed, rejected };
+// Done, failed or rejected: nothing more happens to the epoch.
+constexpr bool is_finished(EpochStatus s) {
+    return s == EpochStatus::done || s == EpochStatus::failed || s == EpochStatus::rejected;
+}
 std::string_view to_string(EpochStatus status);
 // Throws StorageError for an unknown name.
 EpochStatus epoch_status_from_string(std::string_view name);

@@ -11,7 +11,7 @@ namespace tlsmon {
 
 namespace {
 
-constexpr const char* kColumns =
+constexpr const char* kMeteoColumns =
     "epoch_id, outcome, file_name, sha256, path, reason, recorded, time, line,"
     " air_temperature_c, pressure_hpa, relative_humidity_pct";
 
@@ -83,7 +83,7 @@ void write_meteo_sidecar(Connection& c, const MeteoSidecar& m) {
 std::optional<MeteoSidecar> MeteoStore::find(const std::string& sha256,
                                              const std::string& file_name) const {
     return guarded(*c_, "reading a meteo sidecar", [&]() -> std::optional<MeteoSidecar> {
-        SQLite::Statement s(c_->db, std::string("SELECT ") + kColumns +
+        SQLite::Statement s(c_->db, std::string("SELECT ") + kMeteoColumns +
                                         " FROM meteo_sidecars WHERE sha256 = ? AND file_name = ?"
                                         " ORDER BY id DESC LIMIT 1");
         s.bind(1, sha256);
@@ -95,7 +95,7 @@ std::optional<MeteoSidecar> MeteoStore::find(const std::string& sha256,
 
 std::vector<MeteoSidecar> MeteoStore::of_epoch(EpochId id) const {
     return guarded(*c_, "reading the meteo sidecars of an epoch", [&] {
-        SQLite::Statement s(c_->db, std::string("SELECT ") + kColumns +
+        SQLite::Statement s(c_->db, std::string("SELECT ") + kMeteoColumns +
                                         " FROM meteo_sidecars WHERE epoch_id = ? ORDER BY id");
         s.bind(1, id);
         std::vector<MeteoSidecar> out;

@@ -7,7 +7,7 @@ namespace tlsmon {
 
 namespace {
 
-constexpr const char* kColumns =
+constexpr const char* kNotificationColumns =
     "id, channel, created, first_due, due, status, attempts, dedup_key, alarm_event_id, subject,"
     " body, last_error, finished";
 
@@ -30,8 +30,8 @@ Notification read_row(SQLite::Statement& s) {
 }
 
 std::vector<Notification> read_rows(Connection& c, const std::string& where, int limit) {
-    SQLite::Statement s(c.db, std::string("SELECT ") + kColumns + " FROM notifications " + where +
-                                  " ORDER BY id LIMIT ?");
+    SQLite::Statement s(c.db, std::string("SELECT ") + kNotificationColumns +
+                                  " FROM notifications " + where + " ORDER BY id LIMIT ?");
     s.bind(1, limit);
     std::vector<Notification> out;
     while (s.executeStep()) out.push_back(read_row(s));
