@@ -14,6 +14,8 @@ std::string_view rule_name(SystemAlarm a) {
             return "system.disk_nearly_full";
         case SystemAlarm::database_error:
             return "system.database_error";
+        case SystemAlarm::central_forward:
+            return "system.central_forward";
     }
     return "system.unknown";
 }
@@ -27,14 +29,15 @@ AlarmLevel system_alarm_level(SystemAlarm a) {
         case SystemAlarm::disk_nearly_full:
             return AlarmLevel::alert;
         case SystemAlarm::registration_rejected:
+        case SystemAlarm::central_forward:
             return AlarmLevel::warning;
     }
     return AlarmLevel::alarm;
 }
 
-std::array<bool, 5> system_conditions(const SystemAlarmConfig& c, const SystemObservation& seen,
-                                      const std::array<bool, 5>& previous) {
-    std::array<bool, 5> out = previous;
+SystemConditions system_conditions(const SystemAlarmConfig& c, const SystemObservation& seen,
+                                   const SystemConditions& previous) {
+    SystemConditions out = previous;
     if (seen.last_epoch_acquired) {
         out[0] = static_cast<double>(seen.now - *seen.last_epoch_acquired) >
                  c.stale_factor * c.cadence_seconds;
@@ -46,6 +49,7 @@ std::array<bool, 5> system_conditions(const SystemAlarmConfig& c, const SystemOb
         out[3] = *seen.disk_free_fraction < limit;
     }
     if (seen.database_error) out[4] = *seen.database_error;
+    if (seen.central_forward_failing) out[5] = *seen.central_forward_failing;
     return out;
 }
 

@@ -14,17 +14,23 @@ enum class SystemAlarm {
     registration_rejected,
     processing_failure,
     disk_nearly_full,
-    database_error
+    database_error,
+    central_forward
 };
-constexpr std::array<SystemAlarm, 5> kSystemAlarms{
-    SystemAlarm::stale, SystemAlarm::registration_rejected, SystemAlarm::processing_failure,
-    SystemAlarm::disk_nearly_full, SystemAlarm::database_error};
+constexpr std::array<SystemAlarm, 6> kSystemAlarms{SystemAlarm::stale,
+                                                   SystemAlarm::registration_rejected,
+                                                   SystemAlarm::processing_failure,
+                                                   SystemAlarm::disk_nearly_full,
+                                                   SystemAlarm::database_error,
+                                                   SystemAlarm::central_forward};
+using SystemConditions = std::array<bool, kSystemAlarms.size()>;
 
 // "system.stale", "system.registration_rejected", "system.processing_failure",
-// "system.disk_nearly_full", "system.database_error".
+// "system.disk_nearly_full", "system.database_error", "system.central_forward".
 std::string_view rule_name(SystemAlarm a);
 // stale and database_error: alarm; processing_failure and disk_nearly_full: alert;
-// registration_rejected: warning.
+// registration_rejected and central_forward: warning (the site goes on alone; its results
+// reach the central database once the fault is gone).
 AlarmLevel system_alarm_level(SystemAlarm a);
 
 struct SystemAlarmConfig {
@@ -42,12 +48,13 @@ struct SystemObservation {
     std::optional<bool> last_epoch_failed;
     std::optional<double> disk_free_fraction;
     std::optional<bool> database_error;
+    // Forwarding to the central database has failed for longer than [central] alarm_after.
+    std::optional<bool> central_forward_failing;
 };
 
 // The process condition of each system alarm (in kSystemAlarms order), given the previous
 // ones (for the disk deadband and the fields not observed).
-std::array<bool, 5> system_conditions(const SystemAlarmConfig& config,
-                                      const SystemObservation& seen,
-                                      const std::array<bool, 5>& previous);
+SystemConditions system_conditions(const SystemAlarmConfig& config, const SystemObservation& seen,
+                                   const SystemConditions& previous);
 
 }  // namespace tlsmon

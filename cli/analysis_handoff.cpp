@@ -91,5 +91,11 @@ int run_calibration(const CalibrationOptions&) {
 int run_demo(const DemoOptions&) {
     return hand_over_to_analysis();
 }
+int run_central_admin(const CentralAdminOptions&) {
+    return hand_over_to_analysis();
+}
+int run_fleet(const FleetOptions&) {
+    return hand_over_to_analysis();
+}
 
 }  // namespace tlsmon

@@ -434,4 +434,28 @@ struct NotifyTestOptions {
 };
 int run_notify_test(const NotifyTestOptions& options);
 
+// `tlsmon central migrate|add-site|rotate-credential URL` (docs/central.md): the central
+// database's schema and its sites, done as the database's owner.
+struct CentralAdminOptions {
+    std::string action;  // migrate, add-site, rotate-credential
+    std::string url;
+    std::string password_file;  // the owner's; "" = libpq's PGPASSFILE
+    std::string name, location;
+    std::string site_password_file;  // the site's (new) password
+};
+int run_central_admin(const CentralAdminOptions& options);
+// `tlsmon central status --db|--config`: this site's forwarding: backlog, lag, last error.
+int run_central_status(const ReadOptions& options);
+
+// `tlsmon fleet sites|status|query series|query alarms --central URL`: the central
+// database's view of every site, as the site's own `tlsmon query` prints its own.
+struct FleetOptions {
+    std::string action;  // sites, status, series, alarms
+    std::string central, password_file;
+    ReadOptions read;  // format, from, to
+    std::string site, zone, quantity;
+    std::optional<double> min_abs;
+};
+int run_fleet(const FleetOptions& options);
+
 }  // namespace tlsmon

@@ -111,6 +111,10 @@ struct CommandLine {
     TargetResurveyOptions resurvey;
     UsersOptions users;
     NotifyTestOptions notify_test;
+    std::map<std::string, CentralAdminOptions> central_admin;
+    ReadOptionsOnTheCommandLine central_status;
+    std::map<std::string, FleetOptions> fleet;
+    std::map<std::string, ReadOptionsOnTheCommandLine> fleet_read;
 };
 
 void add_check_config(CLI::App& app, CommandLine& c) {
@@ -1023,6 +1027,81 @@ void add_notify(CLI::App& app, CommandLine& c) {
     test->callback([&] { c.code = run_notify_test(c.notify_test); });
 }
 
+void add_central(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "central",
+        "The central PostgreSQL of many sites: its schema and sites, as its owner; "
+        "this site's forwarding (docs/central.md)");
+    cmd->require_subcommand(1);
+    const std::pair<const char*, const char*> actions[] = {
+        {"migrate", "Create or update the central database's schema"},
+        {"add-site",
+         "Register a site and create its role (its password from --site-password-file)"},
+        {"rotate-credential", "Replace a site's password"}};
+    for (const auto& [name, help] : actions) {
+        auto& o = c.central_admin[name];
+        o.action = name;
+        auto* sub = cmd->add_subcommand(name, help);
+        sub->add_option("URL", o.url, "The central database (libpq URI), as its owner")->required();
+        sub->add_option("--password-file", o.password_file,
+                        "The owner's password (first line); default: PGPASSFILE");
+        if (o.action != "migrate") {
+            sub->add_option("--name", o.name, "The site's name (a-z, 0-9, _ and -)")->required();
+            sub->add_option("--site-password-file", o.site_password_file,
+                            "The site's password (first line)")
+                ->required();
+        }
+        if (o.action == "add-site")
+            sub->add_option("--location", o.location, "Where the structure is");
+        sub->callback([&] { c.code = run_central_admin(o); });
+    }
+    auto* status = cmd->add_subcommand(
+        "status", "This site's forwarding: entries not yet sent, lag, last error");
+    c.central_status.add_to(status, false);
+    status->callback([&] { c.code = run_central_status(c.central_status.finish()); });
+}
+
+void add_fleet(CLI::App& app, CommandLine& c) {
+    auto* cmd = app.add_subcommand(
+        "fleet", "Every site's results in the central database (docs/central.md)");
+    cmd->require_subcommand(1);
+    auto add = [&](CLI::App* parent, const std::string& action, const char* help) {
+        auto& o = c.fleet[action];
+        auto& read = c.fleet_read[action];
+        o.action = action;
+        auto* sub = parent->add_subcommand(action, help);
+        sub->add_option("--central", o.central, "The central database (libpq URI)")->required();
+        sub->add_option("--password-file", o.password_file,
+                        "The password (first line); default: PGPASSFILE");
+        sub->add_option("--format", read.format, "Output format")
+            ->check(CLI::IsMember({"table", "csv", "json"}));
+        sub->callback([&] {
+            o.read = read.finish();
+            c.code = run_fleet(o);
+        });
+        return std::pair{sub, &o};
+    };
+    add(cmd, "sites", "The sites: epochs, newest epoch, last forward");
+    auto [status, so] = add(cmd, "status", "Every zone quantity's newest value of every site");
+    status->add_option("--min-abs", so->min_abs, "Only values with |value| at least this");
+    status->add_option("--site", so->site, "Only this site");
+    status->add_option("--quantity", so->quantity, "Only this quantity");
+    auto* query = cmd->add_subcommand("query", "A series or the alarm events");
+    query->require_subcommand(1);
+    auto [series, se] = add(query, "series", "One zone quantity of one site over time");
+    series->add_option("--site", se->site, "Site")->required();
+    series->add_option("--zone", se->zone, "Zone")->required();
+    series->add_option("--quantity", se->quantity, "Quantity, e.g. m3c2_median_m")->required();
+    auto [alarms, ae] = add(query, "alarms", "Alarm events of every site (or --site)");
+    alarms->add_option("--site", ae->site, "Only this site");
+    for (auto* sub : {series, alarms}) {
+        auto& read = c.fleet_read[sub->get_name()];
+        sub->add_option("--from", read.options.from, "Start: ISO-8601 UTC, or before now (-7d)");
+        sub->add_option("--to", read.options.to,
+                        "End (inclusive): ISO-8601 UTC, now, or before now");
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon
 
@@ -1061,6 +1140,8 @@ int main(int argc, char** argv) {
         {"targets", tlsmon::add_targets},
         {"users", tlsmon::add_users},
         {"notify", tlsmon::add_notify},
+        {"central", tlsmon::add_central},
+        {"fleet", tlsmon::add_fleet},
     };
     // A command named first is the only one declared: the whole tree of options (hundreds,
     // with their defaults' text) costs a millisecond of every `tlsmon status`. Anything else

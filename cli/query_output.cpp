@@ -79,6 +79,9 @@ Cell optional_cell(const std::optional<double>& v) {
 Cell optional_cell(const std::optional<std::int64_t>& v) {
     return v ? Cell(*v) : Cell();
 }
+Cell optional_time_cell(const std::optional<UtcSeconds>& t) {
+    return t ? Cell(format_utc(*t)) : Cell();
+}
 
 namespace {
 

@@ -66,6 +66,8 @@ UtcSeconds time_bound(const std::string& text, UtcSeconds now);
 
 Cell optional_cell(const std::optional<double>& v);
 Cell optional_cell(const std::optional<std::int64_t>& v);
+// A time as ISO-8601 UTC text, null when absent.
+Cell optional_time_cell(const std::optional<UtcSeconds>& t);
 
 // Rows as an aligned table, CSV with a header line, or a JSON array of objects.
 void print(std::ostream& out, const Table& table, OutputFormat format);

@@ -20,8 +20,7 @@ std::vector<std::pair<std::string, Cell>> status_fields(const EpochDatabase& db,
         f.emplace_back("epochs_" + std::string(to_string(status)), count);
     }
     f.emplace_back("backlog", s.backlog);
-    f.emplace_back("oldest_pending",
-                   s.oldest_pending ? Cell(format_utc(*s.oldest_pending)) : Cell());
+    f.emplace_back("oldest_pending", optional_time_cell(s.oldest_pending));
     f.emplace_back("reference_epoch", optional_cell(s.reference_epoch));
     if (s.last_done) {
         f.emplace_back("last_epoch", s.last_done->id);

@@ -470,6 +470,7 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
             c.alarm.rules = read_alarm_rules(*t, zone_names, stage_quantities(&c));
         }
         if (section == "notify") read_notify_tables(*t, c.notify, base);
+        if (section == "central") check_central(*t, c.central, base);
         t->reject_unknown_keys(kMovedKeys);
     }
     resolve_paths(c, base);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "algorithms/zones/zone_shape.hpp"
+#include "config/central_config.hpp"
 #include "config/http_config.hpp"
 #include "config/instrument_config.hpp"
 #include "config/modbus_config.hpp"
@@ -142,6 +143,7 @@ struct Config {
     NotifyConfig notify;                        // after [alarm]: its routes name alarm events
     RetentionPolicy retention;                  // thinning the per-core-point maps by age
     ArchivePolicy archive;                      // thinning the archived scans by age
+    CentralConfig central;                      // forwarding to a central PostgreSQL
     std::vector<ZoneConfig> zones;              // [[zone]] tables, then the bands of [[zone_bands]]
     CampaignConfig campaign;                    // how every instrument's campaigns are compared
     std::vector<InstrumentConfig> instruments;  // [[instrument]] tables: campaign scanners

@@ -42,6 +42,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "notify", &Config::notify, notify_keys());
     collect(keys, "retention", &Config::retention, retention_keys());
     collect(keys, "archive", &Config::archive, archive_keys());
+    collect(keys, "central", &Config::central, central_keys());
     return keys;
 }
 

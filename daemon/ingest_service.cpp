@@ -15,6 +15,7 @@
 #include "config/site_definition.hpp"
 #include "daemon/alarm_actions.hpp"
 #include "daemon/alarm_shelving.hpp"
+#include "daemon/central_forwarder.hpp"
 #include "daemon/http/http_service.hpp"
 #include "daemon/ingest.hpp"
 #include "daemon/ingest_campaign.hpp"
@@ -130,6 +131,8 @@ class Daemon {
     // alarm events (turning it on later must not send the history).
     void start_notify();
     void start_retention();
+    void switch_central_outbox();
+    void start_central();
     // After a reload: `start` (again), each outcome an event ("Modbus server restarted on
     // ADDRESS:PORT", or why it could not be and what is `without` it meanwhile).
     void restart_server(const std::string& name, const std::string& section,
@@ -189,6 +192,7 @@ class Daemon {
     std::unique_ptr<ModbusService> modbus_;
     std::unique_ptr<NotifyService> notify_;
     std::unique_ptr<RetentionService> retention_;
+    std::unique_ptr<CentralForwarder> central_;
 };
 
 // Modbus first: SCADA sees the daemon (and a full disk) while the database refuses writes;
@@ -215,6 +219,7 @@ bool Daemon::start() {
     }
     if (shutdown_.stop_requested()) return false;
     start_retention();  // after the site is stored: its first pass runs now
+    start_central();
     backoff_ = 0;
     watcher_.rescan(Clock::now());
     next_rescan_ = Clock::now() + seconds(config_.ingest.rescan_interval);
@@ -236,10 +241,29 @@ void Daemon::store_site() {
     if (stable_areas_alone(pipeline_config_.registration)) {
         events_.record(db_, "warning", "stable_areas_alone", kStableAreasAloneWarning);
     }
+    switch_central_outbox();
     auto ctx = pipeline();
     ensure_reference(ctx);
     events_.wrote();
     note_disk();
+}
+
+// The outbox's triggers on or off as [central] enabled says; switched on for the first time,
+// the site's history is queued (docs/central.md).
+void Daemon::switch_central_outbox() {
+    const std::int64_t queued = db_.central_outbox().set_enabled(config_.central.enabled);
+    if (queued > 0) {
+        events_.record(db_, "info", "central_forward",
+                       std::to_string(queued) +
+                           " entries of the site's history queued for the central database");
+    }
+}
+
+void Daemon::start_central() {
+    central_.reset();
+    if (config_.central.enabled)
+        central_ = std::make_unique<CentralForwarder>(config_.central, config_.paths.database,
+                                                      config_.station.name);
 }
 
 void Daemon::note_disk() {
@@ -342,6 +366,7 @@ void Daemon::reload() {
         const bool restart_http = changes.http;
         const bool restart_retention =
             !(fresh.retention == config_.retention) || !(fresh.archive == config_.archive);
+        const bool restart_central = !(fresh.central == config_.central);
         config_ = std::move(fresh);
         pipeline_config_ = pipeline_config(config_);
         watcher_.set_config(config_.ingest);
@@ -387,6 +412,15 @@ void Daemon::reload() {
                                   "kept") +
                     (config_.archive.enabled ? "; archive policy on"
                                              : "; archive policy off: every scan is kept"));
+        }
+        if (restart_central) {
+            switch_central_outbox();
+            start_central();
+            events_.record(db_, "info", "config_reload",
+                           config_.central.enabled
+                               ? "central forwarding restarted"
+                               : "central forwarding stopped (central.enabled = false); the "
+                                 "outbox keeps what is not yet sent");
         }
         events_.record(db_, "info", "config_reload", "configuration reloaded");
     } catch (const Error& e) {
@@ -523,6 +557,7 @@ void Daemon::process_backlog() {
             if (modbus_) modbus_->epoch_committed();
             if (http_) http_->epoch_committed(epoch.id);
             if (notify_) notify_->wake();  // the epoch's alarm events
+            if (central_) central_->wake();
             if (outcome == EpochOutcome::done) ++done_;
             if (outcome == EpochOutcome::rejected) ++rejected_;
             if (outcome == EpochOutcome::failed) ++failed_;

@@ -26,8 +26,8 @@ int observe_system_alarms(EpochDatabase& db, const SystemAlarmConfig& config,
     db.alarms().update([&](const std::vector<AlarmState>& states) {
         std::map<std::string, AlarmState> rows;
         for (const auto& s : states) rows.emplace(s.rule, s);
-        std::array<AlarmRuleStatus, 5> status{};
-        std::array<bool, 5> previous{};
+        std::array<AlarmRuleStatus, kSystemAlarms.size()> status{};
+        SystemConditions previous{};
         for (std::size_t i = 0; i < kSystemAlarms.size(); ++i) {
             const auto row = rows.find(std::string(rule_name(kSystemAlarms[i])));
             if (row != rows.end()) status[i] = rule_status(row->second);

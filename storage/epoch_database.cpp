@@ -41,7 +41,8 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       notifications_(*connection_),
       campaigns_(*connection_),
       retention_(*connection_),
-      archive_(*connection_) {}
+      archive_(*connection_),
+      central_outbox_(*connection_) {}
 EpochDatabase::EpochDatabase(EpochDatabase&&) noexcept = default;
 EpochDatabase& EpochDatabase::operator=(EpochDatabase&&) noexcept = default;
 EpochDatabase::~EpochDatabase() = default;

@@ -23,6 +23,7 @@
 #include "storage/alarm_store.hpp"
 #include "storage/archive_store.hpp"
 #include "storage/campaign_store.hpp"
+#include "storage/central_outbox.hpp"
 #include "storage/epoch_results.hpp"
 #include "storage/epochs.hpp"
 #include "storage/event_log.hpp"
@@ -86,6 +87,8 @@ class EpochDatabase {
     const RetentionStore& retention() const { return retention_; }
     ArchiveStore& archive() { return archive_; }
     const ArchiveStore& archive() const { return archive_; }
+    CentralOutbox& central_outbox() { return central_outbox_; }
+    const CentralOutbox& central_outbox() const { return central_outbox_; }
 
   private:
     explicit EpochDatabase(std::unique_ptr<Connection> connection);
@@ -106,6 +109,7 @@ class EpochDatabase {
     CampaignStore campaigns_;
     RetentionStore retention_;
     ArchiveStore archive_;
+    CentralOutbox central_outbox_;
 };
 
 }  // namespace tlsmon

@@ -32,11 +32,12 @@ std::string docs_table(const std::string& docs, const std::string& section) {
 TEST(ConfigReference, DocsTablesAreTheDeclarations) {
     const std::string docs = read_text(kSource / "docs/configuration.md");
     const auto sections = config_sections();
-    EXPECT_EQ(sections, (std::vector<std::string>{
-                            "station",    "paths",    "ingest",       "meteo",     "logging",
-                            "daemon",     "coverage", "registration", "m3c2",      "pbm3c2",
-                            "primitives", "vectors",  "keypoints",    "campaign",  "modbus",
-                            "http",       "alarm",    "notify",       "retention", "archive"}));
+    EXPECT_EQ(
+        sections,
+        (std::vector<std::string>{
+            "station",      "paths", "ingest", "meteo",      "logging",   "daemon",    "coverage",
+            "registration", "m3c2",  "pbm3c2", "primitives", "vectors",   "keypoints", "campaign",
+            "modbus",       "http",  "alarm",  "notify",     "retention", "archive",   "central"}));
     for (const auto& section : sections) {
         EXPECT_EQ(docs_table(docs, section), reference_table(section))
             << "docs/configuration.md, section [" << section
