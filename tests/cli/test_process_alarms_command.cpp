@@ -161,7 +161,8 @@ TEST(AlarmsCommand, UnknownRuleAndPastShelveAreErrorsNamingThem) {
     const auto unknown = test::shell(tlsmon("alarms ack 'P4 tilt'" + db));
     EXPECT_EQ(unknown.status, 1);
     EXPECT_NE(unknown.output.find("no alarm rule 'P4 tilt'"), std::string::npos) << unknown.output;
-    EXPECT_NE(unknown.output.find("(rules: P3 settlement, system.central_forward, system.database_error,"),
+    EXPECT_NE(unknown.output.find(
+                  "(rules: P3 settlement, system.central_forward, system.database_error,"),
               std::string::npos)
         << unknown.output;
     const auto past = test::shell(tlsmon("alarms shelve 'P3 settlement' --until 2020-01-01" + db));
