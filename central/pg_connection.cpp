@@ -2,6 +2,7 @@
 
 #include <libpq-fe.h>
 
+#include <cctype>
 #include <fstream>
 #include <sstream>
 
@@ -23,9 +24,30 @@ std::string read_password_file(const std::filesystem::path& file) {
 
 namespace {
 
-std::string trimmed(const char* message) {
-    std::string s = message ? message : "";
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+// libpq's message on one line: its continuation lines ("\n\tIs the server running ...")
+// joined with single spaces, for the log and the events.
+std::string one_line(const char* message) {
+    std::string out;
+    bool space = false;
+    for (const char* c = message ? message : ""; *c; ++c) {
+        if (std::isspace(static_cast<unsigned char>(*c))) {
+            space = !out.empty();
+            continue;
+        }
+        if (space) out += ' ';
+        space = false;
+        out += *c;
+    }
+    return out;
+}
+
+// The server's message of a failed statement: its primary text, and its detail when it has
+// one (not the CONTEXT lines, which name the function's own statements).
+std::string server_message(const PGresult* r) {
+    std::string s = one_line(PQresultErrorField(r, PG_DIAG_MESSAGE_PRIMARY));
+    if (s.empty()) return one_line(PQresultErrorMessage(r));
+    const char* detail = PQresultErrorField(r, PG_DIAG_MESSAGE_DETAIL);
+    if (detail) s += " (" + one_line(detail) + ")";
     return s;
 }
 
@@ -35,11 +57,11 @@ PgResult take(pg_conn* conn, PGresult* r, const std::string& context) {
         void operator()(PGresult* p) const { PQclear(p); }
     };
     std::unique_ptr<PGresult, Clear> owned(r);
-    if (!r) throw CentralError(context + ": " + trimmed(PQerrorMessage(conn)));
+    if (!r) throw CentralError(context + ": " + one_line(PQerrorMessage(conn)));
     const auto status = PQresultStatus(r);
     if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
         const char* state = PQresultErrorField(r, PG_DIAG_SQLSTATE);
-        throw CentralError(context + ": " + trimmed(PQresultErrorMessage(r)), state ? state : "");
+        throw CentralError(context + ": " + server_message(r), state ? state : "");
     }
     PgResult out;
     const int columns = PQnfields(r);
@@ -60,6 +82,18 @@ PgResult take(pg_conn* conn, PGresult* r, const std::string& context) {
 }
 
 }  // namespace
+
+CentralTarget command_target(const std::string& url, const std::filesystem::path& password_file,
+                             const std::string& application_name) {
+    if (url_has_password(url))
+        throw CentralError("the URL " + redacted_url(url) +
+                           " holds a password; give it with --password-file or PGPASSFILE");
+    CentralTarget t;
+    t.url = url;
+    t.password_file = password_file;
+    t.application_name = application_name;
+    return t;
+}
 
 PgConnection PgConnection::open(const CentralTarget& t) {
     std::vector<std::string> keys{
@@ -98,7 +132,7 @@ PgConnection PgConnection::open(const CentralTarget& t) {
     PgConnection conn(c);
     if (!c || PQstatus(c) != CONNECTION_OK) {
         throw CentralError("central database " + redacted_url(t.url) + ": " +
-                           (c ? trimmed(PQerrorMessage(c)) : "out of memory"));
+                           (c ? one_line(PQerrorMessage(c)) : "out of memory"));
     }
     return conn;
 }
@@ -126,7 +160,7 @@ void PgConnection::exec_script(const std::string& sql) {
 
 std::string PgConnection::encrypted_password(const std::string& role, const std::string& password) {
     char* hashed = PQencryptPasswordConn(conn_.get(), password.c_str(), role.c_str(), nullptr);
-    if (!hashed) throw CentralError(describe() + ": " + trimmed(PQerrorMessage(conn_.get())));
+    if (!hashed) throw CentralError(describe() + ": " + one_line(PQerrorMessage(conn_.get())));
     std::string out = hashed;
     PQfreemem(hashed);
     return out;

@@ -41,6 +41,11 @@ struct CentralTarget {
 // be read or is empty.
 std::string read_password_file(const std::filesystem::path& file);
 
+// The target of a command run by hand (`tlsmon central`, `tlsmon fleet`): an Error when the
+// URL holds a password, which belongs in `password_file` or PGPASSFILE.
+CentralTarget command_target(const std::string& url, const std::filesystem::path& password_file,
+                             const std::string& application_name);
+
 using PgParam = std::optional<std::string>;  // nullopt = SQL NULL
 using PgRow = std::vector<std::optional<std::string>>;
 

@@ -5,20 +5,13 @@
 #include "central/central_schema.hpp"
 #include "central/central_sites.hpp"
 #include "cli/commands.hpp"
-#include "core/redacted_url.hpp"
 
 namespace tlsmon {
 
 int run_central_admin(const CentralAdminOptions& o) {
     return run_reporting_errors("central " + o.action, [&] {
-        if (url_has_password(o.url))
-            throw Error("the URL " + redacted_url(o.url) +
-                        " holds a password; give it with --password-file or PGPASSFILE");
-        CentralTarget target;
-        target.url = o.url;
-        target.password_file = o.password_file;
-        target.application_name = "tlsmon central " + o.action;
-        PgConnection c = PgConnection::open(target);
+        PgConnection c = PgConnection::open(
+            command_target(o.url, o.password_file, "tlsmon central " + o.action));
         if (o.action == "migrate") {
             const auto applied = migrate_central(c);
             std::cout << c.describe() << ": schema version " << central_schema_version(c);

@@ -5,7 +5,6 @@
 
 #include "central/fleet_queries.hpp"
 #include "cli/commands.hpp"
-#include "core/redacted_url.hpp"
 
 namespace tlsmon {
 
@@ -59,14 +58,8 @@ std::optional<std::int64_t> bound(const std::string& text) {
 
 int run_fleet(const FleetOptions& o) {
     return run_reporting_errors("fleet " + o.action, [&] {
-        if (url_has_password(o.central))
-            throw Error("the URL " + redacted_url(o.central) +
-                        " holds a password; give it with --password-file or PGPASSFILE");
-        CentralTarget target;
-        target.url = o.central;
-        target.password_file = o.password_file;
-        target.application_name = "tlsmon fleet";
-        PgConnection c = PgConnection::open(target);
+        PgConnection c =
+            PgConnection::open(command_target(o.central, o.password_file, "tlsmon fleet"));
         const auto from = bound(o.read.from);
         // --to is inclusive, as in `tlsmon query`.
         const auto to =

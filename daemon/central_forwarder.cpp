@@ -61,10 +61,11 @@ void CentralForwarder::run() {
     spdlog::info("central forwarding to {}", redacted_url(config_.url));
     std::optional<EpochDatabase> db;
     std::optional<PgConnection> central;
-    std::string last_error;      // logged once until it changes
-    double backoff = 0;          // seconds; 0 while calls succeed
-    bool alarmed = false;        // system.central_forward raised by this thread
-    std::int64_t caught_up = 0;  // entries sent since the last failure
+    std::string last_error;  // logged once until it changes
+    double backoff = 0;      // seconds; 0 while calls succeed
+    // system.central_forward as this thread last set it; unknown at start, when a previous
+    // run may have left it raised.
+    std::optional<bool> alarmed;
     auto observe = [&](bool failing) {
         SystemObservation seen;
         seen.now = now_utc();
@@ -86,7 +87,6 @@ void CentralForwarder::run() {
                     central.emplace(PgConnection::open(target_of(config_, station_)));
                 forward_batch(*central, source, batch);
                 db->central_outbox().mark_sent(batch.back().seq, now_utc());
-                caught_up += static_cast<std::int64_t>(batch.size());
                 if (backoff > 0) {
                     spdlog::info("central forwarding works again");
                     db->events().record({now_utc(),
@@ -97,12 +97,10 @@ void CentralForwarder::run() {
                     backoff = 0;
                     last_error.clear();
                 }
-                if (alarmed) observe(false);
+                if (alarmed != false) observe(false);
                 std::lock_guard lock(mutex_);
                 if (stop_) return;
             }
-            if (caught_up > 0) spdlog::debug("central: {} entries forwarded", caught_up);
-            caught_up = 0;
         } catch (const std::exception& e) {
             // The central database down, full, read-only, or refusing this site; or the site
             // database busy. The outbox keeps every entry; the next call sends them again.
@@ -125,7 +123,7 @@ void CentralForwarder::run() {
                                              "; the outbox keeps every entry",
                                          {}});
                 const auto since = db->central_outbox().state().failing_since;
-                if (!alarmed && since && now - *since >= config_.alarm_after) observe(true);
+                if (alarmed != true && since && now - *since >= config_.alarm_after) observe(true);
             } catch (const std::exception& inner) {
                 spdlog::error("central forwarding: cannot record the failure: {}", inner.what());
                 db.reset();

@@ -70,7 +70,9 @@ CREATE TABLE tlsmon.registrations (
     PRIMARY KEY (site_id, sha256, acquired)
 ) PARTITION BY RANGE (acquired);
 
--- One zone's series over a window is one range of the primary key.
+-- One zone's series over a window is one range of the primary key, whose index also holds
+-- the values (INCLUDE): the series is read from the index alone, without visiting the table,
+-- where a zone's rows lie scattered among every other zone's and site's (one page each).
 CREATE TABLE tlsmon.zone_results (
     site_id     integer NOT NULL REFERENCES tlsmon.sites (id),
     zone        text NOT NULL,
@@ -82,6 +84,7 @@ CREATE TABLE tlsmon.zone_results (
     n           bigint NOT NULL,
     significant boolean NOT NULL,
     PRIMARY KEY (site_id, zone, quantity, acquired, sha256)
+        INCLUDE (value, uncertainty, n, significant)
 ) PARTITION BY RANGE (acquired);
 
 -- The newest value of every zone quantity of every site, kept by tlsmon.forward(): the
@@ -210,22 +213,26 @@ BEGIN
     FROM forward_batch WHERE kind = 'registration'
     ON CONFLICT DO NOTHING;
 
-    INSERT INTO tlsmon.zone_results
+    -- The zone results parsed once, for the series and for the newest values.
+    CREATE TEMP TABLE IF NOT EXISTS forward_zone_results (LIKE tlsmon.zone_results, seq bigint)
+        ON COMMIT DELETE ROWS;
+    TRUNCATE forward_zone_results;
+    INSERT INTO forward_zone_results
     SELECT site, p ->> 'zone', p ->> 'quantity', to_timestamp((p ->> 'acquired')::bigint),
            p ->> 'sha256', (p ->> 'value')::double precision,
            (p ->> 'uncertainty')::double precision, (p ->> 'n')::bigint,
-           (p ->> 'significant')::integer <> 0
-    FROM forward_batch WHERE kind = 'zone_result'
+           (p ->> 'significant')::integer <> 0, seq
+    FROM forward_batch WHERE kind = 'zone_result';
+
+    INSERT INTO tlsmon.zone_results
+    SELECT site_id, zone, quantity, acquired, sha256, value, uncertainty, n, significant
+    FROM forward_zone_results
     ON CONFLICT DO NOTHING;
 
     INSERT INTO tlsmon.zone_latest AS x
-    SELECT DISTINCT ON (p ->> 'zone', p ->> 'quantity')
-           site, p ->> 'zone', p ->> 'quantity', to_timestamp((p ->> 'acquired')::bigint),
-           p ->> 'sha256', (p ->> 'value')::double precision,
-           (p ->> 'uncertainty')::double precision, (p ->> 'n')::bigint,
-           (p ->> 'significant')::integer <> 0
-    FROM forward_batch WHERE kind = 'zone_result'
-    ORDER BY p ->> 'zone', p ->> 'quantity', (p ->> 'acquired')::bigint DESC, seq DESC
+    SELECT DISTINCT ON (zone, quantity)
+           site_id, zone, quantity, acquired, sha256, value, uncertainty, n, significant
+    FROM forward_zone_results ORDER BY zone, quantity, acquired DESC, seq DESC
     ON CONFLICT (site_id, zone, quantity) DO UPDATE
         SET acquired = excluded.acquired, sha256 = excluded.sha256, value = excluded.value,
             uncertainty = excluded.uncertainty, n = excluded.n,

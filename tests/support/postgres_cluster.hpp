@@ -3,39 +3,26 @@
 // folder, the server on a free port of 127.0.0.1 (password logins by SCRAM over TCP, trust on
 // its own Unix socket for the test's psql), stopped and removed with the object. As root the
 // server runs as the `postgres` user (initdb refuses root), which the Debian package creates.
-#include <netinet/in.h>
-#include <pwd.h>
-#include <sys/socket.h>
-
+// With `tls`, the server also speaks TLS with a certificate for localhost and 127.0.0.1
+// signed by a test CA (ca_certificate()); other_ca_certificate() signed nothing of it.
 #include <stdexcept>
 #include <string>
 
 #include "tests/support/daemon_harness.hpp"
+#include "tests/support/modbus_client.hpp"
 #include "tests/support/text_file.hpp"
 
 namespace tlsmon::test {
 
 inline const std::string kPostgresBin = "/usr/lib/postgresql/15/bin/";
 
-// A port nobody listens on now (bound, read, released).
-inline int free_port() {
-    const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t n = sizeof a;
-    ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &n);
-    ::close(s);
-    return ntohs(a.sin_port);
-}
-
 class PostgresCluster {
   public:
-    PostgresCluster() : dir_("pg"), port_(free_port()) {
+    explicit PostgresCluster(bool tls = false) : dir_("pg"), port_(free_tcp_port()) {
         const fs::path data = dir_ / "data";
         fs::create_directories(data);
         write_text(dir_ / "admin.pw", "admin-secret\n");
+        if (tls) make_certificates();
         if (::geteuid() == 0) {
             as_ = "runuser -u postgres -- ";
             shell("chown -R postgres " + dir_.path().string());
@@ -56,7 +43,7 @@ class PostgresCluster {
         run(as_ + kPostgresBin + "pg_ctl -D " + (dir_ / "data").string() + " -l " +
             (dir_ / "server.log").string() + " -w -o \"-p " + std::to_string(port_) +
             " -c listen_addresses=127.0.0.1 -c unix_socket_directories=" + dir_.path().string() +
-            " -c fsync=off -c max_connections=40\" start");
+            " -c fsync=off -c max_connections=40" + tls_options_ + "\" start");
     }
     // `fast`: sessions are ended, the server shuts down cleanly (a maintenance stop).
     void stop() {
@@ -69,6 +56,8 @@ class PostgresCluster {
         return "postgresql://" + user + "@127.0.0.1:" + std::to_string(port_) + "/" + db;
     }
     fs::path admin_password_file() const { return dir_ / "admin.pw"; }
+    fs::path ca_certificate() const { return dir_ / "ca.crt"; }
+    fs::path other_ca_certificate() const { return dir_ / "other-ca.crt"; }
     fs::path folder() const { return dir_.path(); }
 
     // `sql` through psql as the superuser on the Unix socket: rows as lines, fields by '|'.
@@ -95,6 +84,22 @@ class PostgresCluster {
     }
 
   private:
+    void make_certificates() {
+        const std::string d = dir_.path().string();
+        write_text(dir_ / "san.ext", "subjectAltName=DNS:localhost,IP:127.0.0.1\n");
+        run("cd " + d +
+            " && openssl req -x509 -newkey rsa:2048 -nodes -keyout ca.key -out ca.crt -days 2"
+            " -subj /CN=tlsmon-test-ca 2>&1"
+            " && openssl req -x509 -newkey rsa:2048 -nodes -keyout other-ca.key -out"
+            " other-ca.crt -days 2 -subj /CN=tlsmon-other-ca 2>&1"
+            " && openssl req -newkey rsa:2048 -nodes -keyout server.key -out server.csr"
+            " -subj /CN=localhost 2>&1"
+            " && openssl x509 -req -in server.csr -CA ca.crt -CAkey ca.key -CAcreateserial"
+            " -out server.crt -days 2 -extfile san.ext 2>&1 && chmod 600 server.key");
+        tls_options_ =
+            " -c ssl=on -c ssl_cert_file=" + d + "/server.crt -c ssl_key_file=" + d + "/server.key";
+    }
+
     void run(const std::string& command) const {
         const auto r = shell(command);
         if (r.status != 0) throw std::runtime_error(command + ": " + r.output);
@@ -103,6 +108,7 @@ class PostgresCluster {
     TempDir dir_;
     int port_;
     std::string as_;
+    std::string tls_options_;
 };
 
 }  // namespace tlsmon::test
