@@ -85,6 +85,16 @@ struct KeypointModelsOptions {
 };
 int run_query_keypoint_models(const KeypointModelsOptions& options);
 
+// `tlsmon query thermal-models [--zone Z] [--quantity Q] [--compensations]`: every version of
+// the thermal models, or each epoch's compensation in the time range
+struct ThermalModelsOptions {
+    ReadOptions read;
+    std::string zone;      // "" = every zone
+    std::string quantity;  // "" = every modelled quantity
+    bool compensations = false;
+};
+int run_query_thermal_models(const ThermalModelsOptions& options);
+
 // `tlsmon query keypoints [--zone Z]`: the keypoint stage's figures per zone and epoch
 struct KeypointsQueryOptions {
     ReadOptions read;

@@ -68,6 +68,8 @@ struct CommandLine {
     SeriesOptions series;
     ReadOptionsOnTheCommandLine keypoint_models_read;
     KeypointModelsOptions keypoint_models;
+    ReadOptionsOnTheCommandLine thermal_models_read;
+    ThermalModelsOptions thermal_models;
     ReadOptionsOnTheCommandLine keypoints_read;
     KeypointsQueryOptions keypoints_query;
     ReadOptionsOnTheCommandLine corepoints_read;
@@ -241,6 +243,24 @@ void add_query(CLI::App& app, CommandLine& c) {
     models->callback([&] {
         models_options.read = models_read.finish();
         c.code = run_query_keypoint_models(models_options);
+    });
+
+    auto& thermal_read = c.thermal_models_read;
+    auto& thermal_options = c.thermal_models;
+    auto* thermal = query->add_subcommand(
+        "thermal-models",
+        "The thermal compensation's models, every version: lags, coefficients, σ, training "
+        "window (docs/thermal.md); with --compensations each epoch's compensation quality");
+    thermal->add_option("--zone", thermal_options.zone, "Only this zone's");
+    thermal->add_option("--quantity", thermal_options.quantity,
+                        "Only the model of this quantity (e.g. m3c2_median_m)");
+    thermal->add_flag("--compensations", thermal_options.compensations,
+                      "One row per epoch in the time range and zone quantity: compensated, "
+                      "extrapolated, no_meteo or no_model, with the model health");
+    thermal_read.add_to(thermal, true);
+    thermal->callback([&] {
+        thermal_options.read = thermal_read.finish();
+        c.code = run_query_thermal_models(thermal_options);
     });
 
     auto& keypoints_read = c.keypoints_read;

@@ -119,6 +119,14 @@ std::set<std::string> stage_quantities(const Config* runs = nullptr) {
         q.insert(kPlaneQuantities.begin(), kPlaneQuantities.end());
     }
     if (!runs || runs->campaign.zone_series) q.insert(kCampaignC2cMedian);
+    // The thermal compensation's quantities of those it models (runs: when enabled).
+    if (runs && runs->thermal.enabled) {
+        for (const std::string& modelled : runs->thermal.quantities) {
+            if (!q.contains(modelled)) continue;
+            const ThermalQuantities t = thermal_quantities(modelled);
+            q.insert({t.predicted, t.compensated, t.drift, t.spread});
+        }
+    }
     return q;
 }
 
@@ -471,6 +479,18 @@ Config parse_table(const toml::table& root, const std::string& source, const fs:
         }
         if (section == "notify") read_notify_tables(*t, c.notify, base);
         if (section == "central") check_central(*t, c.central, base);
+        if (section == "thermal") {
+            check_thermal(*t, c.thermal);
+            const std::set<std::string> stored = stage_quantities(&c);
+            for (const std::string& q : c.thermal.quantities)
+                if (c.thermal.enabled && !stored.contains(q))
+                    t->fail("quantities", "'" + q +
+                                              "' is not a zone quantity of the stages that "
+                                              "run; they store: " +
+                                              listed(stored));
+            for (const std::string& z : c.thermal.zones)
+                if (!zone_names.contains(z)) t->fail("zones", "no [[zone]] is named '" + z + "'");
+        }
         t->reject_unknown_keys(kMovedKeys);
     }
     resolve_paths(c, base);
@@ -647,6 +667,7 @@ PipelineConfig pipeline_config(const Config& config) {
                           .primitives = primitives_with_zones(config),
                           .vectors = vectors_with_zone_shapes(config),
                           .keypoints = keypoints_with_zone_shapes(config),
+                          .thermal = config.thermal,
                           .zones = with_zone_shapes(config).zones,
                           .stages = {},
                           .alarm_rules = config.alarm.rules};

@@ -134,6 +134,7 @@ struct Config {
     PrimitivesConfig primitives;      // its zones (those naming a primitive) likewise
     VectorConfig vectors;             // its zones and segmentation as for pbm3c2
     KeypointConfig keypoints;         // likewise
+    ThermalConfig thermal;            // after the stages: it models what they store
     IcpConfig icp;       // [registration] icp_* keys; regions: the [[stable_region]] tables
     PlaneConfig planes;  // [registration] plane_* keys
     StableAreaConfig stable_areas;  // [registration] stable_* keys

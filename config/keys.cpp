@@ -36,6 +36,7 @@ std::vector<ConfigKey> collect_keys() {
     collect(keys, "vectors", &Config::vectors, vector_keys());
     collect(keys, "keypoints", &Config::keypoints, keypoint_keys());
     collect(keys, "campaign", &Config::campaign, campaign_keys());
+    collect(keys, "thermal", &Config::thermal, thermal_keys());
     collect(keys, "modbus", &Config::modbus, modbus_keys());
     collect(keys, "http", &Config::http, http_keys());
     collect(keys, "alarm", &Config::alarm, alarm_keys());

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -35,6 +36,9 @@ struct SectionKey {
     // The value as TOML text ("10", "\"move\"", "[\"ptx\"]").
     std::function<std::string(const S& s)> value;
 };
+
+// The value of an optional key that was not given (shown, never written to a file).
+inline constexpr const char* kNoValue = "(none)";
 
 // A string and a number as TOML writes them: "a \"b\"", 0.1.
 std::string toml_string(const std::string& s);
@@ -176,6 +180,28 @@ struct Keys {
             t.get(n, config_key_detail::at(s, field), min, max);
         };
         k.value = [field](const S& s) { return toml_number(config_key_detail::at(s, field)); };
+        return k;
+    }
+
+    // A real number in [min, max] that may be left out: "(none)" until given.
+    template <class B>
+    static SectionKey<S> optional_number(std::optional<double> B::*field, std::string name,
+                                         double min, double max, std::string unit,
+                                         std::string help) {
+        std::string range = toml_number(min) + " .. " + toml_number(max);
+        if (!unit.empty()) range += " " + unit;
+        auto k =
+            config_key_detail::key<S>(std::move(name), "number", std::move(range), std::move(help));
+        k.read = [field, n = k.name, min, max](TomlFields& t, S& s) {
+            if (!t.has(n)) return;
+            double v = 0;
+            t.get(n, v, min, max);
+            config_key_detail::at(s, field) = v;
+        };
+        k.value = [field](const S& s) {
+            const auto& v = config_key_detail::at(s, field);
+            return v ? toml_number(*v) : std::string(kNoValue);
+        };
         return k;
     }
 

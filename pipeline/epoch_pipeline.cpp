@@ -125,6 +125,7 @@ StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference,
         if (m.outcome == MeteoOutcome::used && m.values) history.reference_meteo = m;
     }
     history.series = &ctx.db.series();
+    history.thermal = &ctx.db.thermal();
     if (const auto m = ctx.db.registrations().last_accepted_transform(epoch.acquired)) {
         registration::RigidTransform t;
         for (int r = 0; r < 3; ++r) {

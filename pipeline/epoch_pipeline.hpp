@@ -22,6 +22,7 @@
 #include "pipeline/registration_stage.hpp"
 #include "pipeline/sha256.hpp"
 #include "pipeline/system_event_log.hpp"
+#include "pipeline/thermal_config.hpp"
 #include "pipeline/vector_config.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -43,6 +44,7 @@ struct PipelineConfig {
     PrimitivesConfig primitives;   // with the zones naming a primitive; likewise
     VectorConfig vectors;          // with the zones and the segmentation; likewise
     KeypointConfig keypoints;      // with the zones (segments = zones; none: it does not run)
+    ThermalConfig thermal;         // the compensation of the zone quantities it names
     std::vector<ZoneShape> zones;  // the site's zones, in the configuration's order
     // The stages in order; empty: the site's (site_stages, pipeline/site_stages.hpp).
     StageList stages;

@@ -8,6 +8,7 @@
 #include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/primitive_stage.hpp"
 #include "pipeline/registration_stage.hpp"
+#include "pipeline/thermal_stage.hpp"
 #include "pipeline/vector_stage.hpp"
 
 namespace tlsmon {
@@ -34,6 +35,8 @@ StageList site_stages(const PipelineConfig& config) {
     const KeypointConfig& kp = config.keypoints;
     if (kp.enabled && (kp.segments == KeypointSegments::bands || !kp.zones.empty()))
         stages.push_back(std::make_shared<KeypointStage>(kp));
+    // The thermal response of the zone quantities above, and what is left of them.
+    if (config.thermal.enabled) stages.push_back(std::make_shared<ThermalStage>(config.thermal));
     return stages;
 }
 

@@ -8,7 +8,7 @@
 namespace tlsmon {
 
 // coverage -> registration -> m3c2 (enabled, with zones) -> keypoints (enabled, with zones
-// or bands).
+// or bands) -> thermal (enabled).
 StageList site_stages(const PipelineConfig& config);
 
 }  // namespace tlsmon

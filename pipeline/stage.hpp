@@ -69,6 +69,8 @@ struct StageHistory {
     std::function<std::vector<std::vector<std::uint8_t>>(const std::string& segmentation,
                                                          int count)>
         stable_area_states;
+    // The thermal compensation's models, compensations and stored air; none: this epoch alone.
+    const ThermalStore* thermal = nullptr;
 };
 
 // Everything one stage sees of one epoch.

@@ -40,6 +40,11 @@ std::optional<std::string> truth_kind(const std::string& quantity) {
         return "median of the true change along the normal";
     if (quantity == "m3c2_mean_m" || quantity == "pbm3c2_mean_m")
         return "mean of the true change along the normal";
+    // The thermal compensation's (docs/thermal.md): the field's thermal part, and the rest.
+    if (quantity == "m3c2_median_thermal_m" || quantity == "pbm3c2_median_thermal_m")
+        return "median of the true thermal change along the normal";
+    if (quantity == "m3c2_median_compensated_m" || quantity == "pbm3c2_median_compensated_m")
+        return "median of the true change along the normal less its thermal part";
     if (quantity == "keypoint_along_surface_h_m") return "mean true change along the wall, h";
     if (quantity == "keypoint_along_surface_v_m") return "mean true change along the wall, v";
     return std::nullopt;
@@ -48,6 +53,10 @@ std::optional<std::string> truth_kind(const std::string& quantity) {
 double truth_value(const std::string& quantity, const ZoneTruth& z, const ZoneFace& face) {
     if (quantity == "m3c2_median_m" || quantity == "pbm3c2_median_m") return z.normal_median;
     if (quantity == "m3c2_mean_m" || quantity == "pbm3c2_mean_m") return z.normal_mean;
+    if (quantity == "m3c2_median_thermal_m" || quantity == "pbm3c2_median_thermal_m")
+        return z.thermal_normal_median;
+    if (quantity == "m3c2_median_compensated_m" || quantity == "pbm3c2_median_compensated_m")
+        return z.normal_median - z.thermal_normal_median;
     const Eigen::Vector3d h = Eigen::Vector3d::UnitZ().cross(face.normal).normalized();
     if (quantity == "keypoint_along_surface_h_m") return z.mean_vector.dot(h);
     return z.mean_vector.dot(face.normal.cross(h));

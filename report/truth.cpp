@@ -140,15 +140,16 @@ std::vector<TruthEpoch> read_truth_folder(const std::filesystem::path& folder) {
     return out;
 }
 
+Eigen::Vector3d thermal_displacement(const TruthEpoch& t, const Eigen::Vector3d& p) {
+    if (!t.deformation_enabled) return Eigen::Vector3d::Zero();
+    const double zeta = std::clamp(p.z() / t.pier.height, 0.0, 1.0);
+    const double profile = std::pow(zeta, t.exponent);
+    return {t.top_displacement.x() * profile, t.top_displacement.y() * profile,
+            t.top_displacement.z() * zeta};
+}
+
 Eigen::Vector3d true_displacement(const TruthEpoch& t, const Eigen::Vector3d& p) {
-    Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    const double h = t.pier.height;
-    const double zeta = std::clamp(p.z() / h, 0.0, 1.0);
-    if (t.deformation_enabled) {
-        const double profile = std::pow(zeta, t.exponent);
-        u += Eigen::Vector3d(t.top_displacement.x() * profile, t.top_displacement.y() * profile,
-                             t.top_displacement.z() * zeta);
-    }
+    Eigen::Vector3d u = thermal_displacement(t, p);
     if (t.step && p.z() >= t.step->z_min && p.z() <= t.step->z_max) u += t.step->displacement;
     return u;
 }
@@ -196,8 +197,9 @@ ZoneTruth zone_truth(const TruthEpoch& reference, const TruthEpoch& epoch, const
     // 1 cm steps over the height (at least 201 samples): the field is smooth but for the
     // step's edges, which this resolves to a fraction of a percent of the zone.
     const int n = std::max(201, static_cast<int>((face.z_max - face.z_min) / 0.01) + 1);
-    std::vector<double> along;
+    std::vector<double> along, thermal;
     along.reserve(n);
+    thermal.reserve(n);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int k = 0; k < n; ++k) {
         Eigen::Vector3d p = face.centre;
@@ -205,11 +207,14 @@ ZoneTruth zone_truth(const TruthEpoch& reference, const TruthEpoch& epoch, const
         const Eigen::Vector3d d = true_displacement(epoch, p) - true_displacement(reference, p);
         sum += d;
         along.push_back(d.dot(face.normal));
+        thermal.push_back(
+            (thermal_displacement(epoch, p) - thermal_displacement(reference, p)).dot(face.normal));
     }
     ZoneTruth z;
     z.mean_vector = sum / n;
     z.normal_mean = z.mean_vector.dot(face.normal);
     z.normal_median = median(along);
+    z.thermal_normal_median = median(thermal);
     return z;
 }
 

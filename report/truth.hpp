@@ -63,6 +63,8 @@ TruthEpoch read_truth_file(const std::filesystem::path& file);
 // description of its field (docs/simulator.md, "Deformation"): u_h(z) = top_h · (z/H)^p,
 // u_z(z) = top_z · z/H, plus the step vector for z in [z_min, z_max] once stepped.
 Eigen::Vector3d true_displacement(const TruthEpoch& truth, const Eigen::Vector3d& p);
+// Its thermal part alone (the field without the events): what thermal compensation removes.
+Eigen::Vector3d thermal_displacement(const TruthEpoch& truth, const Eigen::Vector3d& p);
 
 // A zone given as an axis-aligned box (the `box` zones of the configuration).
 struct ZoneBox {
@@ -88,10 +90,12 @@ std::optional<ZoneFace> zone_face(const PierBox& pier, const ZoneBox& box);
 // The true change of a zone between the reference epoch and epoch i: the displacement
 // difference u_i − u_ref over the zone's face, sampled uniformly over its height (the field
 // does not vary along a face's width), as the mean and the median of its component along
-// the face's normal, and the mean vector.
+// the face's normal, and the mean vector; and the median along the normal of the thermal part
+// alone (the field without its events): what a thermal compensation should remove.
 struct ZoneTruth {
     double normal_mean = 0;
     double normal_median = 0;
+    double thermal_normal_median = 0;
     Eigen::Vector3d mean_vector = Eigen::Vector3d::Zero();
 };
 ZoneTruth zone_truth(const TruthEpoch& reference, const TruthEpoch& epoch, const ZoneFace& face);

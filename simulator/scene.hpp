@@ -145,6 +145,11 @@ struct Events {
     // foundation settling on one side): its axis leans `tilt_arcsec` towards +x and +y.
     int tilt_epoch = -1;
     Eigen::Vector2d tilt_arcsec{20.0, 0.0};
+    // A bearing that seizes, a crack that opens: from this epoch on the thermal bending (the
+    // horizontal part of the thermal field) is scaled by `bending_factor`; the vertical
+    // expansion stays. The structure's thermal behaviour changes, not its position.
+    int bending_change_epoch = -1;
+    double bending_factor = 0.5;
     int knocked_target = -1;  // index into targets; -1 = none
     int knocked_epoch = -1;
     Eigen::Vector3d knocked_displacement{0.010, 0.0, 0.0};

@@ -376,6 +376,8 @@ void read_events(TomlFields& f, sim::Site& site) {
     f.get("step_z_max", e.step_z_max, -kBig, kBig);
     get_vector3(f, "step_displacement", e.step_displacement, 100.0);
     f.get("tilt_epoch", e.tilt_epoch, -1, 1000000);
+    f.get("bending_change_epoch", e.bending_change_epoch, -1, 1000000);
+    f.get("bending_factor", e.bending_factor, 0.0, 10.0);
     if (f.has("tilt_arcsec")) {
         std::vector<double> a;
         f.get("tilt_arcsec", a);

@@ -238,6 +238,11 @@ nlohmann::json truth_json(const Site& site, int epoch, double hours, std::int64_
                           {"tilt_arcsec", {ev.tilt_arcsec.x(), ev.tilt_arcsec.y()}},
                           {"about", {p.centre().x(), p.centre().y(), 0.0}}});
     }
+    if (ev.bending_change_epoch >= 0 && epoch >= ev.bending_change_epoch) {
+        events.push_back({{"type", "bending_change"},
+                          {"since_epoch", ev.bending_change_epoch},
+                          {"bending_factor", ev.bending_factor}});
+    }
     if (ev.knocked_target >= 0 && ev.knocked_epoch >= 0 && epoch >= ev.knocked_epoch) {
         events.push_back({{"type", "knocked_target"},
                           {"since_epoch", ev.knocked_epoch},

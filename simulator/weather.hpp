@@ -21,23 +21,10 @@
 #include <array>
 #include <cstdint>
 
+#include "core/solar.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::sim {
-
-// Approximate sun position (Spencer 1971 declination and equation of time, as in NOAA's
-// "General Solar Position Calculations"): about 0.1° and 1 min, ample for heating.
-struct SunPosition {
-    double elevation_deg = 0.0;
-    double azimuth_deg = 0.0;  // from north, clockwise (east 90°)
-    double declination_deg = 0.0;
-    double solar_hour = 0.0;  // local apparent solar time, 0..24
-};
-SunPosition sun_position(double latitude_deg, double longitude_deg, double unix_seconds);
-
-// Local apparent solar time of sunrise (sun's upper limb at the horizon with refraction,
-// h₀ = −0.833°); 0 in polar day, 12 in polar night.
-double sunrise_solar_hour(double latitude_deg, double declination_deg);
 
 // The scene's air at one time (no lag: what a weather station's sensors see).
 struct AirSample {
@@ -50,10 +37,9 @@ struct AirSample {
 };
 AirSample air_at(const Weather& w, double unix_seconds);
 
-// Solar irradiance incident on the pier's four vertical faces, W/m².
+// Solar irradiance incident on the pier's four vertical faces (kFaceNames), W/m²: the clear
+// sky's (core/solar.hpp) damped by the clouds.
 std::array<double, 4> face_irradiance(const SunPosition& sun, double cloudiness);
-
-constexpr std::array<const char*, 4> kFaceNames = {"west", "east", "south", "north"};
 
 struct ThermalState {
     AirSample air;

@@ -38,6 +38,7 @@ EpochDatabase::EpochDatabase(std::unique_ptr<Connection> connection)
       meteo_(*connection_),
       registrations_(*connection_),
       keypoint_models_(*connection_),
+      thermal_(*connection_),
       notifications_(*connection_),
       campaigns_(*connection_),
       retention_(*connection_),

@@ -6,7 +6,7 @@
 //
 // One EpochDatabase owns ONE connection; the stores it hands out are views of one concern
 // each over that connection (epochs(), site(), results(), series(), reference_cache(),
-// alarms(), events(), meteo(), registrations(), keypoint_models(),
+// alarms(), events(), meteo(), registrations(), keypoint_models(), thermal(),
 // notifications(), campaigns(), retention(), archive()) and live as long as it does.
 //
 // Durability: WAL journal, synchronous=FULL, foreign keys on, a busy timeout. All results of
@@ -38,6 +38,7 @@
 #include "storage/series_reader.hpp"
 #include "storage/site.hpp"
 #include "storage/storage_error.hpp"
+#include "storage/thermal_store.hpp"
 
 namespace tlsmon {
 
@@ -79,6 +80,7 @@ class EpochDatabase {
     RegistrationStore& registrations() { return registrations_; }
     const RegistrationStore& registrations() const { return registrations_; }
     const KeypointModelStore& keypoint_models() const { return keypoint_models_; }
+    const ThermalStore& thermal() const { return thermal_; }
     NotificationStore& notifications() { return notifications_; }
     const NotificationStore& notifications() const { return notifications_; }
     CampaignStore& campaigns() { return campaigns_; }
@@ -105,6 +107,7 @@ class EpochDatabase {
     MeteoStore meteo_;
     RegistrationStore registrations_;
     KeypointModelStore keypoint_models_;
+    ThermalStore thermal_;
     NotificationStore notifications_;
     CampaignStore campaigns_;
     RetentionStore retention_;

@@ -12,6 +12,7 @@
 #include "storage/event_log.hpp"
 #include "storage/keypoint_models.hpp"
 #include "storage/meteo_sidecar.hpp"
+#include "storage/thermal_store.hpp"
 
 namespace tlsmon {
 
@@ -148,7 +149,9 @@ struct EpochResults {
     std::vector<ZoneResult> zone_results;
     std::vector<CorePointArray> core_point_arrays;
     std::vector<KeypointModelRow> keypoint_models;  // d(t, z) refitted with this epoch
-    std::vector<AlarmState> alarm_states;           // new states of the rules this epoch changed
+    std::vector<ThermalModelRow> thermal_models;    // fitted in this epoch's commit
+    std::vector<ThermalCompensationRow> thermal_compensations;
+    std::vector<AlarmState> alarm_states;  // new states of the rules this epoch changed
     std::vector<AlarmEvent> alarm_events;
     std::vector<SystemEvent> system_events;
     // The meteo sidecar the epoch was processed with (used or rejected), if it had one.

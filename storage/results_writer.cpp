@@ -31,7 +31,8 @@ void check_results(Connection& c, EpochId id, const EpochResults& r) {
     }
     if (r.outcome == EpochStatus::rejected) {
         if (r.reason.empty()) throw_storage(c, epoch + "a rejected epoch needs a reason");
-        if (!r.zone_results.empty() || !r.core_point_arrays.empty() || !r.keypoint_models.empty()) {
+        if (!r.zone_results.empty() || !r.core_point_arrays.empty() || !r.keypoint_models.empty() ||
+            !r.thermal_models.empty() || !r.thermal_compensations.empty()) {
             throw_storage(c, epoch + "a rejected epoch has no analysis results");
         }
     }
@@ -346,6 +347,7 @@ void ResultsWriter::commit(EpochId id, const EpochResults& results,
         write_zone_results(*c_, id, results.zone_results);
         write_core_point_arrays(*c_, id, results.core_point_arrays);
         write_keypoint_models(*c_, id, results.keypoint_models);
+        write_thermal_rows(*c_, id, results.thermal_models, results.thermal_compensations);
         for (const auto& a : results.alarm_states) write_alarm_state(*c_, a);
         for (const auto& e : results.alarm_events) write_alarm_event(*c_, e);
         if (evaluate) {

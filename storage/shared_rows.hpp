@@ -13,6 +13,7 @@
 #include "storage/ids.hpp"
 #include "storage/keypoint_models.hpp"
 #include "storage/meteo_sidecar.hpp"
+#include "storage/thermal_store.hpp"
 
 namespace tlsmon {
 
@@ -35,5 +36,9 @@ std::string format_mib(std::int64_t bytes);
 void write_meteo_sidecar(Connection& c, const MeteoSidecar& sidecar);
 // keypoint_models.cpp: the epoch's model rows (checked whole: StorageError otherwise).
 void write_keypoint_models(Connection& c, EpochId id, const std::vector<KeypointModelRow>& models);
+// thermal_store.cpp: the epoch's thermal models (each the next version of its zone quantity)
+// and compensations (checked: StorageError otherwise).
+void write_thermal_rows(Connection& c, EpochId id, const std::vector<ThermalModelRow>& models,
+                        const std::vector<ThermalCompensationRow>& compensations);
 
 }  // namespace tlsmon

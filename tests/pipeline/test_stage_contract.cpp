@@ -158,6 +158,7 @@ TEST(StageContract, TheDocsTableListsTheSiteStagesInOrder) {
     config.vectors.enabled = true;
     config.vectors.zones = config.m3c2.zones;
     config.keypoints.zones = config.m3c2.zones;
+    config.thermal.enabled = true;
     std::vector<std::string> listed;
     for (const auto& s : site_stages(config)) listed.emplace_back(s->name());
     EXPECT_EQ(documented, listed);
