@@ -30,6 +30,8 @@ ThermalModelRow to_row(const thermal::ThermalModel& m, const std::string& zone,
     r.quantity = quantity;
     r.training_from = static_cast<UtcSeconds>(m.training_from);
     r.training_to = static_cast<UtcSeconds>(m.training_to);
+    r.amplitude_min_c = m.amplitude_min_c;
+    r.amplitude_max_c = m.amplitude_max_c;
     r.observations = m.observations;
     r.surface_lag_h = m.lags.surface_h;
     r.section_lag_h = m.lags.section_h;
@@ -98,10 +100,10 @@ class Compensation {
         if (due(stored)) {
             std::string why;
             if (auto model = fit(zone, quantity, measured, why)) {
+                fitted = fmt::format("model v{} fitted", stored ? stored->version + 1 : 1);
                 stored = *model;
                 stored->version = 0;  // the next version, written in this commit
                 ctx_.results.thermal_models.push_back(*model);
-                fitted = fmt::format("model v{} fitted", next_version(zone, quantity));
                 event("info", "thermal_model",
                       fmt::format("{} {}: thermal model fitted on {} epochs (lags {:g} h + {:g} h, "
                                   "σ {:.2f} mm, {:.1f} % of the variance explained)",
@@ -135,16 +137,19 @@ class Compensation {
         return true;
     }
 
-    std::int64_t next_version(const std::string& zone, const std::string& quantity) const {
-        const auto last = ctx_.history.thermal->latest(zone, quantity);
-        return last ? last->version + 1 : 1;
-    }
-
-    // The air of a time range from the stored meteo, and this epoch's own.
-    std::vector<thermal::AirReading> air(UtcSeconds from) const {
-        std::vector<thermal::AirReading> out;
-        for (const AirTemperature& a : ctx_.history.thermal->air({from, t_ - 1}))
-            out.push_back({static_cast<double>(a.acquired), a.temperature_c});
+    // The air from `from` on: the stored meteo (read once per epoch, for the earliest time asked)
+    // and this epoch's own.
+    std::vector<thermal::AirReading> air(UtcSeconds from) {
+        if (!stored_air_from_ || from < *stored_air_from_) {
+            stored_air_.clear();
+            for (const AirTemperature& a : ctx_.history.thermal->air({from, t_ - 1}))
+                stored_air_.push_back({static_cast<double>(a.acquired), a.temperature_c});
+            stored_air_from_ = from;
+        }
+        const auto first =
+            std::lower_bound(stored_air_.begin(), stored_air_.end(), static_cast<double>(from),
+                             [](const thermal::AirReading& a, double t) { return a.t < t; });
+        std::vector<thermal::AirReading> out(first, stored_air_.end());
         if (own_air_) out.push_back(*own_air_);
         return out;
     }
@@ -159,7 +164,7 @@ class Compensation {
 
     // The model on the training window ending with this epoch; nullopt with `why`.
     std::optional<ThermalModelRow> fit(const std::string& zone, const std::string& quantity,
-                                       const ZoneResult& measured, std::string& why) const {
+                                       const ZoneResult& measured, std::string& why) {
         const double window = config_.training_days * kDay;
         const auto from = static_cast<UtcSeconds>(t_ - window);
         // The series reaches back a whole window: a point at or up to an hour before its start.
@@ -195,18 +200,6 @@ class Compensation {
         if (!model) return std::nullopt;
         ThermalModelRow row = to_row(*model, zone, quantity);
         row.excluded = excluded;
-        // The daily amplitudes the training saw: outside them the model extrapolates.
-        std::vector<double> times;
-        for (const auto& o : observations) times.push_back(o.t);
-        const auto drivers =
-            thermal::thermal_drivers(air_readings, times, model->lags, options.drivers);
-        row.amplitude_min_c = std::numeric_limits<double>::infinity();
-        row.amplitude_max_c = -std::numeric_limits<double>::infinity();
-        for (const auto& d : drivers) {
-            if (!d.complete) continue;
-            row.amplitude_min_c = std::min(row.amplitude_min_c, d.daily_amplitude_c);
-            row.amplitude_max_c = std::max(row.amplitude_max_c, d.daily_amplitude_c);
-        }
         return row;
     }
 
@@ -337,6 +330,8 @@ class Compensation {
     UtcSeconds t_;
     thermal::ModelOptions options_;
     std::optional<thermal::AirReading> own_air_;
+    std::vector<thermal::AirReading> stored_air_;  // sorted by time
+    std::optional<UtcSeconds> stored_air_from_;
 };
 
 }  // namespace

@@ -1,7 +1,9 @@
 // A zone's series (/zones/NAME): one quantity at a time over a window, the LoD95 as a band,
 // the alarm levels as lines, alarm raises and acknowledgements and rejected epochs as marks,
-// the keypoint model d(t, z) where the quantity has one, and on request the air temperature
-// or pressure on a second axis (?meteo=air_temperature_c or pressure_hpa).
+// the keypoint model d(t, z) where the quantity has one, the thermal compensation where the
+// quantity has a thermal model (measured, predicted and compensated together, with the
+// epochs it could not compensate marked at the foot; ?thermal=0 hides them), and on request
+// the air temperature or pressure on a second axis (?meteo=air_temperature_c or pressure_hpa).
 // Drag to zoom (the server is asked again for the zoomed window, at full resolution when
 // it fits the chart's width), shift-drag to pan, double-click to return to the window.
 import {
@@ -17,6 +19,7 @@ let span = Number(params.get('window') ?? 7 * 86400);
 const meteoChoices = [['no meteo', ''], ['air temperature', 'air_temperature_c'], ['pressure', 'pressure_hpa']];
 let meteoField = params.get('meteo') ?? '';
 let meteo = null;
+let showThermal = params.get('thermal') !== '0';
 let view = null;  // [from, to] in Unix seconds when zoomed in
 let chart = null;
 let series = null;
@@ -68,15 +71,46 @@ function levelLines(rules) {
 
 const levelColour = { warning: '#d4a017', alert: '#e07000', alarm: '#c62828' };
 
+// The thermal compensation's three series (docs/thermal.md) by role; the quantity shown is one
+// of them, or a health ratio (then none is drawn beside it: another scale).
+const thermalRoles = [
+  ['measured', 'measured', '#1f5fa8', (base) => base],
+  ['predicted', 'thermal prediction', '#00897b', (base) => base.replace(/_m$/, '_thermal_m')],
+  ['compensated', 'compensated (measured − predicted)', '#ad1457', (base) => base.replace(/_m$/, '_compensated_m')],
+];
+const qualityColour = { no_model: 'rgba(120,120,120,0.45)', no_meteo: 'rgba(230,120,0,0.75)', extrapolated: 'rgba(200,170,0,0.6)' };
+
+function thermalRole() {
+  const t = series.thermal;
+  if (!t) return null;
+  const role = thermalRoles.find(([, , , name]) => name(t.quantity) === quantity);
+  return role ? role[0] : null;
+}
+
+function bar(q, value, lod95) {
+  const v = displayValue(q, value);
+  const lod = lod95 === null ? 0 : displayValue(q, lod95);
+  return [v - lod, v, v + lod];
+}
+
 function draw() {
-  const columns = [series.points.map((p) => {
-    const v = displayValue(quantity, p.value);
-    const lod = p.lod95 === null ? 0 : displayValue(quantity, p.lod95);
-    return [p.t, [v - lod, v, v + lod]];
-  })];
+  const columns = [series.points.map((p) => [p.t, bar(quantity, p.value, p.lod95)])];
+  const role = thermalRole();
   const labels = ['time', `${quantity} [${unit(quantity)}]`];
-  const colors = ['#1f5fa8'];
+  const colors = [role ? thermalRoles.find(([r]) => r === role)[2] : '#1f5fa8'];
   const perSeries = {};
+  const thermalDrawn = [];
+  document.querySelector('#thermal').hidden = !role;
+  if (role && showThermal) {
+    for (const [r, label, colour] of thermalRoles) {
+      if (r === role) continue;
+      columns.push(series.thermal[r].map(([t, v, lod]) => [t, bar(quantity, v, lod)]));
+      labels.push(`${label} [${unit(quantity)}]`);
+      colors.push(colour);
+      perSeries[labels.at(-1)] = r === 'predicted' ? { strokePattern: [6, 3], strokeWidth: 1.5 } : {};
+      thermalDrawn.push(r);
+    }
+  }
   if (series.model) {
     columns.push(series.model.points.map(([t, d]) => {
       const v = displayValue(quantity, d);
@@ -96,6 +130,7 @@ function draw() {
   const lines = levelLines(series.alarm_rules);
   const marks = series.alarm_events.filter((e) => ['raise', 'ack', 'clear', 'rtn'].some((k) => e.kind.startsWith(k)));
   const rejected = series.rejected_epochs;
+  const notCompensated = role && showThermal ? series.thermal.not_compensated : [];
   const underlay = (canvas, area, g) => {
     canvas.save();
     for (const l of lines) {
@@ -120,6 +155,13 @@ function draw() {
     for (const r of rejected) {
       const x = g.toDomXCoord(new Date(r.t * 1000));
       canvas.fillRect(x - 1, area.y, 3, area.h);
+    }
+    // The thermal compensation's gaps: a strip at the foot over each run of epochs.
+    for (const run of notCompensated) {
+      const x0 = g.toDomXCoord(new Date((run.from - 450) * 1000));
+      const x1 = g.toDomXCoord(new Date((run.to + 450) * 1000));
+      canvas.fillStyle = qualityColour[run.quality] || 'rgba(120,120,120,0.45)';
+      canvas.fillRect(x0, area.y + area.h - 8, Math.max(3, x1 - x0), 8);
     }
     canvas.restore();
   };
@@ -155,13 +197,30 @@ function draw() {
     chart = new Dygraph(document.querySelector('#chart'), rows, options);
     window.tlsmonChart = chart;  // the chart's own data, for scripts and tests
   }
+  window.tlsmonThermalDrawn = { roles: thermalDrawn, runs: notCompensated.length };
   const n = series.points.length;
   document.querySelector('#chart-note').textContent =
     `${n} point(s) shown of ${series.total} in the window` +
     (series.decimated ? ' (lowest and highest per pixel: zoom in for every epoch)' : ' (every epoch)') +
     `; ${lines.length} alarm level line(s), ${marks.length} alarm mark(s), ${rejected.length} rejected epoch(s)` +
     (series.model ? `; the model d(t, z) fitted at epoch ${series.model.epoch}` : '') +
+    thermalNote(role, notCompensated) +
     (meteoField && meteo ? `; ${meteo[meteoField].length} meteo value(s) of ${meteo.total}` : '') + '.';
+}
+
+// What the thermal compensation adds to the note: the model and the epochs it left out.
+function thermalNote(role, runs) {
+  const t = series.thermal;
+  if (!t) return '';
+  if (!role) return `; thermal model v${t.model.version} of ${t.quantity}`;
+  const m = t.model;
+  const count = {};
+  for (const r of runs) count[r.quality] = (count[r.quality] || 0) + r.epochs;
+  const gaps = Object.entries(count).map(([q, n]) => `${n} ${q.replace('_', ' ')}`).join(', ');
+  return `; thermal model v${m.version} (lags ${m.surface_lag_h} h + ${m.section_lag_h} h, ` +
+    `σ ${displayValue(quantity, m.prediction_sigma).toFixed(2)} ${unit(quantity)}, ` +
+    `${(100 * m.explained_share).toFixed(1)} % of the variance), trained ${formatTime(m.training_from)} – ` +
+    `${formatTime(m.training_to)}` + (showThermal && gaps ? `; epochs marked at the foot: ${gaps}` : '');
 }
 
 async function load() {
@@ -195,6 +254,8 @@ async function start() {
       buttons('#quantities', z.quantities.map((q) => [q, q]), (q) => q === quantity, (q) => { quantity = q; view = null; pick(); load(); });
       buttons('#windows', windows, (s) => s === span, (s) => { span = s; view = null; pick(); load(); });
       buttons('#meteo', meteoChoices, (m) => m === meteoField, (m) => { meteoField = m; pick(); load(); });
+      buttons('#thermal', [['thermal parts', true], ['measured only', false]], (v) => v === showThermal,
+        (v) => { showThermal = v; pick(); draw(); });
     };
     pick();
     await load();

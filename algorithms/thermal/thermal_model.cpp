@@ -175,6 +175,12 @@ std::optional<ThermalModel> fit_thermal_model(const std::vector<AirReading>& air
             m.trend = options.trend;
             m.training_from = times[used.front()];
             m.training_to = times[used.back()];
+            const auto [lowest, highest] = std::minmax_element(
+                used.begin(), used.end(), [&drivers](std::size_t a, std::size_t b) {
+                    return drivers[a].daily_amplitude_c < drivers[b].daily_amplitude_c;
+                });
+            m.amplitude_min_c = drivers[*lowest].daily_amplitude_c;
+            m.amplitude_max_c = drivers[*highest].daily_amplitude_c;
             m.trend_origin = 0.5 * (m.training_from + m.training_to);
             const auto p = static_cast<Eigen::Index>(model_terms(m.trend).size());
             Eigen::MatrixXd X(static_cast<Eigen::Index>(used.size()), p);

@@ -54,9 +54,10 @@ struct ThermalModel {
     double lag1_autocorrelation = 0;  // ρ of consecutive training residuals
     double measurement_variance = 0;  // mean σ_m² over the training observations
     double explained_share = 0;       // 1 − Σr²/Σ(y − ȳ)² (weighted)
-    double training_from = 0, training_to = 0;  // UTC seconds of the first and last used
-    int observations = 0;                       // used (complete drivers)
-    int downweighted = 0;                       // Huber weight < 1 at convergence
+    double training_from = 0, training_to = 0;        // UTC seconds of the first and last used
+    double amplitude_min_c = 0, amplitude_max_c = 0;  // the daily amplitudes the training saw
+    int observations = 0;                             // used (complete drivers)
+    int downweighted = 0;                             // Huber weight < 1 at convergence
     int iterations = 0;
     bool converged = false;
 };

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/csv.hpp"
@@ -10,6 +11,7 @@
 #include "pipeline/core_point_map.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/stored_area_vectors.hpp"
+#include "pipeline/thermal_config.hpp"
 #include "report/data.hpp"
 #include "storage/epoch_database.hpp"
 
@@ -125,6 +127,75 @@ Json keypoint_model_json(const EpochDatabase& db, const SeriesView& view) {
                 {"zone_height_m", zone->z},
                 {"residual_scale", optional_number(m.residual_scale)},
                 {"points", points}};
+}
+
+// The zone quantity the thermal stage compensates that `quantity` belongs to (itself, or the
+// base of its prediction, residual or health): the one with a stored model.
+std::optional<std::string> thermal_base(const EpochDatabase& db, const std::string& zone,
+                                        const std::string& quantity) {
+    std::vector<std::string> candidates{quantity};
+    for (const char* suffix :
+         {"_thermal_m", "_compensated_m", "_thermal_drift_z", "_thermal_spread_ratio"}) {
+        if (quantity.ends_with(suffix))
+            candidates.push_back(quantity.substr(0, quantity.size() - std::strlen(suffix)) + "_m");
+    }
+    for (const auto& c : candidates)
+        if (db.thermal().latest(zone, c)) return c;
+    return std::nullopt;
+}
+
+// Points of another quantity over the view's window, decimated alike: [[t, value, lod95]…].
+Json window_points(const EpochDatabase& db, const SeriesView& view, const std::string& quantity) {
+    SeriesRequest r = view.request;
+    r.quantity = quantity;
+    Json out = Json::array();
+    for (const auto& p : series_view(db, r).points)
+        out.push_back({p.acquired, p.value, optional_number(p.uncertainty)});
+    return out;
+}
+
+// The thermal compensation of the series' zone quantity (docs/thermal.md): the newest model,
+// the measured, predicted and compensated series over the window, and the runs of epochs it
+// did not compensate (no model yet, no meteo) or compensated by extrapolation. Null when the
+// quantity has no thermal model.
+Json thermal_json(const EpochDatabase& db, const SeriesView& view) {
+    const auto& r = view.request;
+    const auto base = thermal_base(db, r.zone, r.quantity);
+    if (!base) return nullptr;
+    const auto m = db.thermal().latest(r.zone, *base);
+    const ThermalQuantities names = thermal_quantities(*base);
+    Json runs = Json::array();
+    bool extending = false;  // the last run goes on at this epoch
+    for (const auto& c : db.thermal().compensations(r.range, r.zone, *base)) {
+        const std::string quality = to_string(c.row.quality);
+        if (c.row.quality == ThermalQuality::compensated) {
+            extending = false;
+        } else if (extending && runs.back()["quality"] == quality) {
+            runs.back()["to"] = c.acquired;
+            runs.back()["epochs"] = runs.back()["epochs"].get<std::int64_t>() + 1;
+        } else {
+            runs.push_back({{"from", c.acquired},
+                            {"to", c.acquired},
+                            {"quality", quality},
+                            {"epochs", 1},
+                            {"reason", c.row.reason}});
+            extending = true;
+        }
+    }
+    return Json{{"quantity", *base},
+                {"model",
+                 {{"version", m->version},
+                  {"epoch", m->epoch},
+                  {"training_from", format_utc(m->training_from)},
+                  {"training_to", format_utc(m->training_to)},
+                  {"surface_lag_h", m->surface_lag_h},
+                  {"section_lag_h", m->section_lag_h},
+                  {"prediction_sigma", m->prediction_sigma},
+                  {"explained_share", m->explained_share}}},
+                {"measured", window_points(db, view, *base)},
+                {"predicted", window_points(db, view, names.predicted)},
+                {"compensated", window_points(db, view, names.compensated)},
+                {"not_compensated", runs}};
 }
 
 std::vector<std::string> zone_order(const EpochDatabase& db, const DashboardSite& site) {
@@ -265,7 +336,8 @@ Json series_json(const EpochDatabase& db, const SeriesView& view) {
                 {"alarm_rules", rules},
                 {"alarm_events", marks},
                 {"rejected_epochs", rejected},
-                {"model", keypoint_model_json(db, view)}};
+                {"model", keypoint_model_json(db, view)},
+                {"thermal", thermal_json(db, view)}};
 }
 
 Json meteo_json(const EpochDatabase& db, const TimeRange& range, std::size_t width) {

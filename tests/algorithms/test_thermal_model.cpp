@@ -160,6 +160,18 @@ TEST(ThermalModel, RecoversAKnownResponseAndPredictsUnseenDaysWithinItsSigma) {
     // Observations before the 30-h spin-up of the grid's longest lags are left out.
     EXPECT_LE(m->observations, static_cast<int>(split) - 100);
     EXPECT_EQ(model_terms(false).size(), 6u);
+    // The daily amplitudes of the epochs it used: those of the training window's drivers.
+    std::vector<double> trained;
+    for (const auto& o : train)
+        if (o.t >= m->training_from && o.t <= m->training_to) trained.push_back(o.t);
+    double lowest = 1e9, highest = -1e9;
+    for (const auto& d : thermal_drivers(s.air, trained, m->lags, options.drivers)) {
+        lowest = std::min(lowest, d.daily_amplitude_c);
+        highest = std::max(highest, d.daily_amplitude_c);
+    }
+    EXPECT_DOUBLE_EQ(m->amplitude_min_c, lowest);
+    EXPECT_DOUBLE_EQ(m->amplitude_max_c, highest);
+    EXPECT_GT(highest - lowest, 1.0);
     // The unseen days: the prediction within half the noise of the exact response, and the
     // residual within ±1.96σ at close to 95 %.
     std::vector<double> times;

@@ -5,7 +5,11 @@
 // the database (sqlite3, not tlsmon's storage code): the model fitted once the series is two
 // days long, each compensated value is measured − predicted, the residual of the last day far
 // below the raw series' thermal swing, the epoch without meteo flagged `no_meteo` with an
-// event and no compensated value; `tlsmon query thermal-models` and bad [thermal] keys.
+// event and no compensated value; `tlsmon query thermal-models` and bad [thermal] keys. Then
+// the daemon serves that database: the series API validates against docs/openapi.yaml with
+// its `thermal` part, and Debian's chromium (headless) draws the zone page with the measured,
+// predicted and compensated series holding exactly the database's values and bounds, the runs
+// of epochs not compensated marked, and the measured series alone on request.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include "report/truth.hpp"
+#include "tests/support/dashboard_browser.hpp"
 #include "tests/support/e2e_scenario.hpp"
+#include "tests/support/modbus_client.hpp"
 #include "tests/support/run_tlsmon.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/text_file.hpp"
@@ -69,6 +75,95 @@ std::string site_text(const fs::path& scans) {
     if (const auto at = site.find(on); at != std::string::npos)
         site.replace(at, on.size(), "[pbm3c2]\nenabled = false");
     return site;
+}
+
+// The zone page of `zone` as the browser drew it, against the database: each series' points
+// (mm) and bounds those stored, epoch by epoch; the runs of epochs not compensated those of
+// thermal_compensations.
+void dashboard_draws_the_thermal_parts(const fs::path& config, const fs::path& db,
+                                       const std::string& zone) {
+    using tlsmon::test::e2e::quoted;
+    const int port = tlsmon::test::free_tcp_port();
+    tlsmon::test::write_text(config, tlsmon::test::read_text(config) +
+                                         "\n[http]\nenabled = true\naddress = \"127.0.0.1\"\n"
+                                         "port = " +
+                                         std::to_string(port) + "\n");
+    const fs::path log = db.parent_path() / "daemon.log";
+    tlsmon::test::DaemonProcess daemon(config, log);
+    const std::string base = "http://127.0.0.1:" + std::to_string(port);
+    ASSERT_TRUE(tlsmon::test::wait_until(
+        [&] { return tlsmon::test::shell("curl -s -f " + base + "/api/v1/site").status == 0; }, 60))
+        << tlsmon::test::read_text(log);
+    const auto openapi =
+        tlsmon::test::shell("/usr/bin/python3 " +
+                            quoted(std::string(TLSMON_SOURCE_DIR) + "/tests/web/openapi_check.py") +
+                            " " + quoted(std::string(TLSMON_SOURCE_DIR) + "/docs/openapi.yaml") +
+                            " " + base + " --series " + zone + " m3c2_median_m");
+    EXPECT_EQ(openapi.status, 0) << openapi.output;
+
+    const fs::path artifacts = tlsmon::test::browser_artifacts("thermal-dashboard");
+    const auto seen = tlsmon::test::dashboard_browser(
+        "thermal " + base + " " + quoted(artifacts.string()) + " " + zone + " m3c2_median_m",
+        artifacts);
+    for (const auto& [page, errors] : seen.at("errors").items())
+        EXPECT_TRUE(errors.empty()) << page << ": " << errors.dump();
+    // What the database holds, in mm by acquisition time.
+    std::map<std::string, std::map<std::int64_t, std::pair<double, double>>> stored;
+    for (const auto& r : sql(db,
+                             "SELECT e.acquired AS t, q.name AS quantity, r.value AS value, "
+                             "ifnull(r.uncertainty, 0) AS bound FROM zone_results r JOIN epochs e "
+                             "ON e.id = r.epoch_id JOIN zones z ON z.id = r.zone_id JOIN "
+                             "quantities q ON q.id = r.quantity_id WHERE z.name = '" +
+                                 zone + "'"))
+        stored[r.at("quantity")][r.at("t")] = {r.at("value").get<double>() * 1e3,
+                                               r.at("bound").get<double>() * 1e3};
+    const auto same = [&](const nlohmann::json& column, const std::string& quantity) {
+        const auto& want = stored.at(quantity);
+        EXPECT_EQ(column.size(), want.size()) << quantity;
+        for (const auto& p : column) {
+            const auto it = want.find(std::llround(p.at(0).get<double>()));
+            ASSERT_NE(it, want.end()) << quantity << " at " << p.dump();
+            EXPECT_NEAR(p.at(1).get<double>(), it->second.first, 1e-9) << quantity;
+            EXPECT_NEAR(p.at(2).get<double>(), it->second.second, 1e-9) << quantity;
+        }
+    };
+    const auto& measured = seen.at("measured");
+    EXPECT_EQ(measured.at("labels"),
+              nlohmann::json::array({"time", "m3c2_median_m [mm]", "thermal prediction [mm]",
+                                     "compensated (measured − predicted) [mm]"}));
+    same(measured.at("columns").at("m3c2_median_m [mm]"), "m3c2_median_m");
+    same(measured.at("columns").at("thermal prediction [mm]"), "m3c2_median_thermal_m");
+    same(measured.at("columns").at("compensated (measured − predicted) [mm]"),
+         "m3c2_median_compensated_m");
+    EXPECT_TRUE(measured.at("toggle_shown"));
+    EXPECT_NE(measured.at("note").get<std::string>().find("thermal model v1"), std::string::npos)
+        << measured.at("note");
+    // The runs of epochs not compensated: the two days before the model, the lost sidecar (and
+    // any extrapolated ones beyond the two training days' weather).
+    int runs = 0;
+    std::map<std::string, int> runs_of;
+    std::string last = "compensated";
+    for (const auto& c : sql(db,
+                             "SELECT c.quality FROM thermal_compensations c JOIN epochs e ON "
+                             "e.id = c.epoch_id WHERE c.zone = '" +
+                                 zone + "' ORDER BY e.acquired")) {
+        const std::string q = c.at("quality");
+        if (q != "compensated" && q != last) ++runs, ++runs_of[q];
+        last = q;
+    }
+    EXPECT_EQ(runs_of["no_model"], 1);
+    EXPECT_EQ(runs_of["no_meteo"], 1);
+    EXPECT_EQ(measured.at("drawn").at("runs"), runs);
+    const auto& compensated = seen.at("compensated");
+    EXPECT_EQ(compensated.at("labels"),
+              nlohmann::json::array({"time", "m3c2_median_compensated_m [mm]", "measured [mm]",
+                                     "thermal prediction [mm]"}));
+    same(compensated.at("columns").at("measured [mm]"), "m3c2_median_m");
+    // "measured only": the page's own quantity alone, nothing marked.
+    const auto& alone = seen.at("measured_only");
+    EXPECT_EQ(alone.at("labels"),
+              nlohmann::json::array({"time", "m3c2_median_compensated_m [mm]"}));
+    EXPECT_EQ(alone.at("drawn").at("runs"), 0);
 }
 
 }  // namespace
@@ -206,6 +301,8 @@ TEST(ThermalCompensation, LearnsTheDailySwingAndLeavesTheStructure) {
     ASSERT_EQ(flags.status, 0) << flags.out;
     EXPECT_NE(flags.out.find(",no_meteo,"), std::string::npos);
     EXPECT_NE(flags.out.find(",compensated,"), std::string::npos);
+
+    dashboard_draws_the_thermal_parts(config, db, "pier_south_face");
 }
 
 TEST(ThermalCompensation, BadKeysAreRefusedWithTheKey) {

@@ -7,19 +7,13 @@
 
 #include <cstdlib>
 
+#include "tests/support/dashboard_browser.hpp"
 #include "tests/support/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon::test::e2e {
 namespace {
-
-fs::path artifacts() {
-    const fs::path dir =
-        fs::path(TLSMON_BINARY).parent_path() / "test-artifacts" / "campaign-dashboard";
-    fs::create_directories(dir);
-    return dir;
-}
 
 json get(int port, const std::string& path) {
     const auto r =
@@ -95,13 +89,11 @@ TEST(CampaignDashboard, TheApiAndTheBrowserShowTheStoredCampaign) {
     EXPECT_EQ(openapi.status, 0) << openapi.output;
 
     // The pages in a real browser.
-    const auto browser = shell(
-        "timeout 240 /usr/bin/python3 " +
-        quoted(std::string(TLSMON_SOURCE_DIR) + "/tests/web/dashboard_browser.py") + " campaign " +
-        quoted("http://127.0.0.1:" + std::to_string(port)) + " " + quoted(artifacts().string()) +
-        " " + std::to_string(id) + " 2>" + quoted((artifacts() / "browser.log").string()));
-    ASSERT_EQ(browser.status, 0) << browser.output << read_text(artifacts() / "browser.log");
-    const json seen = json::parse(browser.output);
+    const fs::path artifacts = browser_artifacts("campaign-dashboard");
+    const json seen =
+        dashboard_browser("campaign " + quoted("http://127.0.0.1:" + std::to_string(port)) + " " +
+                              quoted(artifacts.string()) + " " + std::to_string(id),
+                          artifacts);
     for (const auto& [page, errors] : seen["errors"].items())
         EXPECT_TRUE(errors.empty()) << page << ": " << errors.dump();
     ASSERT_EQ(seen["list"].size(), 1u);

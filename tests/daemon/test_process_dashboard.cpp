@@ -32,6 +32,7 @@
 
 #include "demo/site_config_writer.hpp"
 #include "simulator/scene_file.hpp"
+#include "tests/support/dashboard_browser.hpp"
 #include "tests/support/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -42,9 +43,7 @@ namespace {
 constexpr int kEpochs = 8;
 
 fs::path artifacts() {
-    const fs::path dir = fs::path(TLSMON_BINARY).parent_path() / "test-artifacts" / "dashboard";
-    fs::create_directories(dir);
-    return dir;
+    return browser_artifacts("dashboard");
 }
 
 // HTTP status and body of `curl` on `path` (as is: no normalisation of /../).
@@ -107,16 +106,7 @@ std::vector<float> core_point_array(const fs::path& db, std::int64_t epoch, cons
 }
 
 json browser(const std::string& arguments) {
-    const auto r =
-        shell("timeout 240 /usr/bin/python3 " +
-              quoted(std::string(TLSMON_SOURCE_DIR) + "/tests/web/dashboard_browser.py") + " " +
-              arguments + " 2>" + quoted((artifacts() / "browser.log").string()));
-    if (r.status != 0) {
-        throw std::runtime_error("dashboard_browser.py " + arguments + " exit " +
-                                 std::to_string(r.status) + ": " + r.output + "\n" +
-                                 read_text(artifacts() / "browser.log"));
-    }
-    return json::parse(r.output);
+    return dashboard_browser(arguments, artifacts());
 }
 
 TEST(Dashboard, RealBrowserShowsTheDatabaseAndTheNextEpochByItself) {

@@ -9,6 +9,7 @@ and a screenshot per page in OUT_DIR. The comparison with the database is the ca
   dashboard_browser.py operator BASE OUT_DIR USER PASSWORD RULE COMMENT
   dashboard_browser.py live BASE OUT_DIR READY_FILE TIMEOUT_S
   dashboard_browser.py campaign BASE OUT_DIR CAMPAIGN
+  dashboard_browser.py thermal BASE OUT_DIR ZONE QUANTITY
 """
 import json
 import sys
@@ -222,6 +223,47 @@ def campaign(base, out_dir, number):
     return report
 
 
+def chart_columns(d):
+    """The chart's labels and, per series, its [time, value, 95 % bound] where it has a point."""
+    return d.execute_script("""
+        const g = window.tlsmonChart, labels = g.getLabels(), columns = {};
+        for (let c = 1; c < labels.length; ++c) {
+          columns[labels[c]] = [];
+          for (let i = 0; i < g.numRows(); ++i) {
+            const v = g.getValue(i, c);
+            if (v !== null && Array.isArray(v) && v[1] !== null)
+              columns[labels[c]].push([g.getValue(i, 0) / 1000, v[1], v[2] - v[1]]);
+          }
+        }
+        return { labels, columns, drawn: window.tlsmonThermalDrawn,
+                 note: document.querySelector('#chart-note').textContent,
+                 toggle_shown: !document.querySelector('#thermal').hidden };""")
+
+
+def thermal(base, out_dir, zone, base_quantity):
+    """A compensated quantity's zone page over every epoch: the measured series with its
+    prediction and residual, the same from the residual's page, and after 'measured only'."""
+    from urllib.parse import quote
+    d = browser()
+    report = {"errors": {}}
+    try:
+        compensated = base_quantity[:-2] + "_compensated_m"
+        for name, q in (("measured", base_quantity), ("compensated", compensated)):
+            report["errors"][name] = visit(
+                d, f"{base}/zones/{quote(zone)}?quantity={quote(q)}&window=0",
+                "window.tlsmonChart && window.tlsmonThermalDrawn && window.tlsmonChart.numRows() > 0",
+                out_dir, "zone-thermal-" + name)
+            report[name] = chart_columns(d)
+        buttons = d.find_elements("css selector", "#thermal button")
+        [b for b in buttons if b.text == "measured only"][0].click()
+        wait_for(d, "window.tlsmonThermalDrawn.roles.length === 0")
+        report["measured_only"] = chart_columns(d)
+        report["errors"]["measured_only"] = console_errors(d)
+    finally:
+        d.quit()
+    return report
+
+
 if __name__ == "__main__":
     mode, base, out_dir = sys.argv[1:4]
     if mode == "pages":
@@ -230,6 +272,8 @@ if __name__ == "__main__":
         result = operator(base, out_dir, *sys.argv[4:8])
     elif mode == "campaign":
         result = campaign(base, out_dir, int(sys.argv[4]))
+    elif mode == "thermal":
+        result = thermal(base, out_dir, sys.argv[4], sys.argv[5])
     else:
         result = live(base, out_dir, sys.argv[4], float(sys.argv[5]))
     print(json.dumps(result))
