@@ -151,14 +151,22 @@ int main(int argc, char** argv) {
             const auto tz = report::zone_truth(reference, *truth_at.at(p.acquired), *face);
             raw2 += std::pow(p.value - tz.normal_median, 2);
         }
+        std::map<std::int64_t, std::string> quality_at;
+        for (const auto& c : db.thermal().compensations({scored_from, {}}, std::string(z.name)))
+            quality_at[c.acquired] = to_string(c.row.quality);
         std::vector<double> errors;
         int covered = 0;
+        std::map<std::string, std::pair<int, int>> covered_by_quality;  // within, of
         for (const auto& p : res) {
             const auto tz = report::zone_truth(reference, *truth_at.at(p.acquired), *face);
             const double structural = tz.normal_median - tz.thermal_normal_median;
             const double e = p.value - structural;
             errors.push_back(e);
-            covered += std::abs(e) <= p.uncertainty.value_or(0);
+            const bool within = std::abs(e) <= p.uncertainty.value_or(0);
+            covered += within;
+            auto& [in, of] = covered_by_quality[quality_at[p.acquired]];
+            in += within;
+            ++of;
         }
         double sum = 0, sum2 = 0, max = 0;
         for (const double e : errors) sum += e, sum2 += e * e, max = std::max(max, std::abs(e));
@@ -170,10 +178,9 @@ int main(int argc, char** argv) {
             z.name, raw.size(), (hi - lo) * 1e3, std::sqrt(raw2 / raw.size()) * 1e3, res.size(),
             std::sqrt(sum2 / n) * 1e3, 100.0 * std::sqrt(sum2 / n) / (hi - lo), sum / n * 1e3,
             max * 1e3, 100.0 * covered / n);
-        std::map<std::string, int> quality;
-        for (const auto& c : db.thermal().compensations({scored_from, {}}, std::string(z.name)))
-            ++quality[to_string(c.row.quality)];
-        for (const auto& [q, count] : quality) std::printf("  quality %s: %d\n", q.c_str(), count);
+        for (const auto& [q, c] : covered_by_quality)
+            std::printf("  quality %s: %d epochs, %.1f %% within the 95 %% bound\n", q.c_str(),
+                        c.second, 100.0 * c.first / c.second);
     }
     // Alarms over the whole run, by rule; events of the model health.
     for (const auto& e : db.series().events({}, std::nullopt)) {
@@ -182,9 +189,13 @@ int main(int argc, char** argv) {
             std::printf("alarm %s %s at epoch %d (%s)%s\n", e.rule.c_str(), e.kind.c_str(), epoch,
                         format_utc(e.time).c_str(), epoch >= kScoredFrom ? "" : " [training week]");
         }
-        if (e.kind == "thermal_model_health" || e.kind == "thermal_model")
-            std::printf("event %s %s: %s\n", format_utc(e.time).c_str(), e.kind.c_str(),
-                        e.message.c_str());
+        if (e.kind == "thermal_model_health" || e.kind == "thermal_model") {
+            // At its epoch's acquisition (the event's own time is when it was processed).
+            const auto at = e.epoch ? db.epochs().find(*e.epoch) : std::nullopt;
+            const int epoch =
+                at ? static_cast<int>((at->acquired - reference.time_unix) / 900) : -1;
+            std::printf("event at epoch %d %s: %s\n", epoch, e.kind.c_str(), e.message.c_str());
+        }
     }
     std::printf("step epoch %d (%s), bending change epoch %d\n", kStepEpoch,
                 format_utc(reference.time_unix + 900LL * kStepEpoch).c_str(), kBendingEpoch);

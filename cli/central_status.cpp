@@ -16,6 +16,7 @@ int run_central_status(const ReadOptions& options) {
             s.oldest_pending ? std::optional<std::int64_t>(now - *s.oldest_pending) : std::nullopt;
         print_fields(std::cout,
                      {{"enabled", s.enabled},
+                      {"forward_arrays", s.forward_arrays},
                       {"source", s.database_id},
                       {"pending_entries", s.pending},
                       {"lag_s", optional_cell(lag)},

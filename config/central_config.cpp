@@ -22,6 +22,10 @@ std::vector<SectionKey<CentralConfig>> central_keys() {
                 "Forward this site's epochs, registrations, zone results and events to the "
                 "central PostgreSQL of `url` (docs/central.md); switched on, the site's history "
                 "so far is forwarded first."),
+        K::flag(&CentralConfig::forward_arrays, "forward_arrays",
+                "Forward each epoch's per-core-point arrays (M3C2 distances, LoD95, …) too, from "
+                "the epochs committed while it is on; they are large (4 bytes per core point "
+                "and quantity), so a fleet usually forwards only the zone series."),
         K::text(&CentralConfig::url, "url", "libpq URI or key=value, without a password",
                 "The central database as this site's role reaches it, e.g. "
                 "`postgresql://tlsmon_site_a12@central.example.org/tlsmon`."),

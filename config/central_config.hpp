@@ -17,6 +17,7 @@ namespace tlsmon {
 
 struct CentralConfig {
     bool enabled = false;
+    bool forward_arrays = false;          // per-core-point arrays too (large)
     std::string url;                      // libpq URI or key=value; never with the password in it
     std::filesystem::path password_file;  // "" = libpq's PGPASSFILE or ~/.pgpass
     std::string sslmode;                  // "" = the URL's or libpq's default

@@ -248,9 +248,10 @@ void Daemon::store_site() {
     note_disk();
 }
 
-// The outbox's triggers on or off as [central] enabled says; switched on for the first time,
-// the site's history is queued (docs/central.md).
+// The outbox's triggers on or off as [central] enabled and forward_arrays say; switched on for
+// the first time, the site's history is queued (docs/central.md).
 void Daemon::switch_central_outbox() {
+    db_.central_outbox().set_forward_arrays(config_.central.forward_arrays);
     const std::int64_t queued = db_.central_outbox().set_enabled(config_.central.enabled);
     if (queued > 0) {
         events_.record(db_, "info", "central_forward",

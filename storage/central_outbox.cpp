@@ -1,5 +1,7 @@
 #include "storage/central_outbox.hpp"
 
+#include <algorithm>
+
 #include "storage/connection.hpp"
 
 namespace tlsmon {
@@ -41,13 +43,22 @@ std::int64_t CentralOutbox::set_enabled(bool enabled) {
     });
 }
 
+void CentralOutbox::set_forward_arrays(bool on) {
+    guarded(*c_, "switching the central outbox's arrays", [&] {
+        SQLite::Statement s(c_->db, "UPDATE central_forward SET forward_arrays = ?");
+        s.bind(1, on ? 1 : 0);
+        s.exec();
+    });
+}
+
 CentralForwardState CentralOutbox::state() const {
     return guarded(*c_, "reading the central outbox", [&] {
         SQLite::Transaction tx(c_->db, SQLite::TransactionBehavior::DEFERRED);
         SQLite::Statement s(c_->db,
                             "SELECT enabled, sent_upto, sent_at, last_error, last_error_at,"
                             " failing_since, (SELECT count(*) FROM outbox),"
-                            " (SELECT min(created) FROM outbox), database_id FROM central_forward");
+                            " (SELECT min(created) FROM outbox), database_id, forward_arrays"
+                            " FROM central_forward");
         s.executeStep();
         CentralForwardState st;
         st.enabled = s.getColumn(0).getInt() != 0;
@@ -59,15 +70,20 @@ CentralForwardState CentralOutbox::state() const {
         st.pending = s.getColumn(6).getInt64();
         st.oldest_pending = optional_int64(s.getColumn(7));
         st.database_id = s.getColumn(8).getString();
+        st.forward_arrays = s.getColumn(9).getInt() != 0;
         return st;
     });
 }
 
-std::vector<OutboxEntry> CentralOutbox::pending(int limit) const {
+std::vector<OutboxEntry> CentralOutbox::pending(int limit, int max_arrays) const {
     return guarded(*c_, "reading the central outbox", [&] {
+        // The scan for kinds reads no payload (it follows kind in the row).
         SQLite::Statement s(c_->db,
-                            "SELECT seq, created, kind, payload FROM outbox ORDER BY seq LIMIT ?");
-        s.bind(1, limit);
+                            "SELECT seq, created, kind, payload FROM outbox WHERE seq < coalesce(("
+                            "SELECT seq FROM outbox WHERE kind = 'core_point_array' ORDER BY seq"
+                            " LIMIT 1 OFFSET ?), 9223372036854775807) ORDER BY seq LIMIT ?");
+        s.bind(1, std::max(1, max_arrays));
+        s.bind(2, limit);
         std::vector<OutboxEntry> out;
         while (s.executeStep()) {
             out.push_back({s.getColumn(0).getInt64(), s.getColumn(1).getInt64(),

@@ -16,12 +16,14 @@ struct Connection;
 struct OutboxEntry {
     std::int64_t seq = 0;
     UtcSeconds created = 0;
-    std::string kind;     // epoch, registration, zone_result, alarm_event, system_event
+    std::string kind;     // epoch, registration, zone_result, alarm_event, system_event,
+                          // core_point_array
     std::string payload;  // a JSON object (schema/0020_central_outbox.sql)
 };
 
 struct CentralForwardState {
     bool enabled = false;
+    bool forward_arrays = false;               // the epochs' core point arrays are queued too
     std::string database_id;                   // this database centrally (the batches' source)
     std::int64_t sent_upto = 0;                // the highest seq the central database committed
     std::optional<UtcSeconds> sent_at;         // when
@@ -43,9 +45,14 @@ class CentralOutbox {
     // already holds. Returns the number of entries queued from history.
     std::int64_t set_enabled(bool enabled);
 
+    // Queues the core point arrays of the epochs committed from now on, or stops (schema 0022);
+    // arrays committed while it was off are not queued afterwards.
+    void set_forward_arrays(bool on);
+
     CentralForwardState state() const;
-    // The oldest unsent entries, at most `limit`, in seq order.
-    std::vector<OutboxEntry> pending(int limit) const;
+    // The oldest unsent entries in seq order: at most `limit`, and at most `max_arrays` core
+    // point arrays (each some hundred kB of hex), ending before the next one.
+    std::vector<OutboxEntry> pending(int limit, int max_arrays = 8) const;
     // The central database committed every entry up to `seq`: in one transaction they are
     // deleted, sent_upto advanced and the failure cleared. A seq at or below sent_upto (a
     // batch re-sent after a crash) changes nothing.

@@ -10,7 +10,8 @@
 //   - the central database read-only: the sites go on, raise the system alarm, catch up;
 //   - at the end each site's SQLite file (read by sqlite3) equals its rows in the central
 //     database (read by psql): epochs, registrations, zone results to the bit, alarm and
-//     system events.
+//     system events; site "c" (forward_arrays) its core point arrays byte for byte, the
+//     others none.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -145,6 +146,20 @@ void expect_same(const PostgresCluster& pg, const SiteRun& s) {
                            "SELECT a.id || '|' || r.name || ' ' || a.kind || ' ' ||"
                            " a.level || ' ' || a.actor || ' ' || a.time AS l FROM"
                            " alarm_events a JOIN alarm_rules r ON r.id = a.rule_id"));
+    // Core point arrays: only c forwards them, every one byte for byte.
+    const auto arrays = psql_keyed(pg,
+                                   "SELECT sha256 || ' ' || quantity, encode(data, 'hex') FROM"
+                                   " tlsmon.core_point_arrays WHERE site_id = " +
+                                       site);
+    if (s.name == "c") {
+        EXPECT_GT(arrays.size(), 20u);
+        EXPECT_TRUE(arrays == sqlite_keyed(s.db,
+                                           "SELECT e.sha256 || ' ' || a.quantity || '|' ||"
+                                           " lower(hex(a.data)) AS l FROM core_point_arrays a"
+                                           " JOIN epochs e ON e.id = a.epoch_id"));
+    } else {
+        EXPECT_TRUE(arrays.empty());
+    }
     // Messages on one line in both (one may hold a newline).
     EXPECT_EQ(psql_keyed(pg,
                          "SELECT site_event_id, kind || ' ' || level || ' ' ||"
@@ -187,6 +202,8 @@ TEST(CentralDaemons, ThreeSitesThroughAnOutageKillsAndAReadOnlyServerArriveWhole
                                  "\"\nbatch_size = " + std::to_string(batch) +
                                  "\npoll = \"200ms\"\nretry_initial = \"200ms\"\nretry_max = 1\n"
                                  "alarm_after = 0\n");
+        // c forwards its core point arrays too.
+        if (r.name == "c") write_text(r.config, read_text(r.config) + "forward_arrays = true\n");
         r.db = r.run / "tlsmon.sqlite";
         r.log = r.run / "daemon.log";
         sites.push_back(std::move(r));

@@ -1,8 +1,11 @@
 // The central database (docs/central.md) on a real PostgreSQL 15 started by the test: its
 // migrations, a site's outbox forwarded into it and compared with the site's SQLite file
-// (psql against sqlite3), a batch sent twice, and what one site's credential may not do.
+// (psql against sqlite3), a batch sent twice, what one site's credential may not do, and the
+// per-core-point arrays forwarded only when asked, byte for byte.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
 #include <map>
 
 #include "central/central_forward.hpp"
@@ -18,11 +21,32 @@ TEST(CentralDatabase, MigratedOnceWithMonthlyPartitionsAndRowLevelSecurity) {
     EXPECT_TRUE(migrate_central(c).empty()) << "a second migrate applied something";
     EXPECT_EQ(central.pg.psql("SELECT string_agg(c.relname, ',' ORDER BY c.relname) FROM"
                               " pg_partitioned_table p JOIN pg_class c ON c.oid = p.partrelid"),
-              "alarm_events,epochs,registrations,system_events,zone_results\n");
+              "alarm_events,core_point_arrays,epochs,registrations,system_events,zone_results\n");
     EXPECT_EQ(central.pg.psql("SELECT count(*) FROM pg_class c JOIN pg_namespace n ON"
                               " n.oid = c.relnamespace WHERE n.nspname = 'tlsmon' AND"
                               " c.relrowsecurity"),
-              "7\n");
+              "8\n");
+}
+
+// A central database of version 1 with a month already partitioned: migration 2 gives that
+// month its core point arrays' partition too (a new month gets it from ensure_month).
+TEST(CentralDatabase, MigrationTwoPartitionsTheMonthsAlreadyThere) {
+    PostgresCluster pg;
+    CentralTarget admin;
+    admin.url = pg.url("postgres");
+    admin.password_file = pg.admin_password_file();
+    PgConnection c = PgConnection::open(admin);
+    c.exec("CREATE SCHEMA tlsmon");
+    c.exec(
+        "CREATE TABLE tlsmon.schema_migrations (version integer PRIMARY KEY, name text NOT"
+        " NULL, applied timestamptz NOT NULL DEFAULT now())");
+    c.exec_script(central_migrations()[0].sql);
+    c.exec("INSERT INTO tlsmon.schema_migrations (version, name) VALUES (1, 'central')");
+    c.exec("SELECT tlsmon.ensure_month('2027-01-15T00:00:00Z')");
+    const std::string arrays_jan =
+        "SELECT to_regclass('tlsmon.core_point_arrays_2027_01') IS NOT NULL";
+    EXPECT_EQ(migrate_central(c), std::vector<int>{2});
+    EXPECT_EQ(pg.psql(arrays_jan), "t\n");
 }
 
 TEST(CentralDatabase, ForwardedRowsEqualTheSiteDatabaseAndABatchSentTwiceChangesNothing) {
@@ -114,6 +138,76 @@ TEST(CentralDatabase, ASiteCannotWriteOrSeeAnotherSitesRows) {
     r = central.pg.psql_as("intruder", central.dir / "x.pw",
                            "SELECT tlsmon.forward('s', '[]'::jsonb)");
     EXPECT_NE(r.output.find("is not a registered tlsmon site"), std::string::npos) << r.output;
+}
+
+// [central] forward_arrays: an epoch's arrays are queued only while it is on, at most 8 go in
+// one batch, and they arrive byte for byte (psql's hex against sqlite3's), under the same
+// row-level security as the results.
+TEST(CentralDatabase, CorePointArraysAreForwardedOnlyWhenAskedAndArriveByteForByte) {
+    Central central;
+    SiteDatabase site;
+    const auto commit_arrays = [&](int k, const char* t) {
+        const auto id =
+            site.db.epochs().insert({fake_sha256(k + 1), parse_utc(t), "/s", 10, {}}).id;
+        site.db.epochs().claim(id);
+        EpochResults r;
+        for (int q = 0; q < 5; ++q) {
+            CorePointArray a{"quantity_" + std::to_string(q), {}};
+            for (int i = 0; i < 1000; ++i) a.values.push_back(float(k) + 1e-3F * float(i * q));
+            a.values[7] = std::numeric_limits<float>::quiet_NaN();  // no distance there
+            r.core_point_arrays.push_back(a);
+        }
+        site.db.results().commit(id, r);
+    };
+    const auto arrays_queued = [&] {
+        return e2e::sql(site.path(),
+                        "SELECT count(*) AS n FROM outbox WHERE kind ="
+                        " 'core_point_array'")
+            .at(0)
+            .at("n")
+            .get<int>();
+    };
+    commit_arrays(3, "2027-02-01T00:30:00Z");
+    EXPECT_EQ(arrays_queued(), 0) << "forward_arrays is off";
+    site.db.central_outbox().set_forward_arrays(true);
+    EXPECT_TRUE(site.db.central_outbox().state().forward_arrays);
+    commit_arrays(4, "2027-02-01T00:45:00Z");
+    commit_arrays(5, "2027-02-01T01:00:00Z");
+    ASSERT_EQ(arrays_queued(), 10);
+
+    PgConnection a = central.as_site("a");
+    const std::string source = site.db.central_outbox().state().database_id;
+    int batches = 0;
+    for (auto batch = site.db.central_outbox().pending(500); !batch.empty();
+         batch = site.db.central_outbox().pending(500), ++batches) {
+        EXPECT_LE(std::count_if(batch.begin(), batch.end(),
+                                [](const OutboxEntry& e) { return e.kind == "core_point_array"; }),
+                  8);
+        site.db.central_outbox().mark_sent(forward_batch(a, source, batch), now_utc());
+    }
+    EXPECT_EQ(batches, 2);
+    EXPECT_EQ(central.pg.psql("SELECT count(*) FROM tlsmon.core_point_arrays"), "10\n");
+    std::map<std::string, std::string> site_hex, central_hex;
+    for (const auto& row : e2e::sql(site.path(),
+                                    "SELECT e.sha256 || '|' || a.quantity AS k, lower(hex(a.data))"
+                                    " AS h FROM core_point_arrays a JOIN epochs e ON"
+                                    " e.id = a.epoch_id WHERE e.acquired >= " +
+                                        std::to_string(parse_utc("2027-02-01T00:45:00Z"))))
+        site_hex[row.at("k")] = row.at("h");
+    for (const auto& l :
+         lines(central.pg.psql("SELECT sha256 || '|' || quantity, encode(data, 'hex') FROM"
+                               " tlsmon.core_point_arrays"))) {
+        const auto bar = l.rfind('|');
+        central_hex[l.substr(0, bar)] = l.substr(bar + 1);
+    }
+    EXPECT_EQ(central_hex.size(), 10u);
+    EXPECT_TRUE(central_hex == site_hex);
+    // Site b sees none of them; a partition of this month was made for them.
+    const auto r = central.pg.psql_as(site_role("b"), central.password_file("b"),
+                                      "SELECT count(*) FROM tlsmon.core_point_arrays");
+    EXPECT_EQ(r.output, "0\n");
+    EXPECT_EQ(central.pg.psql("SELECT to_regclass('tlsmon.core_point_arrays_2027_02') IS NOT NULL"),
+              "t\n");
 }
 
 // sslmode = verify-full: the server's certificate must be signed by sslrootcert and name the

@@ -4,10 +4,12 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "fake_sha256.hpp"
 #include "storage/epoch_database.hpp"
+#include "storage/schema_migrations.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace tlsmon {
@@ -148,5 +150,51 @@ TEST(CentralOutbox, AFailedCommitLeavesNoEntry) {
     EXPECT_TRUE(f.all().empty());
 }
 
+// Migration 0022 makes the outbox anew for its wider CHECK: the entries not yet sent are kept
+// and the sequence goes on past every seq given out before (none is used twice).
+TEST(CentralOutbox, Migration22KeepsTheEntriesAndTheSequence) {
+    test::TempDir dir;
+    const auto path = dir / "epochs.sqlite";
+    {
+        SQLite::Database raw(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+        raw.exec(
+            "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT NULL,"
+            " applied INTEGER NOT NULL)");
+        for (const auto& m : schema_migrations()) {
+            if (m.version >= 22) break;
+            raw.exec(m.sql);
+            raw.exec("INSERT INTO schema_migrations VALUES (" + std::to_string(m.version) + ", '" +
+                     m.name + "', 0)");
+        }
+        for (int k = 1; k <= 3; ++k)
+            raw.exec("INSERT INTO outbox (created, kind, payload) VALUES (" + std::to_string(k) +
+                     ", 'epoch', '{\"k\": " + std::to_string(k) + "}')");
+        raw.exec("DELETE FROM outbox WHERE seq = 3");  // sent
+        raw.exec("UPDATE central_forward SET sent_upto = 3");
+    }
+    auto db = EpochDatabase::open(path, EpochDatabase::Mode::read_write);
+    EXPECT_EQ(db.schema_version(), EpochDatabase::latest_schema_version());
+    const auto kept = db.central_outbox().pending(10);
+    ASSERT_EQ(kept.size(), 2u);
+    EXPECT_EQ(kept[1].seq, 2);
+    EXPECT_EQ(kept[1].payload, "{\"k\": 2}");
+    db.central_outbox().set_enabled(true);
+    db.central_outbox().set_forward_arrays(true);
+    const auto id = db.epochs().insert({test::fake_sha256(1), 1000, "/ingest/a.ptx", 10, {}}).id;
+    db.epochs().claim(id);
+    EpochResults r;
+    r.core_point_arrays = {{"m3c2_distance_m", {1.5F, -2.25F}}};
+    db.results().commit(id, r);
+    const auto after = db.central_outbox().pending(10);
+    ASSERT_GE(after.size(), 4u);  // the two kept, the array, the epoch (and its events)
+    for (std::size_t i = 2; i < after.size(); ++i)  // after the 3 given out before the migration
+        EXPECT_EQ(after[i].seq, static_cast<std::int64_t>(i) + 2) << after[i].kind;
+    const auto array = std::find_if(after.begin(), after.end(),
+                                    [](const auto& e) { return e.kind == "core_point_array"; });
+    ASSERT_NE(array, after.end());
+    // 1.5 and −2.25 as float32, little-endian.
+    EXPECT_NE(array->payload.find("\"data\":\"0000c03f000010c0\""), std::string::npos)
+        << array->payload;
+}
 }  // namespace
 }  // namespace tlsmon
