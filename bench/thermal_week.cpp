@@ -151,6 +151,16 @@ int main(int argc, char** argv) {
             const auto tz = report::zone_truth(reference, *truth_at.at(p.acquired), *face);
             raw2 += std::pow(p.value - tz.normal_median, 2);
         }
+        // The measurement's own error in the training week, beside the scored week's: a model
+        // σ learnt on a calmer week is too small for a rougher one.
+        double train2 = 0;
+        const auto trained = db.series().points(z.name, "m3c2_median_m", {{}, scored_from - 1});
+        for (const auto& p : trained) {
+            const auto tz = report::zone_truth(reference, *truth_at.at(p.acquired), *face);
+            train2 += std::pow(p.value - tz.normal_median, 2);
+        }
+        std::printf("%s: raw M3C2 median error RMS in the training week %.3f mm\n", z.name,
+                    std::sqrt(train2 / std::max<std::size_t>(1, trained.size())) * 1e3);
         std::map<std::int64_t, std::string> quality_at;
         for (const auto& c : db.thermal().compensations({scored_from, {}}, std::string(z.name)))
             quality_at[c.acquired] = to_string(c.row.quality);

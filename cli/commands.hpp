@@ -460,12 +460,17 @@ int run_central_status(const ReadOptions& options);
 // `tlsmon fleet sites|status|query series|query alarms --central URL`: the central
 // database's view of every site, as the site's own `tlsmon query` prints its own.
 struct FleetOptions {
-    std::string action;  // sites, status, series, alarms
+    std::string action;  // sites, status, series, alarms, serve
     std::string central, password_file;
     ReadOptions read;  // format, from, to
     std::string site, zone, quantity;
     std::optional<double> min_abs;
+    std::string address = "127.0.0.1";  // serve: where the fleet's page listens
+    int port = 8090;
+    std::filesystem::path web_root;  // "" = the installed dashboard files
 };
 int run_fleet(const FleetOptions& options);
+// `fleet serve` (cli/fleet_serve.cpp).
+int serve_fleet(const FleetOptions& options);
 
 }  // namespace tlsmon

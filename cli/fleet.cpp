@@ -5,49 +5,11 @@
 
 #include "central/fleet_queries.hpp"
 #include "cli/commands.hpp"
+#include "cli/fleet_table.hpp"
 
 namespace tlsmon {
 
 namespace {
-
-// Columns whose text is a number or a flag; every other is text.
-enum class Kind { text, integer, real, flag };
-const std::map<std::string, Kind> kKinds{{"epochs", Kind::integer},   {"entries", Kind::integer},
-                                         {"n", Kind::integer},        {"value", Kind::real},
-                                         {"uncertainty", Kind::real}, {"significant", Kind::flag}};
-
-Cell cell(const std::optional<std::string>& text, Kind kind) {
-    if (!text) return {};
-    switch (kind) {
-        case Kind::integer:
-            return std::stoll(*text);
-        case Kind::real:
-            return std::stod(*text);
-        case Kind::flag:
-            return *text == "t";
-        case Kind::text:
-            break;
-    }
-    return *text;
-}
-
-// The values of `value` and `uncertainty` are in the unit of their quantity (`rounded_as`).
-Table table_of(const PgResult& r, const std::string& quantity) {
-    Table t;
-    t.columns = r.columns;
-    std::vector<Kind> kinds;
-    for (const auto& c : r.columns) {
-        const auto k = kKinds.find(c);
-        kinds.push_back(k == kKinds.end() ? Kind::text : k->second);
-        t.rounded_as.push_back((c == "value" || c == "uncertainty") ? quantity : "");
-    }
-    for (const auto& row : r.rows) {
-        std::vector<Cell> cells;
-        for (std::size_t i = 0; i < row.size(); ++i) cells.push_back(cell(row[i], kinds[i]));
-        t.rows.push_back(std::move(cells));
-    }
-    return t;
-}
 
 std::optional<std::int64_t> bound(const std::string& text) {
     if (text.empty()) return std::nullopt;
@@ -57,6 +19,7 @@ std::optional<std::int64_t> bound(const std::string& text) {
 }  // namespace
 
 int run_fleet(const FleetOptions& o) {
+    if (o.action == "serve") return serve_fleet(o);
     return run_reporting_errors("fleet " + o.action, [&] {
         PgConnection c =
             PgConnection::open(command_target(o.central, o.password_file, "tlsmon fleet"));
@@ -76,7 +39,7 @@ int run_fleet(const FleetOptions& o) {
             r = fleet_alarms(c, o.site, from, to);
             quantity.clear();
         }
-        print(std::cout, table_of(r, quantity), o.read.format);
+        print(std::cout, fleet_table(r, quantity), o.read.format);
     });
 }
 

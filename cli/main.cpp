@@ -1106,6 +1106,11 @@ void add_fleet(CLI::App& app, CommandLine& c) {
     status->add_option("--min-abs", so->min_abs, "Only values with |value| at least this");
     status->add_option("--site", so->site, "Only this site");
     status->add_option("--quantity", so->quantity, "Only this quantity");
+    auto [serve, sv] = add(cmd, "serve", "The fleet's page in a browser (read only)");
+    serve->add_option("--address", sv->address, "Listen address (default 127.0.0.1)");
+    serve->add_option("--port", sv->port, "Listen port (default 8090)")
+        ->check(CLI::Range(1, 65535));
+    serve->add_option("--web-root", sv->web_root, "The dashboard's files (default: installed)");
     auto* query = cmd->add_subcommand("query", "A series or the alarm events");
     query->require_subcommand(1);
     auto [series, se] = add(query, "series", "One zone quantity of one site over time");

@@ -129,10 +129,10 @@ Json keypoint_model_json(const EpochDatabase& db, const SeriesView& view) {
                 {"points", points}};
 }
 
-// The zone quantity the thermal stage compensates that `quantity` belongs to (itself, or the
-// base of its prediction, residual or health): the one with a stored model.
-std::optional<std::string> thermal_base(const EpochDatabase& db, const std::string& zone,
-                                        const std::string& quantity) {
+// The newest thermal model of the zone quantity `quantity` belongs to (itself, or the base of
+// its prediction, residual or health); none when there is none.
+std::optional<ThermalModelRow> thermal_model_of(const EpochDatabase& db, const std::string& zone,
+                                                const std::string& quantity) {
     std::vector<std::string> candidates{quantity};
     for (const char* suffix :
          {"_thermal_m", "_compensated_m", "_thermal_drift_z", "_thermal_spread_ratio"}) {
@@ -140,7 +140,7 @@ std::optional<std::string> thermal_base(const EpochDatabase& db, const std::stri
             candidates.push_back(quantity.substr(0, quantity.size() - std::strlen(suffix)) + "_m");
     }
     for (const auto& c : candidates)
-        if (db.thermal().latest(zone, c)) return c;
+        if (auto m = db.thermal().latest(zone, c)) return m;
     return std::nullopt;
 }
 
@@ -160,13 +160,13 @@ Json window_points(const EpochDatabase& db, const SeriesView& view, const std::s
 // quantity has no thermal model.
 Json thermal_json(const EpochDatabase& db, const SeriesView& view) {
     const auto& r = view.request;
-    const auto base = thermal_base(db, r.zone, r.quantity);
-    if (!base) return nullptr;
-    const auto m = db.thermal().latest(r.zone, *base);
-    const ThermalQuantities names = thermal_quantities(*base);
+    const auto m = thermal_model_of(db, r.zone, r.quantity);
+    if (!m) return nullptr;
+    const std::string& base = m->quantity;
+    const ThermalQuantities names = thermal_quantities(base);
     Json runs = Json::array();
     bool extending = false;  // the last run goes on at this epoch
-    for (const auto& c : db.thermal().compensations(r.range, r.zone, *base)) {
+    for (const auto& c : db.thermal().compensations(r.range, r.zone, base)) {
         const std::string quality = to_string(c.row.quality);
         if (c.row.quality == ThermalQuality::compensated) {
             extending = false;
@@ -182,7 +182,7 @@ Json thermal_json(const EpochDatabase& db, const SeriesView& view) {
             extending = true;
         }
     }
-    return Json{{"quantity", *base},
+    return Json{{"quantity", base},
                 {"model",
                  {{"version", m->version},
                   {"epoch", m->epoch},
@@ -192,7 +192,7 @@ Json thermal_json(const EpochDatabase& db, const SeriesView& view) {
                   {"section_lag_h", m->section_lag_h},
                   {"prediction_sigma", m->prediction_sigma},
                   {"explained_share", m->explained_share}}},
-                {"measured", window_points(db, view, *base)},
+                {"measured", window_points(db, view, base)},
                 {"predicted", window_points(db, view, names.predicted)},
                 {"compensated", window_points(db, view, names.compensated)},
                 {"not_compensated", runs}};

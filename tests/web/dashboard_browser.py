@@ -10,6 +10,7 @@ and a screenshot per page in OUT_DIR. The comparison with the database is the ca
   dashboard_browser.py live BASE OUT_DIR READY_FILE TIMEOUT_S
   dashboard_browser.py campaign BASE OUT_DIR CAMPAIGN
   dashboard_browser.py thermal BASE OUT_DIR ZONE QUANTITY
+  dashboard_browser.py fleet BASE OUT_DIR
 """
 import json
 import sys
@@ -264,6 +265,38 @@ def thermal(base, out_dir, zone, base_quantity):
     return report
 
 
+def fleet(base, out_dir):
+    """The fleet's page: its sites and newest values as shown, then the first value's row
+    clicked and its series as the chart holds it."""
+    d = browser()
+    report = {"errors": {}}
+    try:
+        report["errors"]["fleet"] = visit(
+            d, base + "/", "document.querySelectorAll('#status tr[data-zone]').length > 0 &&"
+            " document.querySelectorAll('#sites tr[data-site]').length > 0", out_dir, "fleet")
+        report["sites"] = d.execute_script("""
+            return [...document.querySelectorAll('#sites tr[data-site]')].map(
+              tr => [...tr.querySelectorAll('td')].map(td => td.textContent));""")
+        report["status"] = d.execute_script("""
+            return [...document.querySelectorAll('#status tr[data-zone]')].map(tr => ({
+              site: tr.dataset.site, zone: tr.dataset.zone, quantity: tr.dataset.quantity,
+              value: Number(tr.querySelector('td.value').dataset.value),
+              text: tr.querySelector('td.value').textContent}));""")
+        d.execute_script("document.querySelector('#status tr[data-zone]').click()")
+        wait_for(d, "window.tlsmonChart && window.tlsmonChart.numRows() > 0")
+        time.sleep(0.3)
+        d.save_screenshot(f"{out_dir}/fleet-series.png")
+        report["series"] = d.execute_script("""
+            const g = window.tlsmonChart, s = window.tlsmonFleetSeries, rows = [];
+            for (let i = 0; i < g.numRows(); ++i) rows.push([g.getValue(i, 0) / 1000, g.getValue(i, 1)[1]]);
+            return { site: s.site, zone: s.zone, quantity: s.quantity, rows,
+                     title: document.querySelector('#series-title').textContent };""")
+        report["errors"]["series"] = console_errors(d)
+    finally:
+        d.quit()
+    return report
+
+
 if __name__ == "__main__":
     mode, base, out_dir = sys.argv[1:4]
     if mode == "pages":
@@ -274,6 +307,8 @@ if __name__ == "__main__":
         result = campaign(base, out_dir, int(sys.argv[4]))
     elif mode == "thermal":
         result = thermal(base, out_dir, sys.argv[4], sys.argv[5])
+    elif mode == "fleet":
+        result = fleet(base, out_dir)
     else:
         result = live(base, out_dir, sys.argv[4], float(sys.argv[5]))
     print(json.dumps(result))
