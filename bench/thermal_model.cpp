@@ -1,10 +1,14 @@
 // The thermal model on the simulator's own zone displacement (no scans rendered): a zone's
-// true change along its normal plus the M3C2 median's noise, the weather station's air at each
+// true change along its normal plus a measurement error, the weather station's air at each
 // epoch; trains on the first `days` and scores the next `days`. Prints the fit's time (the
 // issue's 50 ms for 7 days of 672 epochs), the residual's RMS against the raw thermal swing,
-// and the σ's coverage. Usage: bench_thermal_model [seed] [days] [noise_mm]
+// and the σ's coverage; over a range of weather seeds also the coverage's spread from week to
+// week. The measurement error is white (σ noise_mm) or, with correlation_h > 0, a first-order
+// autoregressive one of that time constant (a registration's error that wanders over hours).
+// Usage: bench_thermal_model [seed|first-last] [days] [noise_mm] [correlation_h]
 #include "algorithms/thermal/thermal_model.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -40,12 +44,15 @@ double face_median(const sim::Site& site, const Face& f, int epoch, const sim::T
     return median(v);
 }
 
-}  // namespace
+struct Score {
+    double coverage = 0;                     // share of the scored epochs within 1.96 σ
+    double rms = 0;                          // of the residual
+    double sigma = 0;                        // RMS of the σ given
+    int within[2] = {0, 0}, of[2] = {0, 0};  // in the training's amplitudes, extrapolated
+};
 
-int main(int argc, char** argv) {
-    const std::uint64_t seed = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 11;
-    const int days = argc > 2 ? std::atoi(argv[2]) : 7;
-    const double noise = (argc > 3 ? std::atof(argv[3]) : 0.15) * 1e-3;
+// One weather seed: two faces' series, the model trained on the first `days`, the next scored.
+std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double correlation_h) {
     sim::Site site = sim::preset_small();
     site.weather.seed = seed;
     const sim::Pier& p = site.pier;
@@ -57,7 +64,10 @@ int main(int argc, char** argv) {
     std::vector<std::vector<thermal::Observation>> obs(2);
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> normal(0.0, 1.0);
-    std::vector<double> zero(2);
+    // AR(1) of stationary σ `noise`: e_k = φ e_{k−1} + √(1 − φ²)·noise·n_k.
+    const double phi = correlation_h > 0 ? std::exp(-0.25 / correlation_h) : 0.0;
+    std::vector<double> zero(2), error(2);
+    for (int f = 0; f < 2; ++f) error[f] = noise * normal(rng);
     for (int e = 0; e < epochs; ++e) {
         const std::int64_t t = sim::kDefaultStartUtc + 900LL * e;
         const auto c = sim::epoch_conditions(site, e, e * 0.25, t);
@@ -65,11 +75,13 @@ int main(int argc, char** argv) {
         for (int f = 0; f < 2; ++f) {
             const double truth = face_median(site, faces[f], e, c.bending);
             if (e == 0) zero[f] = truth;
-            obs[f].push_back({double(t), truth - zero[f] + noise * normal(rng), noise});
+            if (e > 0) error[f] = phi * error[f] + std::sqrt(1 - phi * phi) * noise * normal(rng);
+            obs[f].push_back({double(t), truth - zero[f] + error[f], noise});
         }
     }
     thermal::ModelOptions options;
     options.drivers.location = {site.weather.latitude_deg, site.weather.longitude_deg};
+    std::vector<Score> scores;
     for (int f = 0; f < 2; ++f) {
         const std::vector<thermal::Observation> train(obs[f].begin(),
                                                       obs[f].begin() + days * per_day);
@@ -86,26 +98,79 @@ int main(int argc, char** argv) {
         std::vector<double> times;
         for (const auto& o : obs[f]) times.push_back(o.t);
         const auto drivers = thermal::thermal_drivers(air, times, model->lags, options.drivers);
-        double sum2 = 0, lo = 1e9, hi = -1e9;
+        double sum2 = 0, sigma2 = 0, lo = 1e9, hi = -1e9;
         int n = 0, covered = 0;
+        Score s;
+        const double slack = 0.25 * (model->amplitude_max_c - model->amplitude_min_c);
         for (std::size_t i = days * per_day; i < obs[f].size(); ++i) {
             if (!drivers[i].complete) continue;
             const auto pr = thermal::predict(*model, drivers[i], times[i], noise);
             const double r = obs[f][i].value - pr.value;
             sum2 += r * r;
+            sigma2 += pr.sigma * pr.sigma;
             ++n;
             covered += std::abs(r) <= 1.96 * pr.sigma;
+            const bool beyond = drivers[i].daily_amplitude_c < model->amplitude_min_c - slack ||
+                                drivers[i].daily_amplitude_c > model->amplitude_max_c + slack;
+            s.within[beyond] += std::abs(r) <= 1.96 * pr.sigma;
+            ++s.of[beyond];
             lo = std::min(lo, obs[f][i].value);
             hi = std::max(hi, obs[f][i].value);
         }
+        s.coverage = 100.0 * covered / n;
+        s.rms = std::sqrt(sum2 / n);
+        s.sigma = std::sqrt(sigma2 / n);
         std::printf(
-            "%s face, seed %llu: fit %.1f ms on %d epochs (lags %.1f h + %.1f h, s %.3f mm, "
-            "rho %.2f, R2 %.4f, %d iterations); scored %d epochs: swing %.2f mm, residual RMS "
-            "%.3f mm (%.1f %% of the swing), 95 %% coverage %.1f %%\n",
+            "%s face, seed %llu: fit %.1f ms on %d epochs (lags %.1f h + %.1f h, s %.3f mm "
+            "(in sample %.3f), rho %.2f, R2 %.4f, %d iterations); scored %d epochs: swing %.2f "
+            "mm, residual RMS %.3f mm (%.1f %% of the swing), σ %.3f mm, 95 %% coverage %.1f "
+            "%%\n",
             faces[f].name, static_cast<unsigned long long>(seed), ms, model->observations,
-            model->lags.surface_h, model->lags.section_h, model->residual_sigma * 1e3,
-            model->lag1_autocorrelation, model->explained_share, model->iterations, n,
-            (hi - lo) * 1e3, std::sqrt(sum2 / n) * 1e3, 100.0 * std::sqrt(sum2 / n) / (hi - lo),
-            100.0 * covered / n);
+            model->lags.surface_h, model->lags.section_h, model->prediction_sigma * 1e3,
+            model->residual_sigma * 1e3, model->lag1_autocorrelation, model->explained_share,
+            model->iterations, n, (hi - lo) * 1e3, s.rms * 1e3, 100.0 * s.rms / (hi - lo),
+            s.sigma * 1e3, s.coverage);
+        scores.push_back(s);
     }
+    return scores;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string seeds = argc > 1 ? argv[1] : "11";
+    const auto dash = seeds.find('-');
+    const std::uint64_t first = std::strtoull(seeds.c_str(), nullptr, 10);
+    const std::uint64_t last =
+        dash == std::string::npos ? first : std::strtoull(seeds.c_str() + dash + 1, nullptr, 10);
+    const int days = argc > 2 ? std::atoi(argv[2]) : 7;
+    const double noise = (argc > 3 ? std::atof(argv[3]) : 0.15) * 1e-3;
+    const double correlation_h = argc > 4 ? std::atof(argv[4]) : 0.0;
+    std::vector<double> coverage, ratio;
+    int in_band = 0, within[2] = {0, 0}, of[2] = {0, 0};
+    for (std::uint64_t seed = first; seed <= last; ++seed)
+        for (const Score& s : score_seed(seed, days, noise, correlation_h)) {
+            for (int k = 0; k < 2; ++k) within[k] += s.within[k], of[k] += s.of[k];
+            coverage.push_back(s.coverage);
+            ratio.push_back(s.rms / s.sigma);
+            in_band += s.coverage >= 93.0 && s.coverage <= 98.0;
+        }
+    if (coverage.size() < 2) return 0;
+    double mean = 0;
+    for (const double c : coverage) mean += c;
+    std::sort(coverage.begin(), coverage.end());
+    std::sort(ratio.begin(), ratio.end());
+    std::printf(
+        "%zu scored weeks (seeds %llu-%llu, both faces): 95 %% coverage mean %.1f %%, min %.1f "
+        "%%, median %.1f %%, max %.1f %%; %d of %zu within [93, 98] %%; residual RMS / σ median "
+        "%.2f (min %.2f, max %.2f)\n",
+        coverage.size(), static_cast<unsigned long long>(first),
+        static_cast<unsigned long long>(last), mean / double(coverage.size()), coverage.front(),
+        median(coverage), coverage.back(), in_band, coverage.size(), median(ratio), ratio.front(),
+        ratio.back());
+    std::printf(
+        "  epochs within the training's daily amplitudes: %d, %.1f %% within the 95 %% "
+        "bound; extrapolated: %d, %.1f %%\n",
+        of[0], 100.0 * within[0] / std::max(1, of[0]), of[1],
+        100.0 * within[1] / std::max(1, of[1]));
 }

@@ -71,6 +71,8 @@ thermal::ThermalModel from_row(const ThermalModelRow& r) {
     m.explained_share = r.explained_share;
     m.training_from = static_cast<double>(r.training_from);
     m.training_to = static_cast<double>(r.training_to);
+    m.amplitude_min_c = r.amplitude_min_c;
+    m.amplitude_max_c = r.amplitude_max_c;
     m.observations = static_cast<int>(r.observations);
     return m;
 }
@@ -240,16 +242,10 @@ class Compensation {
         const double sigma_m = measurement_sigma(measured.uncertainty);
         const thermal::Prediction p = thermal::predict(model, d, t, sigma_m);
         const double residual = measured.value - p.value;
-        // The thermal part's own σ: the prediction's without the measurement's noise.
-        const Eigen::VectorXd x = thermal::design_row(model, d, t);
-        const double model_variance =
-            std::max(0.0,
-                     model.prediction_sigma * model.prediction_sigma - model.measurement_variance) +
-            x.dot(model.covariance * x);
         const ThermalQuantities names = thermal_quantities(measured.quantity);
         auto& out = ctx_.results.zone_results;
-        out.push_back({measured.zone, names.predicted, p.value, kZ95 * std::sqrt(model_variance),
-                       measured.n, false});
+        out.push_back(
+            {measured.zone, names.predicted, p.value, kZ95 * p.thermal_sigma, measured.n, false});
         const double bound = kZ95 * p.sigma;
         out.push_back({measured.zone, names.compensated, residual, bound, measured.n,
                        std::abs(residual) > bound});

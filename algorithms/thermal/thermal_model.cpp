@@ -237,15 +237,36 @@ Eigen::VectorXd design_row(const ThermalModel& model, const Drivers& drivers, do
     return row_of(model.trend, model.trend_origin, drivers, t);
 }
 
+double extrapolation_sigma(const ThermalModel& model, const Drivers& drivers,
+                           const Eigen::VectorXd& x) {
+    const double a = drivers.daily_amplitude_c;
+    const double edge = std::clamp(a, model.amplitude_min_c, model.amplitude_max_c);
+    if (a == edge || a <= 0.0) return 0.0;
+    double sun = 0;  // the solar terms' part of the prediction, ∝ a
+    for (int f = 0; f < 4; ++f) sun += model.coefficients(2 + f) * x(2 + f);
+    return std::abs(sun) * std::abs(a - edge) / a;
+}
+
 Prediction predict(const ThermalModel& model, const Drivers& drivers, double t,
                    double measurement_sigma) {
     const Eigen::VectorXd x = design_row(model, drivers, t);
     Prediction p;
     p.value = x.dot(model.coefficients);
+    p.extrapolation_sigma = extrapolation_sigma(model, drivers, x);
+    const double model_variance =
+        x.dot(model.covariance * x) + p.extrapolation_sigma * p.extrapolation_sigma;
+    // s never below the training's measurement σ: an unseen epoch's residual holds its whole
+    // measurement error, which no thermal driver predicts; left-out days show less only where
+    // that error followed the drivers within the training week, which another week need not
+    // repeat.
+    const double s2 =
+        std::max(model.prediction_sigma * model.prediction_sigma, model.measurement_variance);
     const double excess =
         std::max(0.0, measurement_sigma * measurement_sigma - model.measurement_variance);
-    p.sigma = std::sqrt(model.prediction_sigma * model.prediction_sigma +
-                        x.dot(model.covariance * x) + excess);
+    p.sigma = std::sqrt(s2 + model_variance + excess);
+    p.thermal_sigma = std::sqrt(std::max(0.0, model.prediction_sigma * model.prediction_sigma -
+                                                  model.measurement_variance) +
+                                model_variance);
     return p;
 }
 

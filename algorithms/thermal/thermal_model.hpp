@@ -6,11 +6,13 @@
 // (Huber 1981; scale 1.4826·MAD), the two time constants chosen on a grid by the smallest
 // robust residual scale. A prediction's σ: the error s of predicting a day the fit did not
 // see (leave-one-day-out cross-validation over the training window: s = q95(|r|)/1.96; it
-// holds the measurement noise of a typical epoch and what the model misses), the coefficients'
-// covariance projected on the epoch's drivers (inflated for the residuals' lag-1
-// autocorrelation ρ by (1 + ρ)/(1 − ρ), the AR(1) effective sample size, Zwiers & von Storch
-// 1995), and the epoch's measurement variance in excess of the training's mean:
-//   σ²(t) = s² + xᵀ C_β x + max(0, σ_m²(t) − mean σ_m²).
+// holds the measurement noise of a typical epoch and what the model misses; never below the
+// training's mean measurement σ), the coefficients' covariance projected on the epoch's
+// drivers (inflated for the residuals' lag-1 autocorrelation ρ by (1 + ρ)/(1 − ρ), the AR(1)
+// effective sample size, Zwiers & von Storch 1995), the extrapolation beyond the training's
+// daily amplitudes (extrapolation_sigma), and the epoch's measurement variance in excess of
+// the training's mean:
+//   σ²(t) = max(s², mean σ_m²) + xᵀ C_β x + σ_x²(t) + max(0, σ_m²(t) − mean σ_m²).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -71,9 +73,18 @@ std::optional<ThermalModel> fit_thermal_model(const std::vector<AirReading>& air
 // The design row of one time's drivers.
 Eigen::VectorXd design_row(const ThermalModel& model, const Drivers& drivers, double t);
 
+// The part of the prediction that rests on daily amplitudes the training never saw: the solar
+// terms scale with the day's amplitude a, a scaling tested only within the training's
+// [a_min, a_max]; beyond, what the scaling adds, |Σ β_f S̃_f|·|a − a_edge|/a, is its own
+// standard uncertainty (docs/thermal.md, "Extrapolation"). 0 within the training's amplitudes.
+double extrapolation_sigma(const ThermalModel& model, const Drivers& drivers,
+                           const Eigen::VectorXd& x);
+
 struct Prediction {
     double value = 0;
-    double sigma = 0;  // of the residual y − value (see the header)
+    double sigma = 0;                // of the residual y − value (see the header)
+    double thermal_sigma = 0;        // of the value itself: without the measurement's noise
+    double extrapolation_sigma = 0;  // the part of either from beyond the training's amplitudes
 };
 Prediction predict(const ThermalModel& model, const Drivers& drivers, double t,
                    double measurement_sigma);

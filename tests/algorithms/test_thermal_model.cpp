@@ -194,6 +194,44 @@ TEST(ThermalModel, RecoversAKnownResponseAndPredictsUnseenDaysWithinItsSigma) {
     EXPECT_LT(covered, 0.99 * n);
 }
 
+TEST(ThermalModel, BeyondTheTrainingsAmplitudesTheSigmaHoldsWhatTheScalingAdds) {
+    ThermalModel m;
+    m.coefficients.resize(6);
+    m.coefficients << 1e-3, 2e-4, 6e-7, -4e-7, 9e-7, 0.0;
+    m.covariance = Eigen::MatrixXd::Zero(6, 6);
+    m.prediction_sigma = 0.2e-3;
+    m.measurement_variance = std::pow(0.1e-3, 2);
+    m.amplitude_min_c = 3.0;
+    m.amplitude_max_c = 5.0;
+    // The drivers of one time on a day of amplitude a: the solar terms ∝ a.
+    const auto at = [](double a) {
+        Drivers d;
+        d.air_c = 12.0;
+        d.solar = {a * 150.0, a * 20.0, a * 300.0, 0.0};
+        d.daily_amplitude_c = a;
+        d.complete = true;
+        return d;
+    };
+    const double t = kStart;
+    // Within the training's amplitudes: nothing added.
+    for (const double a : {3.0, 4.2, 5.0}) {
+        const Prediction p = predict(m, at(a), t, 0.1e-3);
+        EXPECT_EQ(p.extrapolation_sigma, 0.0);
+        EXPECT_DOUBLE_EQ(p.sigma, 0.2e-3);
+        EXPECT_DOUBLE_EQ(p.thermal_sigma, std::sqrt(std::pow(0.2e-3, 2) - std::pow(0.1e-3, 2)));
+    }
+    // Beyond: what the prediction gains from the amplitude past the training's edge, as a σ.
+    for (const auto& [a, edge] : {std::pair{1.5, 3.0}, std::pair{7.0, 5.0}}) {
+        const Prediction p = predict(m, at(a), t, 0.1e-3);
+        const double gained = predict(m, at(a), t, 0.1e-3).value - predict(m, at(edge), t, 0).value;
+        EXPECT_NEAR(p.extrapolation_sigma, std::abs(gained), 1e-15);
+        EXPECT_GT(p.extrapolation_sigma, 0.1e-3);  // a visible share of the σ here
+        EXPECT_NEAR(p.sigma, std::hypot(0.2e-3, std::abs(gained)), 1e-15);
+        EXPECT_NEAR(p.thermal_sigma,
+                    std::sqrt(std::pow(0.2e-3, 2) - std::pow(0.1e-3, 2) + gained * gained), 1e-15);
+    }
+}
+
 TEST(ThermalModel, GrossOutliersDoNotMoveTheFit) {
     const double sigma = 0.15e-3;
     Synthetic s = synthetic(8, sigma, 6);
@@ -207,6 +245,33 @@ TEST(ThermalModel, GrossOutliersDoNotMoveTheFit) {
     EXPECT_NEAR(m->coefficients(1), s.beta(1), 0.1 * s.beta(1));
     EXPECT_NEAR(m->residual_sigma, sigma, 0.3 * sigma);
     EXPECT_GT(m->downweighted, static_cast<int>(s.observations.size() / 25));
+}
+
+TEST(ThermalModel, ItsSigmaIsNeverBelowTheMeasurementsOwn) {
+    // The values carry 0.1 mm of noise; the measurement says 0.3 mm on some epochs, 0.5 mm on
+    // the others: the left-out days alone would give about 0.1 mm.
+    Synthetic s = synthetic(8, 0.1e-3, 8);
+    for (std::size_t i = 0; i < s.observations.size(); ++i)
+        s.observations[i].sigma = i % 2 ? 0.3e-3 : 0.5e-3;
+    ModelOptions options;
+    options.drivers = options_at_site();
+    std::string why;
+    const auto m = fit_thermal_model(s.air, s.observations, options, why);
+    ASSERT_TRUE(m) << why;
+    EXPECT_LT(m->residual_sigma, 0.15e-3);
+    EXPECT_NEAR(m->measurement_variance, 0.5 * (0.09e-6 + 0.25e-6), 1e-12);
+    EXPECT_LT(m->prediction_sigma, 0.15e-3);  // what the left-out days showed
+    // An epoch within the training's amplitudes with the training's mean σ_m: the σ is that.
+    std::vector<double> times;
+    for (const auto& o : s.observations) times.push_back(o.t);
+    const auto d = thermal_drivers(s.air, times, m->lags, options.drivers);
+    const std::size_t i = s.observations.size() - 10;
+    ASSERT_TRUE(d[i].complete);
+    const Prediction p = predict(*m, d[i], times[i], std::sqrt(m->measurement_variance));
+    ASSERT_EQ(p.extrapolation_sigma, 0.0);
+    const Eigen::VectorXd x = design_row(*m, d[i], times[i]);
+    EXPECT_NEAR(p.sigma, std::sqrt(m->measurement_variance + x.dot(m->covariance * x)), 1e-15);
+    EXPECT_NEAR(p.thermal_sigma, std::sqrt(x.dot(m->covariance * x)), 1e-15);
 }
 
 TEST(ThermalModel, RefusesWithoutEnoughCompleteDrivers) {
