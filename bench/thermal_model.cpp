@@ -99,7 +99,7 @@ std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double
         for (const auto& o : obs[f]) times.push_back(o.t);
         const auto drivers = thermal::thermal_drivers(air, times, model->lags, options.drivers);
         double sum2 = 0, sigma2 = 0, lo = 1e9, hi = -1e9;
-        int n = 0, covered = 0;
+        int n = 0;
         Score s;
         const double slack = 0.25 * (model->amplitude_max_c - model->amplitude_min_c);
         for (std::size_t i = days * per_day; i < obs[f].size(); ++i) {
@@ -109,7 +109,6 @@ std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double
             sum2 += r * r;
             sigma2 += pr.sigma * pr.sigma;
             ++n;
-            covered += std::abs(r) <= 1.96 * pr.sigma;
             const bool beyond = drivers[i].daily_amplitude_c < model->amplitude_min_c - slack ||
                                 drivers[i].daily_amplitude_c > model->amplitude_max_c + slack;
             s.within[beyond] += std::abs(r) <= 1.96 * pr.sigma;
@@ -117,7 +116,7 @@ std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double
             lo = std::min(lo, obs[f][i].value);
             hi = std::max(hi, obs[f][i].value);
         }
-        s.coverage = 100.0 * covered / n;
+        s.coverage = 100.0 * (s.within[0] + s.within[1]) / n;
         s.rms = std::sqrt(sum2 / n);
         s.sigma = std::sqrt(sigma2 / n);
         std::printf(

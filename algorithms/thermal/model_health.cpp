@@ -12,7 +12,7 @@ ModelHealth model_health(const ThermalModel& model, const std::vector<double>& r
                          const HealthOptions& options) {
     ModelHealth h;
     h.residuals = static_cast<int>(residuals.size());
-    const double s = model.prediction_sigma;
+    const double s = residual_reference_sigma(model);
     if (h.residuals < options.min_residuals || s <= 0.0) return h;
     h.judged = true;
     const double rho = std::clamp(model.lag1_autocorrelation, 0.0, 0.95);
@@ -32,9 +32,10 @@ ModelHealth model_health(const ThermalModel& model, const std::vector<double>& r
     h.spread = kMadToSigma * median_and_mad(centred).mad;
     h.spread_ratio = h.spread / s;
     const double dof = std::max(1.0, h.effective_n - 1.0);
+    // day_spread_max is stored against the unfloored s.
     h.spread_critical =
         std::max(std::sqrt(registration::chi_square_quantile(1.0 - options.alpha, dof) / dof),
-                 model.day_spread_max);
+                 model.day_spread_max * model.prediction_sigma / s);
     h.spread_grew = h.spread_ratio > h.spread_critical;
     return h;
 }

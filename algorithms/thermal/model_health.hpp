@@ -1,8 +1,9 @@
 #pragma once
 // Is the thermal model still the structure's? (docs/thermal.md, "Model health"). Over a
 // trailing window of W hours holding n compensated residuals r_i, with the model's
-// out-of-sample σ s, the RMS σ_day of its left-out days' mean residuals and the lag-1
-// autocorrelation ρ of its training residuals:
+// out-of-sample σ s (never below the training's measurement σ: residual_reference_sigma), the RMS
+// σ_day of its left-out days' mean residuals and the lag-1 autocorrelation ρ of its training
+// residuals:
 //   drift:  z = r̄ / σ_r̄,  σ_r̄ = max(σ_day·√(24 h / W), s·√((1 + ρ)/((1 − ρ)·n))) — a day's
 //           mean strays by what the model misses that day, not by s/√n — flagged when
 //           |z| > t(k, 1 − α/2), Student's t with the k days σ_day was estimated from (the

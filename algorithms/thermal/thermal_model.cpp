@@ -13,6 +13,7 @@ namespace tlsmon::thermal {
 namespace {
 
 constexpr double kDay = 86400.0;
+constexpr Eigen::Index kFirstSolarTerm = 2;  // after the constant and the air (model_terms)
 
 Eigen::VectorXd row_of(bool trend, double trend_origin, const Drivers& d, double t) {
     Eigen::VectorXd x(trend ? 7 : 6);
@@ -129,6 +130,21 @@ void cross_validate(const std::vector<Drivers>& drivers, const std::vector<doubl
         *std::max_element(day_spreads.begin(), day_spreads.end()) / m.prediction_sigma;
 }
 
+// The part of the prediction that rests on daily amplitudes the training never saw: the solar
+// terms scale with the day's amplitude a, a scaling tested only within the training's
+// [a_min, a_max]; beyond, what the scaling adds, |Σ β_f S̃_f|·|a − a_edge|/a, is its own
+// standard uncertainty (docs/thermal.md, "Extrapolation"). 0 within the training's amplitudes.
+double extrapolation_sigma(const ThermalModel& model, const Drivers& drivers,
+                           const Eigen::VectorXd& x) {
+    const double a = drivers.daily_amplitude_c;
+    const double edge = std::clamp(a, model.amplitude_min_c, model.amplitude_max_c);
+    if (a == edge || a <= 0.0) return 0.0;
+    const auto solar = static_cast<Eigen::Index>(drivers.solar.size());
+    const double sun = model.coefficients.segment(kFirstSolarTerm, solar)
+                           .dot(x.segment(kFirstSolarTerm, solar));  // ∝ a
+    return std::abs(sun) * std::abs(a - edge) / a;
+}
+
 }  // namespace
 
 std::vector<std::string> model_terms(bool trend) {
@@ -237,14 +253,11 @@ Eigen::VectorXd design_row(const ThermalModel& model, const Drivers& drivers, do
     return row_of(model.trend, model.trend_origin, drivers, t);
 }
 
-double extrapolation_sigma(const ThermalModel& model, const Drivers& drivers,
-                           const Eigen::VectorXd& x) {
-    const double a = drivers.daily_amplitude_c;
-    const double edge = std::clamp(a, model.amplitude_min_c, model.amplitude_max_c);
-    if (a == edge || a <= 0.0) return 0.0;
-    double sun = 0;  // the solar terms' part of the prediction, ∝ a
-    for (int f = 0; f < 4; ++f) sun += model.coefficients(2 + f) * x(2 + f);
-    return std::abs(sun) * std::abs(a - edge) / a;
+double residual_reference_sigma(const ThermalModel& model) {
+    // An unseen epoch's residual holds its whole measurement error, which no thermal driver
+    // predicts; left-out days show less only where that error followed the drivers within the
+    // training week, which another week need not repeat.
+    return std::max(model.prediction_sigma, std::sqrt(model.measurement_variance));
 }
 
 Prediction predict(const ThermalModel& model, const Drivers& drivers, double t,
@@ -255,15 +268,10 @@ Prediction predict(const ThermalModel& model, const Drivers& drivers, double t,
     p.extrapolation_sigma = extrapolation_sigma(model, drivers, x);
     const double model_variance =
         x.dot(model.covariance * x) + p.extrapolation_sigma * p.extrapolation_sigma;
-    // s never below the training's measurement σ: an unseen epoch's residual holds its whole
-    // measurement error, which no thermal driver predicts; left-out days show less only where
-    // that error followed the drivers within the training week, which another week need not
-    // repeat.
-    const double s2 =
-        std::max(model.prediction_sigma * model.prediction_sigma, model.measurement_variance);
+    const double s = residual_reference_sigma(model);
     const double excess =
         std::max(0.0, measurement_sigma * measurement_sigma - model.measurement_variance);
-    p.sigma = std::sqrt(s2 + model_variance + excess);
+    p.sigma = std::sqrt(s * s + model_variance + excess);
     p.thermal_sigma = std::sqrt(std::max(0.0, model.prediction_sigma * model.prediction_sigma -
                                                   model.measurement_variance) +
                                 model_variance);

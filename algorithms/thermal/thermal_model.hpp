@@ -9,10 +9,13 @@
 // holds the measurement noise of a typical epoch and what the model misses; never below the
 // training's mean measurement σ), the coefficients' covariance projected on the epoch's
 // drivers (inflated for the residuals' lag-1 autocorrelation ρ by (1 + ρ)/(1 − ρ), the AR(1)
-// effective sample size, Zwiers & von Storch 1995), the extrapolation beyond the training's
-// daily amplitudes (extrapolation_sigma), and the epoch's measurement variance in excess of
-// the training's mean:
+// effective sample size, Zwiers & von Storch 1995), the extrapolation σ_x beyond the
+// training's daily amplitudes, and the epoch's measurement variance in excess of the
+// training's mean:
 //   σ²(t) = max(s², mean σ_m²) + xᵀ C_β x + σ_x²(t) + max(0, σ_m²(t) − mean σ_m²).
+// The solar terms scale with the day's amplitude a, a scaling tested only within the
+// training's [a_min, a_max]; beyond, what the scaling adds is its own standard uncertainty,
+// σ_x = |Σ β_f S̃_f|·|a − a_edge|/a (docs/thermal.md, "Extrapolation").
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -73,12 +76,10 @@ std::optional<ThermalModel> fit_thermal_model(const std::vector<AirReading>& air
 // The design row of one time's drivers.
 Eigen::VectorXd design_row(const ThermalModel& model, const Drivers& drivers, double t);
 
-// The part of the prediction that rests on daily amplitudes the training never saw: the solar
-// terms scale with the day's amplitude a, a scaling tested only within the training's
-// [a_min, a_max]; beyond, what the scaling adds, |Σ β_f S̃_f|·|a − a_edge|/a, is its own
-// standard uncertainty (docs/thermal.md, "Extrapolation"). 0 within the training's amplitudes.
-double extrapolation_sigma(const ThermalModel& model, const Drivers& drivers,
-                           const Eigen::VectorXd& x);
+// What a residual of an epoch the fit did not see is compared with: the left-out days' s,
+// never below the training's mean measurement σ (the floor in σ(t) above; the model-health
+// tests use it too).
+double residual_reference_sigma(const ThermalModel& model);
 
 struct Prediction {
     double value = 0;

@@ -283,6 +283,22 @@ TEST(ThermalModel, RefusesWithoutEnoughCompleteDrivers) {
     EXPECT_NE(why.find("complete drivers"), std::string::npos) << why;
 }
 
+namespace {
+
+// The health of 100 windows of a day's (96) white residuals drawn from `noise`.
+std::vector<ModelHealth> white_windows(const ThermalModel& m, std::mt19937_64& rng,
+                                       std::normal_distribution<double>& noise) {
+    std::vector<ModelHealth> health;
+    for (int w = 0; w < 100; ++w) {
+        std::vector<double> r(96);
+        for (double& x : r) x = noise(rng);
+        health.push_back(model_health(m, r, {}));
+    }
+    return health;
+}
+
+}  // namespace
+
 TEST(ModelHealth, JudgesTheModelsOwnResidualsHealthyAndAChangedResponseNot) {
     ThermalModel m;
     m.prediction_sigma = 0.2e-3;
@@ -293,10 +309,7 @@ TEST(ModelHealth, JudgesTheModelsOwnResidualsHealthyAndAChangedResponseNot) {
     // White residuals are not the AR(1) the model expects, which makes the tests conservative:
     // nothing flagged in 100 windows.
     int flagged = 0;
-    for (int w = 0; w < 100; ++w) {
-        std::vector<double> r(96);
-        for (double& x : r) x = noise(rng);
-        const ModelHealth h = model_health(m, r, {});
+    for (const ModelHealth& h : white_windows(m, rng, noise)) {
         ASSERT_TRUE(h.judged);
         flagged += h.drifted || h.spread_grew;
     }
@@ -316,4 +329,32 @@ TEST(ModelHealth, JudgesTheModelsOwnResidualsHealthyAndAChangedResponseNot) {
     EXPECT_FALSE(drift.spread_grew);
     // Too few residuals: not judged.
     EXPECT_FALSE(model_health(m, std::vector<double>(10, 0.0), {}).judged);
+}
+
+TEST(ModelHealth, ComparesTheSpreadWithTheMeasurementsOwnSigmaWhereTheLeftOutDaysShowedLess) {
+    // The left-out days showed 0.2 mm, the measurement's own σ is 0.35 mm: a week whose
+    // residuals carry the measurement's whole 0.35 mm is the model's, not a changed structure
+    // (against 0.2 mm their spread would be 1.75×, above the critical ≈ 1.4).
+    ThermalModel m;
+    m.prediction_sigma = 0.2e-3;
+    m.measurement_variance = 0.35e-3 * 0.35e-3;
+    m.day_mean_sigma = 0.1e-3;
+    m.day_spread_max = 2.0;  // 0.4 mm: below the χ² term once taken against 0.35 mm
+    m.lag1_autocorrelation = 0.5;
+    ASSERT_DOUBLE_EQ(residual_reference_sigma(m), 0.35e-3);
+    std::mt19937_64 rng(10);
+    std::normal_distribution<double> noise(0.0, 0.35e-3);
+    int flagged = 0;
+    for (const ModelHealth& h : white_windows(m, rng, noise)) {
+        ASSERT_TRUE(h.judged);
+        EXPECT_NEAR(h.spread_ratio, h.spread / 0.35e-3, 1e-12);
+        EXPECT_GE(h.spread_critical, 2.0 * 0.2 / 0.35 - 1e-12);
+        flagged += h.drifted || h.spread_grew;
+    }
+    EXPECT_EQ(flagged, 0);
+    // The 1 mm daily cycle of a halved bending still shows against the larger reference.
+    std::vector<double> cycle(96);
+    for (int i = 0; i < 96; ++i)
+        cycle[i] = noise(rng) + 1e-3 * std::sin(2 * std::numbers::pi * i / 96.0);
+    EXPECT_TRUE(model_health(m, cycle, {}).spread_grew);
 }
