@@ -83,5 +83,14 @@ function(_tlsmon_test_executable target label sources)
     TLSMON_DATA_DIR="${TLSMON_DATA_DIR}"
     TLSMON_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     TLSMON_BINARY="$<TARGET_FILE:tlsmon>")
-  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900 LABELS ${label})
+  # ctest -j starts the costliest tests first. Without the timing history of an earlier run (a
+  # fresh clone) every test costs the same and runs in declaration order, so a process test of
+  # minutes could start last, with one core idle behind it; process tests are the long ones.
+  if(label STREQUAL "process")
+    set(_cost 10)
+  else()
+    set(_cost 1)
+  endif()
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
+                       PROPERTIES TIMEOUT 900 LABELS ${label} COST ${_cost})
 endfunction()
