@@ -101,7 +101,6 @@ std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double
         double sum2 = 0, sigma2 = 0, lo = 1e9, hi = -1e9;
         int n = 0;
         Score s;
-        const double slack = 0.25 * (model->amplitude_max_c - model->amplitude_min_c);
         for (std::size_t i = days * per_day; i < obs[f].size(); ++i) {
             if (!drivers[i].complete) continue;
             const auto pr = thermal::predict(*model, drivers[i], times[i], noise);
@@ -109,8 +108,8 @@ std::vector<Score> score_seed(std::uint64_t seed, int days, double noise, double
             sum2 += r * r;
             sigma2 += pr.sigma * pr.sigma;
             ++n;
-            const bool beyond = drivers[i].daily_amplitude_c < model->amplitude_min_c - slack ||
-                                drivers[i].daily_amplitude_c > model->amplitude_max_c + slack;
+            const bool beyond =
+                thermal::far_beyond_training_amplitudes(*model, drivers[i].daily_amplitude_c);
             s.within[beyond] += std::abs(r) <= 1.96 * pr.sigma;
             ++s.of[beyond];
             lo = std::min(lo, obs[f][i].value);

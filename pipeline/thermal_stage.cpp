@@ -228,10 +228,7 @@ class Compensation {
         }
         row.model_version = stored.version;
         row.quality = ThermalQuality::compensated;
-        // Beyond the training's daily amplitudes by more than a quarter of their range.
-        const double slack = 0.25 * (stored.amplitude_max_c - stored.amplitude_min_c);
-        if (d.daily_amplitude_c < stored.amplitude_min_c - slack ||
-            d.daily_amplitude_c > stored.amplitude_max_c + slack) {
+        if (thermal::far_beyond_training_amplitudes(model, d.daily_amplitude_c)) {
             row.quality = ThermalQuality::extrapolated;
             row.reason = fmt::format(
                 "daily amplitude {:.1f} °C outside the training's {:.1f} .. "

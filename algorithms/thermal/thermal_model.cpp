@@ -260,6 +260,12 @@ double residual_reference_sigma(const ThermalModel& model) {
     return std::max(model.prediction_sigma, std::sqrt(model.measurement_variance));
 }
 
+bool far_beyond_training_amplitudes(const ThermalModel& model, double daily_amplitude_c) {
+    const double slack = 0.25 * (model.amplitude_max_c - model.amplitude_min_c);
+    return daily_amplitude_c < model.amplitude_min_c - slack ||
+           daily_amplitude_c > model.amplitude_max_c + slack;
+}
+
 Prediction predict(const ThermalModel& model, const Drivers& drivers, double t,
                    double measurement_sigma) {
     const Eigen::VectorXd x = design_row(model, drivers, t);

@@ -81,6 +81,10 @@ Eigen::VectorXd design_row(const ThermalModel& model, const Drivers& drivers, do
 // tests use it too).
 double residual_reference_sigma(const ThermalModel& model);
 
+// A day whose air amplitude lies beyond the training's by more than a quarter of their range:
+// the compensation is flagged `extrapolated` (docs/thermal.md, "Extrapolation").
+bool far_beyond_training_amplitudes(const ThermalModel& model, double daily_amplitude_c);
+
 struct Prediction {
     double value = 0;
     double sigma = 0;                // of the residual y − value (see the header)
