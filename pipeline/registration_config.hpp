@@ -52,8 +52,9 @@ struct RegistrationConfig {
     RegistrationMethod method = RegistrationMethod::targets;
     std::vector<TargetConfig> targets;  // none: no registration on targets
     double search_radius = 0.30;        // m about the predicted centre
-    // Added (as σ² per coordinate) to every fitted centre's covariance: what a centre really
-    // repeats to beyond the fit's random part (docs/registration.md, "Sphere targets").
+    // Added (as σ² per coordinate) to every fitted centre's covariance. On the simulator the
+    // fits' own σ is what the centres repeat to and this pads the registration's σ; the
+    // analyses downstream still lean on that padding (docs/registration.md, "Centre σ floor").
     double centre_sigma_floor = 0.000075;  // m
     int min_targets = 3;
     double max_rms = 0.002;                // m, RMS of the used targets' residual lengths

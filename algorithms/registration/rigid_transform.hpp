@@ -26,8 +26,9 @@ enum class CovarianceScaling {
     a_priori,      // σ0² = 1: the centres' covariances are taken as they are
     a_posteriori,  // σ0² = s0² = Ω/r
     // max(1, s0²), the default: never more optimistic than the centres, nor the residuals.
-    // Padded where the centres' covariances are pessimistic (the demo's spheres: s0² ≈ 0.35,
-    // σ 1.7 times the error); docs/calibration.md says why it stays the default for now.
+    // With the centres' own σ it covers at the nominal rates over independent series, where
+    // `a_priori` covers too little on `pier` (docs/calibration.md, "Registration over
+    // independent series").
     larger_of,
 };
 

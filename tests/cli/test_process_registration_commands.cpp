@@ -3,8 +3,10 @@
 // σ 1.5 mm): the exact map of epoch i into epoch 0's frame is H₀⁻¹·Hᵢ, H = header_to_true of
 // each scan's truth (docs/simulator.md). The scene is the `small` preset's, its window
 // narrowed to the targets' band of elevations and sampled at 0.01° so that its spheres and
-// boards are resolved (the preset's 0.1° is too coarse for them), the air off (a file read
-// alone carries no meteo). Rendered once for the whole suite.
+// boards are resolved (the preset's 0.1° is too coarse for them), the air off and with it the
+// weather station: a meteo sidecar beside a scan whose ranges carry no air would make the
+// stage correct them by a few ppm that are not there (0.05–0.1 mm at the targets, several
+// times their σ). Rendered once for the whole suite.
 #include <SQLiteCpp/Database.h>
 #include <gtest/gtest.h>
 
@@ -76,7 +78,7 @@ class RegistrationCommands : public ::testing::Test {
                                 "azimuth_step_deg = 0.01\nelevation_step_deg = 0.01\n"
                                 "[drift]\nyaw_amplitude_arcsec = 60.0\n"
                                 "tilt_amplitude_arcsec = 10.0\ntranslation_sigma = 0.0015\n"
-                                "[atmosphere]\nenabled = false\n";
+                                "[atmosphere]\nenabled = false\n[meteo]\nenabled = false\n";
         scans_ = dir_->path() / "scans";
         const auto r = shell(std::string(TLSMON_BINARY) + " simulate --config " + scene.string() +
                              " --epochs 3 --cadence 4h --out " + scans_.string());
@@ -150,7 +152,6 @@ TEST_F(RegistrationCommands, RegisterOnPlanesAloneFindsTheTrueTransformWithinIts
                          " --method planes --format json");
     ASSERT_EQ(r.status, 0) << r.output;
     const auto j = nlohmann::json::parse(r.output);
-    // "planes+atmosphere": the files' meteo sidecars corrected the ranges.
     EXPECT_EQ(j["method"].get<std::string>().rfind("planes", 0), 0u) << j["method"];
     EXPECT_EQ(j["targets_used"].get<int>(), 0);
     EXPECT_TRUE(j["targets"].empty());
