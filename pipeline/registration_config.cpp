@@ -68,8 +68,9 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
         K::number(&RegistrationConfig::centre_sigma_floor, "centre_sigma_floor", 0, 0.01, "m",
                   "Added as σ² per coordinate to every fitted centre's covariance. On the "
                   "simulator the fits' own σ covers what the centres repeat to, and this floor "
-                  "pads the registration's σ; PB-M3C2, the primitives and the 3-D vectors still "
-                  "lean on that padding (docs/registration.md, \"Centre σ floor\")."),
+                  "pads the registration's σ; the tests of PB-M3C2, the primitives and the 3-D "
+                  "vectors still lean on that padding (docs/registration.md, \"Centre σ "
+                  "floor\")."),
         K::integer(&RegistrationConfig::min_targets, "min_targets", 3, 100, "",
                    "Usable targets that must remain after outliers are excluded; fewer: rejected."),
         K::number(&RegistrationConfig::max_rms, "max_rms", 0, 1, "m",
