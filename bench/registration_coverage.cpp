@@ -31,6 +31,7 @@
 
 #include "algorithms/registration/rigid_transform.hpp"
 #include "bench/bench_support.hpp"
+#include "bench/line_of_sight.hpp"
 #include "demo/scene.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "report/calibration.hpp"
@@ -84,18 +85,6 @@ TargetWindows render_targets(const sim::Site& site, int epoch, double hours, dou
         out.scans.push_back(std::move(r.scan));
     }
     return out;
-}
-
-// A centre's error split along the line of sight from the scanner, across it horizontally
-// and across it vertically.
-Eigen::Matrix3d sight_axes(const Eigen::Vector3d& line_of_sight) {
-    const Eigen::Vector3d los = line_of_sight.normalized();
-    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(los).normalized();
-    Eigen::Matrix3d a;
-    a.row(0) = los;
-    a.row(1) = across;
-    a.row(2) = los.cross(across);
-    return a;
 }
 
 struct CentreScore {
@@ -170,7 +159,7 @@ int main(int argc, char** argv) {
             const TargetMeasurement& m0 = reference.targets[i];
             if (!m1.found() || !m0.found()) continue;
             const Eigen::Vector3d error = m1.centre - exact.inverse() * m0.centre;
-            const Eigen::Matrix3d A = sight_axes(m1.centre - m1.viewpoint);
+            const Eigen::Matrix3d A = bench::sight_axes(m1.centre - m1.viewpoint);
             const Eigen::Matrix3d L = exact.inverse().linear();
             const Eigen::Matrix3d S =
                 A * (m1.covariance + L * m0.covariance * L.transpose()) * A.transpose();

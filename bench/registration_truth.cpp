@@ -31,6 +31,7 @@
 
 #include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "bench/line_of_sight.hpp"
 #include "config/config.hpp"
 #include "formats/scan_file.hpp"
 #include "pipeline/registration_on_planes.hpp"
@@ -165,9 +166,8 @@ void print_centre(const TargetMeasurement& m, const Truth& truth, const Eigen::V
     }
     const Eigen::Vector3d c_true = truth.centres.at(m.name);
     const Eigen::Vector3d e = truth.header_to_true * m.centre - c_true;
-    const Eigen::Vector3d los = (c_true - scanner).normalized();
-    const Eigen::Vector3d h = Eigen::Vector3d::UnitZ().cross(los).normalized();
-    const Eigen::Vector3d v = los.cross(h);
+    const Eigen::Matrix3d axes = bench::sight_axes(c_true - scanner);
+    const Eigen::Vector3d los = axes.row(0), h = axes.row(1), v = axes.row(2);
     const Eigen::Matrix3d R = truth.header_to_true.linear();
     const Eigen::Matrix3d S = R * m.covariance * R.transpose();
     const auto sig = [&](const Eigen::Vector3d& d) { return std::sqrt(d.dot(S * d)); };

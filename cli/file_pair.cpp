@@ -36,17 +36,18 @@ std::optional<MeteoSidecar> meteo_of(const Epoch& e, const Config& site) {
     return meteo;
 }
 
-// The targets the daemon had excluded as moved when this epoch arrived: excluded by an epoch
-// acquired before it and not re-surveyed (the site's database, when it has one).
-std::set<std::string> excluded_before(const Epoch& e, const Config& site) {
+// What the daemon knew of the targets when this epoch arrived (the site's database, when it
+// has one): those excluded as moved by an epoch acquired before it and not re-surveyed, and
+// their runs of failed outlier tests just before it.
+void targets_before(const Epoch& e, const Config& site, StageHistory& history) {
     std::error_code ec;
-    if (!fs::is_regular_file(site.paths.database, ec)) return {};
+    if (!fs::is_regular_file(site.paths.database, ec)) return;
     const auto db = EpochDatabase::open(site.paths.database, EpochDatabase::Mode::read_only);
-    std::set<std::string> out;
     for (const auto& x : db.registrations().exclusions()) {
-        if (x.excluded_acquired < e.acquired && !x.resurveyed) out.insert(x.target);
+        if (x.excluded_acquired < e.acquired && !x.resurveyed)
+            history.excluded_targets.insert(x.target);
     }
-    return out;
+    history.outlier_runs = db.registrations().outlier_runs(e.acquired, kMaxConfirmExclusionEpochs);
 }
 
 }  // namespace
@@ -90,7 +91,7 @@ StageVerdict register_file_pair(const FilePair& pair, const Config& site,
     ReferenceEpoch reference(pair.reference, [scans = pair.reference_scans] { return scans; });
     ReferenceCache cache;  // in memory: this run's products only
     StageHistory history;
-    history.excluded_targets = excluded_before(pair.epoch, site);
+    targets_before(pair.epoch, site, history);
     history.reference_meteo = meteo_of(pair.reference, site);
     const EpochInput input{pair.epoch, pair.epoch_scans, meteo_of(pair.epoch, site)};
     StageOutputs outputs;

@@ -121,6 +121,8 @@ StageHistory history_for(PipelineContext& ctx, const ReferenceEpoch& reference,
                          const Epoch& epoch) {
     StageHistory history;
     history.excluded_targets = ctx.db.registrations().excluded_targets();
+    history.outlier_runs =
+        ctx.db.registrations().outlier_runs(epoch.acquired, kMaxConfirmExclusionEpochs);
     for (const auto& m : ctx.db.meteo().of_epoch(reference.epoch().id)) {
         if (m.outcome == MeteoOutcome::used && m.values) history.reference_meteo = m;
     }

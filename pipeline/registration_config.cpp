@@ -66,11 +66,11 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
                   "A target's points are taken within this of its predicted centre (its centre in "
                   "the reference epoch), through the scan grid's angular window."),
         K::number(&RegistrationConfig::centre_sigma_floor, "centre_sigma_floor", 0, 0.01, "m",
-                  "Added as σ² per coordinate to every fitted centre's covariance. On the "
-                  "simulator the fits' own σ covers what the centres repeat to, and this floor "
-                  "pads the registration's σ; the tests of PB-M3C2, the primitives and the 3-D "
-                  "vectors still lean on that padding (docs/registration.md, \"Centre σ "
-                  "floor\")."),
+                  "Added as σ² per coordinate to every fitted centre's covariance. 0: the fits' "
+                  "own σ, which on the simulator covers what the centres repeat to. A site "
+                  "whose targets' centres scatter more than their fits say (the `no-change` "
+                  "check of `tlsmon calibration` on its targets) sets the part the fits miss "
+                  "(docs/registration.md, \"Centre σ floor\")."),
         K::integer(&RegistrationConfig::min_targets, "min_targets", 3, 100, "",
                    "Usable targets that must remain after outliers are excluded; fewer: rejected."),
         K::number(&RegistrationConfig::max_rms, "max_rms", 0, 1, "m",
@@ -90,6 +90,13 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
                   "global test is rejected)."),
         K::number(&RegistrationConfig::target_alpha, "target_alpha", 1e-9, 0.5, "",
                   "Significance level of each target's outlier test (Baarda's α0)."),
+        K::integer(&RegistrationConfig::confirm_exclusion_epochs, "confirm_exclusion_epochs", 1,
+                   kMaxConfirmExclusionEpochs, "",
+                   "A target that fails its outlier test is left out of that epoch's adjustment "
+                   "(`target_outlier` event); it is excluded as moved until re-surveyed once it "
+                   "has failed in this many consecutive registered epochs (`target_excluded`). "
+                   "1: at the first failure, which at `target_alpha` = 0.001 and five stable "
+                   "targets every 15 minutes loses one about every two days."),
         K::choice(&RegistrationConfig::atmosphere, "atmosphere", kAtmosphereCorrections,
                   "`measured_air`: when the epoch has meteo values, every range (target centres, "
                   "and the points handed to later stages) is corrected from the scanner's "

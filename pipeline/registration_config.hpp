@@ -48,14 +48,17 @@ std::optional<RegistrationMethod> registration_method_named(std::string_view nam
 // What to do with the epoch's meteo values (EpochInput::meteo).
 enum class AtmosphereCorrection { measured_air, off };
 
+// The most epochs `confirm_exclusion_epochs` may ask for (and the history the daemon reads).
+constexpr int kMaxConfirmExclusionEpochs = 10;
+
 struct RegistrationConfig {
     RegistrationMethod method = RegistrationMethod::targets;
     std::vector<TargetConfig> targets;  // none: no registration on targets
     double search_radius = 0.30;        // m about the predicted centre
-    // Added (as σ² per coordinate) to every fitted centre's covariance. On the simulator the
-    // fits' own σ is what the centres repeat to and this pads the registration's σ; the
-    // analyses downstream still lean on that padding (docs/registration.md, "Centre σ floor").
-    double centre_sigma_floor = 0.000075;  // m
+    // Added (as σ² per coordinate) to every fitted centre's covariance: what a site's centres
+    // scatter beyond their fits' σ. 0 on the simulator, whose fits' σ is what the centres
+    // repeat to (docs/registration.md, "Centre σ floor").
+    double centre_sigma_floor = 0.0;  // m
     int min_targets = 3;
     double max_rms = 0.002;                // m, RMS of the used targets' residual lengths
     double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ
@@ -65,6 +68,10 @@ struct RegistrationConfig {
     // blame: accepted with the covariance scaled by s0² (`accepted_scaled`); beyond: rejected.
     double global_reject_alpha = 0.001;
     double target_alpha = 0.001;
+    // A target that fails its outlier test is left out of that epoch's adjustment; it is
+    // excluded as moved (until re-surveyed) once it has failed in this many consecutive
+    // registered epochs. At most kMaxConfirmExclusionEpochs.
+    int confirm_exclusion_epochs = 2;
     AtmosphereCorrection atmosphere = AtmosphereCorrection::measured_air;
     // The scanner's atmospheric setting: the air its ranges were converted with.
     double scanner_wavelength_nm = 1500.0;

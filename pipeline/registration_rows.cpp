@@ -114,6 +114,15 @@ void record_registration(const RegistrationResult& r, const StageVerdict& verdic
                             "re-surveyed",
                         epoch});
     }
+    for (const auto& name : r.outliers) {
+        results.system_events.push_back(SystemEvent{
+            now_utc(), "warning", "target_outlier",
+            "target " + name +
+                " failed its outlier test and is left out of this epoch's registration; it is "
+                "excluded as moved once it fails in registration.confirm_exclusion_epochs "
+                "consecutive epochs",
+            epoch});
+    }
     if (!r.accepted()) return;
     // A station change found by the planes or, refused from the last pose, by the stable areas.
     std::optional<StationChange> change;

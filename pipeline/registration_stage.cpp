@@ -225,6 +225,17 @@ ReferenceTargets ReferenceTargets::decode(std::string_view payload) {
     return out;
 }
 
+void confirm_exclusions(RegistrationResult& r, const std::map<std::string, int>& runs,
+                        int confirm) {
+    std::vector<std::string> confirmed;
+    for (auto& name : r.newly_excluded) {
+        const auto it = runs.find(name);
+        const int failed = 1 + (it == runs.end() ? 0 : it->second);
+        (failed >= confirm ? confirmed : r.outliers).push_back(name);
+    }
+    r.newly_excluded = std::move(confirmed);
+}
+
 RegistrationResult register_epoch(const RegistrationConfig& config,
                                   const ReferenceTargets& reference, const std::vector<Scan>& scans,
                                   const std::set<std::string>& excluded,
@@ -441,6 +452,7 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
                              measured_range_scale(config, reference_meteo)};
     result =
         register_epoch(targets, *centres, *ctx.input.scans, ctx.history.excluded_targets, scales);
+    confirm_exclusions(result, ctx.history.outlier_runs, config.confirm_exclusion_epochs);
     // registration.method on planes, then registration.icp.
     apply_planes(config, ctx.input, ctx.reference, ctx.cache, scales, result,
                  ctx.history.last_transform);
@@ -456,6 +468,9 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     }
     for (const auto& name : result.newly_excluded) {
         not_found += (not_found.empty() ? "" : "; ") + name + " moved, excluded";
+    }
+    for (const auto& name : result.outliers) {
+        not_found += (not_found.empty() ? "" : "; ") + name + " failed its outlier test";
     }
     if (!result.tested.accepted()) {
         verdict.rejected = std::string(reg::describe(result.tested.status)) + ": " +

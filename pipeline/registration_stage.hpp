@@ -81,7 +81,10 @@ struct RegistrationResult {
     double max_residual = 0;
     int used = 0;
     std::vector<ZoneRegistrationSigma> zones;
-    std::vector<std::string> newly_excluded;  // targets this epoch excluded as moved
+    // Targets that failed their outlier test in this epoch and are left out of its adjustment:
+    // excluded as moved (until re-surveyed), or not yet, having failed in fewer than
+    // `confirm_exclusion_epochs` consecutive epochs (RegistrationStage::measure).
+    std::vector<std::string> newly_excluded, outliers;
     // Range scales n_true/n_setting applied (1/scale about the scanner) from the meteo of
     // the epoch and of the reference; absent: not corrected.
     std::optional<double> epoch_range_scale, reference_range_scale;
@@ -130,6 +133,14 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
                                   const ReferenceTargets& reference, const std::vector<Scan>& scans,
                                   const std::set<std::string>& excluded,
                                   const RangeScales& scales = {});
+
+// register_epoch's outliers (`newly_excluded`) kept there when they have failed their test in
+// `confirm` consecutive epochs, this one included (`runs`: the epochs before,
+// StageHistory::outlier_runs); the others moved to `outliers`, left out of this epoch only.
+// One test at α0 per target and epoch fails by chance about once in 1/α0 epochs; a moved
+// target fails again (docs/registration.md, "Confirmed exclusions").
+void confirm_exclusions(RegistrationResult& result, const std::map<std::string, int>& runs,
+                        int confirm);
 
 // The stage: every epoch states its datum. With targets or the ICP fallback: the reference
 // centres from the cache (`registration.targets`), register_epoch, the ICP; the verdict

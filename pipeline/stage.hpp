@@ -10,6 +10,7 @@
 // then stored `rejected` with that reason — the file was fine (`failed` means the file was
 // not), but nothing of it may feed an analysis or an alarm.
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -58,6 +59,9 @@ struct StageOutputs {
 // database; a one-shot command comparing two files has none of it.
 struct StageHistory {
     std::set<std::string> excluded_targets;  // moved; excluded until re-surveyed
+    // Per target, in how many consecutive registered epochs just before this one it failed
+    // its outlier test (RegistrationStore::outlier_runs).
+    std::map<std::string, int> outlier_runs;
     // The reference epoch's own air (its stored meteo; this epoch's when it is the reference).
     std::optional<MeteoSidecar> reference_meteo;
     const SeriesReader* series = nullptr;  // the stored time series; none: this epoch alone

@@ -29,6 +29,31 @@ std::set<std::string> RegistrationStore::excluded_targets() const {
     });
 }
 
+std::map<std::string, int> RegistrationStore::outlier_runs(std::int64_t before, int limit) const {
+    return guarded(*c_, "reading the targets' outlier tests", [&] {
+        SQLite::Statement s(c_->db,
+                            "SELECT o.target, o.use FROM target_observations o JOIN"
+                            " (SELECT e.id, e.acquired FROM epochs e JOIN registrations r ON"
+                            " r.epoch_id = e.id WHERE e.acquired < ? ORDER BY e.acquired DESC,"
+                            " e.id DESC LIMIT ?) n ON n.id = o.epoch_id"
+                            " ORDER BY n.acquired DESC, n.id DESC");
+        s.bind(1, before);
+        s.bind(2, limit);
+        std::map<std::string, int> runs;
+        std::set<std::string> broken;  // a newer epoch where it did not fail
+        while (s.executeStep()) {
+            const std::string target = s.getColumn(0).getString();
+            if (broken.count(target)) continue;
+            if (s.getColumn(1).getString() == "excluded_outlier") {
+                ++runs[target];
+            } else {
+                broken.insert(target);
+            }
+        }
+        return runs;
+    });
+}
+
 int RegistrationStore::mark_resurveyed(const std::string& target, std::int64_t unix_time) {
     return guarded(*c_, "clearing a target exclusion", [&] {
         SQLite::Statement s(c_->db,

@@ -33,6 +33,10 @@ class RegistrationStore {
 
     // Targets excluded as moved by an epoch and not re-surveyed since.
     std::set<std::string> excluded_targets() const;
+    // Per target, in how many of the newest `limit` registered epochs acquired before
+    // `before` (newest first, without a break) it failed its outlier test
+    // (`excluded_outlier`); targets with none are absent.
+    std::map<std::string, int> outlier_runs(std::int64_t before, int limit) const;
     // An operator re-surveyed the target: it is offered to the registration again (its
     // reference centre is measured anew when the reference's parameters change).
     // Returns the number of exclusions cleared.

@@ -6,8 +6,9 @@
 // tests/pipeline/simulated_windows.hpp), the registration on the preset's targets with the
 // truth's range scales.
 //
-// Truth: the pier's displacement u_i at the patch's origin c (on its reference plane) along
-// the patch normal n, (u_i(c) − u_0(c))·n; a zone's true value is the median over its
+// Truth: the pier's displacement u_i at the place c the distance is taken at (the reference
+// points' centroid on the patch plane, PbM3c2Reference::measured_at) along the patch normal
+// n, (u_i(c) − u_0(c))·n; a zone's true value is the median over its
 // measured patches (as for M3C2's core points: tests/pipeline/test_m3c2_simulated.cpp).
 #include <gtest/gtest.h>
 
@@ -51,6 +52,11 @@ struct Series {
     std::vector<ZoneScore> m3c2, pbm3c2;
     std::size_t patches = 0, within = 0;  // measured patches, and those with |d − t| ≤ LoD95
     std::size_t south_patches = 0, south_within = 0;
+    // The south face's patches with the epoch's realized registration error along the normal
+    // taken out, within the fits' own LoD95 (1.96·σ_fits); and that error in units of σ_T at
+    // the face's first patch, per epoch.
+    std::size_t south_own_within = 0;
+    std::vector<double> registration_z;
     double largest_truth = 0;
 };
 
@@ -120,14 +126,22 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
             const auto& f = pb_ref.patches[k].frame;
             d.push_back(p.results[k].distance.distance);
             lod.push_back(p.results[k].distance.lod);
-            truth.push_back(truth_at(f.origin, f.normal));
+            truth.push_back(truth_at(pb_ref.measured_at(k), f.normal));
             if (!std::isfinite(d.back())) continue;
             const bool in = std::abs(d.back() - truth.back()) <= lod.back();
             ++out.patches, out.within += in;
         }
+        bool first = true;
         for (auto k : pb_ref.zone_patches[0]) {
             if (!std::isfinite(d[k])) continue;
             ++out.south_patches, out.south_within += std::abs(d[k] - truth[k]) <= lod[k];
+            const auto& f = pb_ref.patches[k].frame;
+            const double e = test::registration_error_at(site, e0.conditions, ei.conditions,
+                                                         *o->to_reference, pb_ref.measured_at(k))
+                                 .dot(f.normal);
+            const double own_lod = 1.96 * p.results[k].distance.sampling_sigma;
+            out.south_own_within += std::abs(d[k] - truth[k] - e) <= own_lod;
+            if (first) out.registration_z.push_back(e / p.registration_sigma[k]), first = false;
         }
         add_epoch(out.pbm3c2, d, lod, truth, pb_ref.zone_patches);
         // The zone rows agree with what was scored: the median's row is the patches' median.
@@ -154,6 +168,13 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
                 out.within, out.patches, 100.0 * double(out.within) / double(out.patches),
                 out.south_within, out.south_patches,
                 100.0 * double(out.south_within) / double(out.south_patches));
+    std::printf(
+        "south face, the registration's realized error taken out: %zu of %zu within the "
+        "fits' own LoD95 (%.1f %%); that error in σ_T per epoch:",
+        out.south_own_within, out.south_patches,
+        100.0 * double(out.south_own_within) / double(out.south_patches));
+    for (double z : out.registration_z) std::printf(" %+.2f", z);
+    std::printf("\n");
     return out;
 }
 
@@ -170,18 +191,32 @@ TEST(PbM3c2Simulated, ZoneMediansMatchTheTruthWithASmallerLodThanM3c2) {
         }
         ASSERT_EQ(s.pbm3c2[z].errors.size(), 3u) << s.zones[z];
         EXPECT_LE(s.pbm3c2[z].rms(), 0.0003) << s.zones[z];
-        EXPECT_LT(median(s.pbm3c2[z].point_lods), 0.92 * median(s.m3c2[z].point_lods))
+        // At least 20 % below M3C2's (29–30 % on this series, the registration's σ unpadded).
+        EXPECT_LT(median(s.pbm3c2[z].point_lods), 0.80 * median(s.m3c2[z].point_lods))
             << s.zones[z];
     }
 }
 
-TEST(PbM3c2Simulated, WithoutDeformationTheLodHoldsAt95PercentOfPatches) {
+// Without deformation, on the south face. An epoch's patches all share its registration error,
+// one draw of σ_T, so how many of them fall within their LoD95 depends on that draw (with
+// σ_T at a third of the fits' σ, one draw at 1.9 σ_T moved a sixth of them out) and cannot
+// judge it. The patches' own part is scored apart: their error less the realized
+// registration error along the normal against the fits' LoD95, at 95 % within the
+// two-sided 99 % binomial band (not padded either). σ_T itself is scored over independent
+// series (bench/registration_coverage.cpp; docs/calibration.md); here its realized error only
+// has to be a plausible draw of it.
+TEST(PbM3c2Simulated, WithoutDeformationThePatchesOwnLodHoldsAt95Percent) {
     sim::Site site = sim::preset_pier();
     site.deformation.enabled = false;
     site.noise.seed = 5;
     const Series s = run_series(site, {0.0, 4.0, 8.0});
-    ASSERT_GT(s.south_patches, 300u);
-    EXPECT_GE(double(s.south_within) / double(s.south_patches), 0.95);
+    ASSERT_GT(s.south_patches, 600u);
+    const double n = double(s.south_patches), share = double(s.south_own_within) / n;
+    const double band = 2.576 * std::sqrt(0.95 * 0.05 / n);
+    EXPECT_GE(share, 0.95 - band);
+    EXPECT_LE(share, 0.95 + band);
+    ASSERT_EQ(s.registration_z.size(), 2u);
+    for (double z : s.registration_z) EXPECT_LT(std::abs(z), 3.0);
 }
 
 }  // namespace

@@ -2,8 +2,9 @@
 // drift: the targets' windows are rendered and written as multi-scan PTX files (one scan per
 // window), processed with process_epoch against a real SQLite file, and what the database
 // holds is checked against the simulator's truth: the knocked target (10 mm, from epoch 2)
-// is flagged, excluded and stays excluded; an epoch where only two targets remain usable is
-// rejected with the reason and a system event; the registration's σ at a configured zone is
+// is left out of epoch 2, excluded as moved when epoch 3 confirms it (the default
+// confirm_exclusion_epochs = 2) and stays excluded; an epoch where only two targets remain usable
+// is rejected with the reason and a system event; the registration's σ at a configured zone is
 // stored for every accepted epoch.
 #include <gtest/gtest.h>
 
@@ -96,12 +97,24 @@ TEST(RegistrationStage, KnockedTargetStaysExcludedAndTwoTargetsAreRejected) {
     EXPECT_TRUE(r2->accepted);
     EXPECT_EQ(r2->target_count, static_cast<std::int64_t>(n) - 1);
     ASSERT_TRUE(r2->parameters && r2->sigmas && r2->quaternion);
-    EXPECT_EQ(regs.excluded_targets(), std::set<std::string>{"T1"});
-    // Epoch 3: still excluded, without being tested again.
+    // Epoch 3: tested again, it fails again and is excluded as moved from then on, by epoch 3.
     const auto t3 = regs.targets_of_epoch(ids[3]);
-    EXPECT_EQ(t3[0].status, "excluded");
-    EXPECT_EQ(t3[0].use, "not_usable");
+    EXPECT_EQ(t3[0].status, "found");
+    EXPECT_EQ(t3[0].use, "excluded_outlier");
     EXPECT_EQ(regs.of_epoch(ids[3])->target_count, static_cast<std::int64_t>(n) - 1);
+    EXPECT_EQ(regs.excluded_targets(), std::set<std::string>{"T1"});
+    const auto exclusions = regs.exclusions();
+    ASSERT_EQ(exclusions.size(), 1u);
+    EXPECT_EQ(exclusions[0].epoch, ids[3]);
+    // What the daemon reads for each epoch: T1's run of failed tests before it.
+    EXPECT_TRUE(regs.outlier_runs(1780293600 + 900 * 2, 10).empty());
+    EXPECT_EQ(regs.outlier_runs(1780293600 + 900 * 3, 10), (std::map<std::string, int>{{"T1", 1}}));
+    EXPECT_EQ(regs.outlier_runs(1780293600 + 900 * 4, 10), (std::map<std::string, int>{{"T1", 2}}));
+    EXPECT_EQ(regs.outlier_runs(1780293600 + 900 * 4, 1), (std::map<std::string, int>{{"T1", 1}}));
+    // Epoch 4: excluded, not tested.
+    const auto t4 = regs.targets_of_epoch(ids[4]);
+    EXPECT_EQ(t4[0].status, "excluded");
+    EXPECT_EQ(t4[0].use, "not_usable");
     // The registration's σ at the pier face: stored per accepted epoch, and of the size the
     // layout allows (docs/registration.md: ≈ 1 mm at 50 m for centres of 0.1 mm).
     const auto z3 = regs.zone_sigmas_of_epoch(ids[3]);
@@ -118,6 +131,23 @@ TEST(RegistrationStage, KnockedTargetStaysExcludedAndTwoTargetsAreRejected) {
     // Re-surveyed: offered again.
     EXPECT_EQ(regs.mark_resurveyed("T1", 1780300000), 1);
     EXPECT_TRUE(regs.excluded_targets().empty());
+}
+
+// A target is excluded as moved when it has failed its outlier test in `confirm` consecutive
+// epochs, this one included; otherwise it is only left out of this epoch.
+TEST(RegistrationStage, AnOutlierIsExcludedAsMovedOnceConsecutiveEpochsConfirmIt) {
+    const std::map<std::string, int> runs{{"T2", 1}, {"T3", 3}};
+    const auto split = [&](int confirm) {
+        RegistrationResult r;
+        r.newly_excluded = {"T1", "T2", "T3"};
+        confirm_exclusions(r, runs, confirm);
+        return std::pair(r.newly_excluded, r.outliers);
+    };
+    using Names = std::vector<std::string>;
+    EXPECT_EQ(split(1), std::pair(Names{"T1", "T2", "T3"}, Names{}));
+    EXPECT_EQ(split(2), std::pair(Names{"T2", "T3"}, Names{"T1"}));
+    EXPECT_EQ(split(4), std::pair(Names{"T3"}, Names{"T1", "T2"}));
+    EXPECT_EQ(split(5), std::pair(Names{}, Names{"T1", "T2", "T3"}));
 }
 
 }  // namespace

@@ -4,12 +4,15 @@
 // off the true centre (as a site's approximate positions are). Shared by the pipeline tests
 // and the benches that register simulated epochs.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pipeline/registration_config.hpp"
 #include "pipeline/registration_stage.hpp"
+#include "simulator/drift.hpp"
+#include "simulator/epoch_conditions.hpp"
 #include "simulator/scene.hpp"
 
 namespace tlsmon::test {
@@ -48,6 +51,24 @@ inline std::optional<StageOutputs> simulated_outputs(const RegistrationConfig& t
     o.scanner = scans.front().scanner_position();
     o.reference_range_scale = k_r;
     return o;
+}
+
+// The registration's realized error at y, a point of the reference frame: where `T` puts the
+// point of epoch `e` that truly lies at y, minus y. The exact map is H₀⁻¹·H_e,
+// H_k = N·E_k·N⁻¹ (the scanner's pose error through the nominal pose). Every measurement of an
+// epoch shares it, so a test scores an analysis's own σ against its error less this, and the
+// registration's σ over independent series (bench/registration_coverage.cpp).
+inline Eigen::Vector3d registration_error_at(const sim::Site& site, const sim::EpochConditions& e0,
+                                             const sim::EpochConditions& e,
+                                             const registration::RigidTransform& T,
+                                             const Eigen::Vector3d& y) {
+    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
+    const auto H = [&](const sim::EpochConditions& c) {
+        return Eigen::Affine3d(N * sim::pose_error(site, c.epoch, c.hours).transform() *
+                               N.inverse());
+    };
+    const Eigen::Affine3d exact = H(e0).inverse() * H(e);
+    return T.apply(exact.inverse() * y) - y;
 }
 
 }  // namespace tlsmon::test
