@@ -125,6 +125,8 @@ struct ZoneFigure {
     keypoints::SegmentDisplacement d;
     Eigen::Matrix3d registration = Eigen::Matrix3d::Zero();  // its covariance at the segment
     Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
+    // The epoch's realized registration error averaged over the same area (normal, h, v).
+    Eigen::Vector3d registration_error = Eigen::Vector3d::Constant(NAN);
     double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
 };
 
@@ -190,12 +192,17 @@ Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
             f.registration = s.registration_covariance;
             const auto& w = s.displacement.wall;
             if (s.displacement.defined() && w.defined() && !cells[z].empty()) {
-                Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+                Eigen::Vector3d sum = Eigen::Vector3d::Zero(), reg = Eigen::Vector3d::Zero();
+                const auto in_wall = [&](const Eigen::Vector3d& u) {
+                    return Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
+                };
                 for (const Eigen::Vector3d& c : cells[z]) {
-                    const Eigen::Vector3d u = true_change(c);
-                    sum += Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
+                    sum += in_wall(true_change(c));
+                    reg += in_wall(test::registration_error_at(site, e0.conditions, ei.conditions,
+                                                               *o.to_reference, c));
                 }
                 f.truth = sum / double(cells[z].size());
+                f.registration_error = reg / double(cells[z].size());
                 // The bands with enough kept matches hold most of the zone's area (all of the
                 // pier's faces; the top of the far strip the least).
                 EXPECT_GT(s.displacement.covered_area_share, 0.5) << s.zone;
@@ -246,6 +253,26 @@ void print_score(const char* what, const Score& s) {
                 1e3 * s.bias / s.n, 1e3 * s.rms(), 1e3 * s.worst, s.n);
 }
 
+// The keypoints' own standard error against their error less the epoch's realized
+// registration error, which every zone of the epoch shares (test::registration_error_at): what
+// the matches claim of themselves, apart from the datum. Printed, not asserted: it does not
+// hold yet (docs/keypoints.md, "The matches' own σ").
+struct OwnScore {
+    int n = 0, within = 0;
+    double sum_z2 = 0;
+    void add(double z) {
+        ++n;
+        within += std::abs(z) <= 1.96;
+        sum_z2 += z * z;
+    }
+    void print(const char* what) const {
+        std::printf(
+            "own standard error, the registration's realized error out, %s: within 1.96 SE %d of "
+            "%d, RMS(e/SE) %.2f\n",
+            what, within, n, std::sqrt(sum_z2 / n));
+    }
+};
+
 // The acceptance over `hours`: every zone but the grazing "west" defined, along the surface
 // within 1.0 mm RMS of the truth in h and v; printed beside M3C2's medians. Returns the
 // number of zone epochs scored.
@@ -260,6 +287,7 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
     std::map<std::string, std::pair<double, int>> kept;
     double largest = 0;
     int lod_covers = 0, lod_rows = 0;
+    OwnScore own[2];  // h, v
     for (const auto& f : s.figures) {
         const auto& d = f.d;
         std::printf(
@@ -285,6 +313,8 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
         m3c2.add(f.m3c2_median - f.m3c2_truth);
         largest = std::max({largest, std::abs(f.truth[1]), std::abs(f.truth[2])});
         for (int k = 1; k < 3; ++k) {
+            own[k - 1].add((d.along[k] - f.truth[k] - f.registration_error[k]) /
+                           d.along_standard_error[k]);
             ++lod_rows;
             lod_covers += std::abs(d.along[k] - f.truth[k]) <=
                           lod_of(f.zone, d, f.registration,
@@ -298,6 +328,7 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
     print_score("keypoints, along the normal", normal);
     print_score("M3C2 median, along the normal", m3c2);
     std::printf("LoD95 covers the error in %d of %d along-surface figures\n", lod_covers, lod_rows);
+    own[0].print("along h"), own[1].print("along v");
     EXPECT_LE(h.rms(), 0.001);
     EXPECT_LE(v.rms(), 0.001);
     // The truth moves by millimetres along the surface: the test measures something.
@@ -314,6 +345,7 @@ int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
     const Series s = run_series(scenario, hours);
     int rows = 0;
     double worst = 0;
+    OwnScore own[2];  // h, v
     for (const auto& f : s.figures) {
         EXPECT_EQ(f.d.defined(), f.zone != "west") << f.zone << ": " << f.d.undefined_reason;
         const Eigen::Vector3d h = f.d.wall.horizontal;
@@ -321,6 +353,8 @@ int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
                     f.epoch, f.zone.c_str(), f.kept, 1e3 * f.d.along[1], 1e3 * f.d.along[2],
                     1e3 * f.d.along[0], 1e3 * f.d.along_standard_error[1],
                     h.allFinite() ? 1e3 * std::sqrt(h.dot(f.registration * h)) : NAN);
+        for (int k = 1; k < 3 && f.d.defined() && f.registration_error.allFinite(); ++k)
+            own[k - 1].add((f.d.along[k] - f.registration_error[k]) / f.d.along_standard_error[k]);
         for (const auto& row : keypoint_zone_results(f.zone, f.d, f.registration)) {
             if (!row.uncertainty) continue;
             const double sigma = *row.uncertainty / 1.96;
@@ -332,6 +366,7 @@ int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
         }
     }
     std::printf("no deformation: %d figures, the largest |value| / σ = %.2f\n", rows, worst);
+    own[0].print("along h"), own[1].print("along v");
     return rows;
 }
 
