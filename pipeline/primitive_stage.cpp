@@ -148,6 +148,13 @@ PrimitiveEpoch measure_primitives(const PrimitivesConfig& config,
     return out;
 }
 
+Eigen::Matrix<double, 2, 5> cylinder_top_jacobian(double far_end) {
+    Eigen::Matrix<double, 2, 5> J = Eigen::Matrix<double, 2, 5>::Zero();
+    J(0, 0) = J(1, 1) = 1.0;
+    J(0, 2) = J(1, 3) = far_end;
+    return J;
+}
+
 std::vector<ZoneResult> primitive_zone_results(const PrimitivesConfig& config,
                                                const PrimitiveReference& reference,
                                                const PrimitiveEpoch& epoch) {
@@ -175,11 +182,7 @@ std::vector<ZoneResult> primitive_zone_results(const PrimitivesConfig& config,
                 vector(2, 2, "cylinder_tilt_arcsec", kArcsecPerRad);
                 one(2, "cylinder_lean_x_arcsec", kArcsecPerRad);
                 one(3, "cylinder_lean_y_arcsec", kArcsecPerRad);
-                // At the far end L along the axis: Δs + L·Δθ.
-                const double L = reference.entries[k].far_end;
-                Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2, 5);
-                J(0, 0) = J(1, 1) = 1.0;
-                J(0, 2) = J(1, 3) = L;
+                const Eigen::MatrixXd J = cylinder_top_jacobian(reference.entries[k].far_end);
                 const Eigen::VectorXd top = J * c.delta;
                 const Eigen::MatrixXd S = J * c.covariance * J.transpose();
                 for (int i = 0; i < 2; ++i) {

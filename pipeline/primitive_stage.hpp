@@ -12,6 +12,7 @@
 // those in the zone fitted from the reference's primitive, and the change Δx with Σ_Δ =
 // Σ_reference + Σ_epoch + J·Σ_T·Jᵀ (algorithms/primitives/primitive_change.hpp; Σ_T zero
 // without a registration: the epoch then carries that quality and raises no alarm).
+#include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <string>
@@ -60,6 +61,10 @@ struct PrimitiveEpoch {
 PrimitiveEpoch measure_primitives(const PrimitivesConfig& config,
                                   const PrimitiveReference& reference,
                                   const std::vector<Scan>& scans, const StageOutputs& outputs);
+
+// A cylinder's top, at `far_end` along its axis, from the change of its parameters
+// (x, y, θx, θy, r): Δs + L·Δθ, the Jacobian of `cylinder_top_x_m`, `cylinder_top_y_m`.
+Eigen::Matrix<double, 2, 5> cylinder_top_jacobian(double far_end);
 
 // The zone rows of the quantities above for each measured zone.
 std::vector<ZoneResult> primitive_zone_results(const PrimitivesConfig& config,

@@ -143,10 +143,7 @@ std::vector<Epoch> run_pairs(const sim::Site& site, int references, int followin
             e.s0 = m.fits[0].s0;
             const Eigen::MatrixXd fits = ref.entries[0].fit.covariance + m.fits[0].covariance;
             e.fit_covariance = fits.block<2, 2>(2, 2);
-            // At the far end L along the axis: Δs + L·Δθ (pipeline/primitive_stage.cpp).
-            Eigen::Matrix<double, 2, 5> J = Eigen::Matrix<double, 2, 5>::Zero();
-            J(0, 0) = J(1, 1) = 1.0;
-            J(0, 2) = J(1, 3) = entry.far_end;
+            const Eigen::Matrix<double, 2, 5> J = cylinder_top_jacobian(entry.far_end);
             e.top_fit_covariance = J * fits.topLeftCorner<5, 5>() * J.transpose();
             e.top_own_error =
                 e.top_error - test::registration_error_at(site, e0.conditions, ei.conditions,
