@@ -82,7 +82,8 @@ function(_tlsmon_test_executable target label sources)
   target_compile_definitions(${target} PRIVATE
     TLSMON_DATA_DIR="${TLSMON_DATA_DIR}"
     TLSMON_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    TLSMON_BINARY="$<TARGET_FILE:tlsmon>")
+    TLSMON_BINARY="$<TARGET_FILE:tlsmon>"
+    TLSMON_TEST_CACHE="${CMAKE_BINARY_DIR}/test-cache")
   # ctest -j starts the costliest tests first. Without the timing history of an earlier run (a
   # fresh clone) every test costs the same and runs in declaration order, so a process test of
   # minutes could start last, with one core idle behind it; process tests are the long ones.

@@ -175,7 +175,7 @@ void expect_same(const PostgresCluster& pg, const SiteRun& s) {
 
 TEST(CentralDaemons, ThreeSitesThroughAnOutageKillsAndAReadOnlyServerArriveWholeAndOnce) {
     TempDir tmp("central-e2e");
-    const Scenario s = render_scenario(tmp.path() / "scenario", kEpochs, next_midnight());
+    const Scenario s = shared_scenario(kEpochs, next_midnight());
     PostgresCluster pg;
     {
         CentralTarget admin;

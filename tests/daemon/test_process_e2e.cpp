@@ -419,7 +419,7 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
 TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
     const auto t0 = Clock::now();
     const TempDir tmp("e2e");
-    const Scenario s = render_scenario(tmp.path(), kEpochs, next_midnight());
+    const Scenario s = shared_scenario(kEpochs, next_midnight());
     ASSERT_EQ(s.truth.size(), static_cast<std::size_t>(kEpochs));
     const double render_s = seconds_since(t0);
     const int step_epoch = s.scene.step_epoch, knocked_epoch = s.scene.knocked_epoch;
@@ -875,7 +875,7 @@ TEST(EndToEnd, DemoScenarioFromScanFileToModbusRegisterAgainstTheTruth) {
         one_shot_commands_reproduce_the_daemon(s, 5, id, config, db, tmp.path());
     }
 
-    std::cout << "end to end: " << kEpochs << " epochs; rendered in " << render_s
+    std::cout << "end to end: " << kEpochs << " epochs; rendered or read in " << render_s
               << " s, processed and checked in " << run_s << " s, " << seconds_since(t0)
               << " s in all; registration worst RMS at the pier " << 1e3 * worst_rms << " mm, "
               << within_2sigma << "/" << registered << " within 2σ; step raised at " << *raised_at

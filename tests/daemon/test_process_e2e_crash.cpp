@@ -131,7 +131,7 @@ void expect_same(const std::map<std::string, std::string>& got,
 TEST(EndToEndCrash, KilledAtRandomDuringTheDemoScenarioEqualsAnUninterruptedRun) {
     const auto t0 = std::chrono::steady_clock::now();
     const TempDir tmp("e2e-crash");
-    const Scenario s = render_scenario(tmp.path(), kEpochs, next_midnight());
+    const Scenario s = shared_scenario(kEpochs, next_midnight());
     ASSERT_EQ(s.stems.size(), static_cast<std::size_t>(kEpochs));
 
     // Uninterrupted: every file there, one `run --once`.

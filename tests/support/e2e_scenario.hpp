@@ -6,9 +6,15 @@
 // ingest folder one epoch at a time; the database read with the `sqlite3` program (not
 // through tlsmon's storage code); the simulator's truth read from its JSON files by the
 // field definitions of docs/simulator.md (not through tlsmon's report code).
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
@@ -130,18 +136,13 @@ inline std::int64_t next_midnight() {
     return now - now % 86400 + 86400;
 }
 
-inline Scenario render_scenario(const fs::path& dir, int epochs, std::int64_t start) {
+// The scenario as rendered into `dir` by render_scenario.
+inline Scenario read_scenario(const fs::path& dir, int epochs, std::int64_t start) {
     Scenario s;
     s.dir = dir;
     s.epochs = epochs;
     s.start = start;
     s.scene = demo_scene("small", epochs);
-    fs::create_directories(dir);
-    write_text(dir / "scene.toml", scene_file_text(s.scene));
-    const auto r = shell(std::string(TLSMON_BINARY) + " simulate --config " +
-                         (dir / "scene.toml").string() + " --out " + s.scans().string() +
-                         " --epochs " + std::to_string(epochs) + " --start " + format_utc(start));
-    if (r.status != 0) throw std::runtime_error("tlsmon simulate: " + r.output);
     for (const auto& f : fs::directory_iterator(s.scans())) {
         const std::string name = f.path().filename().string();
         const auto at = name.find(".truth.json");
@@ -153,6 +154,60 @@ inline Scenario render_scenario(const fs::path& dir, int epochs, std::int64_t st
     for (const auto& stem : s.stems)
         s.truth.push_back(read_truth(s.scans() / (stem + ".truth.json")));
     return s;
+}
+
+inline Scenario render_scenario(const fs::path& dir, int epochs, std::int64_t start) {
+    fs::create_directories(dir);
+    write_text(dir / "scene.toml", scene_file_text(demo_scene("small", epochs)));
+    const auto r = shell(std::string(TLSMON_BINARY) + " simulate --config " +
+                         (dir / "scene.toml").string() + " --out " + (dir / "scans").string() +
+                         " --epochs " + std::to_string(epochs) + " --start " + format_utc(start));
+    if (r.status != 0) throw std::runtime_error("tlsmon simulate: " + r.output);
+    return read_scenario(dir, epochs, start);
+}
+
+// The scenario rendered once and shared by the process tests that run it (they copy its scans
+// into their own ingest folders and never write to it): in the build's
+// test-cache/scenario-<tlsmon's size and time>-<epochs>-<start>. Its rendering takes as long
+// as a daemon's whole run, and the simulator is deterministic, so each test rendering its own
+// copy only repeated the same bytes. Keyed by the tlsmon executable as well, so that a
+// rebuilt simulator renders afresh. The first test renders it under an exclusive flock (tests
+// run in parallel), the others wait for the lock and read it; a folder without its `complete`
+// mark (a render killed midway) is rendered again. Scenarios of another executable, or of a
+// start two days older, are removed.
+inline Scenario shared_scenario(int epochs, std::int64_t start) {
+    const fs::path cache = TLSMON_TEST_CACHE;
+    fs::create_directories(cache);
+    struct stat binary {};
+    if (::stat(TLSMON_BINARY, &binary) != 0) throw std::runtime_error("no " TLSMON_BINARY);
+    const std::string stamp = "scenario-" + std::to_string(binary.st_size) + "." +
+                              std::to_string(binary.st_mtim.tv_sec) + "." +
+                              std::to_string(binary.st_mtim.tv_nsec) + "-";
+    const std::string name = stamp + std::to_string(epochs) + "-" + std::to_string(start);
+    const int lock = ::open((cache / (name + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (lock < 0) throw std::runtime_error("cannot open the lock of " + (cache / name).string());
+    const fs::path dir = cache / name;
+    try {
+        if (::flock(lock, LOCK_EX) != 0) throw std::runtime_error("cannot lock " + dir.string());
+        if (!fs::exists(dir / "complete")) {
+            fs::remove_all(dir);
+            render_scenario(dir, epochs, start);
+            write_text(dir / "complete", "");
+        }
+        for (const auto& f : fs::directory_iterator(cache)) {
+            const std::string other = f.path().filename().string();
+            if (other.rfind("scenario-", 0) != 0) continue;
+            const auto dash = other.rfind('-');
+            if (other.rfind(stamp, 0) != 0 ||
+                std::atoll(other.c_str() + dash + 1) < start - 2 * 86400)
+                fs::remove_all(f.path());
+        }
+    } catch (...) {
+        ::close(lock);
+        throw;
+    }
+    ::close(lock);
+    return read_scenario(dir, epochs, start);
 }
 
 // The demo's daemon configuration for this scenario (demo/scene.cpp), in `run`:
