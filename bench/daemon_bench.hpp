@@ -105,14 +105,15 @@ class ScanSeries {
 };
 
 // tlsmon.toml (the demo's configuration with Modbus off), ingest/ and the scene in `dir`.
-inline fs::path write_daemon_folder(const fs::path& dir, const ScanSeries& scans) {
+inline fs::path write_daemon_folder(const fs::path& dir, const std::string& scene_text,
+                                    const sim::Site& site) {
     fs::create_directories(dir / "ingest");
-    write_text(dir / "scene.toml", scans.scene_text());
-    const sim::Site& site = scans.site();
+    write_text(dir / "scene.toml", scene_text);
     DemoSite ds;
     ds.site_toml = site_configuration(site);
     ds.step_min = {site.pier.x0, site.pier.y0 - 0.5, site.events.step_z_min};
     ds.step_max = {site.pier.x1, site.pier.y0 + 0.5, site.events.step_z_max};
+    ds.check_zone_toml = abutment_check_zone(site);
     std::string config = demo_daemon_config(ds);
     const std::string on = "[modbus]\nenabled = true";
     const auto at = config.find(on);
@@ -120,6 +121,10 @@ inline fs::path write_daemon_folder(const fs::path& dir, const ScanSeries& scans
     config.replace(at, on.size(), "[modbus]\nenabled = false");
     write_text(dir / "tlsmon.toml", config);
     return dir / "tlsmon.toml";
+}
+
+inline fs::path write_daemon_folder(const fs::path& dir, const ScanSeries& scans) {
+    return write_daemon_folder(dir, scans.scene_text(), scans.site());
 }
 
 // The daemon as the kernel sees it.
