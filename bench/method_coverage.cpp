@@ -27,6 +27,7 @@
 #include "bench/daemon_bench.hpp"
 #include "core/utc_time.hpp"
 #include "report/calibration.hpp"
+#include "tests/support/daemon_harness.hpp"
 
 using namespace tlsmon;
 namespace fs = std::filesystem;
@@ -34,16 +35,10 @@ using nlohmann::json;
 
 namespace {
 
-// The output of `command` (stdout), or a throw naming it.
-std::string run(const std::string& command) {
-    std::string out;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) throw std::runtime_error("cannot run " + command);
-    char buffer[4096];
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
-        out.append(buffer, n);
-    if (::pclose(pipe) != 0) throw std::runtime_error("failed: " + command + "\n" + out);
-    return out;
+// Runs `command`, throwing with its output when it fails.
+void run(const std::string& command) {
+    const auto r = test::shell(command);
+    if (r.status != 0) throw std::runtime_error("failed: " + command + "\n" + r.output);
 }
 
 // One (method, part) pooled over the series.
@@ -150,16 +145,17 @@ int main(int argc, char** argv) {
             run(tlsmon + " simulate --config " + (dir / "scene.toml").string() + " --out " +
                 (dir / "scans").string() + " --epochs " + std::to_string(epochs) + " --seed " +
                 std::to_string(seed) + " --start " + format_utc(start) + " --cadence " +
-                std::to_string(std::lround(cadence_h * 60)) + "min > /dev/null");
+                std::to_string(std::lround(cadence_h * 60)) + "min");
             for (const auto& f : fs::directory_iterator(dir / "scans")) {
                 const auto ext = f.path().extension();
                 if (ext == ".ptx" || ext == ".csv") bench::place(f.path(), dir / "ingest");
             }
             run(tlsmon + " run --once --config " + config.string() + " > " +
-                (dir / "daemon.out").string() + " 2>&1");
-            const json rows =
-                json::parse(run(tlsmon + " calibration --config " + config.string() + " --truth " +
-                                (dir / "scans").string() + " --format json"));
+                (dir / "daemon.out").string());
+            run(tlsmon + " calibration --config " + config.string() + " --truth " +
+                (dir / "scans").string() + " --format json > " +
+                (dir / "calibration.json").string());
+            const json rows = json::parse(bench::read_text(dir / "calibration.json"));
             for (const auto& row : rows)
                 pools[{row.at("method").get<std::string>(), row.at("part").get<std::string>()}].add(
                     row);
