@@ -10,6 +10,10 @@
 // verdicts of report/calibration.hpp. Nothing is tuned here: it is the defaults that are scored.
 //
 //   bench_method_coverage [SERIES=40] [FIRST_SEED=3000] [--epochs N=3] [--keep DIR]
+//                         [--set SECTION.KEY=VALUE]...
+//
+// `--set` puts `KEY = VALUE` (TOML) into the daemon's configuration's [SECTION], to score a
+// setting other than the default (e.g. --set registration.covariance_scaling='"a_priori"').
 //
 // Series k (seed FIRST_SEED + k) starts frac(0.618·k) of a day after midnight, k + 2 days
 // before today (the daemon refuses scans dated ahead of its clock), every 1 + 5·frac(0.382·k)
@@ -96,6 +100,22 @@ void print(const std::map<std::pair<std::string, std::string>, Pool>& pools) {
     }
 }
 
+// `--set SECTION.KEY=VALUE` applied to a configuration's text: the line goes under the
+// section's header, or into a new section at the end.
+void set_key(std::string& config, const std::string& assignment) {
+    const auto dot = assignment.find('.'), eq = assignment.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+        throw std::runtime_error("--set wants SECTION.KEY=VALUE, not " + assignment);
+    const std::string header = "[" + assignment.substr(0, dot) + "]\n";
+    const std::string line =
+        assignment.substr(dot + 1, eq - dot - 1) + " = " + assignment.substr(eq + 1) + "\n";
+    const auto at = config.find("\n" + header);
+    if (at == std::string::npos)
+        config += "\n" + header + line;
+    else
+        config.insert(at + 1 + header.size(), line);
+}
+
 double frac(double x) {
     return x - std::floor(x);
 }
@@ -106,22 +126,35 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     int epochs = 3;
     fs::path keep;
+    std::vector<std::string> settings;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--epochs" && i + 1 < argc) {
             epochs = std::atoi(argv[++i]);
         } else if (a == "--keep" && i + 1 < argc) {
             keep = argv[++i];
+        } else if (a == "--set" && i + 1 < argc) {
+            settings.push_back(argv[++i]);
         } else {
             args.push_back(a);
         }
     }
     const int series = args.size() > 0 ? std::atoi(args[0].c_str()) : 40;
     const int first_seed = args.size() > 1 ? std::atoi(args[1].c_str()) : 3000;
-    if (series < 1 || epochs < 2) {
+    std::string check;
+    bool bad_setting = false;
+    for (const auto& s : settings) {
+        try {
+            set_key(check, s);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "%s\n", e.what());
+            bad_setting = true;
+        }
+    }
+    if (series < 1 || epochs < 2 || bad_setting) {
         std::fprintf(stderr,
                      "usage: bench_method_coverage [SERIES] [FIRST_SEED] [--epochs N>=2] "
-                     "[--keep DIR]\n");
+                     "[--keep DIR] [--set SECTION.KEY=VALUE]...\n");
         return 2;
     }
     bench::BenchDir tmp;
@@ -138,6 +171,11 @@ int main(int argc, char** argv) {
         const fs::path dir = (keep.empty() ? tmp / "series" : keep) / std::to_string(seed);
         fs::remove_all(dir);
         const fs::path config = bench::write_daemon_folder(dir, scene_text, site);
+        if (!settings.empty()) {
+            std::string text = bench::read_text(config);
+            for (const auto& s : settings) set_key(text, s);
+            bench::write_text(config, text);
+        }
         const std::int64_t start =
             today - (k + 2) * 86400 + std::llround(86400 * frac(0.6180339887 * k));
         const double cadence_h = 1.0 + 5.0 * frac(0.3819660113 * k);

@@ -7,12 +7,13 @@
 // take seconds. The air is switched off: what is scored is the centres' stochastic model and
 // the adjustment, not the meteo correction.
 //
-//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M]
+//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M] [--scaling S]
 //
 // SCENE: `demo` (the scene of `tlsmon demo`: the `small` preset at 0.05° with five spheres),
 // `pier`, `hochmosel`, or a scene file. The later epoch of series k is taken 24·frac(0.618·k)
 // hours after its reference, so the scanner's drift sweeps its day. `--floor` overrides
-// registration.centre_sigma_floor. Prints, per parameter (ω, φ, κ, tx, ty, tz) and pooled,
+// registration.centre_sigma_floor, `--scaling` registration.covariance_scaling (larger_of,
+// a_priori or a_posteriori). Prints, per parameter (ω, φ, κ, tx, ty, tz) and pooled,
 // the coverage of the 68 % and 95 % intervals with their Wilson bands (as `tlsmon
 // calibration`), and per target the centre's change between the two epochs against its
 // truth (the footprint's bias, the same in both, cancels), along the line of sight, across
@@ -111,17 +112,25 @@ void print_row(const report::CoverageRow& r) {
 int main(int argc, char** argv) {
     std::vector<std::string> args;
     std::optional<double> floor;
+    std::string scaling = "larger_of";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--floor" && i + 1 < argc)
             floor = std::atof(argv[++i]);
+        else if (a == "--scaling" && i + 1 < argc)
+            scaling = argv[++i];
         else
             args.push_back(a);
     }
-    if (args.empty()) {
+    const std::map<std::string, registration::CovarianceScaling> scalings{
+        {"larger_of", registration::CovarianceScaling::larger_of},
+        {"a_priori", registration::CovarianceScaling::a_priori},
+        {"a_posteriori", registration::CovarianceScaling::a_posteriori}};
+    if (args.empty() || !scalings.contains(scaling)) {
         std::fprintf(stderr,
                      "usage: bench_registration_coverage demo|pier|hochmosel|SCENE.toml "
-                     "[SERIES] [FIRST_SEED] [--floor M]\n");
+                     "[SERIES] [FIRST_SEED] [--floor M] [--scaling larger_of|a_priori|"
+                     "a_posteriori]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -132,6 +141,7 @@ int main(int argc, char** argv) {
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
     RegistrationConfig config = test::simulated_targets(base);
     if (floor) config.centre_sigma_floor = *floor;
+    config.covariance_scaling = scalings.at(scaling);
 
     std::array<std::vector<report::ScoredFigure>, 6> figures;
     std::map<std::string, CentreScore> centres;
@@ -187,10 +197,10 @@ int main(int argc, char** argv) {
     }
 
     std::printf(
-        "%s: %d series from seed %d, centre_sigma_floor %.3f mm; %d refused; reference centres "
-        "not found: %d\n",
-        args[0].c_str(), series, first_seed, 1e3 * config.centre_sigma_floor, refused,
-        no_reference);
+        "%s: %d series from seed %d, centre_sigma_floor %.3f mm, covariance_scaling %s; %d "
+        "refused; reference centres not found: %d\n",
+        args[0].c_str(), series, first_seed, 1e3 * config.centre_sigma_floor, scaling.c_str(),
+        refused, no_reference);
     for (const auto& [name, why] : missing)
         std::printf("  %s not found: %s\n", name.c_str(), why.c_str());
     std::printf("  %-6s %5s  %8s %8s %8s %8s  %-30s %s\n", "param", "n", "bias", "rms", "rms σ",

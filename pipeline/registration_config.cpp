@@ -20,6 +20,12 @@ constexpr std::array<Named<RegistrationMethod>, 7> kMethods{{
     {RegistrationMethod::targets_planes_stable_areas, "targets+planes+stable_areas"},
 }};
 
+constexpr std::array<Named<registration::CovarianceScaling>, 3> kCovarianceScalings{{
+    {registration::CovarianceScaling::larger_of, "larger_of"},
+    {registration::CovarianceScaling::a_priori, "a_priori"},
+    {registration::CovarianceScaling::a_posteriori, "a_posteriori"},
+}};
+
 constexpr std::array<Named<AtmosphereCorrection>, 2> kAtmosphereCorrections{{
     {AtmosphereCorrection::measured_air, "measured_air"},
     {AtmosphereCorrection::off, "off"},
@@ -71,6 +77,14 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
                   "whose targets' centres scatter more than their fits say (the `no-change` "
                   "check of `tlsmon calibration` on its targets) sets the part the fits miss "
                   "(docs/registration.md, \"Centre σ floor\")."),
+        K::choice(&RegistrationConfig::covariance_scaling, "covariance_scaling",
+                  kCovarianceScalings,
+                  "The variance factor σ0² of the targets' adjustment, Σ = σ0²·Q_xx, that every "
+                  "LoD downstream inherits. `larger_of`: max(1, s0²), never more optimistic than "
+                  "the centres' covariances nor the residuals. `a_priori`: 1, the centres' "
+                  "covariances as they are. `a_posteriori`: s0² (t-expanded). An epoch that "
+                  "fails the global test is scaled by s0² whatever this says "
+                  "(docs/registration.md, \"Rigid transformation\"; docs/calibration.md)."),
         K::integer(&RegistrationConfig::min_targets, "min_targets", 3, 100, "",
                    "Usable targets that must remain after outliers are excluded; fewer: rejected."),
         K::number(&RegistrationConfig::max_rms, "max_rms", 0, 1, "m",

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "algorithms/registration/rigid_transform.hpp"
 #include "algorithms/zones/zone_shape.hpp"
 #include "core/config_key.hpp"
 #include "pipeline/icp_config.hpp"
@@ -59,6 +60,8 @@ struct RegistrationConfig {
     // scatter beyond their fits' σ. 0 on the simulator, whose fits' σ is what the centres
     // repeat to (docs/registration.md, "Centre σ floor").
     double centre_sigma_floor = 0.0;  // m
+    // σ0² of the targets' adjustment (algorithms/registration/rigid_transform.hpp).
+    registration::CovarianceScaling covariance_scaling = registration::CovarianceScaling::larger_of;
     int min_targets = 3;
     double max_rms = 0.002;                // m, RMS of the used targets' residual lengths
     double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ

@@ -295,6 +295,7 @@ RegistrationResult register_epoch(const RegistrationConfig& config,
     params.global_reject_alpha = std::min(config.global_reject_alpha, config.global_alpha);
     params.target_alpha = config.target_alpha;
     params.min_targets = static_cast<std::size_t>(config.min_targets);
+    params.adjustment.scaling = config.covariance_scaling;
     out.tested = reg::register_with_tests(pairs, params);
     for (std::size_t i = 0; i < out.tested.targets.size(); ++i) {
         const auto& v = out.tested.targets[i];

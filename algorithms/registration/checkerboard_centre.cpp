@@ -37,25 +37,36 @@ Plane fit_plane_pca(const std::vector<Eigen::Vector3d>& xyz, const std::vector<s
     return pl;
 }
 
-// Step 1 of the header: PCA plane, refitted on the inliers until they stop changing.
+// The points of `candidates` within `tol` of the plane `pl`.
+std::vector<std::size_t> within(const std::vector<Eigen::Vector3d>& xyz, const Plane& pl,
+                                const std::vector<std::size_t>& candidates, double tol) {
+    std::vector<std::size_t> out;
+    for (const std::size_t i : candidates) {
+        if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) <= tol) out.push_back(i);
+    }
+    return out;
+}
+
+// Step 1 of the header: PCA plane, refitted on the inliers until they stop changing, then once
+// on a window kFinalWindow times as wide (why: the header's step 1).
 Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, std::vector<std::size_t> candidates) {
+    constexpr double kFinalWindow = 1.5;
     Plane pl = fit_plane_pca(xyz, candidates);
+    double tol = 0.0;
     for (int pass = 0; pass < 20; ++pass) {
         std::vector<double> abs_d;
         abs_d.reserve(pl.inliers.size());
         for (const std::size_t i : pl.inliers) {
             abs_d.push_back(std::abs(pl.normal.dot(xyz[i] - pl.centroid)));
         }
-        const double tol = std::max(3.0 * kMadToSigma * median_high(std::move(abs_d)), 5e-4);
-        std::vector<std::size_t> next;
-        for (const std::size_t i : candidates) {
-            if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) <= tol) next.push_back(i);
-        }
+        tol = std::max(3.0 * kMadToSigma * median_high(std::move(abs_d)), 5e-4);
+        const std::vector<std::size_t> next = within(xyz, pl, candidates, tol);
         if (next.size() < kMinPoints) break;
         const bool same = next == pl.inliers;
         pl = fit_plane_pca(xyz, next);
         if (same) break;
     }
+    pl = fit_plane_pca(xyz, within(xyz, pl, candidates, kFinalWindow * tol));
     double ss = 0.0;
     for (const std::size_t i : pl.inliers) {
         const double d = pl.normal.dot(xyz[i] - pl.centroid);

@@ -26,9 +26,10 @@ enum class CovarianceScaling {
     a_priori,      // σ0² = 1: the centres' covariances are taken as they are
     a_posteriori,  // σ0² = s0² = Ω/r
     // max(1, s0²), the default: never more optimistic than the centres, nor the residuals.
-    // With the centres' own σ it covers at the nominal rates over independent series, where
-    // `a_priori` covers too little on `pier` (docs/calibration.md, "Registration over
-    // independent series").
+    // It pads the 68 % interval (the epochs with s0² > 1 are scaled up); `a_priori` covers
+    // at the nominal rates on the three scenes since the boards' σ along their normal is
+    // honest (docs/calibration.md, "The registration's variance factor", says why the
+    // default stays).
     larger_of,
 };
 
