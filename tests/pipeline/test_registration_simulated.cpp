@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 
 #include "../simulator/narrow_window.hpp"
 #include "algorithms/registration/registration_error.hpp"
@@ -174,6 +175,41 @@ TEST(RegistrationSimulated, KnockedTargetIsExcludedAndTheEpochStillMeetsTheBound
     EXPECT_EQ(r4.used, static_cast<int>(config.targets.size()) - 1);
     EXPECT_EQ(r4.measured[0].status, "excluded");
     EXPECT_TRUE(r4.newly_excluded.empty());
+}
+
+// registration.covariance_scaling reaches the adjustment: the same epoch registered under
+// each scaling gives the same transformation, and σ0² = 1 (a_priori), max(1, s0²)·t (the
+// default) or s0²·t (a_posteriori), t = (t(0.975, r)/1.96)², as covariance_factor says.
+TEST(RegistrationSimulated, CovarianceScalingSetsTheVarianceFactor) {
+    const sim::Site site = drifting_pier();
+    RegistrationConfig config = test::simulated_targets(site);
+    const RenderedEpoch e0 = render_windows(site, 0, 0.0);
+    const ReferenceTargets reference = measure_reference_targets(config, e0.scans);
+    const RenderedEpoch e1 = render_windows(site, 1, 3.0);
+    std::map<registration::CovarianceScaling, registration::RigidTransform> by;
+    for (const auto s :
+         {registration::CovarianceScaling::a_priori, registration::CovarianceScaling::larger_of,
+          registration::CovarianceScaling::a_posteriori}) {
+        config.covariance_scaling = s;
+        const RegistrationResult r = register_epoch(config, reference, e1.scans, {});
+        ASSERT_TRUE(r.tested.transform) << r.tested.reason;
+        by[s] = *r.tested.transform;
+    }
+    const auto& prior = by.at(registration::CovarianceScaling::a_priori);
+    const double s02 = prior.variance_factor;
+    const int r = prior.redundancy;
+    ASSERT_GT(r, 0);
+    EXPECT_DOUBLE_EQ(prior.covariance_factor, 1.0);
+    for (const auto& [scaling, T] : by) {
+        const double factor = registration::covariance_factor(scaling, s02, r);
+        EXPECT_NEAR(T.covariance_factor, factor, 1e-12);
+        EXPECT_LT((T.translation - prior.translation).norm(), 1e-12);
+        for (int k = 0; k < 6; ++k)
+            EXPECT_NEAR(T.sigmas()(k), std::sqrt(factor) * prior.sigmas()(k),
+                        1e-9 * prior.sigmas()(k));
+    }
+    // s0² on its own scale: the a posteriori factor differs from the a priori one.
+    EXPECT_NE(by.at(registration::CovarianceScaling::a_posteriori).covariance_factor, 1.0);
 }
 
 TEST(RegistrationSimulated, TwoUsableTargetsAreRefused) {
