@@ -122,11 +122,8 @@ int main(int argc, char** argv) {
         else
             args.push_back(a);
     }
-    const std::map<std::string, registration::CovarianceScaling> scalings{
-        {"larger_of", registration::CovarianceScaling::larger_of},
-        {"a_priori", registration::CovarianceScaling::a_priori},
-        {"a_posteriori", registration::CovarianceScaling::a_posteriori}};
-    if (args.empty() || !scalings.contains(scaling)) {
+    const auto scaling_named = covariance_scaling_named(scaling);
+    if (args.empty() || !scaling_named) {
         std::fprintf(stderr,
                      "usage: bench_registration_coverage demo|pier|hochmosel|SCENE.toml "
                      "[SERIES] [FIRST_SEED] [--floor M] [--scaling larger_of|a_priori|"
@@ -141,7 +138,7 @@ int main(int argc, char** argv) {
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
     RegistrationConfig config = test::simulated_targets(base);
     if (floor) config.centre_sigma_floor = *floor;
-    config.covariance_scaling = scalings.at(scaling);
+    config.covariance_scaling = *scaling_named;
 
     std::array<std::vector<report::ScoredFigure>, 6> figures;
     std::map<std::string, CentreScore> centres;

@@ -53,6 +53,13 @@ std::optional<RegistrationMethod> registration_method_named(std::string_view nam
     return std::nullopt;
 }
 
+std::optional<registration::CovarianceScaling> covariance_scaling_named(std::string_view name) {
+    for (const auto& s : kCovarianceScalings) {
+        if (s.name == name) return s.value;
+    }
+    return std::nullopt;
+}
+
 std::vector<SectionKey<RegistrationConfig>> registration_keys() {
     using K = Keys<RegistrationConfig>;
     return {

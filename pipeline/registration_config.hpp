@@ -46,6 +46,9 @@ const char* to_string(RegistrationMethod method);
 // The method of that name ("targets", "planes", "targets+planes"); absent for another name.
 std::optional<RegistrationMethod> registration_method_named(std::string_view name);
 
+// The scaling of that name ("larger_of", "a_priori", "a_posteriori"); absent for another name.
+std::optional<registration::CovarianceScaling> covariance_scaling_named(std::string_view name);
+
 // What to do with the epoch's meteo values (EpochInput::meteo).
 enum class AtmosphereCorrection { measured_air, off };
 
