@@ -13,9 +13,9 @@
 //    squares' ranges are several times noisier than the white ones', so the window of 3 MADs
 //    cuts into them, f(c) is not small, and σ²/n along the normal came out 8–21 % too small
 //    (RMS(error/σ) 1.08–1.21 on `pier`'s four boards); one wider fit from the converged plane
-//    keeps the precision and is honest (0.93–0.98; tests/simulator/
-//    test_checkerboard_from_intensity.cpp). Wider still (3 times) lets the rim's mixed pixels
-//    in: a bias of up to −0.02 mm along the normal.
+//    keeps the precision and is honest (0.93–0.98 on the seeds 1.5 was chosen on, 0.91–1.09
+//    on tests/simulator/test_checkerboard_from_intensity.cpp's). Wider still (3 times) lets
+//    the rim's mixed pixels in: a bias of up to −0.02 mm along the normal.
 // 2. The inliers are projected onto the plane: coordinates (a, b) along a horizontal axis
 //    of the plane (to the right seen from the viewpoint) and the axis up the plane (for a
 //    level board, along its edges).
