@@ -55,6 +55,18 @@ PatchIndex::PatchIndex(std::vector<Patch> patches, double search_depth)
         boxes.push_back(box);
     }
     grid_ = std::max(largest, 1e-3);
+    for (const auto& p : patches_) {
+        const auto& f = p.footprint;
+        Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+        double n = 0;
+        for (int j = 0; j < f.height; ++j)
+            for (int i = 0; i < f.width; ++i)
+                if (f.occupied[std::size_t(j) * std::size_t(f.width) + std::size_t(i)]) {
+                    sum += Eigen::Vector2d(f.u0 + i + 0.5, f.v0 + j + 0.5) * f.cell;
+                    n += 1;
+                }
+        centres_.push_back(n > 0 ? Eigen::Vector2d(sum / n) : Eigen::Vector2d::Zero());
+    }
     for (std::size_t k = 0; k < boxes.size(); ++k) {
         const Eigen::Vector3d lo = (boxes[k].min() / grid_).array().floor();
         const Eigen::Vector3d hi = (boxes[k].max() / grid_).array().floor();
@@ -83,10 +95,17 @@ std::int32_t PatchIndex::find(const Eigen::Vector3d& p, Eigen::Vector3d& uvw) co
         const Patch& patch = patches_[std::size_t(k)];
         const Eigen::Vector3d q = patch.frame.local(p);
         if (std::abs(q.z()) > depth_ || !patch.footprint.covers(q.x(), q.y())) continue;
-        if (best < 0 || std::abs(q.z()) < std::abs(uvw.z())) {
-            best = k;
-            uvw = q;
+        if (best >= 0) {
+            // One surface: the footprint centre nearer in the plane; else the plane nearer.
+            const bool one_surface = std::abs(q.z() - uvw.z()) <= kOneSurface;
+            const bool nearer =
+                one_surface ? (q.head<2>() - centres_[std::size_t(k)]).squaredNorm() <
+                                  (uvw.head<2>() - centres_[std::size_t(best)]).squaredNorm()
+                            : std::abs(q.z()) < std::abs(uvw.z());
+            if (!nearer) continue;
         }
+        best = k;
+        uvw = q;
     }
     return best;
 }

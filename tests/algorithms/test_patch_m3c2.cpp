@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "algorithms/patches/patch_distance.hpp"
@@ -243,6 +244,44 @@ TEST(PatchIndex, ThePointsOnEachPatchDoNotDependOnTheThreads) {
     }
     // Inside [0, 2] × [0, 1]: 2 of the 2.4 × 2.4 square, all within the depth of one patch.
     EXPECT_NEAR(double(total) / 300000, 2.0 / (2.4 * 2.4), 0.01);
+}
+
+// Neighbours on one surface whose footprints share the cells 0.8 ≤ u < 1.0: the second's
+// plane 0.3 mm off the first's (a tilt between patch frames). A point there goes to the
+// patch whose footprint's centre is nearer, whatever its height: choosing the nearer plane
+// would hand the points that the noise lifted to one patch and the rest to the other.
+TEST(PatchIndex, OnOneSurfaceTheNoiseDoesNotChooseThePatch) {
+    std::vector<Patch> two;
+    for (const auto& [u0, u1, offset] :
+         std::vector<std::tuple<double, double, double>>{{0.0, 1.0, 0.0}, {0.8, 1.8, 3e-4}}) {
+        Patch p;
+        p.frame = PatchFrame::about({0, 0, offset}, Eigen::Vector3d::UnitZ());
+        std::vector<Eigen::Vector3d> samples;
+        for (double u = u0 + 0.05; u < u1; u += 0.1)
+            for (double v = 0.05; v < 1; v += 0.1) samples.emplace_back(u, v, offset);
+        p.footprint = footprint_of(p.frame, samples, 0.1);
+        two.push_back(std::move(p));
+    }
+    const PatchIndex index(two, 0.10);
+    Eigen::Vector3d uvw;
+    EXPECT_EQ(index.find({0.85, 0.5, 0.0002}, uvw), 0);   // nearer the first's centre (0.5)
+    EXPECT_EQ(index.find({0.95, 0.5, -0.0002}, uvw), 1);  // nearer the second's (1.3)
+
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.8), v(0.0, 1.0);
+    std::normal_distribution<double> noise(0.0, 0.001);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 200000; ++i) points.emplace_back(u(rng), v(rng), noise(rng));
+    const auto on =
+        patch_points(index, points, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), 1);
+    for (std::size_t k = 0; k < 2; ++k) {
+        double sum = 0;
+        for (const auto& q : on[k]) sum += q.z();
+        const double offset = k == 0 ? 0.0 : -3e-4;  // the points' height above this plane
+        // Nearest along the normal instead: −0.09 mm and +0.09 mm.
+        EXPECT_NEAR(sum / double(on[k].size()), offset, 4 * 0.001 / std::sqrt(on[k].size()))
+            << "patch " << k << ", " << on[k].size() << " points";
+    }
 }
 
 }  // namespace
