@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -100,20 +101,26 @@ void print(const std::map<std::pair<std::string, std::string>, Pool>& pools) {
     }
 }
 
-// `--set SECTION.KEY=VALUE` applied to a configuration's text: the line goes under the
-// section's header, or into a new section at the end.
-void set_key(std::string& config, const std::string& assignment) {
+// One `--set SECTION.KEY=VALUE`: the line `KEY = VALUE` for the section's header.
+struct Setting {
+    std::string header, line;
+};
+
+std::optional<Setting> parse_setting(const std::string& assignment) {
     const auto dot = assignment.find('.'), eq = assignment.find('=');
-    if (dot == std::string::npos || eq == std::string::npos || eq < dot)
-        throw std::runtime_error("--set wants SECTION.KEY=VALUE, not " + assignment);
-    const std::string header = "[" + assignment.substr(0, dot) + "]\n";
-    const std::string line =
-        assignment.substr(dot + 1, eq - dot - 1) + " = " + assignment.substr(eq + 1) + "\n";
-    const auto at = config.find("\n" + header);
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot) return std::nullopt;
+    return Setting{
+        "[" + assignment.substr(0, dot) + "]\n",
+        assignment.substr(dot + 1, eq - dot - 1) + " = " + assignment.substr(eq + 1) + "\n"};
+}
+
+// The setting's line under its section's header, or in a new section at the end.
+void apply(std::string& config, const Setting& s) {
+    const auto at = config.find("\n" + s.header);
     if (at == std::string::npos)
-        config += "\n" + header + line;
+        config += "\n" + s.header + s.line;
     else
-        config.insert(at + 1 + header.size(), line);
+        config.insert(at + 1 + s.header.size(), s.line);
 }
 
 double frac(double x) {
@@ -126,7 +133,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     int epochs = 3;
     fs::path keep;
-    std::vector<std::string> settings;
+    std::vector<Setting> settings;
+    bool bad_setting = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--epochs" && i + 1 < argc) {
@@ -134,23 +142,19 @@ int main(int argc, char** argv) {
         } else if (a == "--keep" && i + 1 < argc) {
             keep = argv[++i];
         } else if (a == "--set" && i + 1 < argc) {
-            settings.push_back(argv[++i]);
+            const std::string assignment = argv[++i];
+            if (const auto setting = parse_setting(assignment)) {
+                settings.push_back(*setting);
+            } else {
+                std::fprintf(stderr, "--set wants SECTION.KEY=VALUE, not %s\n", assignment.c_str());
+                bad_setting = true;
+            }
         } else {
             args.push_back(a);
         }
     }
     const int series = args.size() > 0 ? std::atoi(args[0].c_str()) : 40;
     const int first_seed = args.size() > 1 ? std::atoi(args[1].c_str()) : 3000;
-    std::string check;
-    bool bad_setting = false;
-    for (const auto& s : settings) {
-        try {
-            set_key(check, s);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "%s\n", e.what());
-            bad_setting = true;
-        }
-    }
     if (series < 1 || epochs < 2 || bad_setting) {
         std::fprintf(stderr,
                      "usage: bench_method_coverage [SERIES] [FIRST_SEED] [--epochs N>=2] "
@@ -173,7 +177,7 @@ int main(int argc, char** argv) {
         const fs::path config = bench::write_daemon_folder(dir, scene_text, site);
         if (!settings.empty()) {
             std::string text = bench::read_text(config);
-            for (const auto& s : settings) set_key(text, s);
+            for (const auto& setting : settings) apply(text, setting);
             bench::write_text(config, text);
         }
         const std::int64_t start =
