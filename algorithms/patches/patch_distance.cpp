@@ -27,7 +27,7 @@ PatchResult patch_distance(const PlaneFit& reference, const PlaneFit& epoch,
         r.outcome = PatchOutcome::few_reference_points;
         return r;
     }
-    if (!(reference.sigma <= p.max_roughness)) {
+    if (!(reference.sigma <= p.max_roughness) || !(reference.slope.norm() <= kMaxPatchTilt)) {
         r.outcome = PatchOutcome::rough;
         return r;
     }

@@ -37,8 +37,15 @@ struct PatchResult {
     PatchDistance distance;
 };
 
-// NaN distance unless both fits are valid with at least min_points and the reference's σ₁ is
-// at most max_roughness.
+// tan of the largest angle between the reference points' fitted plane and the patch's own
+// plane (its supervoxel's): beyond it the points are not the surface the supervoxel described
+// (one spanning a corner, whose points on one of the two faces were left out as edge points),
+// and the patch normal is not the direction in which that surface moves. A plane's own patches
+// agree within a fraction of a degree.
+inline constexpr double kMaxPatchTilt = 0.176;  // 10°
+
+// NaN distance (outcome `rough`) unless both fits are valid with at least min_points and the
+// reference's σ₁ is at most max_roughness and its plane within kMaxPatchTilt of the patch's.
 PatchResult patch_distance(const PlaneFit& reference, const PlaneFit& epoch,
                            double registration_sigma, const Parameters& parameters);
 

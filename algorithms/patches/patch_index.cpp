@@ -113,7 +113,8 @@ std::int32_t PatchIndex::find(const Eigen::Vector3d& p, Eigen::Vector3d& uvw) co
 std::vector<std::vector<PatchHit>> patch_hits(const PatchIndex& index,
                                               std::span<const Eigen::Vector3d> points,
                                               const Eigen::Matrix3d& A, const Eigen::Vector3d& t,
-                                              unsigned threads, bool every) {
+                                              unsigned threads, bool every,
+                                              std::span<const std::uint8_t> skip) {
     constexpr std::size_t kBlock = 1 << 16;
     const std::size_t blocks = (points.size() + kBlock - 1) / kBlock;
     std::vector<std::vector<std::pair<std::int32_t, PatchHit>>> hits(blocks);
@@ -122,7 +123,7 @@ std::vector<std::vector<PatchHit>> patch_hits(const PatchIndex& index,
         [&](std::size_t b) {
             const std::size_t end = std::min(points.size(), (b + 1) * kBlock);
             for (std::size_t i = b * kBlock; i < end; ++i) {
-                if (!points[i].allFinite()) continue;
+                if (!points[i].allFinite() || (!skip.empty() && skip[i])) continue;
                 const Eigen::Vector3d q = A * points[i] + t;
                 if (every) {
                     index.for_each(q, [&](std::int32_t k, const Eigen::Vector3d& uvw) {
@@ -145,8 +146,9 @@ std::vector<std::vector<PatchHit>> patch_hits(const PatchIndex& index,
 std::vector<std::vector<Eigen::Vector3f>> patch_points(const PatchIndex& index,
                                                        std::span<const Eigen::Vector3d> points,
                                                        const Eigen::Matrix3d& A,
-                                                       const Eigen::Vector3d& t, unsigned threads) {
-    const auto hits = patch_hits(index, points, A, t, threads);
+                                                       const Eigen::Vector3d& t, unsigned threads,
+                                                       std::span<const std::uint8_t> skip) {
+    const auto hits = patch_hits(index, points, A, t, threads, false, skip);
     std::vector<std::vector<Eigen::Vector3f>> out(hits.size());
     for (std::size_t k = 0; k < hits.size(); ++k) {
         out[k].reserve(hits[k].size());

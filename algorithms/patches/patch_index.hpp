@@ -93,16 +93,19 @@ struct PatchHit {
 // Every point's (u, v, w) on the patch it belongs to, after the affine map q = A·p + t into the
 // reference frame (A = I, t = 0 for the reference itself): per patch, in the points' order
 // (blocks of fixed size, joined in order: the same whatever the number of threads).
-// With `every`, a point on overlapping patches is a hit of each of them.
+// With `every`, a point on overlapping patches is a hit of each of them. A point whose entry in
+// `skip` (empty, or one per point) is non-zero is no hit.
 std::vector<std::vector<PatchHit>> patch_hits(
     const PatchIndex& index, std::span<const Eigen::Vector3d> points,
     const Eigen::Matrix3d& A = Eigen::Matrix3d::Identity(),
-    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0, bool every = false);
+    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0, bool every = false,
+    std::span<const std::uint8_t> skip = {});
 
 // The same, the (u, v, w) alone.
 std::vector<std::vector<Eigen::Vector3f>> patch_points(
     const PatchIndex& index, std::span<const Eigen::Vector3d> points,
     const Eigen::Matrix3d& A = Eigen::Matrix3d::Identity(),
-    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0);
+    const Eigen::Vector3d& t = Eigen::Vector3d::Zero(), unsigned threads = 0,
+    std::span<const std::uint8_t> skip = {});
 
 }  // namespace tlsmon::patches

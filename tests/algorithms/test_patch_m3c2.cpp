@@ -158,6 +158,12 @@ TEST(PatchDistance, RoughOrSparsePatchesGiveNoDistance) {
     const PlaneFit rough = fit_plane(moments_of(f, plane_points(f, 0, 0, 0, 0.02, rng)));
     EXPECT_EQ(patch_distance(rough, smooth, 0, p).outcome, PatchOutcome::rough);
     EXPECT_TRUE(std::isnan(patch_distance(rough, smooth, 0, p).distance.distance));
+    // Smooth points on a plane at 17° to the patch's own are not the surface it stands for;
+    // at 8° they still give a distance.
+    const PlaneFit tilted = fit_plane(moments_of(f, plane_points(f, 0, 0.3, 0, 0.001, rng)));
+    EXPECT_EQ(patch_distance(tilted, smooth, 0, p).outcome, PatchOutcome::rough);
+    const PlaneFit leaning = fit_plane(moments_of(f, plane_points(f, 0, 0, 0.14, 0.001, rng)));
+    EXPECT_EQ(patch_distance(leaning, smooth, 0, p).outcome, PatchOutcome::measured);
     p.min_points = 500;
     EXPECT_EQ(patch_distance(smooth, smooth, 0, p).outcome, PatchOutcome::few_reference_points);
     p.min_points = 30;

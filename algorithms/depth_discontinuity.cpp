@@ -1,0 +1,63 @@
+#include "algorithms/depth_discontinuity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/parallel_for.hpp"
+
+namespace tlsmon {
+
+std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, unsigned threads) {
+    if (!(jump > 0)) throw Error("depth discontinuities: the jump must be > 0");
+    if (!scan.grid) return {};
+    const ScanGrid& g = *scan.grid;
+    if (g.row.size() != scan.size() || g.column.size() != scan.size())
+        throw Error("depth discontinuities: the grid does not match the points");
+    // A cell without a return inside the grid: nothing there, or too weak a return (a
+    // grazing face); outside the grid: not known.
+    constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+    constexpr std::uint32_t kOutside = kEmpty - 1;
+    std::vector<std::uint32_t> at(g.cells(), kEmpty);
+    for (std::size_t i = 0; i < scan.size(); ++i)
+        at[std::size_t(g.row[i]) * g.columns + g.column[i]] = std::uint32_t(i);
+    const Eigen::Vector3d origin = scan.scanner_position();
+    const auto range = [&](std::uint32_t i) { return (scan.xyz[i] - origin).norm(); };
+    const auto point = [&](long r, long c) {
+        if (r < 0 || c < 0 || r >= long(g.rows) || c >= long(g.columns)) return kOutside;
+        return at[std::size_t(r) * g.columns + std::size_t(c)];
+    };
+    // Both passes in blocks of points, each point writing its own entry only.
+    constexpr std::size_t kBlock = 1 << 16;
+    const std::size_t blocks = (scan.size() + kBlock - 1) / kBlock;
+    const auto each_point = [&](auto&& visit) {
+        parallel_for(
+            blocks,
+            [&](std::size_t b) {
+                for (std::size_t i = b * kBlock; i < std::min(scan.size(), (b + 1) * kBlock); ++i)
+                    visit(i, long(g.row[i]), long(g.column[i]));
+            },
+            threads);
+    };
+    std::vector<std::uint8_t> step(scan.size(), 0);
+    each_point([&](std::size_t i, long r, long c) {
+        const double here = range(std::uint32_t(i));
+        for (const auto& [a, b] : {std::pair{point(r - 1, c), point(r + 1, c)},
+                                   std::pair{point(r, c - 1), point(r, c + 1)}}) {
+            if (a == kOutside || b == kOutside) continue;
+            if (a == kEmpty || b == kEmpty || std::abs(range(a) - 2 * here + range(b)) > jump)
+                step[i] = 1;
+        }
+    });
+    std::vector<std::uint8_t> marked(scan.size(), 0);
+    each_point([&](std::size_t i, long r, long c) {
+        marked[i] = step[i];
+        for (const auto j : {point(r - 1, c), point(r + 1, c), point(r, c - 1), point(r, c + 1)})
+            if (j < kOutside && step[j]) marked[i] = 1;
+    });
+    return marked;
+}
+
+}  // namespace tlsmon
