@@ -14,8 +14,9 @@ namespace tlsmon {
 
 struct PbM3c2Reference {
     // 2: a point on one surface goes to its patch by its place in the plane, no longer by its
-    // height (algorithms/patches/patch_index.hpp): a product of version 1 is rebuilt.
-    static constexpr int kFormatVersion = 2;
+    // height (algorithms/patches/patch_index.hpp). 3: the moments leave out the points at the
+    // scan grid's depth discontinuities. An older product is rebuilt.
+    static constexpr int kFormatVersion = 3;
     static constexpr const char* kStage = "pbm3c2";
 
     std::vector<patches::Patch> patches;
