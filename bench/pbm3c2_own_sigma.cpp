@@ -17,9 +17,9 @@
 
 #include "pipeline/pbm3c2_stage.hpp"
 #include "simulator/deformation.hpp"
-#include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 
 namespace {
@@ -56,11 +56,6 @@ int main(int argc, char** argv) {
     const std::vector<Scan> s0{sim::render_epoch(site, c0, 2).scan};
     const PbM3c2Reference ref =
         prepare_pbm3c2_reference(pb, build_supervoxels(pb.segmentation, s0), s0);
-    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
-    const auto H = [&](const sim::EpochConditions& c) {
-        return Eigen::Affine3d(N * sim::pose_error(site, c.epoch, c.hours).transform() *
-                               N.inverse());
-    };
     std::printf("changes '%s'%s\n", changes.c_str(),
                 has('s') ? (" (shift " + std::to_string(shift_mm) + " mm)").c_str() : "");
     for (int i = 1; i <= 2; ++i) {
@@ -68,16 +63,7 @@ int main(int argc, char** argv) {
         if (!has('b')) ci.bending = c0.bending;
         if (!has('a')) ci.atmosphere = c0.atmosphere;
         const std::vector<Scan> si{sim::render_epoch(site, ci, 2).scan};
-        const Eigen::Affine3d exact = H(c0).inverse() * H(ci);
-        registration::RigidTransform T;
-        T.rotation = exact.linear();
-        T.translation = exact.translation();
-        T.quaternion = Eigen::Quaterniond(T.rotation);
-        StageOutputs o;
-        o.to_reference = T;
-        o.range_scale = ci.atmosphere.range_scale;
-        o.reference_range_scale = c0.atmosphere.range_scale;
-        o.scanner = si[0].scanner_position();
+        const StageOutputs o = test::exact_outputs(site, c0, ci, si[0]);
         const PbM3c2Epoch p = measure_pbm3c2(pb, ref, si, o);
         std::vector<Tally> bands(ref.zone_names.size());
         Tally edges, all;

@@ -18,7 +18,6 @@
 #include "pipeline/primitive_stage.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "simulator/deformation.hpp"
-#include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/support/simulated_targets.hpp"
@@ -30,15 +29,6 @@ using bench::process_cpu_seconds;
 using bench::seconds_since;
 
 constexpr double kArcsec = std::numbers::pi / (180.0 * 3600.0);
-
-// The rotation of the true map of epoch j's coordinates into epoch 0's.
-Eigen::Matrix3d true_rotation(const sim::Site& site, int j, double hours) {
-    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
-    const auto H = [&](int k, double h) {
-        return Eigen::Affine3d(N * sim::pose_error(site, k, h).transform() * N.inverse());
-    };
-    return (H(0, 0.0).inverse() * H(j, hours)).linear();
-}
 
 }  // namespace
 
@@ -102,7 +92,7 @@ int main(int argc, char** argv) {
         const Eigen::Vector2d truth = sim::pier_tilt(site, i);
         const Eigen::Vector2d error = m.changes[0].delta.segment<2>(2) - truth;
         const Eigen::Matrix3d dR =
-            o.to_reference->rotation * true_rotation(site, i, hours).transpose();
+            o.to_reference->rotation * test::exact_epoch_map(site, c0, ci).linear().transpose();
         double tilt_value = 0, tilt_lod = 0;
         for (const auto& row : rows)
             if (row.quantity == "cylinder_tilt_arcsec")

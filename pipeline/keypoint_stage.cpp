@@ -331,6 +331,9 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
     for (const auto& scan : reference.scans) op.angular_steps.push_back(scan.angular_step);
     SegmentParameters sp;
     sp.min_matches = static_cast<std::size_t>(config.min_matches);
+    // One refinement patch: matches anchored within it share pixels and err together (several
+    // keypoints of one feature, at the detector's scales, share an anchor).
+    sp.cluster_px = 2.0 * config.patch_radius + 1.0;
     sp.orientation = m3c2::Orientation::towards(reference.scanner);
     // The registration's covariance at the segment's centroid: its wall's, else its matches'
     // mean reference point; without a registration, `registration_error` in every direction.

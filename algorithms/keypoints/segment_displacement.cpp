@@ -3,7 +3,10 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <unordered_map>
 
 #include "core/error.hpp"
 
@@ -16,19 +19,59 @@ constexpr double kCollinearRatio = 1e-3;
 // sin 1°: a normal closer than this to up leaves no horizontal direction in the plane.
 const double kHorizontalSurfaceSine = std::sin(std::numbers::pi / 180.0);
 
-// Mean, sample standard deviation (n − 1) and standard error of the columns' rows.
+// The kept values' mean and sample standard deviation (n − 1), and the standard error of
+// that mean as the outlier filters made it. The filters keep the values near the segment's
+// own median, so the kept mean is a trimmed mean and inherits the median's scatter: the kept
+// values' spread over √n understates it (on the `pier` faces 2–3 times; docs/keypoints.md,
+// "The matches' own σ"). Its variance is a trimmed mean's (Tukey & McLaughlin 1963; Wilcox
+// 2012, "Introduction to Robust Estimation", §3.6), from the Winsorized values of every
+// match of the segment — a removed value set to the nearest of the kept extremes:
+//   Var = G/(G − 1) · Σ_c (Σ_{i ∈ c} (W_i − W̄))² / n²,   n the kept count,
+// the sum over the G clusters c of matches that err together (their refinement patches
+// overlap; the cluster-robust form with its small-sample factor, Cameron & Miller 2015).
+// Without a filter and with every match its own cluster this is s²/n.
 struct Moments {
     Eigen::Vector3d mean, std_dev, standard_error;
 };
-Moments moments(const std::vector<Eigen::Vector3d>& values) {
-    const double n = static_cast<double>(values.size());
+Moments moments(const std::vector<Eigen::Vector3d>& all, const std::vector<bool>& kept,
+                const std::vector<std::uint64_t>& cluster) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const auto& v : values) sum += v;
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d high = -low;
+    double n = 0;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (!kept[i]) continue;
+        sum += all[i], n += 1;
+        low = low.cwiseMin(all[i]), high = high.cwiseMax(all[i]);
+    }
     const Eigen::Vector3d mean = sum / n;
-    Eigen::Vector3d squares = Eigen::Vector3d::Zero();
-    for (const auto& v : values) squares += (v - mean).cwiseAbs2();  // two passes: no cancellation
-    const Eigen::Vector3d std_dev = (squares / (n - 1)).cwiseSqrt();
-    return {mean, std_dev, std_dev / std::sqrt(n)};
+    Eigen::Vector3d squares = Eigen::Vector3d::Zero(), winsorized = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (kept[i]) squares += (all[i] - mean).cwiseAbs2();  // two passes: no cancellation
+        winsorized += all[i].cwiseMax(low).cwiseMin(high);
+    }
+    winsorized /= static_cast<double>(all.size());
+    std::unordered_map<std::uint64_t, Eigen::Vector3d> deviations;
+    for (std::size_t i = 0; i < all.size(); ++i)
+        deviations.try_emplace(cluster[i], Eigen::Vector3d::Zero()).first->second +=
+            all[i].cwiseMax(low).cwiseMin(high) - winsorized;
+    Eigen::Vector3d variance = Eigen::Vector3d::Zero();
+    for (const auto& [c, d] : deviations) variance += d.cwiseAbs2();
+    const double g = static_cast<double>(deviations.size());
+    variance *= g > 1 ? g / (g - 1) : 1.0;
+    return {mean, (squares / (n - 1)).cwiseSqrt(), variance.cwiseSqrt() / n};
+}
+
+// A match's cluster: the cell of cluster_px × cluster_px pixels its reference anchor lies in,
+// per scan; its own index when cluster_px is 0.
+std::uint64_t cluster_of(const KeypointMatch& m, std::size_t index, double cluster_px) {
+    if (!(cluster_px > 0)) return index;
+    const auto cell = [&](double px) {
+        return static_cast<std::uint64_t>(
+            static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(px / cluster_px))));
+    };
+    return (static_cast<std::uint64_t>(m.scan) << 56) ^ (cell(m.reference_row) << 28) ^
+           cell(m.reference_column);
 }
 
 }  // namespace
@@ -93,25 +136,30 @@ SegmentDisplacement segment_displacement(std::span<const KeypointMatch> matches,
     SegmentDisplacement result;
     result.segment = segment;
     std::vector<Eigen::Vector3d> vectors, reference_points;
+    std::vector<bool> kept;
+    std::vector<std::uint64_t> cluster;
     for (std::size_t i = 0; i < matches.size(); ++i) {
         if (matches[i].segment != segment) continue;
         ++result.matches;
-        if (removed_by[i] != OutlierFilter::none) continue;
         const Eigen::Vector3d d = matches[i].displacement();
-        if (!d.allFinite() || !matches[i].reference_point.allFinite())
+        const bool finite = d.allFinite() && matches[i].reference_point.allFinite();
+        if (!finite && removed_by[i] != OutlierFilter::none) continue;  // nothing to Winsorize
+        if (!finite)
             throw Error("segment displacement: keypoint match " + std::to_string(i) +
                         " has a non-finite point");
         vectors.push_back(d);
-        reference_points.push_back(matches[i].reference_point);
+        kept.push_back(removed_by[i] == OutlierFilter::none);
+        cluster.push_back(cluster_of(matches[i], i, parameters.cluster_px));
+        if (kept.back()) reference_points.push_back(matches[i].reference_point);
     }
-    result.count = vectors.size();
+    result.count = reference_points.size();
     if (result.count < parameters.min_matches) {
         result.undefined_reason = std::to_string(result.count) + " matches kept of " +
                                   std::to_string(result.matches) + ", fewer than min_matches " +
                                   std::to_string(parameters.min_matches);
         return result;
     }
-    const Moments xyz = moments(vectors);
+    const Moments xyz = moments(vectors, kept, cluster);
     result.mean = xyz.mean;
     result.std_dev = xyz.std_dev;
     result.standard_error = xyz.standard_error;
@@ -125,7 +173,7 @@ SegmentDisplacement segment_displacement(std::span<const KeypointMatch> matches,
         to_wall.row(2) = result.wall.vertical.transpose();
         std::vector<Eigen::Vector3d> along(vectors.size());
         for (std::size_t j = 0; j < vectors.size(); ++j) along[j] = to_wall * vectors[j];
-        const Moments wall_moments = moments(along);
+        const Moments wall_moments = moments(along, kept, cluster);
         result.along = wall_moments.mean;
         result.along_std_dev = wall_moments.std_dev;
         result.along_standard_error = wall_moments.standard_error;

@@ -6,7 +6,10 @@
 // - At least `min_matches` (default 10) kept matches, else the segment is undefined: its
 //   figures are NaN and `defined()` is false, with the reason in `undefined_reason`.
 // - mean: the mean displacement vector (project frame, m); std_dev: the sample standard
-//   deviation (n − 1) of each component; standard_error = std_dev / √n.
+//   deviation (n − 1) of each component; standard_error: the kept mean's as a trimmed mean's,
+//   from the Winsorized values of every match of the segment (a removed value set to the
+//   nearest kept extreme), clustered by `cluster_px` (segment_displacement.cpp); std_dev / √n
+//   when nothing was removed and each match is its own cluster.
 // - The wall frame: a least-squares plane through reference points (the zone's, passed in,
 //   or the kept matches' reference points): centroid and normal (eigenvector of the
 //   smallest eigenvalue of their covariance), the normal oriented like M3C2's (n · v ≥ 0;
@@ -61,6 +64,9 @@ struct SegmentParameters {
         static_cast<std::size_t>(Parameters{}.min_matches);  // fewer: undefined
     m3c2::Orientation orientation;                           // of the wall's normal
     Eigen::Vector3d up = Eigen::Vector3d::UnitZ();           // project frame's up
+    // Matches whose reference anchors share a cell of this many pixels err together (their
+    // refinement patches overlap): one cluster of the standard error. 0: each its own.
+    double cluster_px = 0;
 };
 
 struct SegmentDisplacement {
@@ -70,7 +76,7 @@ struct SegmentDisplacement {
     Eigen::Vector3d mean = Eigen::Vector3d::Constant(segment_detail::kNaN);     // m
     Eigen::Vector3d std_dev = Eigen::Vector3d::Constant(segment_detail::kNaN);  // m, per component
     Eigen::Vector3d standard_error =
-        Eigen::Vector3d::Constant(segment_detail::kNaN);  // m, std_dev / √n
+        Eigen::Vector3d::Constant(segment_detail::kNaN);  // m, the trimmed mean's (above)
     WallFrame wall;
     // Along (normal, surface horizontal, surface vertical), m.
     Eigen::Vector3d along = Eigen::Vector3d::Constant(segment_detail::kNaN);

@@ -95,14 +95,16 @@ SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> match
             segment_displacement(zone, removed_by, static_cast<int>(k), per_stratum, wall));
         if (!strata.back().defined() || !strata.back().along.allFinite()) return out;
     }
-    // The spread within the strata, pooled: a stratum of a few matches never claims to
-    // scatter less than the zone's strata do together.
+    // The variance per kept match within the strata (n·SE², each a trimmed mean's;
+    // segment_displacement.hpp), pooled: a stratum of a few matches never claims to scatter
+    // less than the zone's strata do together.
+    const auto per_match = [](const Eigen::Vector3d& se, double n) { return n * se.cwiseAbs2(); };
     Eigen::Vector3d pooled = Eigen::Vector3d::Zero(), along_pooled = Eigen::Vector3d::Zero();
     double dof = 0;
     for (const SegmentDisplacement& d : strata) {
         const double n = static_cast<double>(d.count);
-        pooled += (n - 1) * d.std_dev.cwiseAbs2();
-        along_pooled += (n - 1) * d.along_std_dev.cwiseAbs2();
+        pooled += (n - 1) * per_match(d.standard_error, n);
+        along_pooled += (n - 1) * per_match(d.along_standard_error, n);
         dof += n - 1;
     }
     if (!(dof > 0)) return out;
@@ -114,9 +116,9 @@ SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> match
         const SegmentDisplacement& d = strata[k];
         const double w = area[k] / total, n = static_cast<double>(d.count);
         mean += w * d.mean;
-        variance += w * w * d.std_dev.cwiseAbs2().cwiseMax(pooled) / n;
+        variance += w * w * per_match(d.standard_error, n).cwiseMax(pooled) / n;
         along += w * d.along;
-        along_variance += w * w * d.along_std_dev.cwiseAbs2().cwiseMax(along_pooled) / n;
+        along_variance += w * w * per_match(d.along_standard_error, n).cwiseMax(along_pooled) / n;
     }
     out.mean = mean;
     out.standard_error = variance.cwiseSqrt();

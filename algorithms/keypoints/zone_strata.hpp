@@ -9,12 +9,13 @@
 // mean is weighted by its share of the zone's wall area, the weights of a stratified sample
 // (Cochran 1977, "Sampling techniques", §5.2):
 //
-//     d̄ = Σ_s w_s·d̄_s,   SE(d̄)² = Σ_s w_s²·s_s²/n_s,   w_s = A_s / Σ A_s,
+//     d̄ = Σ_s w_s·d̄_s,   SE(d̄)² = Σ_s w_s²·v_s/n_s,   w_s = A_s / Σ A_s,
 //
 // A_s the wall area of the zone in the stratum's bands, counted in cells of the wall plane
 // that hold reference points (a face seen through a gap or cut by the scan's edge counts what
-// was seen; a band where nothing matched counts with the stratum it joined); s_s² the
-// stratum's sample variance, but never below the variance pooled within all strata (a
+// was seen; a band where nothing matched counts with the stratum it joined); v_s = n_s·SE_s²
+// the stratum's variance per kept match, SE_s its kept mean's standard error as a trimmed
+// mean's (segment_displacement.hpp), but never below the one pooled within all strata (a
 // stratum of a few matches says little about its own spread).
 #include <Eigen/Core>
 #include <cstddef>

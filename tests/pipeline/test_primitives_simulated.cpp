@@ -20,7 +20,6 @@
 #include "algorithms/registration/distribution_quantiles.hpp"
 #include "pipeline/primitive_stage.hpp"
 #include "simulator/deformation.hpp"
-#include "simulator/drift.hpp"
 #include "tests/pipeline/simulated_windows.hpp"
 #include "tests/support/simulated_targets.hpp"
 
@@ -66,17 +65,6 @@ struct Epoch {
     bool tilt_significant = false;
     double tilt_arcsec = 0, tilt_lod_arcsec = 0;
 };
-
-// The true map of epoch j's coordinates into epoch i's (the scanner's pose errors through the
-// nominal pose: p_true = N·E·N⁻¹·p), its rotation.
-Eigen::Matrix3d true_transform(const sim::Site& site, int i, double hours_i, int j,
-                               double hours_j) {
-    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
-    const auto H = [&](int k, double h) {
-        return Eigen::Affine3d(N * sim::pose_error(site, k, h).transform() * N.inverse());
-    };
-    return (H(i, hours_i).inverse() * H(j, hours_j)).linear();
-}
 
 // Each of the epochs `references` as the reference (0, 1, …), the `following` epochs after it
 // against it, each registered on its targets; every epoch rendered once.
@@ -137,8 +125,9 @@ std::vector<Epoch> run_pairs(const sim::Site& site, int references, int followin
             }
             // The registration's true error as a lean: its rotation error ω = (ωx, ωy, ωz)
             // moves the axis's top towards +x by ωy·z and +y by −ωx·z.
-            const Eigen::Matrix3d dR = o->to_reference->rotation *
-                                       true_transform(site, r, hours(r), i, hours(i)).transpose();
+            const Eigen::Matrix3d dR =
+                o->to_reference->rotation *
+                test::exact_epoch_map(site, e0.conditions, ei.conditions).linear().transpose();
             e.registration_lean = {dR(0, 2), -dR(2, 1)};
             e.s0 = m.fits[0].s0;
             const Eigen::MatrixXd fits = ref.entries[0].fit.covariance + m.fits[0].covariance;

@@ -53,22 +53,44 @@ inline std::optional<StageOutputs> simulated_outputs(const RegistrationConfig& t
     return o;
 }
 
-// The registration's realized error at y, a point of the reference frame: where `T` puts the
-// point of epoch `e` that truly lies at y, minus y. The exact map is H₀⁻¹·H_e,
-// H_k = N·E_k·N⁻¹ (the scanner's pose error through the nominal pose). Every measurement of an
-// epoch shares it, so a test scores an analysis's own σ against its error less this, and the
-// registration's σ over independent series (bench/registration_coverage.cpp).
-inline Eigen::Vector3d registration_error_at(const sim::Site& site, const sim::EpochConditions& e0,
-                                             const sim::EpochConditions& e,
-                                             const registration::RigidTransform& T,
-                                             const Eigen::Vector3d& y) {
+// The exact map of epoch j's coordinates into epoch i's: H_i⁻¹·H_j, H_k = N·E_k·N⁻¹ (the
+// scanner's pose error E_k through the nominal pose N: p_true = H_k·p).
+inline Eigen::Affine3d exact_epoch_map(const sim::Site& site, const sim::EpochConditions& i,
+                                       const sim::EpochConditions& j) {
     const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
     const auto H = [&](const sim::EpochConditions& c) {
         return Eigen::Affine3d(N * sim::pose_error(site, c.epoch, c.hours).transform() *
                                N.inverse());
     };
-    const Eigen::Affine3d exact = H(e0).inverse() * H(e);
-    return T.apply(exact.inverse() * y) - y;
+    return H(i).inverse() * H(j);
+}
+
+// The stage outputs of an epoch registered by the exact map (no registration error, no σ_T),
+// the range scales the truth's air: what an analysis's own error is scored with.
+inline StageOutputs exact_outputs(const sim::Site& site, const sim::EpochConditions& e0,
+                                  const sim::EpochConditions& e, const Scan& scan) {
+    const Eigen::Affine3d exact = exact_epoch_map(site, e0, e);
+    registration::RigidTransform T;
+    T.rotation = exact.linear();
+    T.translation = exact.translation();
+    T.quaternion = Eigen::Quaterniond(T.rotation);
+    StageOutputs o;
+    o.to_reference = T;
+    o.range_scale = e.atmosphere.range_scale;
+    o.reference_range_scale = e0.atmosphere.range_scale;
+    o.scanner = scan.scanner_position();
+    return o;
+}
+
+// The registration's realized error at y, a point of the reference frame: where `T` puts the
+// point of epoch `e` that truly lies at y, minus y. Every measurement of an epoch shares it,
+// so a test scores an analysis's own σ against its error less this, and the registration's σ
+// over independent series (bench/registration_coverage.cpp).
+inline Eigen::Vector3d registration_error_at(const sim::Site& site, const sim::EpochConditions& e0,
+                                             const sim::EpochConditions& e,
+                                             const registration::RigidTransform& T,
+                                             const Eigen::Vector3d& y) {
+    return T.apply(exact_epoch_map(site, e0, e).inverse() * y) - y;
 }
 
 }  // namespace tlsmon::test
