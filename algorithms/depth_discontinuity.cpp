@@ -24,12 +24,11 @@ std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, u
     for (std::size_t i = 0; i < scan.size(); ++i)
         at[std::size_t(g.row[i]) * g.columns + g.column[i]] = std::uint32_t(i);
     const Eigen::Vector3d origin = scan.scanner_position();
-    const auto range = [&](std::uint32_t i) { return (scan.xyz[i] - origin).norm(); };
     const auto point = [&](long r, long c) {
         if (r < 0 || c < 0 || r >= long(g.rows) || c >= long(g.columns)) return kOutside;
         return at[std::size_t(r) * g.columns + std::size_t(c)];
     };
-    // Both passes in blocks of points, each point writing its own entry only.
+    // The passes in blocks of points, each point writing its own entry only.
     constexpr std::size_t kBlock = 1 << 16;
     const std::size_t blocks = (scan.size() + kBlock - 1) / kBlock;
     const auto each_point = [&](auto&& visit) {
@@ -41,13 +40,16 @@ std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, u
             },
             threads);
     };
+    // Each range once: the second differences read every point's up to five times.
+    std::vector<double> range(scan.size());
+    each_point([&](std::size_t i, long, long) { range[i] = (scan.xyz[i] - origin).norm(); });
     std::vector<std::uint8_t> step(scan.size(), 0);
     each_point([&](std::size_t i, long r, long c) {
-        const double here = range(std::uint32_t(i));
+        const double here = range[i];
         for (const auto& [a, b] : {std::pair{point(r - 1, c), point(r + 1, c)},
                                    std::pair{point(r, c - 1), point(r, c + 1)}}) {
             if (a == kOutside || b == kOutside) continue;
-            if (a == kEmpty || b == kEmpty || std::abs(range(a) - 2 * here + range(b)) > jump)
+            if (a == kEmpty || b == kEmpty || std::abs(range[a] - 2 * here + range[b]) > jump)
                 step[i] = 1;
         }
     });

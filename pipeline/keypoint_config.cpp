@@ -77,8 +77,8 @@ std::vector<SectionKey<KeypointConfig>> keypoint_keys() {
                   "Width of the vertical-angle bands (`segments = \"bands\"`)."),
         K::number(&KeypointConfig::registration_error, "registration_error", 0, 1, "m",
                   "The LoD's registration term when there is no registration (no `[[target]]`). "
-                  "With a registration each segment gets the registration's σ at its centroid in "
-                  "the worst direction."),
+                  "With a registration each segment gets the registration's σ at its centroid "
+                  "along each figure's direction."),
         K::names(&KeypointConfig::model_quantities, "model_quantities",
                  "keypoint displacement quantities, no repeats",
                  "The zone quantities the displacement model d(t, z) is refitted for each epoch, "

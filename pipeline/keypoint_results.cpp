@@ -1,6 +1,5 @@
 #include "pipeline/keypoint_results.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -38,21 +37,26 @@ std::vector<ZoneResult> keypoint_zone_results(const std::string& zone,
     rows.push_back({zone, kKeypointCount, static_cast<double>(segment.count), std::nullopt,
                     static_cast<std::int64_t>(segment.matches), false});
     if (!segment.defined()) return rows;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(registration_covariance,
-                                                             Eigen::EigenvaluesOnly);
-    const double registration_sigma = std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
-    const auto add = [&](const char* quantity, double value, double standard_error) {
+    // Lague 2013, eq. 1, with the standard error of the segment's mean in place of the
+    // cylinders' term and the registration's σ projected on the figure's own direction u,
+    // added in quadrature: the two are independent (the matches' noise and the datum).
+    const auto add = [&](const char* quantity, double value, double standard_error,
+                         const Eigen::Vector3d& u) {
+        const double registration_variance = std::max(0.0, u.dot(registration_covariance * u));
         if (!std::isfinite(value) || !std::isfinite(standard_error)) return;
-        const double lod = kLod95 * (standard_error + registration_sigma);
+        const double lod =
+            kLod95 * std::sqrt(standard_error * standard_error + registration_variance);
         rows.push_back({zone, quantity, value, lod, n, std::abs(value) > lod});
     };
-    add(kKeypointDx, segment.mean.x(), segment.standard_error.x());
-    add(kKeypointDy, segment.mean.y(), segment.standard_error.y());
-    add(kKeypointDz, segment.mean.z(), segment.standard_error.z());
-    if (segment.wall.defined()) {
-        add(kKeypointAlongNormal, segment.along[0], segment.along_standard_error[0]);
-        add(kKeypointAlongSurfaceH, segment.along[1], segment.along_standard_error[1]);
-        add(kKeypointAlongSurfaceV, segment.along[2], segment.along_standard_error[2]);
+    add(kKeypointDx, segment.mean.x(), segment.standard_error.x(), Eigen::Vector3d::UnitX());
+    add(kKeypointDy, segment.mean.y(), segment.standard_error.y(), Eigen::Vector3d::UnitY());
+    add(kKeypointDz, segment.mean.z(), segment.standard_error.z(), Eigen::Vector3d::UnitZ());
+    if (const auto& wall = segment.wall; wall.defined()) {
+        add(kKeypointAlongNormal, segment.along[0], segment.along_standard_error[0], wall.normal);
+        add(kKeypointAlongSurfaceH, segment.along[1], segment.along_standard_error[1],
+            wall.horizontal);
+        add(kKeypointAlongSurfaceV, segment.along[2], segment.along_standard_error[2],
+            wall.vertical);
         if (std::isfinite(segment.wall.centroid.z()))
             rows.push_back(
                 {zone, kKeypointHeight, segment.wall.centroid.z(), std::nullopt, n, false});

@@ -16,8 +16,8 @@
 // scale about the scanner, the registration; m3c2_stage.hpp, epoch_to_reference). Per
 // segment, the matches of the scan that samples it finest (a detail scan over an
 // overview), then the outlier filters, the mean vector and its components along the wall,
-// as zone rows (keypoint_results.hpp) with LoD95 = 1.96 · (standard error + registration
-// σ), the registration's σ at the segment's centroid in its worst direction.
+// as zone rows (keypoint_results.hpp) with LoD95 = 1.96 · √(standard error² + registration
+// σ²), the registration's σ at the segment's centroid along each figure's direction.
 #include <Eigen/Core>
 #include <cstddef>
 #include <string>

@@ -45,16 +45,18 @@ Moments moments(const std::vector<Eigen::Vector3d>& all, const std::vector<bool>
         low = low.cwiseMin(all[i]), high = high.cwiseMax(all[i]);
     }
     const Eigen::Vector3d mean = sum / n;
-    Eigen::Vector3d squares = Eigen::Vector3d::Zero(), winsorized = Eigen::Vector3d::Zero();
+    Eigen::Vector3d squares = Eigen::Vector3d::Zero(), winsorized_mean = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> winsorized(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (kept[i]) squares += (all[i] - mean).cwiseAbs2();  // two passes: no cancellation
-        winsorized += all[i].cwiseMax(low).cwiseMin(high);
+        winsorized[i] = all[i].cwiseMax(low).cwiseMin(high);
+        winsorized_mean += winsorized[i];
     }
-    winsorized /= static_cast<double>(all.size());
+    winsorized_mean /= static_cast<double>(all.size());
     std::unordered_map<std::uint64_t, Eigen::Vector3d> deviations;
     for (std::size_t i = 0; i < all.size(); ++i)
         deviations.try_emplace(cluster[i], Eigen::Vector3d::Zero()).first->second +=
-            all[i].cwiseMax(low).cwiseMin(high) - winsorized;
+            winsorized[i] - winsorized_mean;
     Eigen::Vector3d variance = Eigen::Vector3d::Zero();
     for (const auto& [c, d] : deviations) variance += d.cwiseAbs2();
     const double g = static_cast<double>(deviations.size());

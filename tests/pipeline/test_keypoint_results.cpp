@@ -50,35 +50,55 @@ TEST(KeypointResults, ZoneRowsOfADefinedSegment) {
     EXPECT_EQ(count->value, 50);
     EXPECT_EQ(count->n, 60);
     EXPECT_FALSE(count->uncertainty);
-    // dz = 3.0 mm, LoD95 = 1.96 (2 mm / √50 + 0.3 mm) = 1.142 mm: significant.
+    // dz = 3.0 mm, LoD95 = 1.96 √((2 mm / √50)² + (0.3 mm)²) = 0.808 mm: significant.
     const auto* dz = row(rows, "keypoint_dz_m");
     ASSERT_TRUE(dz);
     EXPECT_DOUBLE_EQ(dz->value, 0.0030);
-    EXPECT_NEAR(*dz->uncertainty, 1.96 * (0.002 / std::sqrt(50.0) + 0.0003), 1e-15);
+    EXPECT_NEAR(*dz->uncertainty, 1.96 * std::hypot(0.002 / std::sqrt(50.0), 0.0003), 1e-15);
+    EXPECT_NEAR(*dz->uncertainty, 0.000808, 1e-6);
     EXPECT_TRUE(dz->significant);
     EXPECT_EQ(dz->n, 50);
-    // dy = −0.2 mm against 1.96 (1 mm / √50 + 0.3 mm) = 0.865 mm: not significant.
+    // dy = −0.2 mm against 1.96 √((1 mm / √50)² + (0.3 mm)²) = 0.650 mm: not significant.
     const auto* dy = row(rows, "keypoint_dy_m");
     ASSERT_TRUE(dy);
+    EXPECT_NEAR(*dy->uncertainty, 0.000650, 1e-6);
     EXPECT_FALSE(dy->significant);
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_dx_m")->value, 0.0010);
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_along_normal_m")->value, 0.0002);
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_along_surface_h_m")->value, 0.0010);
-    EXPECT_TRUE(row(rows, "keypoint_along_surface_h_m")->significant);  // > 0.865 mm
+    EXPECT_TRUE(row(rows, "keypoint_along_surface_h_m")->significant);  // > 0.650 mm
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_along_surface_v_m")->value, 0.0030);
     EXPECT_DOUBLE_EQ(row(rows, "keypoint_height_m")->value, 7.5);
 }
 
-TEST(KeypointResults, TheRegistrationEntersInItsWorstDirection) {
-    // A registration uncertain only in z (1 mm): every figure's LoD holds the 1 mm, dx's too —
-    // one σ bounds each component (pipeline/keypoint_results.hpp says why).
+TEST(KeypointResults, TheRegistrationEntersAlongEachFiguresOwnDirection) {
+    // A registration uncertain only in z (1 mm): dz and the vertical along the wall hold it,
+    // dx, dy and the horizontal and normal along the wall only their standard errors.
     Eigen::Matrix3d only_z = Eigen::Matrix3d::Zero();
     only_z(2, 2) = 1e-6;
     const auto rows = keypoint_zone_results("wall", defined_segment(), only_z);
-    EXPECT_NEAR(*row(rows, "keypoint_dx_m")->uncertainty, 1.96 * (0.001 / std::sqrt(50.0) + 0.001),
-                1e-15);
-    EXPECT_NEAR(*row(rows, "keypoint_dz_m")->uncertainty, 1.96 * (0.002 / std::sqrt(50.0) + 0.001),
-                1e-15);
+    const double se1 = 0.001 / std::sqrt(50.0), se2 = 0.002 / std::sqrt(50.0);
+    EXPECT_NEAR(*row(rows, "keypoint_dx_m")->uncertainty, 1.96 * se1, 1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_dy_m")->uncertainty, 1.96 * se1, 1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_dz_m")->uncertainty, 1.96 * std::hypot(se2, 0.001), 1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_along_normal_m")->uncertainty, 1.96 * se1, 1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_along_surface_h_m")->uncertainty, 1.96 * se1, 1e-15);
+    EXPECT_NEAR(*row(rows, "keypoint_along_surface_v_m")->uncertainty,
+                1.96 * std::hypot(se2, 0.001), 1e-15);
+    // A wall turned 30° about z: its horizontal takes cos² 30° of a variance in x alone, its
+    // normal sin² 30°.
+    auto turned = defined_segment();
+    const double c = std::cos(std::numbers::pi / 6), s = std::sin(std::numbers::pi / 6);
+    turned.wall.normal = {-s, -c, 0};
+    turned.wall.horizontal = {c, -s, 0};
+    Eigen::Matrix3d only_x = Eigen::Matrix3d::Zero();
+    only_x(0, 0) = 1e-6;
+    const auto turned_rows = keypoint_zone_results("wall", turned, only_x);
+    EXPECT_NEAR(*row(turned_rows, "keypoint_along_surface_h_m")->uncertainty,
+                1.96 * std::hypot(se1, 0.001 * c), 1e-15);
+    EXPECT_NEAR(*row(turned_rows, "keypoint_along_normal_m")->uncertainty,
+                1.96 * std::hypot(se1, 0.001 * s), 1e-15);
+    EXPECT_NEAR(*row(turned_rows, "keypoint_along_surface_v_m")->uncertainty, 1.96 * se2, 1e-15);
 }
 
 TEST(KeypointResults, UndefinedFiguresAreLeftOutNotStoredAsNaN) {
