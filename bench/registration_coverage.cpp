@@ -5,9 +5,10 @@
 // Only the targets' angular windows are rendered (the stage's search window about each
 // centre; a target with a detail scan of its own in that scan alone), so hundreds of series
 // take seconds. The air is switched off: what is scored is the centres' stochastic model and
-// the adjustment, not the meteo correction.
+// the adjustment, not the meteo correction; `--air` keeps it, with each epoch's range scale
+// the truth's (as a site's weather station gives it).
 //
-//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M] [--scaling S]
+//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M] [--scaling S] [--air]
 //
 // SCENE: `demo` (the scene of `tlsmon demo`: the `small` preset at 0.05° with five spheres),
 // `pier`, `hochmosel`, or a scene file. The later epoch of series k is taken 24·frac(0.618·k)
@@ -15,10 +16,13 @@
 // registration.centre_sigma_floor, `--scaling` registration.covariance_scaling (larger_of,
 // a_priori or a_posteriori). Prints, per parameter (ω, φ, κ, tx, ty, tz) and pooled,
 // the coverage of the 68 % and 95 % intervals with their Wilson bands (as `tlsmon
-// calibration`), and per target the centre's change between the two epochs against its
-// truth (the footprint's bias, the same in both, cancels), along the line of sight, across
-// it horizontally and vertically: RMS(error/σ) with σ² the two fits' variances (floor
-// included) — the stochastic model of the centres, seen before the adjustment mixes them.
+// calibration`); the same for the transformation's error at two points of the pier's south
+// face (mid-height and 1 m below its top) in x, y and z against the covariance propagated
+// there (what every zone figure there carries); and per target the centre's change between
+// the two epochs against its truth (the footprint's bias, the same in both, cancels), along
+// the line of sight, across it horizontally and vertically: RMS(error/σ) with σ² the two
+// fits' variances (floor included) — the stochastic model of the centres, seen before the
+// adjustment mixes them.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -30,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/registration/registration_error.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 #include "bench/bench_support.hpp"
 #include "bench/line_of_sight.hpp"
@@ -59,6 +64,7 @@ sim::Site scene(const std::string& name) {
 struct TargetWindows {
     std::vector<Scan> scans;  // one per target
     Eigen::Affine3d header_to_true = Eigen::Affine3d::Identity();
+    double range_scale = 1;  // the air's, as the site's weather station gives it
 };
 
 // The targets' windows of one epoch: a target's own detail scan where the scene has one,
@@ -66,6 +72,7 @@ struct TargetWindows {
 TargetWindows render_targets(const sim::Site& site, int epoch, double hours, double search_radius) {
     TargetWindows out;
     const sim::EpochConditions c = sim::epoch_conditions(site, epoch, hours);
+    out.range_scale = c.atmosphere.range_scale;
     const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
     for (const auto& t : site.targets) {
         const auto& details = site.scanner.details;
@@ -113,12 +120,15 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     std::optional<double> floor;
     std::string scaling = "larger_of";
+    bool air = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--floor" && i + 1 < argc)
             floor = std::atof(argv[++i]);
         else if (a == "--scaling" && i + 1 < argc)
             scaling = argv[++i];
+        else if (a == "--air")
+            air = true;
         else
             args.push_back(a);
     }
@@ -127,13 +137,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: bench_registration_coverage demo|pier|hochmosel|SCENE.toml "
                      "[SERIES] [FIRST_SEED] [--floor M] [--scaling larger_of|a_priori|"
-                     "a_posteriori]\n");
+                     "a_posteriori] [--air]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
     const double cpu0 = bench::process_cpu_seconds();
     sim::Site base = scene(args[0]);
-    base.atmosphere.enabled = false;
+    base.atmosphere.enabled = air;
     const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 200;
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
     RegistrationConfig config = test::simulated_targets(base);
@@ -141,6 +151,12 @@ int main(int argc, char** argv) {
     config.covariance_scaling = *scaling_named;
 
     std::array<std::vector<report::ScoredFigure>, 6> figures;
+    // The pier's south face at mid-height and 1 m below its top, x, y, z each.
+    const sim::Pier& pier = base.pier;
+    const double mid_x = 0.5 * (pier.x0 + pier.x1);
+    const std::vector<std::pair<std::string, Eigen::Vector3d>> at_pier{
+        {"mid", {mid_x, pier.y0, 0.5 * pier.height}}, {"top", {mid_x, pier.y0, pier.height - 1}}};
+    std::vector<std::vector<report::ScoredFigure>> pier_figures(3 * at_pier.size());
     std::map<std::string, CentreScore> centres;
     std::vector<double> s0;
     int refused = 0, no_reference = 0;
@@ -157,7 +173,8 @@ int main(int argc, char** argv) {
             ++no_reference;
             missing.emplace(t.name, t.reason);
         }
-        const RegistrationResult r = register_epoch(config, reference, e1.scans, {});
+        const RegistrationResult r =
+            register_epoch(config, reference, e1.scans, {}, {e1.range_scale, e0.range_scale});
         // Each target's change of centre against the truth's: x₁ − H₁⁻¹·H₀·x₀ maps the
         // reference's measured centre into epoch 1's frame by the exact motion.
         const Eigen::Affine3d exact = e0.header_to_true.inverse() * e1.header_to_true;
@@ -191,6 +208,15 @@ int main(int argc, char** argv) {
             T.omega, T.phi, T.kappa, T.translation.x(), T.translation.y(), T.translation.z()};
         const auto sigma = T.sigmas();
         for (int p = 0; p < 6; ++p) figures[p].push_back({value(p) - truth(p), sigma(p)});
+        // At the pier: where T puts the epoch's point that truly lies at y, less y, against
+        // the covariance propagated there (registration_error.hpp), per axis.
+        for (std::size_t q = 0; q < at_pier.size(); ++q) {
+            const Eigen::Vector3d epoch_point = exact.inverse() * at_pier[q].second;
+            const Eigen::Vector3d error = T.apply(epoch_point) - at_pier[q].second;
+            const Eigen::Matrix3d S = registration::registration_covariance_at(T, epoch_point);
+            for (int a = 0; a < 3; ++a)
+                pier_figures[3 * q + std::size_t(a)].push_back({error(a), std::sqrt(S(a, a))});
+        }
     }
 
     std::printf(
@@ -210,6 +236,17 @@ int main(int argc, char** argv) {
     }
     print_row(report::coverage_of("registration:targets", "all", pooled));
     std::printf("  (angles in µrad, lengths in mm)\n");
+    std::printf("the registration's error at the pier's south face, per axis (mm):\n");
+    std::vector<report::ScoredFigure> pier_pooled;
+    for (std::size_t q = 0; q < at_pier.size(); ++q) {
+        for (std::size_t a = 0; a < 3; ++a) {
+            const auto& f = pier_figures[3 * q + a];
+            print_row(
+                report::coverage_of("registration:targets", at_pier[q].first + " " + "xyz"[a], f));
+            pier_pooled.insert(pier_pooled.end(), f.begin(), f.end());
+        }
+    }
+    print_row(report::coverage_of("registration:targets", "pier", pier_pooled));
     if (!s0.empty()) {
         std::sort(s0.begin(), s0.end());
         const auto above = std::count_if(s0.begin(), s0.end(), [](double v) { return v > 1; });

@@ -170,6 +170,7 @@ RenderedScan render_epoch(const Site& site, int epoch, double hours, unsigned th
 
 Scanner detail_scanner(const Scanner& overview, const DetailScan& d) {
     Scanner s = overview;
+    s.first_column = s.first_row = 0;  // a lattice of its own
     s.azimuth_min_deg = d.azimuth_min_deg;
     s.azimuth_max_deg = d.azimuth_max_deg;
     s.elevation_min_deg = d.elevation_min_deg;
@@ -220,7 +221,10 @@ RenderedScan render_grid(const Site& site, const Scanner& sc, std::uint64_t nois
         // The overview keeps stream 0's seed; a detail scan draws from its own stream.
         std::uint64_t seed = hash_combine(noise.seed, kNoiseStream);
         if (noise_stream != 0) seed = hash_combine(seed, noise_stream);
-        Rng rng(hash_combine(hash_combine(seed, static_cast<std::uint64_t>(epoch)), c));
+        Rng rng(hash_combine(hash_combine(seed, static_cast<std::uint64_t>(epoch)),
+                             std::uint64_t{c} + sc.first_column));
+        // The rows below this window in its scan's column drew theirs first.
+        for (std::uint64_t k = 0; k < 4 * std::uint64_t{sc.first_row}; ++k) rng.normal();
         const double sa = std::sin(cell_azimuth(sc, c)), ca = std::cos(cell_azimuth(sc, c));
         std::vector<CellPoint>& col = columns[c];
         for (std::uint32_t r = 0; r < shape.rows; ++r) {

@@ -81,6 +81,11 @@ struct Scanner {
     double max_range = 300.0;         // no return beyond, m
     double min_return = 0.005;        // weaker returns (dark, far, grazing) give no point
     std::vector<DetailScan> details;  // after the overview, in this order
+    // Where this window's first column and row lie in the lattice of the scan it was cut
+    // from (tests/simulator/narrow_window.hpp): the noise is drawn per cell of that lattice,
+    // so a window cut out of a scan carries the scan's noise, and two windows of one shape
+    // do not carry the same noise field. 0 for a whole scan.
+    std::uint32_t first_column = 0, first_row = 0;
 };
 
 // The laser beam: a Gaussian beam whose 1/e² diameter grows linearly from the exit
@@ -96,7 +101,7 @@ struct Beam {
 // Measurement model. Range σ per return (see simulator/range_noise.hpp): `constant`
 // σ = a + b·range, or `signal` σ = a_s + b_s·range/√(ρ·|cos α|) from the returned signal;
 // angular noise on the beam direction; additive intensity noise. All Gaussian, seeded per
-// epoch and column.
+// epoch and column of the scan's lattice.
 struct Noise {
     enum class Model { constant, signal };
     bool enabled = true;

@@ -3,10 +3,9 @@
 // epoch's time: each target's window at the preset's step (what the registration measures)
 // and the window of the pier's south and west faces at `face_step_deg`, or the preset's
 // detail scans — the same geometry, beam, noise, scanner drift and air as a full epoch.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/scan.hpp"
@@ -73,15 +72,14 @@ inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hou
 
 // Epoch `ei` registered on its targets' windows against the reference's, as the stage
 // outputs the analyses take (the range scales are the truth's air, as a site takes them from
-// its weather station); nullopt, and a test failure, when the registration refuses it.
-inline std::optional<StageOutputs> registered_outputs(const RegistrationConfig& targets,
+// its weather station); nullopt when the registration refuses it, `refused` then saying why.
+inline std::optional<StageOutputs> registered_windows(const RegistrationConfig& targets,
                                                       const ReferenceTargets& reference,
                                                       const WindowedEpoch& e0,
-                                                      const WindowedEpoch& ei, int epoch) {
-    std::string refused;
+                                                      const WindowedEpoch& ei,
+                                                      std::string& refused) {
     auto o = simulated_outputs(targets, reference, ei.targets, ei.conditions.atmosphere.range_scale,
                                e0.conditions.atmosphere.range_scale, refused);
-    EXPECT_TRUE(o) << "epoch " << epoch << ": " << refused;
     // The pier's scanner: the same station as the targets' windows.
     if (o) o->scanner = ei.pier.front().scanner_position();
     return o;

@@ -1,240 +1,24 @@
 // The keypoint stage after registration on simulated series of the `pier` preset (issue 12's
 // acceptance), side by side with M3C2 in the same zones: per zone, the displacement along
 // the surface (horizontal and vertical in the wall) against the truth, with the mean number
-// of matches kept; and in a series without deformation, no zone beyond 3σ.
-//
-// Each epoch renders the targets' windows at the preset's step (what the registration
-// measures) and only the pier's south and west faces, at the preset's step (0.013°): the same
-// geometry, beam, texture, noise, scanner drift and air as a full epoch, in about 10 s of
-// rendering instead of 25. The atmosphere's range scales are the truth's (a site takes them
-// from its weather station's air). The west face is seen at 87°: its matches are grazing
-// (keypoints.max_incidence_deg) and it stays undefined.
-//
-// Truth: the pier's displacement u_i at a point p of the zone (sim::pier_displacement; p
-// stands for the material point, u varies by < 1e-5 over the millimetres it moved),
-// (u_i(p) − u_0(p)) along the zone's wall directions, averaged over the zone's area as the
-// reference saw it (its 0.25 m wall cells; algorithms/keypoints/zone_strata.hpp): the zone's
-// displacement, not the mean over wherever its keypoints matched.
-// Epoch 0 is not undeformed (docs/simulator.md): only differences are scored.
+// of matches kept; and in a series without deformation, no zone beyond 3σ. The series, their
+// zones and their truth: tests/pipeline/keypoint_series.hpp. The west face is seen at 87°:
+// its matches are grazing (keypoints.max_incidence_deg) and it stays undefined.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
 
-#include "algorithms/keypoints/zone_strata.hpp"
 #include "pipeline/keypoint_results.hpp"
-#include "pipeline/keypoint_stage.hpp"
-#include "pipeline/m3c2_stage.hpp"
-#include "pipeline/registration_stage.hpp"
-#include "simulator/deformation.hpp"
-#include "simulator/epoch_conditions.hpp"
-#include "simulator/render.hpp"
-#include "tests/pipeline/simulated_windows.hpp"
-#include "tests/support/simulated_targets.hpp"
+#include "tests/pipeline/keypoint_series.hpp"
 
 namespace tlsmon {
 namespace {
 
-// The preset's own step: at twice it (0.026°, 2.3 cm at 50 m, about the footprint's width)
-// the intensity image is aliased and its sub-pixel shifts are biased by up to 0.2 pixel
-// (5 mm) — a scanner for this method must sample the surface finer than its footprint.
-constexpr double kFaceStepDeg = 0.013;
-
-// The pier's two visible faces, 0.5 m inside their edges, in 10 m bands of the south face;
-// M3C2 is scored side by side in the same zones with its estimated normals.
-std::vector<ZoneShape> pier_zones(const sim::Site& site) {
-    const auto& p = site.pier;
-    std::vector<ZoneShape> zones;
-    const ZoneShape south =
-        box_zone("south", {p.x0 + 0.5, p.y0 - 0.5, 1.0}, {p.x1 - 0.5, p.y0 + 0.5, p.height - 1.0});
-    zones.push_back(south);
-    for (auto& b : bands_of(south, 2, 10.0, 0.0, p.height)) zones.push_back(b);
-    zones.push_back(
-        box_zone("west", {p.x0 - 0.5, p.y0 + 0.5, 1.0}, {p.x0 + 0.5, p.y1 - 0.5, p.height - 1.0}));
-    return zones;
-}
-
-// `hochmosel`: the strip of the south face its detail scan covers (x ≈ 4.4–7.9 m at 0.005°),
-// 0.3 m inside its sides, in 10 m bands up to 130 m: the top 10 m, in the deck's shadow and
-// seen at 50°, hold too few keypoints (4–16 of 21 matches kept) for min_matches.
-std::vector<ZoneShape> strip_zones(const sim::Site& site) {
-    const auto& p = site.pier;
-    const ZoneShape strip = box_zone("strip", {4.7, p.y0 - 0.5, 1.0}, {7.6, p.y0 + 0.5, 130.0});
-    return bands_of(strip, 2, 10.0, 0.0, 130.0);
-}
-
-// A preset's series as the tests render it: the zones and the pier's scans of an epoch.
-struct Scenario {
-    sim::Site site;
-    std::vector<ZoneShape> zones;
-    test::WindowedEpoch (*render)(const sim::Site&, int, double) = nullptr;
-};
-
-test::WindowedEpoch render_faces(const sim::Site& site, int epoch, double hours) {
-    return test::render_windows(site, epoch, hours, kFaceStepDeg);
-}
-
-Scenario pier_scenario() {
-    Scenario s{sim::preset_pier(), {}, render_faces};
-    s.zones = pier_zones(s.site);
-    return s;
-}
-
-// `hochmosel`'s pier is scanned by its overview at 0.03° (52–92 mm at 100–175 m: every
-// zone undersampled) and by the detail strip at 0.005°; the strip is what is rendered.
-Scenario hochmosel_scenario() {
-    Scenario s{sim::preset_hochmosel(), {}, test::render_detail_windows};
-    s.zones = strip_zones(s.site);
-    return s;
-}
-
-KeypointConfig keypoint_config(const Scenario& s) {
-    KeypointConfig c;
-    c.zones = s.zones;
-    return c;
-}
-
-M3c2Config m3c2_config(const Scenario& s) {
-    M3c2Config c;
-    c.core_spacing = 1.0;
-    c.normal_radii = {0.5, 1.0};
-    c.cylinder_radius = 0.5;
-    c.max_depth = 0.5;
-    c.zones = s.zones;
-    return c;
-}
-
-using Epoch = test::WindowedEpoch;
-
-// The stage's LoD95 of a zone quantity (keypoint_zone_results); NaN without one.
-double lod_of(const std::string& zone, const keypoints::SegmentDisplacement& d,
-              const Eigen::Matrix3d& registration, const std::string& quantity) {
-    for (const auto& row : keypoint_zone_results(zone, d, registration))
-        if (row.quantity == quantity && row.uncertainty) return *row.uncertainty;
-    return NAN;
-}
-
-// One zone's figures in one epoch, with the truth.
-struct ZoneFigure {
-    int epoch = 0;
-    std::string zone;
-    std::size_t kept = 0;
-    keypoints::SegmentDisplacement d;
-    Eigen::Matrix3d registration = Eigen::Matrix3d::Zero();  // its covariance at the segment
-    Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
-    // The epoch's realized registration error averaged over the same area (normal, h, v).
-    Eigen::Vector3d registration_error = Eigen::Vector3d::Constant(NAN);
-    double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
-};
-
-struct Series {
-    std::vector<ZoneFigure> figures;
-    double keypoint_s = 0, m3c2_s = 0;
-    std::size_t reference_keypoints = 0;
-};
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
-    const sim::Site& site = scenario.site;
-    const RegistrationConfig targets = test::simulated_targets(site);
-    const KeypointConfig config = keypoint_config(scenario);
-    const M3c2Config m3c2 = m3c2_config(scenario);
-    const Epoch e0 = scenario.render(site, 0, hours[0]);
-    const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);
-    Series out;
-    auto t0 = std::chrono::steady_clock::now();
-    const KeypointReference ref = prepare_keypoint_reference(config, e0.pier);
-    out.reference_keypoints = ref.keypoints();
-    // Each zone's area as the reference saw it (its wall cells): the zone's displacement is
-    // the true change averaged over them, what the stage's strata stand for (zone_strata.hpp).
-    std::vector<std::vector<Eigen::Vector3d>> cells;
-    for (std::size_t z = 0; z < ref.walls.size(); ++z) {
-        std::vector<Eigen::Vector3d> inside;
-        for (const auto& scan : e0.pier)
-            for (const auto& p : scan.xyz)
-                if (p.allFinite() && config.zones[z].contains(p)) inside.push_back(p);
-        cells.push_back(keypoints::wall_cell_centres(inside, ref.walls[z]));
-    }
-    const M3c2Reference m3c2_ref = prepare_m3c2_reference(m3c2, e0.pier);
-    for (std::size_t i = 1; i < hours.size(); ++i) {
-        const int epoch = static_cast<int>(i);
-        const Epoch ei = scenario.render(site, epoch, hours[i]);
-        const auto registered = test::registered_outputs(targets, reference, e0, ei, epoch);
-        if (!registered) continue;
-        const StageOutputs& o = *registered;
-
-        t0 = std::chrono::steady_clock::now();
-        KeypointEpoch measured = measure_keypoints(config, ref, ei.pier, o);
-        const KeypointSegmentsResult segments =
-            keypoint_segments(config, ref, std::move(measured.matches), o);
-        out.keypoint_s += seconds_since(t0);
-
-        t0 = std::chrono::steady_clock::now();
-        const M3c2Epoch m = measure_m3c2(m3c2, m3c2_ref, ei.pier, o);
-        out.m3c2_s += seconds_since(t0);
-        const auto true_change = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
-            return sim::pier_displacement(site, p, epoch, ei.conditions.bending) -
-                   sim::pier_displacement(site, p, 0, e0.conditions.bending);
-        };
-        for (std::size_t z = 0; z < segments.segments.size(); ++z) {
-            const auto& s = segments.segments[z];
-            ZoneFigure f;
-            f.epoch = epoch;
-            f.zone = s.zone;
-            f.d = s.displacement;
-            f.kept = s.displacement.count;
-            f.registration = s.registration_covariance;
-            const auto& w = s.displacement.wall;
-            if (s.displacement.defined() && w.defined() && !cells[z].empty()) {
-                Eigen::Vector3d sum = Eigen::Vector3d::Zero(), reg = Eigen::Vector3d::Zero();
-                const auto in_wall = [&](const Eigen::Vector3d& u) {
-                    return Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
-                };
-                for (const Eigen::Vector3d& c : cells[z]) {
-                    sum += in_wall(true_change(c));
-                    reg += in_wall(test::registration_error_at(site, e0.conditions, ei.conditions,
-                                                               *o.to_reference, c));
-                }
-                f.truth = sum / double(cells[z].size());
-                f.registration_error = reg / double(cells[z].size());
-                // The bands with enough kept matches hold most of the zone's area (all of the
-                // pier's faces; the top of the far strip the least).
-                EXPECT_GT(s.displacement.covered_area_share, 0.5) << s.zone;
-                std::printf("%s: the figures stand for %.0f %% of the zone's area\n",
-                            s.zone.c_str(), 100 * s.displacement.covered_area_share);
-            }
-            // M3C2 in the same zone: its median and the truth's median along the normals.
-            std::vector<double> d, t;
-            for (auto k : m3c2_ref.zone_cores[z]) {
-                const auto& dist = m.distances[k];
-                if (!std::isfinite(dist.distance)) continue;
-                const Eigen::Vector3d& c = m3c2_ref.reference.core_points()[k];
-                const Eigen::Vector3d& nrm = m3c2_ref.reference.normals()[k];
-                d.push_back(dist.distance);
-                t.push_back(true_change(c).dot(nrm));
-            }
-            for (const auto& row : m3c2_zone_results(m3c2, m3c2_ref, m)) {
-                if (row.zone == s.zone && row.quantity == "m3c2_median_m") {
-                    f.m3c2_median = row.value;
-                    f.m3c2_lod = row.uncertainty.value_or(NAN);
-                }
-            }
-            if (!t.empty()) {
-                std::sort(t.begin(), t.end());
-                f.m3c2_truth =
-                    t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
-            }
-            out.figures.push_back(std::move(f));
-        }
-    }
-    return out;
-}
+using test::pier_scenario, test::hochmosel_scenario, test::run_series, test::lod_of;
+using test::Scenario, test::Series;
 
 struct Score {
     double sum2 = 0, bias = 0, worst = 0;
@@ -281,6 +65,7 @@ struct OwnScore {
 // number of zone epochs scored.
 int check_along_surface(const Scenario& scenario, const std::vector<double>& hours) {
     const Series s = run_series(scenario, hours);
+    EXPECT_TRUE(s.refused.empty()) << s.refused.front();
     std::printf("reference: %zu keypoints; keypoint stage %.1f s, M3C2 %.1f s over %zu epochs\n",
                 s.reference_keypoints, s.keypoint_s, s.m3c2_s, hours.size() - 1);
     std::printf(
@@ -308,6 +93,11 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
         }
         EXPECT_TRUE(d.defined()) << f.zone << " epoch " << f.epoch << ": " << d.undefined_reason;
         if (!d.defined()) continue;
+        // The bands with enough kept matches hold most of the zone's area (all of the pier's
+        // faces; the top of the far strip the least).
+        EXPECT_GT(d.covered_area_share, 0.5) << f.zone;
+        std::printf("%s: the figures stand for %.0f %% of the zone's area\n", f.zone.c_str(),
+                    100 * d.covered_area_share);
         EXPECT_TRUE(f.truth.allFinite()) << f.zone;
         if (!f.truth.allFinite()) continue;
         h.add(d.along[1] - f.truth[1]);
@@ -346,6 +136,7 @@ int check_no_movement(Scenario scenario, const std::vector<double>& hours) {
     scenario.site.deformation.enabled = false;
     scenario.site.noise.seed = 5;
     const Series s = run_series(scenario, hours);
+    EXPECT_TRUE(s.refused.empty()) << s.refused.front();
     int rows = 0;
     double worst = 0;
     OwnScore own[2];  // h, v

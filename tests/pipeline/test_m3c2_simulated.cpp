@@ -22,7 +22,7 @@
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
-#include "tests/pipeline/simulated_windows.hpp"
+#include "tests/pipeline/registered_outputs.hpp"
 #include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 

@@ -20,7 +20,7 @@
 #include "pipeline/vector_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/render.hpp"
-#include "tests/pipeline/simulated_windows.hpp"
+#include "tests/pipeline/registered_outputs.hpp"
 #include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 

@@ -2,8 +2,8 @@
 // A preset's scan window narrowed to the directions around one point, on the same lattice
 // of readout angles (same steps, cells at the same azimuths and elevations as in the full
 // window), so that a test renders only the region it measures: the same geometry, beam and
-// sampling as the full scan, in a fraction of its time. Only the noise differs cell by cell
-// (it is seeded per column index), not in distribution.
+// sampling as the full scan, in a fraction of its time, and the same noise at each cell (the
+// window remembers where it lies in the scan's lattice: Scanner::first_column, first_row).
 #include <Eigen/Core>
 #include <cmath>
 #include <numbers>
@@ -24,6 +24,8 @@ inline void narrow_window(Scanner& sc, const Eigen::Vector3d& point, double half
     const double k_az = std::max(0.0, std::floor((sc.azimuth_max_deg - (az + half_deg)) / sa));
     const double k_el = std::max(0.0, std::floor((el - half_deg - sc.elevation_min_deg) / se));
     const double n_az = std::ceil(2.0 * half_deg / sa), n_el = std::ceil(2.0 * half_deg / se);
+    sc.first_column += static_cast<std::uint32_t>(k_az);
+    sc.first_row += static_cast<std::uint32_t>(k_el);
     sc.azimuth_max_deg -= k_az * sa;
     sc.azimuth_min_deg = sc.azimuth_max_deg - n_az * sa;
     sc.elevation_min_deg += k_el * se;

@@ -69,9 +69,12 @@ TEST(SimulatorAcceptance, CheckerboardCentreFromIntensityMatchesTheTruth) {
 }
 
 // The centre's σ along the board's normal (the plane's offset, σ²/n) against what it repeats
-// to over seeded noise: every board of `pier`, 100 noise seeds each (2001–2100; the final
+// to over seeded noise: every board of `pier`, 200 noise seeds each (2001–2200; the final
 // window's width was chosen on seeds 1001–1120). With the plane iterated to its own window
-// alone, RMS(error/σ) was 1.08–1.21 (checkerboard_centre.hpp, step 1).
+// alone, RMS(error/σ) was 1.08–1.21 (checkerboard_centre.hpp, step 1). Over 100 seeds an
+// honest σ's RMS(error/σ) scatters by ±0.07: the first 100 gave 0.91–1.09 per board with
+// the window's noise drawn from its own corner, 0.93–1.15 with the scan's at its cells
+// (docs/simulator.md), so the bounds are taken over 200.
 TEST(SimulatorAcceptance, CheckerboardSigmaAlongTheNormalIsWhatTheCentreRepeatsTo) {
     Site s = preset_pier();
     s.drift.enabled = false;
@@ -87,7 +90,7 @@ TEST(SimulatorAcceptance, CheckerboardSigmaAlongTheNormalIsWhatTheCentreRepeatsT
         const double range = (centre - s.scanner.position).norm();
         double z2 = 0.0, bias = 0.0;
         int n = 0;
-        for (std::uint64_t seed = 2001; seed <= 2100; ++seed) {
+        for (std::uint64_t seed = 2001; seed <= 2200; ++seed) {
             Site w = s;
             w.noise.seed = seed;
             test::narrow_window(w.scanner, centre, 0.6 * size / range * 180.0 / std::numbers::pi);
@@ -111,7 +114,7 @@ TEST(SimulatorAcceptance, CheckerboardSigmaAlongTheNormalIsWhatTheCentreRepeatsT
         pooled += z2;
         figures += n;
     }
-    ASSERT_EQ(figures, 400);
+    ASSERT_EQ(figures, 800);
     const double rms_pooled = std::sqrt(pooled / figures);
     EXPECT_GT(rms_pooled, 0.9);
     EXPECT_LT(rms_pooled, 1.08);

@@ -1,0 +1,203 @@
+// Does the keypoints' LoD95 (and M3C2's beside it) cover the error at the nominal rate on the
+// `pier` and `hochmosel` presets, over independent series? The keypoint tests score one series
+// each (tests/pipeline/test_keypoints_simulated.cpp), and within a series every epoch shares
+// the reference epoch's errors — its noise, its targets' centres — so a day of epochs is one
+// draw of them (docs/calibration.md, "One series is one draw"). Here SERIES series, each with
+// its own noise and drift seed, its own start in the day and its own cadence, are rendered and
+// processed as the tests do (tests/pipeline/keypoint_series.hpp: the targets' and the faces'
+// windows, the registration on the targets, the keypoint stage, M3C2 in the same zones) and
+// every zone figure is scored against the truth over the zone's area. Nothing is tuned: the
+// defaults are scored.
+//
+//   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4]
+//
+// PRESET: `pier` (the south face and its four 10 m bands) or `hochmosel` (the detail strip's
+// thirteen 10 m bands). Series k (seed FIRST_SEED + k) starts 24·frac(0.618·k) hours into the
+// preset's day and takes an epoch every 1 + 5·frac(0.382·k) hours: the drift and the thermal
+// bending sweep the day. Prints per method (keypoints along h and v, M3C2's zone median)
+// pooled and per zone: n, bias, RMS, max, RMS of the σ (LoD95 / 1.96), RMS(error/σ), the
+// coverage of the 68 % and 95 % intervals with their Wilson bands (report/calibration.hpp),
+// and the bands and verdicts with the series as clusters (a series' figures share its
+// reference's draw: they count as n_eff independent ones); then the wall and CPU seconds.
+// Each method's figures are also split in two: "reg", the epoch's realized registration
+// error over the zone's area along the figure (test::registration_error_at) against the
+// registration's σ along it; "own", the error less that, against the rest of the σ (the
+// keypoints' standard error; M3C2's sampling part, √(σ² − σ_reg²)): which of the two misses.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/bench_support.hpp"
+#include "report/calibration.hpp"
+#include "tests/pipeline/keypoint_series.hpp"
+
+namespace {
+
+using namespace tlsmon;
+
+double frac(double x) {
+    return x - std::floor(x);
+}
+
+// One method and zone's figures, each with the series it came from.
+struct Scored {
+    std::vector<report::ScoredFigure> figures;
+    std::vector<int> series;
+};
+
+// RMS(error/σ): 1 for an honest σ, whatever the coverage's sampling noise.
+double rms_z(const std::vector<report::ScoredFigure>& figures) {
+    double sum = 0;
+    for (const auto& f : figures) sum += (f.error / f.sigma) * (f.error / f.sigma);
+    return figures.empty() ? NAN : std::sqrt(sum / double(figures.size()));
+}
+
+// The Wilson band of a coverage whose figures come in clusters (the series: their epochs
+// share the reference's draw, an epoch's zones its registration): the figures count as
+// n / deff independent ones, deff = V_cluster / V_binomial ≥ 1 (Kish 1965's design effect),
+// V_cluster = G/(G − 1) · Σ_g (hits_g − p̂·n_g)² / n² over the G series (the cluster-robust
+// variance of the share).
+report::ShareInterval clustered_band(const Scored& s, double multiple, double& n_effective) {
+    std::map<int, std::pair<double, double>> by_series;  // series -> (hits, n)
+    for (std::size_t i = 0; i < s.figures.size(); ++i) {
+        const auto& f = s.figures[i];
+        auto& [hits, n] = by_series[s.series[i]];
+        hits += std::abs(f.error) <= multiple * f.sigma;
+        n += 1;
+    }
+    const double n = double(s.figures.size());
+    double hits = 0;
+    for (const auto& [g, hn] : by_series) hits += hn.first;
+    const double p = hits / n, groups = double(by_series.size());
+    double v = 0;
+    for (const auto& [g, hn] : by_series)
+        v += (hn.first - p * hn.second) * (hn.first - p * hn.second);
+    v *= groups > 1 ? groups / (groups - 1) / (n * n) : 0;
+    const double binomial = p * (1 - p) / n;
+    const double deff = binomial > 0 ? std::max(1.0, v / binomial) : 1.0;
+    n_effective = n / deff;
+    const auto k = std::size_t(std::llround(n_effective));
+    return report::wilson_interval(std::size_t(std::llround(p * double(k))), k);
+}
+
+const char* verdict(const report::ShareInterval& band, double nominal) {
+    if (nominal > band.upper) return "sigma too small";
+    if (nominal < band.lower) return "sigma too large";
+    return "consistent";
+}
+
+void print(const std::map<std::pair<std::string, std::string>, Scored>& scored) {
+    std::printf(
+        "%-20s %-14s %4s %7s %6s %6s %6s %5s | %6s %-11s | %6s %-11s | %5s %-11s %-15s | "
+        "%-11s %s\n",
+        "method", "zone", "n", "bias", "rms", "max", "σ", "e/σ", "cov68", "Wilson band", "cov95",
+        "Wilson band", "n_eff", "band68", "verdict68", "band95", "verdict95");
+    for (const auto& [key, s] : scored) {
+        const report::CoverageRow r = report::coverage_of(key.first, key.second, s.figures);
+        double n68 = 0, n95 = 0;
+        const auto b68 = clustered_band(s, 1.0, n68);
+        const auto b95 = clustered_band(s, report::kLod95Factor, n95);
+        std::printf(
+            "%-20s %-14s %4zu %+7.3f %6.3f %6.3f %6.3f %5.2f | %5.1f%% %4.1f-%5.1f%% | "
+            "%5.1f%% %4.1f-%5.1f%% | %5.0f %4.1f-%5.1f%% %-15s | %4.1f-%5.1f%% %s\n",
+            r.method.c_str(), r.part.c_str(), r.n, 1e3 * r.error.bias, 1e3 * r.error.rms,
+            1e3 * r.error.max_abs, 1e3 * r.rms_sigma, rms_z(s.figures), 100 * r.coverage68(),
+            100 * r.band68.lower, 100 * r.band68.upper, 100 * r.coverage95(), 100 * r.band95.lower,
+            100 * r.band95.upper, std::min(n68, n95), 100 * b68.lower, 100 * b68.upper,
+            verdict(b68, report::kNominal68), 100 * b95.lower, 100 * b95.upper,
+            verdict(b95, report::kNominal95));
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args;
+    int epochs = 4;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--epochs" && i + 1 < argc)
+            epochs = std::atoi(argv[++i]);
+        else
+            args.push_back(a);
+    }
+    const std::string preset = args.empty() ? "" : args[0];
+    const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 14;
+    const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 5000;
+    if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2) {
+        std::fprintf(stderr,
+                     "usage: bench_keypoint_coverage pier|hochmosel [SERIES] [FIRST_SEED] "
+                     "[--epochs N>=2]\n");
+        return 2;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    std::map<std::pair<std::string, std::string>, Scored> scored;
+    int k = 0;  // the series
+    const auto score = [&](const std::string& method, const std::string& zone, double error,
+                           double lod95) {
+        if (!std::isfinite(error) || !std::isfinite(lod95) || lod95 <= 0) return;
+        const report::ScoredFigure f{error, lod95 / report::kLod95Factor};
+        for (const auto& part : {std::string("all"), zone}) {
+            scored[{method, part}].figures.push_back(f);
+            scored[{method, part}].series.push_back(k);
+        }
+    };
+    int refused = 0, undefined = 0;
+    for (; k < series; ++k) {
+        test::Scenario scenario =
+            preset == "pier" ? test::pier_scenario() : test::hochmosel_scenario();
+        scenario.site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
+        const double start = 24.0 * frac(0.6180339887 * k);
+        const double cadence = 1.0 + 5.0 * frac(0.3819660113 * k);
+        std::vector<double> hours;
+        for (int e = 0; e < epochs; ++e) hours.push_back(start + e * cadence);
+        const test::Series s = test::run_series(scenario, hours);
+        for (const auto& why : s.refused)
+            std::fprintf(stderr, "series %d: refused %s\n", k, why.c_str());
+        refused += int(s.refused.size());
+        for (const auto& f : s.figures) {
+            if (f.zone == "west") continue;  // grazing: undefined by design
+            if (!f.d.defined() || !f.truth.allFinite()) {
+                ++undefined;
+                continue;
+            }
+            // Each figure whole, then split: its realized registration error against the
+            // registration's σ along it, and the rest against the method's own σ.
+            const auto& w = f.d.wall;
+            for (int k = 1; k < 3; ++k) {
+                const std::string method = k == 1 ? "keypoints h" : "keypoints v";
+                const Eigen::Vector3d u = k == 1 ? w.horizontal : w.vertical;
+                const double error = f.d.along[k] - f.truth[k];
+                score(method, f.zone, error,
+                      test::lod_of(f.zone, f.d, f.registration,
+                                   k == 1 ? kKeypointAlongSurfaceH : kKeypointAlongSurfaceV));
+                score(method + " reg", f.zone, f.registration_error[k],
+                      report::kLod95Factor * std::sqrt(u.dot(f.registration * u)));
+                score(method + " own", f.zone, error - f.registration_error[k],
+                      report::kLod95Factor * f.d.along_standard_error[k]);
+            }
+            const double m3c2_error = f.m3c2_median - f.m3c2_truth;
+            const double m3c2_sigma = f.m3c2_lod / report::kLod95Factor;
+            score("m3c2 median", f.zone, m3c2_error, f.m3c2_lod);
+            score("m3c2 median reg", f.zone, f.m3c2_registration_error,
+                  report::kLod95Factor * f.m3c2_registration_sigma);
+            score("m3c2 median own", f.zone, m3c2_error - f.m3c2_registration_error,
+                  report::kLod95Factor *
+                      std::sqrt(m3c2_sigma * m3c2_sigma -
+                                f.m3c2_registration_sigma * f.m3c2_registration_sigma));
+        }
+        std::fprintf(stderr, "series %d of %d (seed %d, %.1f h + %.1f h steps) done, %.0f s\n",
+                     k + 1, series, first_seed + k, start, cadence, bench::seconds_since(t0));
+    }
+    std::printf(
+        "%s: %d series of %d epochs from seed %d; %d epochs refused, %d zone figures undefined; "
+        "%.0f s wall, %.0f s CPU\n",
+        preset.c_str(), series, epochs, first_seed, refused, undefined, bench::seconds_since(t0),
+        bench::process_cpu_seconds());
+    print(scored);
+    return 0;
+}
