@@ -56,12 +56,16 @@ double rms_z(const std::vector<report::ScoredFigure>& figures) {
     return figures.empty() ? NAN : std::sqrt(sum / double(figures.size()));
 }
 
-// The Wilson band of a coverage whose figures come in clusters (the series: their epochs
-// share the reference's draw, an epoch's zones its registration): the figures count as
-// n / deff independent ones, deff = V_cluster / V_binomial ≥ 1 (Kish 1965's design effect),
-// V_cluster = G/(G − 1) · Σ_g (hits_g − p̂·n_g)² / n² over the G series (the cluster-robust
-// variance of the share).
-report::ShareInterval clustered_band(const Scored& s, double multiple, double& n_effective) {
+// A coverage whose figures come in clusters (the series: their epochs share the reference's
+// draw, an epoch's zones its registration) as that many independent figures: n / deff, deff =
+// V_cluster / V_binomial ≥ 1 (Kish 1965's design effect), V_cluster = G/(G − 1) ·
+// Σ_g (hits_g − p̂·n_g)² / n² over the G series (the cluster-robust variance of the share);
+// the hits scaled with it. Its Wilson band and verdict are report/calibration.hpp's.
+struct EffectiveCount {
+    std::size_t hits = 0, n = 0;
+};
+
+EffectiveCount clustered(const Scored& s, double multiple) {
     std::map<int, std::pair<double, double>> by_series;  // series -> (hits, n)
     for (std::size_t i = 0; i < s.figures.size(); ++i) {
         const auto& f = s.figures[i];
@@ -79,15 +83,8 @@ report::ShareInterval clustered_band(const Scored& s, double multiple, double& n
     v *= groups > 1 ? groups / (groups - 1) / (n * n) : 0;
     const double binomial = p * (1 - p) / n;
     const double deff = binomial > 0 ? std::max(1.0, v / binomial) : 1.0;
-    n_effective = n / deff;
-    const auto k = std::size_t(std::llround(n_effective));
-    return report::wilson_interval(std::size_t(std::llround(p * double(k))), k);
-}
-
-const char* verdict(const report::ShareInterval& band, double nominal) {
-    if (nominal > band.upper) return "sigma too small";
-    if (nominal < band.lower) return "sigma too large";
-    return "consistent";
+    const auto k = std::size_t(std::llround(n / deff));
+    return {std::size_t(std::llround(p * double(k))), k};
 }
 
 void print(const std::map<std::pair<std::string, std::string>, Scored>& scored) {
@@ -98,18 +95,19 @@ void print(const std::map<std::pair<std::string, std::string>, Scored>& scored) 
         "Wilson band", "n_eff", "band68", "verdict68", "band95", "verdict95");
     for (const auto& [key, s] : scored) {
         const report::CoverageRow r = report::coverage_of(key.first, key.second, s.figures);
-        double n68 = 0, n95 = 0;
-        const auto b68 = clustered_band(s, 1.0, n68);
-        const auto b95 = clustered_band(s, report::kLod95Factor, n95);
+        const EffectiveCount c68 = clustered(s, 1.0), c95 = clustered(s, report::kLod95Factor);
+        const auto b68 = report::wilson_interval(c68.hits, c68.n);
+        const auto b95 = report::wilson_interval(c95.hits, c95.n);
         std::printf(
             "%-20s %-14s %4zu %+7.3f %6.3f %6.3f %6.3f %5.2f | %5.1f%% %4.1f-%5.1f%% | "
-            "%5.1f%% %4.1f-%5.1f%% | %5.0f %4.1f-%5.1f%% %-15s | %4.1f-%5.1f%% %s\n",
+            "%5.1f%% %4.1f-%5.1f%% | %5zu %4.1f-%5.1f%% %-15s | %4.1f-%5.1f%% %s\n",
             r.method.c_str(), r.part.c_str(), r.n, 1e3 * r.error.bias, 1e3 * r.error.rms,
             1e3 * r.error.max_abs, 1e3 * r.rms_sigma, rms_z(s.figures), 100 * r.coverage68(),
             100 * r.band68.lower, 100 * r.band68.upper, 100 * r.coverage95(), 100 * r.band95.lower,
-            100 * r.band95.upper, std::min(n68, n95), 100 * b68.lower, 100 * b68.upper,
-            verdict(b68, report::kNominal68), 100 * b95.lower, 100 * b95.upper,
-            verdict(b95, report::kNominal95));
+            100 * r.band95.upper, std::min(c68.n, c95.n), 100 * b68.lower, 100 * b68.upper,
+            report::to_string(report::sigma_verdict(c68.hits, c68.n, report::kNominal68)),
+            100 * b95.lower, 100 * b95.upper,
+            report::to_string(report::sigma_verdict(c95.hits, c95.n, report::kNominal95)));
     }
 }
 

@@ -4,6 +4,7 @@
 // and the window of the pier's south and west faces at `face_step_deg`, or the preset's
 // detail scans — the same geometry, beam, noise, scanner drift and air as a full epoch.
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,12 @@ inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hou
     s.elevation_min_deg = pier.elevation_min;
     s.elevation_max_deg = pier.elevation_max;
     s.azimuth_step_deg = s.elevation_step_deg = step_deg;
+    // Its place in a whole scan's lattice at this step (narrow_window.hpp): its noise is not
+    // the targets' windows' noise.
+    s.first_column = static_cast<std::uint32_t>(
+        std::max(0.0, std::round((site.scanner.azimuth_max_deg - pier.azimuth_max) / step_deg)));
+    s.first_row = static_cast<std::uint32_t>(std::max(
+        0.0, std::round((pier.elevation_min - site.scanner.elevation_min_deg) / step_deg)));
     e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
     return e;
 }
