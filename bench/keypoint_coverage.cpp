@@ -9,20 +9,24 @@
 // every zone figure is scored against the truth over the zone's area. Nothing is tuned: the
 // defaults are scored.
 //
-//   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4]
+//   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4] [--patches]
 //
 // PRESET: `pier` (the south face and its four 10 m bands) or `hochmosel` (the detail strip's
 // thirteen 10 m bands). Series k (seed FIRST_SEED + k) starts 24·frac(0.618·k) hours into the
 // preset's day and takes an epoch every 1 + 5·frac(0.382·k) hours: the drift and the thermal
-// bending sweep the day. Prints per method (keypoints along h and v, M3C2's zone median)
-// pooled and per zone: n, bias, RMS, max, RMS of the σ (LoD95 / 1.96), RMS(error/σ), the
+// bending sweep the day. Prints per method (keypoints along h and v, M3C2's zone median and
+// mean; with --patches also PB-M3C2's, its defaults on the reference's supervoxels) pooled
+// and per zone: n, bias, RMS, max, RMS of the σ (LoD95 / 1.96), RMS(error/σ), the
 // coverage of the 68 % and 95 % intervals with their Wilson bands (report/calibration.hpp),
 // and the bands and verdicts with the series as clusters (a series' figures share its
-// reference's draw: they count as n_eff independent ones); then the wall and CPU seconds.
+// reference's draw: they count as n_eff independent ones); then the wall and CPU seconds;
+// last, the keypoints' own error over their standard error by the epoch's lattice phase.
 // Each method's figures are also split in two: "reg", the epoch's realized registration
 // error over the zone's area along the figure (test::registration_error_at) against the
 // registration's σ along it; "own", the error less that, against the rest of the σ (the
-// keypoints' standard error; M3C2's sampling part, √(σ² − σ_reg²)): which of the two misses.
+// keypoints' standard error; the normal aggregates' sampling part, √(σ² − σ_reg²)): which of
+// the two misses.
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -111,15 +115,39 @@ void print(const std::map<std::pair<std::string, std::string>, Scored>& scored) 
     }
 }
 
+// The keypoints' own error by the fraction of a pixel φ = frac(−shift) the epoch's image lies
+// off the reference's lattice (docs/keypoints.md, "The lattice's phase"): an error common to
+// a zone's matches that depends on φ shows as a mean of error/SE away from 0 in some bins.
+void print_by_phase(const std::array<std::vector<std::pair<double, double>>, 2>& by_phase) {
+    constexpr int kBins = 8;
+    std::printf(
+        "\nthe keypoints' own error / SE by the lattice phase φ (h: azimuth, v: elevation)\n");
+    std::printf("φ bin        |  n  h mean  h RMS |  n  v mean  v RMS\n");
+    for (int b = 0; b < kBins; ++b) {
+        std::printf("%.3f-%.3f ", double(b) / kBins, double(b + 1) / kBins);
+        for (const auto& figures : by_phase) {
+            double n = 0, sum = 0, sum2 = 0;
+            for (const auto& [phase, z] : figures)
+                if (int(phase * kBins) == b) n += 1, sum += z, sum2 += z * z;
+            std::printf(" | %3.0f %+6.2f %6.2f", n, n > 0 ? sum / n : NAN,
+                        n > 0 ? std::sqrt(sum2 / n) : NAN);
+        }
+        std::printf("\n");
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::vector<std::string> args;
     int epochs = 4;
+    bool patches = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--epochs" && i + 1 < argc)
             epochs = std::atoi(argv[++i]);
+        else if (a == "--patches")
+            patches = true;
         else
             args.push_back(a);
     }
@@ -129,7 +157,7 @@ int main(int argc, char** argv) {
     if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2) {
         std::fprintf(stderr,
                      "usage: bench_keypoint_coverage pier|hochmosel [SERIES] [FIRST_SEED] "
-                     "[--epochs N>=2]\n");
+                     "[--epochs N>=2] [--patches]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -144,6 +172,21 @@ int main(int argc, char** argv) {
             scored[{method, part}].series.push_back(k);
         }
     };
+    // An aggregate along the normals whole, its registration part and the rest: the
+    // aggregate's σ is the quadratic sum of the two (algorithms/m3c2/zone_uncertainty.hpp).
+    const auto score_normal = [&](const std::string& method, const std::string& zone,
+                                  const test::NormalFigure& f) {
+        const double error = f.value - f.truth, sigma = f.lod / report::kLod95Factor;
+        score(method, zone, error, f.lod);
+        score(method + " reg", zone, f.registration_error,
+              report::kLod95Factor * f.registration_sigma);
+        score(method + " own", zone, error - f.registration_error,
+              report::kLod95Factor *
+                  std::sqrt(sigma * sigma - f.registration_sigma * f.registration_sigma));
+    };
+    // The keypoints' own error over their standard error, h and v, with the epoch's lattice
+    // phase along azimuth and elevation: (φ, z).
+    std::array<std::vector<std::pair<double, double>>, 2> by_phase;
     int refused = 0, undefined = 0;
     for (; k < series; ++k) {
         test::Scenario scenario =
@@ -153,7 +196,7 @@ int main(int argc, char** argv) {
         const double cadence = 1.0 + 5.0 * frac(0.3819660113 * k);
         std::vector<double> hours;
         for (int e = 0; e < epochs; ++e) hours.push_back(start + e * cadence);
-        const test::Series s = test::run_series(scenario, hours);
+        const test::Series s = test::run_series(scenario, hours, patches);
         for (const auto& why : s.refused)
             std::fprintf(stderr, "series %d: refused %s\n", k, why.c_str());
         refused += int(s.refused.size());
@@ -177,16 +220,14 @@ int main(int argc, char** argv) {
                       report::kLod95Factor * std::sqrt(u.dot(f.registration * u)));
                 score(method + " own", f.zone, error - f.registration_error[k],
                       report::kLod95Factor * f.d.along_standard_error[k]);
+                const double phase = -f.lattice_shift[k - 1] - std::floor(-f.lattice_shift[k - 1]);
+                by_phase[k - 1].push_back(
+                    {phase, (error - f.registration_error[k]) / f.d.along_standard_error[k]});
             }
-            const double m3c2_error = f.m3c2_median - f.m3c2_truth;
-            const double m3c2_sigma = f.m3c2_lod / report::kLod95Factor;
-            score("m3c2 median", f.zone, m3c2_error, f.m3c2_lod);
-            score("m3c2 median reg", f.zone, f.m3c2_registration_error,
-                  report::kLod95Factor * f.m3c2_registration_sigma);
-            score("m3c2 median own", f.zone, m3c2_error - f.m3c2_registration_error,
-                  report::kLod95Factor *
-                      std::sqrt(m3c2_sigma * m3c2_sigma -
-                                f.m3c2_registration_sigma * f.m3c2_registration_sigma));
+            score_normal("m3c2 median", f.zone, f.m3c2_median);
+            score_normal("m3c2 mean", f.zone, f.m3c2_mean);
+            score_normal("pbm3c2 median", f.zone, f.pbm3c2_median);
+            score_normal("pbm3c2 mean", f.zone, f.pbm3c2_mean);
         }
         std::fprintf(stderr, "series %d of %d (seed %d, %.1f h + %.1f h steps) done, %.0f s\n",
                      k + 1, series, first_seed + k, start, cadence, bench::seconds_since(t0));
@@ -197,5 +238,6 @@ int main(int argc, char** argv) {
         preset.c_str(), series, epochs, first_seed, refused, undefined, bench::seconds_since(t0),
         bench::process_cpu_seconds());
     print(scored);
+    print_by_phase(by_phase);
     return 0;
 }

@@ -29,35 +29,25 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/keypoints/zone_strata.hpp"
 #include "pipeline/keypoint_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
-#include "simulator/render.hpp"
+#include "tests/pipeline/keypoint_series.hpp"
 #include "tests/support/simulated_targets.hpp"
 
 namespace {
 
 using namespace tlsmon;
 
-// The window of the pier's south and west faces at the preset's step (0.013°), as the keypoint
-// tests render it (tests/pipeline/simulated_windows.hpp).
+// The faces' window at the preset's step, as the keypoint tests render it.
 std::vector<Scan> render_faces(const sim::Site& site, const sim::EpochConditions& c) {
-    sim::Site faces = site;
-    auto& s = faces.scanner;
-    s.azimuth_min_deg = 68.0, s.azimuth_max_deg = 89.0;
-    s.elevation_min_deg = -3.0, s.elevation_max_deg = 42.0;
-    s.azimuth_step_deg = s.elevation_step_deg = 0.013;
-    return {sim::render_epoch(faces, c, 2).scan};
+    return {test::render_window(site, c, test::kFaceStepDeg)};
 }
 
-// The south face 0.5 m inside its edges and its 10 m bands (the keypoint tests' zones).
+// The keypoint tests' zones on the south face: the face and its 10 m bands.
 std::vector<ZoneShape> south_zones(const sim::Site& site) {
-    const auto& p = site.pier;
-    const ZoneShape south =
-        box_zone("south", {p.x0 + 0.5, p.y0 - 0.5, 1.0}, {p.x1 - 0.5, p.y0 + 0.5, p.height - 1.0});
-    std::vector<ZoneShape> zones{south};
-    for (auto& b : bands_of(south, 2, 10.0, 0.0, p.height)) zones.push_back(b);
+    std::vector<ZoneShape> zones = test::pier_zones(site);
+    std::erase_if(zones, [](const ZoneShape& z) { return z.name == "west"; });
     return zones;
 }
 
@@ -97,13 +87,7 @@ int main(int argc, char** argv) {
     if (off('R')) reference_site.noise.enabled = false;
     const std::vector<Scan> s0 = render_faces(reference_site, c0);
     const KeypointReference ref = prepare_keypoint_reference(config, s0);
-    std::vector<std::vector<Eigen::Vector3d>> cells;
-    for (std::size_t z = 0; z < ref.walls.size(); ++z) {
-        std::vector<Eigen::Vector3d> inside;
-        for (const auto& p : s0[0].xyz)
-            if (p.allFinite() && config.zones[z].contains(p)) inside.push_back(p);
-        cells.push_back(keypoints::wall_cell_centres(inside, ref.walls[z]));
-    }
+    const std::vector<std::vector<Eigen::Vector3d>> cells = test::zone_cells(config, ref, s0);
     FILE* csv = argc > 4 ? std::fopen(argv[4], "w") : nullptr;
     if (csv) std::fprintf(csv, "epoch,zone,reference_row,reference_column,error_h_m,error_v_m\n");
     std::printf("switched off: '%s'; reference: %zu keypoints\n", changes.c_str(), ref.keypoints());

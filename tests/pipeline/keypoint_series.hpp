@@ -1,9 +1,9 @@
 #pragma once
 // The keypoint stage after registration on simulated series of the `pier` and `hochmosel`
-// presets, side by side with M3C2 in the same zones: per zone and epoch the stage's figures,
-// the truth and the epoch's realized registration error over the zone's area. Shared by the
-// keypoint tests (tests/pipeline/test_keypoints_simulated.cpp) and the coverage bench over
-// independent series (bench/keypoint_coverage.cpp).
+// presets, side by side with M3C2 (and, on request, PB-M3C2) in the same zones: per zone and
+// epoch the stage's figures, the truth and the epoch's realized registration error over the
+// zone's area. Shared by the keypoint tests (tests/pipeline/test_keypoints_simulated.cpp) and the
+// coverage bench over independent series (bench/keypoint_coverage.cpp).
 //
 // Each epoch renders the targets' windows at the preset's step (what the registration
 // measures) and only the pier's south and west faces, at the preset's step (0.013°), or the
@@ -20,13 +20,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
+#include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "algorithms/keypoints/zone_strata.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
+#include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/registration_stage.hpp"
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
@@ -69,6 +74,7 @@ struct Scenario {
     sim::Site site;
     std::vector<ZoneShape> zones;
     WindowedEpoch (*render)(const sim::Site&, int, double) = nullptr;
+    double image_step_deg = kFaceStepDeg;  // the pier's scans' step
 };
 
 inline WindowedEpoch render_faces(const sim::Site& site, int epoch, double hours) {
@@ -86,6 +92,7 @@ inline Scenario pier_scenario() {
 inline Scenario hochmosel_scenario() {
     Scenario s{sim::preset_hochmosel(), {}, render_detail_windows};
     s.zones = strip_zones(s.site);
+    s.image_step_deg = s.site.scanner.details.front().step_deg;  // the strip's
     return s;
 }
 
@@ -113,6 +120,63 @@ inline double lod_of(const std::string& zone, const keypoints::SegmentDisplaceme
     return NAN;
 }
 
+// Each zone's area as the reference saw it: the centres of its wall cells holding reference
+// points. A zone's displacement is the true change averaged over them, what the stage's
+// strata stand for (zone_strata.hpp).
+inline std::vector<std::vector<Eigen::Vector3d>> zone_cells(const KeypointConfig& config,
+                                                            const KeypointReference& ref,
+                                                            const std::vector<Scan>& reference) {
+    std::vector<std::vector<Eigen::Vector3d>> cells;
+    for (std::size_t z = 0; z < ref.walls.size(); ++z) {
+        std::vector<Eigen::Vector3d> inside;
+        for (const auto& scan : reference)
+            for (const auto& p : scan.xyz)
+                if (p.allFinite() && config.zones[z].contains(p)) inside.push_back(p);
+        cells.push_back(keypoints::wall_cell_centres(inside, ref.walls[z]));
+    }
+    return cells;
+}
+
+// A zone aggregate along the normals (M3C2's core points', PB-M3C2's patches' median or
+// mean): the stage's row, the same aggregate of the true change at its places, and the
+// registration's σ in its LoD and its realized error, both averaged over the places.
+struct NormalFigure {
+    double value = NAN, lod = NAN, truth = NAN;
+    double registration_sigma = NAN, registration_error = NAN;
+};
+
+// One measuring place's truth along its normal, the registration's σ and realized error there.
+struct NormalPlace {
+    double truth, registration_sigma, registration_error;
+};
+
+// A zone's `method`_median_m and `method`_mean_m figures from the stage's rows and the places
+// that gave them.
+inline std::pair<NormalFigure, NormalFigure> normal_figures(
+    const std::string& method, const std::string& zone, const std::vector<ZoneResult>& rows,
+    const std::vector<NormalPlace>& places) {
+    NormalFigure median, mean;
+    if (places.empty()) return {median, mean};
+    std::vector<double> t;
+    double sigma = 0, error = 0;
+    for (const auto& p : places)
+        t.push_back(p.truth), sigma += p.registration_sigma, error += p.registration_error;
+    const double n = double(places.size());
+    for (NormalFigure* f : {&median, &mean})
+        f->registration_sigma = sigma / n, f->registration_error = error / n;
+    mean.truth = std::accumulate(t.begin(), t.end(), 0.0) / n;
+    std::sort(t.begin(), t.end());
+    median.truth = t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+    for (const auto& row : rows) {
+        if (row.zone != zone) continue;
+        NormalFigure* f = row.quantity == method + "_median_m" ? &median
+                          : row.quantity == method + "_mean_m" ? &mean
+                                                               : nullptr;
+        if (f) f->value = row.value, f->lod = row.uncertainty.value_or(NAN);
+    }
+    return {median, mean};
+}
+
 // One zone's figures in one epoch, with the truth.
 struct ZoneFigure {
     int epoch = 0;
@@ -123,15 +187,16 @@ struct ZoneFigure {
     Eigen::Vector3d truth = Eigen::Vector3d::Constant(NAN);  // (normal, h, v)
     // The epoch's realized registration error averaged over the same area (normal, h, v).
     Eigen::Vector3d registration_error = Eigen::Vector3d::Constant(NAN);
-    double m3c2_median = NAN, m3c2_truth = NAN, m3c2_lod = NAN;
-    // The registration's σ in the median's LoD, and its realized error, both along the core
-    // points' normals and averaged over the zone's.
-    double m3c2_registration_sigma = NAN, m3c2_registration_error = NAN;
+    // The epoch's image on the reference's lattice at the zone: its shift, in pixels
+    // (azimuth, elevation; docs/keypoints.md, "The lattice's phase").
+    Eigen::Vector2d lattice_shift = Eigen::Vector2d::Constant(NAN);
+    NormalFigure m3c2_median, m3c2_mean;
+    NormalFigure pbm3c2_median, pbm3c2_mean;  // with run_series' `patches` only
 };
 
 struct Series {
     std::vector<ZoneFigure> figures;
-    double keypoint_s = 0, m3c2_s = 0;
+    double keypoint_s = 0, m3c2_s = 0, pbm3c2_s = 0;
     std::size_t reference_keypoints = 0;
     std::vector<std::string> refused;  // the epochs the registration refused, and why
 };
@@ -140,28 +205,28 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-inline Series run_series(const Scenario& scenario, const std::vector<double>& hours) {
+// The series at `hours` (the reference first); `patches`: PB-M3C2 beside M3C2 in the same
+// zones (its defaults, on the reference's supervoxels).
+inline Series run_series(const Scenario& scenario, const std::vector<double>& hours,
+                         bool patches = false) {
     const sim::Site& site = scenario.site;
     const RegistrationConfig targets = simulated_targets(site);
     const KeypointConfig config = keypoint_config(scenario);
     const M3c2Config m3c2 = m3c2_config(scenario);
+    PbM3c2Config pb;
+    pb.zones = scenario.zones;
     const WindowedEpoch e0 = scenario.render(site, 0, hours[0]);
     const ReferenceTargets reference = measure_reference_targets(targets, e0.targets);
     Series out;
     auto t0 = std::chrono::steady_clock::now();
     const KeypointReference ref = prepare_keypoint_reference(config, e0.pier);
     out.reference_keypoints = ref.keypoints();
-    // Each zone's area as the reference saw it (its wall cells): the zone's displacement is
-    // the true change averaged over them, what the stage's strata stand for (zone_strata.hpp).
-    std::vector<std::vector<Eigen::Vector3d>> cells;
-    for (std::size_t z = 0; z < ref.walls.size(); ++z) {
-        std::vector<Eigen::Vector3d> inside;
-        for (const auto& scan : e0.pier)
-            for (const auto& p : scan.xyz)
-                if (p.allFinite() && config.zones[z].contains(p)) inside.push_back(p);
-        cells.push_back(keypoints::wall_cell_centres(inside, ref.walls[z]));
-    }
+    const std::vector<std::vector<Eigen::Vector3d>> cells = zone_cells(config, ref, e0.pier);
     const M3c2Reference m3c2_ref = prepare_m3c2_reference(m3c2, e0.pier);
+    const std::optional<PbM3c2Reference> pb_ref =
+        patches ? std::optional(prepare_pbm3c2_reference(
+                      pb, build_supervoxels(pb.segmentation, e0.pier), e0.pier))
+                : std::nullopt;
     for (std::size_t i = 1; i < hours.size(); ++i) {
         const int epoch = static_cast<int>(i);
         const WindowedEpoch ei = scenario.render(site, epoch, hours[i]);
@@ -172,6 +237,8 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
             continue;
         }
         const StageOutputs& o = *registered;
+        const RegistrationError registration_error(site, e0.conditions, ei.conditions,
+                                                   *o.to_reference);
 
         t0 = std::chrono::steady_clock::now();
         KeypointEpoch measured = measure_keypoints(config, ref, ei.pier, o);
@@ -181,10 +248,24 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
 
         t0 = std::chrono::steady_clock::now();
         const M3c2Epoch m = measure_m3c2(m3c2, m3c2_ref, ei.pier, o);
+        const std::vector<ZoneResult> m3c2_rows = m3c2_zone_results(m3c2, m3c2_ref, m);
         out.m3c2_s += seconds_since(t0);
-        const auto true_change = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
-            return sim::pier_displacement(site, p, epoch, ei.conditions.bending) -
-                   sim::pier_displacement(site, p, 0, e0.conditions.bending);
+        std::optional<PbM3c2Epoch> p;
+        std::vector<ZoneResult> pb_rows;
+        if (pb_ref) {
+            t0 = std::chrono::steady_clock::now();
+            p = measure_pbm3c2(pb, *pb_ref, ei.pier, o);
+            pb_rows = pbm3c2_zone_results(*pb_ref, *p);
+            out.pbm3c2_s += seconds_since(t0);
+        }
+        const auto true_change = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+            return sim::pier_displacement(site, x, epoch, ei.conditions.bending) -
+                   sim::pier_displacement(site, x, 0, e0.conditions.bending);
+        };
+        const auto place = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+                               double registration_sigma) {
+            return NormalPlace{true_change(x).dot(normal), registration_sigma,
+                               registration_error(x).dot(normal)};
         };
         for (std::size_t z = 0; z < segments.segments.size(); ++z) {
             const auto& s = segments.segments[z];
@@ -202,38 +283,33 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
                 };
                 for (const Eigen::Vector3d& c : cells[z]) {
                     sum += in_wall(true_change(c));
-                    reg += in_wall(registration_error_at(site, e0.conditions, ei.conditions,
-                                                         *o.to_reference, c));
+                    reg += in_wall(registration_error(c));
                 }
                 f.truth = sum / double(cells[z].size());
                 f.registration_error = reg / double(cells[z].size());
+                f.lattice_shift = (seen_at(site, ei.conditions, w.centroid) -
+                                   seen_at(site, e0.conditions, w.centroid)) /
+                                  scenario.image_step_deg;
             }
-            // M3C2 in the same zone: its median and the truth's median along the normals.
-            std::vector<double> d, t;
-            double registration_sigma = 0, registration_error = 0;
-            for (auto k : m3c2_ref.zone_cores[z]) {
-                const auto& dist = m.distances[k];
-                if (!std::isfinite(dist.distance)) continue;
-                const Eigen::Vector3d& c = m3c2_ref.reference.core_points()[k];
-                const Eigen::Vector3d& nrm = m3c2_ref.reference.normals()[k];
-                d.push_back(dist.distance);
-                registration_sigma += m.registration_sigma[k];
-                registration_error += nrm.dot(
-                    registration_error_at(site, e0.conditions, ei.conditions, *o.to_reference, c));
-                t.push_back(true_change(c).dot(nrm));
-            }
-            for (const auto& row : m3c2_zone_results(m3c2, m3c2_ref, m)) {
-                if (row.zone == s.zone && row.quantity == "m3c2_median_m") {
-                    f.m3c2_median = row.value;
-                    f.m3c2_lod = row.uncertainty.value_or(NAN);
-                }
-            }
-            if (!t.empty()) {
-                f.m3c2_registration_sigma = registration_sigma / double(t.size());
-                f.m3c2_registration_error = registration_error / double(t.size());
-                std::sort(t.begin(), t.end());
-                f.m3c2_truth =
-                    t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+            // M3C2 in the same zone, at the core points that gave a distance.
+            std::vector<NormalPlace> cores;
+            for (auto k : m3c2_ref.zone_cores[z])
+                if (std::isfinite(m.distances[k].distance))
+                    cores.push_back(place(m3c2_ref.reference.core_points()[k],
+                                          m3c2_ref.reference.normals()[k],
+                                          m.registration_sigma[k]));
+            std::tie(f.m3c2_median, f.m3c2_mean) = normal_figures("m3c2", s.zone, m3c2_rows, cores);
+            // PB-M3C2 in the same zone, at the patches that gave a distance.
+            const auto& names = pb_ref ? pb_ref->zone_names : std::vector<std::string>{};
+            if (const auto at = std::find(names.begin(), names.end(), s.zone); at != names.end()) {
+                std::vector<NormalPlace> measured_patches;
+                for (auto k : pb_ref->zone_patches[std::size_t(at - names.begin())])
+                    if (std::isfinite(p->results[k].distance.distance))
+                        measured_patches.push_back(place(pb_ref->measured_at(k),
+                                                         pb_ref->patches[k].frame.normal,
+                                                         p->registration_sigma[k]));
+                std::tie(f.pbm3c2_median, f.pbm3c2_mean) =
+                    normal_figures("pbm3c2", s.zone, pb_rows, measured_patches);
             }
             out.figures.push_back(std::move(f));
         }

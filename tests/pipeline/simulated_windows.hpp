@@ -56,24 +56,29 @@ struct Window {
     double azimuth_min, azimuth_max, elevation_min, elevation_max;
 };
 
+// The pier's south and west faces: the window the keypoint and patch tests render.
+inline constexpr Window kPierFaces{68.0, 89.0, -3.0, 42.0};
+
+// `window` of the site's scanner at `step_deg`, at its place in a whole scan's lattice at this
+// step (tests/simulator/narrow_window.hpp): its noise is not the targets' windows' noise.
+inline Scan render_window(const sim::Site& site, const sim::EpochConditions& conditions,
+                          double step_deg, const Window& window = kPierFaces) {
+    sim::Site cut = site;
+    auto& s = cut.scanner;
+    s.azimuth_min_deg = window.azimuth_min;
+    s.azimuth_max_deg = window.azimuth_max;
+    s.elevation_min_deg = window.elevation_min;
+    s.elevation_max_deg = window.elevation_max;
+    s.azimuth_step_deg = s.elevation_step_deg = step_deg;
+    sim::test::place_in_lattice(s, site.scanner);
+    return sim::render_epoch(cut, conditions, 2).scan;
+}
+
 // The targets' windows and `pier` (default: the pier's south and west faces) at `step_deg`.
 inline WindowedEpoch render_windows(const sim::Site& site, int epoch, double hours, double step_deg,
-                                    const Window& pier = {68.0, 89.0, -3.0, 42.0}) {
+                                    const Window& pier = kPierFaces) {
     WindowedEpoch e = render_target_windows(site, epoch, hours);
-    sim::Site faces = site;
-    auto& s = faces.scanner;
-    s.azimuth_min_deg = pier.azimuth_min;
-    s.azimuth_max_deg = pier.azimuth_max;
-    s.elevation_min_deg = pier.elevation_min;
-    s.elevation_max_deg = pier.elevation_max;
-    s.azimuth_step_deg = s.elevation_step_deg = step_deg;
-    // Its place in a whole scan's lattice at this step (narrow_window.hpp): its noise is not
-    // the targets' windows' noise.
-    s.first_column = static_cast<std::uint32_t>(
-        std::max(0.0, std::round((site.scanner.azimuth_max_deg - pier.azimuth_max) / step_deg)));
-    s.first_row = static_cast<std::uint32_t>(std::max(
-        0.0, std::round((pier.elevation_min - site.scanner.elevation_min_deg) / step_deg)));
-    e.pier.push_back(sim::render_epoch(faces, e.conditions, 2).scan);
+    e.pier.push_back(render_window(site, e.conditions, step_deg, pier));
     return e;
 }
 

@@ -82,8 +82,8 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
             "%d  %-14s %4zu | %+6.2f %+6.2f | %+6.2f %+6.2f | %+6.2f %+6.2f  %+6.2f %+6.2f | "
             "%.2f %.2f\n",
             f.epoch, f.zone.c_str(), f.kept, 1e3 * d.along[1], 1e3 * f.truth[1], 1e3 * d.along[2],
-            1e3 * f.truth[2], 1e3 * d.along[0], 1e3 * f.truth[0], 1e3 * f.m3c2_median,
-            1e3 * f.m3c2_truth, 1e3 * d.along_standard_error[1],
+            1e3 * f.truth[2], 1e3 * d.along[0], 1e3 * f.truth[0], 1e3 * f.m3c2_median.value,
+            1e3 * f.m3c2_median.truth, 1e3 * d.along_standard_error[1],
             1e3 * lod_of(f.zone, d, f.registration, kKeypointAlongSurfaceH));
         kept[f.zone].first += double(f.kept);
         kept[f.zone].second += 1;
@@ -103,7 +103,7 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
         h.add(d.along[1] - f.truth[1]);
         v.add(d.along[2] - f.truth[2]);
         normal.add(d.along[0] - f.truth[0]);
-        m3c2.add(f.m3c2_median - f.m3c2_truth);
+        m3c2.add(f.m3c2_median.value - f.m3c2_median.truth);
         largest = std::max({largest, std::abs(f.truth[1]), std::abs(f.truth[2])});
         for (int k = 1; k < 3; ++k) {
             own[k - 1].add((d.along[k] - f.truth[k] - f.registration_error[k]) /

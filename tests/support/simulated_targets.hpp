@@ -5,6 +5,8 @@
 // and the benches that register simulated epochs.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,6 +67,18 @@ inline Eigen::Affine3d exact_epoch_map(const sim::Site& site, const sim::EpochCo
     return H(i).inverse() * H(j);
 }
 
+// Where the scanner of epoch `c` sees y, a point of the project frame: (azimuth, elevation),
+// degrees. Two epochs' difference at a zone over the image's step is the shift of the epoch's
+// image on the reference's lattice there (docs/keypoints.md, "The lattice's phase").
+inline Eigen::Vector2d seen_at(const sim::Site& site, const sim::EpochConditions& c,
+                               const Eigen::Vector3d& y) {
+    const Eigen::Affine3d actual =
+        sim::nominal_pose(site.scanner) * sim::pose_error(site, c.epoch, c.hours).transform();
+    const Eigen::Vector3d d = actual.inverse() * y;
+    constexpr double deg = 180.0 / std::numbers::pi;
+    return {std::atan2(d.y(), d.x()) * deg, std::atan2(d.z(), std::hypot(d.x(), d.y())) * deg};
+}
+
 // The stage outputs of an epoch registered by the exact map (no registration error, no σ_T),
 // the range scales the truth's air: what an analysis's own error is scored with.
 inline StageOutputs exact_outputs(const sim::Site& site, const sim::EpochConditions& e0,
@@ -85,12 +99,24 @@ inline StageOutputs exact_outputs(const sim::Site& site, const sim::EpochConditi
 // The registration's realized error at y, a point of the reference frame: where `T` puts the
 // point of epoch `e` that truly lies at y, minus y. Every measurement of an epoch shares it,
 // so a test scores an analysis's own σ against its error less this, and the registration's σ
-// over independent series (bench/registration_coverage.cpp).
+// over independent series (bench/registration_coverage.cpp). One per epoch: the exact map is
+// taken once.
+struct RegistrationError {
+    RegistrationError(const sim::Site& site, const sim::EpochConditions& e0,
+                      const sim::EpochConditions& e, const registration::RigidTransform& T)
+        : exact_inverse(exact_epoch_map(site, e0, e).inverse()), T(T) {}
+    Eigen::Vector3d operator()(const Eigen::Vector3d& y) const {
+        return T.apply(exact_inverse * y) - y;
+    }
+    Eigen::Affine3d exact_inverse;
+    registration::RigidTransform T;
+};
+
 inline Eigen::Vector3d registration_error_at(const sim::Site& site, const sim::EpochConditions& e0,
                                              const sim::EpochConditions& e,
                                              const registration::RigidTransform& T,
                                              const Eigen::Vector3d& y) {
-    return T.apply(exact_epoch_map(site, e0, e).inverse() * y) - y;
+    return RegistrationError(site, e0, e, T)(y);
 }
 
 }  // namespace tlsmon::test
