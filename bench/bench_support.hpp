@@ -15,6 +15,8 @@
 #include <system_error>
 #include <vector>
 
+#include "tests/support/seconds_since.hpp"
+
 namespace tlsmon::bench {
 
 class BenchDir {
@@ -60,9 +62,7 @@ inline double children_cpu_seconds() {
            1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using test::seconds_since;
 
 // Median, fastest and slowest of repeated runs (seconds).
 struct Spread {

@@ -121,16 +121,13 @@ int main(int argc, char** argv) {
                             s.displacement.undefined_reason.c_str());
                 continue;
             }
-            const auto in_wall = [&](const Eigen::Vector3d& u) {
-                return Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
-            };
             Mean error, truth;
             std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> placed;  // (h, v), error
             for (std::size_t k = 0; k < s.matches.size(); ++k) {
                 if (s.removed_by[k] != keypoints::OutlierFilter::none) continue;
                 const auto& m = s.matches[k];
-                const Eigen::Vector3d u = in_wall(true_change(m.reference_point));
-                const Eigen::Vector3d e = in_wall(m.displacement()) - u;
+                const Eigen::Vector3d u = test::in_wall(w, true_change(m.reference_point));
+                const Eigen::Vector3d e = test::in_wall(w, m.displacement()) - u;
                 error.add(e), truth.add(u);
                 if (csv)
                     std::fprintf(csv, "%d,%s,%.0f,%.0f,%.6e,%.6e\n", i, s.zone.c_str(),
@@ -138,9 +135,7 @@ int main(int argc, char** argv) {
                 const Eigen::Vector3d at = m.reference_point - w.centroid;
                 placed.push_back({{at.dot(w.horizontal), at.dot(w.vertical)}, e.tail<2>()});
             }
-            Eigen::Vector3d area = Eigen::Vector3d::Zero();
-            for (const auto& c : cells[z]) area += in_wall(true_change(c));
-            area /= double(cells[z].size());
+            const Eigen::Vector3d area = test::zone_truth(cells[z], w, true_change);
             const Eigen::Vector3d me = 1e3 * error.mean(), se = 1e3 * error.standard_error();
             const Eigen::Vector3d mt = 1e3 * truth.mean();
             const Eigen::Vector3d fe = 1e3 * (s.displacement.along - area);

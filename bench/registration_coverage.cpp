@@ -210,10 +210,11 @@ int main(int argc, char** argv) {
         for (int p = 0; p < 6; ++p) figures[p].push_back({value(p) - truth(p), sigma(p)});
         // At the pier: where T puts the epoch's point that truly lies at y, less y, against
         // the covariance propagated there (registration_error.hpp), per axis.
+        const test::RegistrationError error_at(exact, T);
         for (std::size_t q = 0; q < at_pier.size(); ++q) {
-            const Eigen::Vector3d epoch_point = exact.inverse() * at_pier[q].second;
-            const Eigen::Vector3d error = T.apply(epoch_point) - at_pier[q].second;
-            const Eigen::Matrix3d S = registration::registration_covariance_at(T, epoch_point);
+            const Eigen::Vector3d error = error_at(at_pier[q].second);
+            const Eigen::Matrix3d S = registration::registration_covariance_at(
+                T, error_at.exact_inverse * at_pier[q].second);
             for (int a = 0; a < 3; ++a)
                 pier_figures[3 * q + std::size_t(a)].push_back({error(a), std::sqrt(S(a, a))});
         }

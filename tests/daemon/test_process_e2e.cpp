@@ -29,6 +29,7 @@
 #include "tests/support/e2e_scenario.hpp"
 #include "tests/support/independent_las.hpp"
 #include "tests/support/modbus_client.hpp"
+#include "tests/support/seconds_since.hpp"
 
 namespace tlsmon::test::e2e {
 namespace {
@@ -36,10 +37,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kEpochs = 24;
-
-double seconds_since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // IEEE 754 binary32 from two words, high word first (ABCD, docs/modbus.md).
 float float_of(std::uint32_t high, std::uint32_t low) {

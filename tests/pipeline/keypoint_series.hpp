@@ -17,7 +17,6 @@
 // displacement, not the mean over wherever its keypoints matched.
 // Epoch 0 is not undeformed (docs/simulator.md): only differences are scored.
 #include <Eigen/Core>
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -28,6 +27,7 @@
 #include <vector>
 
 #include "algorithms/keypoints/zone_strata.hpp"
+#include "core/statistics.hpp"
 #include "pipeline/keypoint_results.hpp"
 #include "pipeline/keypoint_stage.hpp"
 #include "pipeline/m3c2_stage.hpp"
@@ -37,6 +37,7 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/pipeline/simulated_windows.hpp"
+#include "tests/support/seconds_since.hpp"
 #include "tests/support/simulated_targets.hpp"
 
 namespace tlsmon::test {
@@ -137,6 +138,21 @@ inline std::vector<std::vector<Eigen::Vector3d>> zone_cells(const KeypointConfig
     return cells;
 }
 
+// u in the wall's frame: (normal, h, v).
+inline Eigen::Vector3d in_wall(const keypoints::WallFrame& w, const Eigen::Vector3d& u) {
+    return {u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical)};
+}
+
+// The mean of `change` (a 3D vector field) over a zone's cells, in the wall's frame: the
+// zone's true displacement, or the registration's realized error over its area.
+template <class Field>
+Eigen::Vector3d zone_truth(const std::vector<Eigen::Vector3d>& cells, const keypoints::WallFrame& w,
+                           const Field& change) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& c : cells) sum += in_wall(w, change(c));
+    return sum / double(cells.size());
+}
+
 // A zone aggregate along the normals (M3C2's core points', PB-M3C2's patches' median or
 // mean): the stage's row, the same aggregate of the true change at its places, and the
 // registration's σ in its LoD and its realized error, both averaged over the places.
@@ -165,8 +181,7 @@ inline std::pair<NormalFigure, NormalFigure> normal_figures(
     for (NormalFigure* f : {&median, &mean})
         f->registration_sigma = sigma / n, f->registration_error = error / n;
     mean.truth = std::accumulate(t.begin(), t.end(), 0.0) / n;
-    std::sort(t.begin(), t.end());
-    median.truth = t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+    median.truth = tlsmon::median(std::move(t));
     for (const auto& row : rows) {
         if (row.zone != zone) continue;
         NormalFigure* f = row.quantity == method + "_median_m" ? &median
@@ -200,10 +215,6 @@ struct Series {
     std::size_t reference_keypoints = 0;
     std::vector<std::string> refused;  // the epochs the registration refused, and why
 };
-
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The series at `hours` (the reference first); `patches`: PB-M3C2 beside M3C2 in the same
 // zones (its defaults, on the reference's supervoxels).
@@ -277,16 +288,8 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
             f.registration = s.registration_covariance;
             const auto& w = s.displacement.wall;
             if (s.displacement.defined() && w.defined() && !cells[z].empty()) {
-                Eigen::Vector3d sum = Eigen::Vector3d::Zero(), reg = Eigen::Vector3d::Zero();
-                const auto in_wall = [&](const Eigen::Vector3d& u) {
-                    return Eigen::Vector3d(u.dot(w.normal), u.dot(w.horizontal), u.dot(w.vertical));
-                };
-                for (const Eigen::Vector3d& c : cells[z]) {
-                    sum += in_wall(true_change(c));
-                    reg += in_wall(registration_error(c));
-                }
-                f.truth = sum / double(cells[z].size());
-                f.registration_error = reg / double(cells[z].size());
+                f.truth = zone_truth(cells[z], w, true_change);
+                f.registration_error = zone_truth(cells[z], w, registration_error);
                 f.lattice_shift = (seen_at(site, ei.conditions, w.centroid) -
                                    seen_at(site, e0.conditions, w.centroid)) /
                                   scenario.image_step_deg;
@@ -300,10 +303,10 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
                                           m.registration_sigma[k]));
             std::tie(f.m3c2_median, f.m3c2_mean) = normal_figures("m3c2", s.zone, m3c2_rows, cores);
             // PB-M3C2 in the same zone, at the patches that gave a distance.
-            const auto& names = pb_ref ? pb_ref->zone_names : std::vector<std::string>{};
-            if (const auto at = std::find(names.begin(), names.end(), s.zone); at != names.end()) {
+            // Its zones follow the configuration's order, as the keypoint segments do.
+            if (pb_ref) {
                 std::vector<NormalPlace> measured_patches;
-                for (auto k : pb_ref->zone_patches[std::size_t(at - names.begin())])
+                for (auto k : pb_ref->zone_patches[z])
                     if (std::isfinite(p->results[k].distance.distance))
                         measured_patches.push_back(place(pb_ref->measured_at(k),
                                                          pb_ref->patches[k].frame.normal,

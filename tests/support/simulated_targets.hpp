@@ -104,7 +104,10 @@ inline StageOutputs exact_outputs(const sim::Site& site, const sim::EpochConditi
 struct RegistrationError {
     RegistrationError(const sim::Site& site, const sim::EpochConditions& e0,
                       const sim::EpochConditions& e, const registration::RigidTransform& T)
-        : exact_inverse(exact_epoch_map(site, e0, e).inverse()), T(T) {}
+        : RegistrationError(exact_epoch_map(site, e0, e), T) {}
+    // `exact`: the map of the epoch's coordinates into the reference's, however obtained.
+    RegistrationError(const Eigen::Affine3d& exact, const registration::RigidTransform& T)
+        : exact_inverse(exact.inverse()), T(T) {}
     Eigen::Vector3d operator()(const Eigen::Vector3d& y) const {
         return T.apply(exact_inverse * y) - y;
     }
