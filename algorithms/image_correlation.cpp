@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "algorithms/cubic_convolution.hpp"
+#include "algorithms/cubic_bspline.hpp"
 #include "core/error.hpp"
 
 namespace tlsmon {
@@ -131,6 +131,7 @@ CorrelationResult correlate_template(const Image& templ, const Image& search,
                               0.5 * (templ.value(r + 1, c) - templ.value(r - 1, c))});
         }
     }
+    const BSplineImage spline = bspline_image(search);
     double gain = 1.0, offset = 0.0;
     Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
     double sum_sq = 0.0;
@@ -147,8 +148,8 @@ CorrelationResult correlate_template(const Image& templ, const Image& search,
         sv.clear();
         for (const Pixel& px : pixels) {
             CubicSample smp;
-            if (!cubic_interpolate(search, static_cast<double>(px.r + origin.x()) + s.y(),
-                                   static_cast<double>(px.c + origin.y()) + s.x(), smp)) {
+            if (!bspline_interpolate(spline, static_cast<double>(px.r + origin.x()) + s.y(),
+                                     static_cast<double>(px.c + origin.y()) + s.x(), smp)) {
                 continue;
             }
             const double e = smp.value - gain * px.t - offset;

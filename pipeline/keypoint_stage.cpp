@@ -144,8 +144,8 @@ void measure_scan(const KeypointConfig& config, const KeypointReference& referen
     IntensityPatch patch;
     patch.radius = radius;
     // The refinement's image (its prefilter; the reference's patches were cut from the same).
-    const Image smooth =
-        radius > 0 ? gaussian_prefiltered(d.images, reference.prefilter_px) : Image{};
+    const BSplineImage smooth = bspline_image(
+        radius > 0 ? gaussian_prefiltered(d.images, reference.prefilter_px) : Image{});
     for (const auto& pair : pairs) {
         const Keypoint& a = ref.features.keypoints[pair.reference];
         const Keypoint& b = d.features.keypoints[pair.epoch];

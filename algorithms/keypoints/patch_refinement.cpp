@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "algorithms/cubic_convolution.hpp"
 #include "algorithms/image_correlation.hpp"
 
 namespace tlsmon::keypoints {
@@ -66,8 +65,9 @@ Image gaussian_prefiltered(const SphericalImages& im, double sigma) {
     return out;
 }
 
-std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& epoch, double row,
-                                      double column, const PatchMatchParameters& parameters) {
+std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const BSplineImage& epoch,
+                                      double row, double column,
+                                      const PatchMatchParameters& parameters) {
     const int r = patch.radius;
     double dy = row - patch.row, dx = column - patch.column;  // the shift sought
     const double start_y = dy, start_x = dx;
@@ -87,7 +87,7 @@ std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& 
         Eigen::Vector4d u = Eigen::Vector4d::Zero();
         for (int i = -r + 1; i < r; ++i) {
             for (int j = -r + 1; j < r; ++j) {
-                if (!cubic_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
+                if (!bspline_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
                     return std::nullopt;
                 const double p = at(i, j);
                 const Eigen::Vector4d a(gain * 0.5 * (at(i + 1, j) - at(i - 1, j)),
@@ -113,7 +113,7 @@ std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& 
             Eigen::Index k = 0;
             for (int i = -r; i <= r; ++i) {
                 for (int j = -r; j <= r; ++j, ++k) {
-                    if (!cubic_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
+                    if (!bspline_interpolate(epoch, patch.row + i + dy, patch.column + j + dx, e))
                         return std::nullopt;
                     p[k] = patch.values[static_cast<std::size_t>(k)];
                     q[k] = e.value;

@@ -4,8 +4,11 @@
 // 14(3), 175–187; here with a shift and a linear radiometric model only): a square patch of
 // the reference's intensity around a pixel is sought in the epoch's intensity image,
 //   E(r + i + Δr, c + j + Δc) ≈ g · P(i, j) + o,
-// solved for (Δr, Δc, g, o) by Gauss–Newton, E interpolated by cubic convolution (Keys 1981)
-// and the Jacobian from the reference patch's gradient (the epoch's noise kept out of it).
+// solved for (Δr, Δc, g, o) by Gauss–Newton, E interpolated by its cubic B-spline
+// (cubic_bspline.hpp: Keys' cubic convolution pulled every patch of a face by up to 0.01
+// pixel, the same way, by its phase error at the lattice's fraction; docs/keypoints.md, "The
+// lattice's phase") and the Jacobian from the reference patch's gradient (the epoch's noise
+// kept out of it).
 //
 // Why: a detector's keypoint is placed to a tenth of a pixel at best; the patch's position
 // is found from all its pixels, and the reference's end is a pixel centre (an exact return,
@@ -25,6 +28,7 @@
 #include <optional>
 #include <vector>
 
+#include "algorithms/cubic_bspline.hpp"
 #include "algorithms/keypoints/spherical_image.hpp"
 
 namespace tlsmon::keypoints {
@@ -58,9 +62,11 @@ struct PatchMatch {
     int iterations = 0;
 };
 
-// Starting from (row, column) in the epoch's image. Nothing when the patch runs into an
-// empty pixel or the image's edge, does not converge, moves too far, or correlates poorly.
-std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const Image& epoch, double row,
-                                      double column, const PatchMatchParameters& parameters = {});
+// Starting from (row, column) in the epoch's image (its cubic B-spline: bspline_image of the
+// prefiltered intensity). Nothing when the patch runs into an empty pixel or the image's
+// edge, does not converge, moves too far, or correlates poorly.
+std::optional<PatchMatch> match_patch(const IntensityPatch& patch, const BSplineImage& epoch,
+                                      double row, double column,
+                                      const PatchMatchParameters& parameters = {});
 
 }  // namespace tlsmon::keypoints

@@ -1,10 +1,10 @@
 // The least-squares patch refinement (patch_refinement.hpp) against known sub-pixel shifts:
-// a finely sampled texture is found to a hundredth of a pixel at every sub-pixel phase (the
-// cubic interpolant's own pull, below 0.005 pixel); on a texture sampled coarser than its
-// detail (aliased, as a scan sampled at about its footprint) every patch's shift is pulled
-// the same way by the lattice, and the Gaussian prefilter removes most of that pull (and
-// finds the patches where the lattices are half a pixel apart); empty pixels are neither
-// darkened nor filled by the prefilter.
+// a finely sampled texture is found to a hundredth of a pixel at every sub-pixel phase, and
+// without the interpolant's pull (below 0.001 pixel with detail up to a quarter cycle per
+// pixel); on a texture sampled coarser than its detail (aliased, as a scan sampled at about
+// its footprint) every patch's shift is pulled the same way by the lattice, and the
+// Gaussian prefilter removes most of that pull (and finds the patches where the lattices
+// are half a pixel apart); empty pixels are neither darkened nor filled by the prefilter.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -65,8 +65,8 @@ struct ShiftErrors {
 ShiftErrors refine_grid(const Texture& t, double shift_row, double shift_column, double prefilter) {
     constexpr Eigen::Index kSize = 160;
     const tlsmon::Image reference = gaussian_prefiltered(t.image(kSize, 0, 0), prefilter);
-    const tlsmon::Image epoch =
-        gaussian_prefiltered(t.image(kSize, shift_row, shift_column), prefilter);
+    const tlsmon::BSplineImage epoch = tlsmon::bspline_image(
+        gaussian_prefiltered(t.image(kSize, shift_row, shift_column), prefilter));
     ShiftErrors e;
     for (int row = 20; row < kSize - 20; row += 12) {
         for (int column = 20; column < kSize - 20; column += 12) {
@@ -97,16 +97,33 @@ TEST(PatchRefinement, FindsAFinelySampledShiftToAHundredthOfAPixelAtEveryPhase) 
                         prefilter, e.mean_row, e.mean_column, e.worst);
             EXPECT_EQ(e.found, 100) << "shift " << s << ", prefilter " << prefilter;
             EXPECT_LT(e.worst, 0.01) << "shift " << s << ", prefilter " << prefilter;
-            EXPECT_LT(std::abs(e.mean_row), 0.005) << "shift " << s << ", prefilter " << prefilter;
-            EXPECT_LT(std::abs(e.mean_column), 0.005) << "shift " << s;
+            EXPECT_LT(std::abs(e.mean_row), 0.001) << "shift " << s << ", prefilter " << prefilter;
+            EXPECT_LT(std::abs(e.mean_column), 0.001) << "shift " << s;
         }
     }
 }
 
+// Detail up to 0.25 cycles per pixel, the prefilter's default: at every phase the shifts
+// are found without the interpolant's pull. Keys' cubic convolution pulled a patch at a
+// quarter pixel by 0.006–0.027 pixel at 0.1–0.2 cycles per pixel (cubic_bspline.hpp); the
+// cubic B-spline by 0.0001–0.0025, the prefilter taking the upper band's weight.
+TEST(PatchRefinement, TheInterpolantPullsNoShiftAtAnyPhase) {
+    const Texture detailed(60, 0.25, 0.0, 4);
+    double worst = 0;
+    for (double s = 0.125; s < 1.0; s += 0.125) {
+        const ShiftErrors e = refine_grid(detailed, s, -s, 1.5);
+        std::printf("detailed: shift %.3f: mean (%+.5f, %+.5f), worst %.4f px\n", s, e.mean_row,
+                    e.mean_column, e.worst);
+        EXPECT_EQ(e.found, 100) << "shift " << s;
+        worst = std::max({worst, std::abs(e.mean_row), std::abs(e.mean_column)});
+    }
+    EXPECT_LT(worst, 0.001);
+}
+
 // The texture holds detail up to 0.7 cycles per pixel, blurred as by a beam of σ = 0.45
 // pixel: above 0.5 cycles per pixel its samples alias, the same way in every patch. Without
-// the prefilter the shifts are pulled by up to 0.05 pixel, or the patches are not found at
-// all where the two lattices are half a pixel apart.
+// the prefilter the shifts are pulled by up to 0.02 pixel, or the patches are not found at
+// all where the two lattices are half a pixel apart; with it, by 0.001.
 TEST(PatchRefinement, ThePrefilterKeepsTheLatticesAliasingOutOfTheShift) {
     const Texture aliased(60, 0.7, 0.45, 2);
     double worst_without = 0, worst_with = 0;
@@ -124,8 +141,8 @@ TEST(PatchRefinement, ThePrefilterKeepsTheLatticesAliasingOutOfTheShift) {
                 {worst_without, std::abs(without.mean_row), std::abs(without.mean_column)});
         worst_with = std::max({worst_with, std::abs(with.mean_row), std::abs(with.mean_column)});
     }
-    EXPECT_GT(worst_without, 0.03);  // the pull is there
-    EXPECT_LT(worst_with, worst_without / 3);
+    EXPECT_GT(worst_without, 0.008);  // the pull is there
+    EXPECT_LT(worst_with, worst_without / 5);
 }
 
 TEST(PatchRefinement, ThePrefilterNeitherDarkensNorFillsAroundEmptyPixels) {
