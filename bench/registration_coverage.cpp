@@ -34,17 +34,14 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/registration/registration_error.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 #include "bench/bench_support.hpp"
 #include "bench/line_of_sight.hpp"
-#include "demo/scene.hpp"
+#include "bench/transform_coverage.hpp"
 #include "pipeline/registration_stage.hpp"
-#include "report/calibration.hpp"
 #include "simulator/drift.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
-#include "simulator/scene_file.hpp"
 #include "tests/simulator/narrow_window.hpp"
 #include "tests/support/simulated_targets.hpp"
 
@@ -52,14 +49,6 @@ namespace {
 
 using namespace tlsmon;
 constexpr double kDeg = 180.0 / 3.14159265358979323846;
-
-sim::Site scene(const std::string& name) {
-    if (name == "demo")
-        return parse_scene_file(scene_file_text(demo_scene("small", 96)), "demo", std::nullopt);
-    if (name == "pier") return sim::preset_pier();
-    if (name == "hochmosel") return sim::preset_hochmosel();
-    return load_scene_file(name, std::nullopt);
-}
 
 struct TargetWindows {
     std::vector<Scan> scans;  // one per target
@@ -100,20 +89,6 @@ struct CentreScore {
     int n = 0;
 };
 
-void print_row(const report::CoverageRow& r) {
-    const double k = r.display_scale();
-    if (r.mixed_units())
-        std::printf("  %-6s %5zu  %35s", r.part.c_str(), r.n, "");
-    else
-        std::printf("  %-6s %5zu  %+8.3f %8.3f %8.3f %8.2f", r.part.c_str(), r.n, k * r.error.bias,
-                    k * r.error.rms, k * r.rms_sigma,
-                    r.rms_sigma > 0 ? r.error.rms / r.rms_sigma : 0.0);
-    std::printf("  %5.1f %%  %4.1f-%4.1f  %-15s %5.1f %%  %4.1f-%4.1f  %s\n", 100 * r.coverage68(),
-                100 * r.band68.lower, 100 * r.band68.upper, report::to_string(r.verdict68),
-                100 * r.coverage95(), 100 * r.band95.lower, 100 * r.band95.upper,
-                report::to_string(r.verdict95));
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,7 +117,7 @@ int main(int argc, char** argv) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     const double cpu0 = bench::process_cpu_seconds();
-    sim::Site base = scene(args[0]);
+    sim::Site base = bench::scene_named(args[0]);
     base.atmosphere.enabled = air;
     const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 200;
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
@@ -150,13 +125,7 @@ int main(int argc, char** argv) {
     if (floor) config.centre_sigma_floor = *floor;
     config.covariance_scaling = *scaling_named;
 
-    std::array<std::vector<report::ScoredFigure>, 6> figures;
-    // The pier's south face at mid-height and 1 m below its top, x, y, z each.
-    const sim::Pier& pier = base.pier;
-    const double mid_x = 0.5 * (pier.x0 + pier.x1);
-    const std::vector<std::pair<std::string, Eigen::Vector3d>> at_pier{
-        {"mid", {mid_x, pier.y0, 0.5 * pier.height}}, {"top", {mid_x, pier.y0, pier.height - 1}}};
-    std::vector<std::vector<report::ScoredFigure>> pier_figures(3 * at_pier.size());
+    bench::TransformScores scores(base.pier);
     std::map<std::string, CentreScore> centres;
     std::vector<double> s0;
     int refused = 0, no_reference = 0;
@@ -197,27 +166,7 @@ int main(int argc, char** argv) {
         }
         const registration::RigidTransform& T = *r.tested.transform;
         s0.push_back(T.variance_factor);
-        const Eigen::Vector3d angles = registration::euler_from_rotation(exact.linear());
-        const Eigen::Vector<double, 6> truth{angles.x(),
-                                             angles.y(),
-                                             angles.z(),
-                                             exact.translation().x(),
-                                             exact.translation().y(),
-                                             exact.translation().z()};
-        const Eigen::Vector<double, 6> value{
-            T.omega, T.phi, T.kappa, T.translation.x(), T.translation.y(), T.translation.z()};
-        const auto sigma = T.sigmas();
-        for (int p = 0; p < 6; ++p) figures[p].push_back({value(p) - truth(p), sigma(p)});
-        // At the pier: where T puts the epoch's point that truly lies at y, less y, against
-        // the covariance propagated there (registration_error.hpp), per axis.
-        const test::RegistrationError error_at(exact, T);
-        for (std::size_t q = 0; q < at_pier.size(); ++q) {
-            const Eigen::Vector3d error = error_at(at_pier[q].second);
-            const Eigen::Matrix3d S = registration::registration_covariance_at(
-                T, error_at.exact_inverse * at_pier[q].second);
-            for (int a = 0; a < 3; ++a)
-                pier_figures[3 * q + std::size_t(a)].push_back({error(a), std::sqrt(S(a, a))});
-        }
+        scores.add(exact, T);
     }
 
     std::printf(
@@ -227,27 +176,7 @@ int main(int argc, char** argv) {
         refused, no_reference);
     for (const auto& [name, why] : missing)
         std::printf("  %s not found: %s\n", name.c_str(), why.c_str());
-    std::printf("  %-6s %5s  %8s %8s %8s %8s  %-30s %s\n", "param", "n", "bias", "rms", "rms σ",
-                "rms/σ", "within σ (band, verdict)", "within 1.96 σ");
-    static constexpr std::array<const char*, 6> names{"omega", "phi", "kappa", "tx", "ty", "tz"};
-    std::vector<report::ScoredFigure> pooled;
-    for (int p = 0; p < 6; ++p) {
-        print_row(report::coverage_of("registration:targets", names[p], figures[p]));
-        pooled.insert(pooled.end(), figures[p].begin(), figures[p].end());
-    }
-    print_row(report::coverage_of("registration:targets", "all", pooled));
-    std::printf("  (angles in µrad, lengths in mm)\n");
-    std::printf("the registration's error at the pier's south face, per axis (mm):\n");
-    std::vector<report::ScoredFigure> pier_pooled;
-    for (std::size_t q = 0; q < at_pier.size(); ++q) {
-        for (std::size_t a = 0; a < 3; ++a) {
-            const auto& f = pier_figures[3 * q + a];
-            print_row(
-                report::coverage_of("registration:targets", at_pier[q].first + " " + "xyz"[a], f));
-            pier_pooled.insert(pier_pooled.end(), f.begin(), f.end());
-        }
-    }
-    print_row(report::coverage_of("registration:targets", "pier", pier_pooled));
+    scores.print("registration:targets");
     if (!s0.empty()) {
         std::sort(s0.begin(), s0.end());
         const auto above = std::count_if(s0.begin(), s0.end(), [](double v) { return v > 1; });

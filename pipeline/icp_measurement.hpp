@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 
 namespace tlsmon {
@@ -30,6 +31,9 @@ struct IcpMeasurement {
     std::string targets_status;
     // The ICP's own estimate (epoch -> reference) with its covariance.
     std::optional<registration::RigidTransform> transform;
+    // The adjustment behind it: its candidate covariances (independent residuals, the cells'
+    // random effect, the cluster-robust sandwich), of which `transform` carries the largest.
+    std::optional<registration::PointToPlaneFit> fit;
 };
 
 }  // namespace tlsmon

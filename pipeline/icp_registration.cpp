@@ -193,6 +193,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
                 f.transform.small_rotation_covariance.topLeftCorner<6, 6>());
         m.transform->variance_factor = f.variance_factor;
         m.transform->redundancy = f.transform.redundancy;
+        m.fit = f;
     } catch (const Error& e) {
         m.refused = e.what();
         return finish();

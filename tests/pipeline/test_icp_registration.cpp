@@ -16,6 +16,7 @@
 #include "simulator/render.hpp"
 #include "simulator/stable_ground.hpp"
 #include "tests/support/simulated_targets.hpp"
+#include "tests/support/stable_band.hpp"
 
 namespace tlsmon {
 namespace {
@@ -58,11 +59,8 @@ RenderedEpoch render(sim::Site site, int epoch, double hours,
         sim::test::narrow_window(one.scanner, t.centre, 0.9);
         out.scans.push_back(sim::render_epoch(one, epoch, hours, 2).scan);
     }
-    sim::Site band = site;
-    band.scanner.azimuth_step_deg = 0.05;
-    band.scanner.elevation_step_deg = 0.05;
-    band.scanner.elevation_max_deg = 12.0;
-    const sim::RenderedScan r = sim::render_epoch(band, epoch, hours, 2);
+    const sim::RenderedScan r =
+        test::render_lower_band(site, sim::epoch_conditions(site, epoch, hours), 12.0);
     out.header_to_true = N * r.pose_error.transform() * N.inverse();
     out.scans.push_back(r.scan);
     return out;

@@ -1,0 +1,155 @@
+// Does the ICP's σ cover its error at the nominal rate? The ICP on stable regions
+// (pipeline/icp_registration.hpp, docs/registration.md "ICP on stable regions") scored over
+// many independent series, as bench/registration_coverage.cpp scores the targets: per series
+// its own noise seed, a reference epoch and one later epoch 24·frac(0.618·k) hours after it
+// (the scanner's drift sweeps its day), the ICP from the identity (as the fallback runs it)
+// on the site's stable ground (simulator/stable_ground.hpp, what `tlsmon simulate` writes as
+// [[stable_region]]s), its six parameters against the exact map H₀⁻¹·H₁ and its error at the
+// pier's south face against the covariance propagated there. One figure per parameter and
+// series: independent figures, so the Wilson band means what it says. Only the scan's lower
+// band that holds the regions is rendered, at `--step` (0.05° unless told); the air is
+// switched off (what is scored is the ICP's stochastic model, not the meteo correction).
+//
+//   bench_icp_coverage SCENE [SERIES] [FIRST_SEED] [--step DEG] [--cluster M]
+//
+// SCENE: `demo`, `pier`, `hochmosel` or a scene file (bench/transform_coverage.hpp).
+// `--cluster` overrides registration.icp_cluster_size. Prints the coverage rows as `tlsmon
+// calibration` does, how often the random-effects term set the σ, and why epochs were refused.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/bench_support.hpp"
+#include "bench/transform_coverage.hpp"
+#include "pipeline/icp_registration.hpp"
+#include "simulator/drift.hpp"
+#include "simulator/epoch_conditions.hpp"
+#include "simulator/stable_ground.hpp"
+#include "tests/support/stable_band.hpp"
+
+namespace {
+
+using namespace tlsmon;
+
+struct Band {
+    std::vector<Scan> scans;
+    Eigen::Affine3d header_to_true = Eigen::Affine3d::Identity();
+};
+
+Band render_band(const sim::Site& site, int epoch, double hours, double elevation_max,
+                 double step) {
+    const sim::RenderedScan r = test::render_lower_band(
+        site, sim::epoch_conditions(site, epoch, hours), elevation_max, step);
+    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
+    Band b;
+    b.header_to_true = N * r.pose_error.transform() * N.inverse();
+    b.scans.push_back(r.scan);
+    return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args;
+    double step = 0.05;
+    double cluster = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--step" && i + 1 < argc)
+            step = std::atof(argv[++i]);
+        else if (a == "--cluster" && i + 1 < argc)
+            cluster = std::atof(argv[++i]);
+        else
+            args.push_back(a);
+    }
+    if (args.empty() || step <= 0) {
+        std::fprintf(stderr,
+                     "usage: bench_icp_coverage demo|pier|hochmosel|SCENE.toml [SERIES] "
+                     "[FIRST_SEED] [--step DEG] [--cluster M]\n");
+        return 2;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = bench::process_cpu_seconds();
+    sim::Site base = bench::scene_named(args[0]);
+    base.atmosphere.enabled = false;
+    const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 200;
+    const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
+
+    RegistrationConfig config;
+    config.icp.mode = IcpMode::fallback;
+    const auto boxes = sim::stable_ground(base);
+    for (const auto& b : boxes) config.icp.regions.push_back({b.name, b.min, b.max});
+    if (cluster > 0) config.icp.cluster_size = cluster;
+    const double elevation_max = test::highest_box_elevation_deg(base, boxes) + 0.5;
+
+    bench::TransformScores scores(base.pier);
+    // The same transformation with each candidate covariance of the adjustment alone.
+    const std::vector<
+        std::pair<std::string, registration::Covariance6 registration::PointToPlaneFit::*>>
+        candidates{{"independent residuals, s0²·N⁻¹", &registration::PointToPlaneFit::independent},
+                   {"the cells' random effect", &registration::PointToPlaneFit::cell_effect},
+                   {"cluster-robust sandwich", &registration::PointToPlaneFit::clustered}};
+    std::vector<bench::TransformScores> candidate_scores(candidates.size(),
+                                                         bench::TransformScores(base.pier));
+    std::vector<double> cell_sigma;
+    std::map<std::string, int> refused;
+    std::vector<double> inflation, pairs;
+    for (int k = 0; k < series; ++k) {
+        sim::Site site = base;
+        site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
+        const double hours = 24.0 * std::fmod(0.6180339887 * (k + 1), 1.0);
+        const Band e0 = render_band(site, 0, 0.0, elevation_max, step);
+        const Band e1 = render_band(site, 1, hours, elevation_max, step);
+        const StableSurface surface = build_stable_surface(config.icp, e0.scans);
+        const IcpMeasurement m =
+            measure_icp(config, surface, e1.scans, Eigen::Matrix4d::Identity());
+        if (!m.transform || !m.refused.empty()) {
+            ++refused[m.refused.empty() ? "no transformation" : m.refused];
+            continue;
+        }
+        const Eigen::Affine3d exact = e0.header_to_true.inverse() * e1.header_to_true;
+        scores.add(exact, *m.transform);
+        for (std::size_t c = 0; c < candidates.size(); ++c) {
+            candidate_scores[c].add(exact, registration::rigid_transform_from(
+                                               m.transform->rotation, m.transform->translation,
+                                               (*m.fit).*candidates[c].second));
+        }
+        cell_sigma.push_back(m.fit->cell_sigma);
+        inflation.push_back(m.inflation);
+        pairs.push_back(static_cast<double>(m.pairs));
+    }
+
+    std::printf(
+        "%s: %d series from seed %d, %zu stable regions, band up to %.1f° at %.3f°, "
+        "icp_cluster_size %.1f m; %zu scored\n",
+        args[0].c_str(), series, first_seed, boxes.size(), elevation_max, step,
+        config.icp.cluster_size, inflation.size());
+    for (const auto& [why, n] : refused) std::printf("  refused %d: %s\n", n, why.c_str());
+    scores.print("registration:icp");
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        std::printf("with the covariance of %s alone:\n", candidates[c].first.c_str());
+        candidate_scores[c].print("registration:icp", true);
+    }
+    if (!inflation.empty()) {
+        std::sort(inflation.begin(), inflation.end());
+        std::sort(pairs.begin(), pairs.end());
+        std::printf(
+            "inflation (σ over the independent residuals' σ): median %.2f, 10 %% %.2f, 90 %% "
+            "%.2f; pairs median %.0f\n",
+            inflation[inflation.size() / 2], inflation[inflation.size() / 10],
+            inflation[inflation.size() * 9 / 10], pairs[pairs.size() / 2]);
+        std::sort(cell_sigma.begin(), cell_sigma.end());
+        std::printf("the cells' common error τ: median %.3f mm, 90 %% %.3f mm\n",
+                    1e3 * cell_sigma[cell_sigma.size() / 2],
+                    1e3 * cell_sigma[cell_sigma.size() * 9 / 10]);
+    }
+    std::printf("%.1f s wall, %.1f s CPU\n", bench::seconds_since(t0),
+                bench::process_cpu_seconds() - cpu0);
+    return 0;
+}
