@@ -10,6 +10,7 @@
 // defaults are scored.
 //
 //   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4] [--patches]
+//                           [--scaling larger_of|a_priori|a_posteriori]
 //
 // PRESET: `pier` (the south face and its four 10 m bands) or `hochmosel` (the detail strip's
 // thirteen 10 m bands). Series k (seed FIRST_SEED + k) starts 24·frac(0.618·k) hours into the
@@ -32,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -142,22 +144,26 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     int epochs = 4;
     bool patches = false;
+    std::string scaling_name = "larger_of";  // the default
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--epochs" && i + 1 < argc)
             epochs = std::atoi(argv[++i]);
         else if (a == "--patches")
             patches = true;
+        else if (a == "--scaling" && i + 1 < argc)
+            scaling_name = argv[++i];
         else
             args.push_back(a);
     }
     const std::string preset = args.empty() ? "" : args[0];
     const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 14;
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 5000;
-    if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2) {
+    const auto scaling = covariance_scaling_named(scaling_name);
+    if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2 || !scaling) {
         std::fprintf(stderr,
                      "usage: bench_keypoint_coverage pier|hochmosel [SERIES] [FIRST_SEED] "
-                     "[--epochs N>=2] [--patches]\n");
+                     "[--epochs N>=2] [--patches] [--scaling larger_of|a_priori|a_posteriori]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -192,6 +198,7 @@ int main(int argc, char** argv) {
         test::Scenario scenario =
             preset == "pier" ? test::pier_scenario() : test::hochmosel_scenario();
         scenario.site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
+        scenario.covariance_scaling = *scaling;
         const double start = 24.0 * frac(0.6180339887 * k);
         const double cadence = 1.0 + 5.0 * frac(0.3819660113 * k);
         std::vector<double> hours;
@@ -233,10 +240,10 @@ int main(int argc, char** argv) {
                      k + 1, series, first_seed + k, start, cadence, bench::seconds_since(t0));
     }
     std::printf(
-        "%s: %d series of %d epochs from seed %d; %d epochs refused, %d zone figures undefined; "
-        "%.0f s wall, %.0f s CPU\n",
-        preset.c_str(), series, epochs, first_seed, refused, undefined, bench::seconds_since(t0),
-        bench::process_cpu_seconds());
+        "%s: %d series of %d epochs from seed %d, covariance_scaling %s; %d epochs refused, %d "
+        "zone figures undefined; %.0f s wall, %.0f s CPU\n",
+        preset.c_str(), series, epochs, first_seed, scaling_name.c_str(), refused, undefined,
+        bench::seconds_since(t0), bench::process_cpu_seconds());
     print(scored);
     print_by_phase(by_phase);
     return 0;

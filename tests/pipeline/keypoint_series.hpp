@@ -76,6 +76,8 @@ struct Scenario {
     std::vector<ZoneShape> zones;
     WindowedEpoch (*render)(const sim::Site&, int, double) = nullptr;
     double image_step_deg = kFaceStepDeg;  // the pier's scans' step
+    // The targets' variance factor (registration.covariance_scaling).
+    registration::CovarianceScaling covariance_scaling = RegistrationConfig{}.covariance_scaling;
 };
 
 inline WindowedEpoch render_faces(const sim::Site& site, int epoch, double hours) {
@@ -221,7 +223,8 @@ struct Series {
 inline Series run_series(const Scenario& scenario, const std::vector<double>& hours,
                          bool patches = false) {
     const sim::Site& site = scenario.site;
-    const RegistrationConfig targets = simulated_targets(site);
+    RegistrationConfig targets = simulated_targets(site);
+    targets.covariance_scaling = scenario.covariance_scaling;
     const KeypointConfig config = keypoint_config(scenario);
     const M3c2Config m3c2 = m3c2_config(scenario);
     PbM3c2Config pb;
