@@ -14,7 +14,9 @@
 //
 // SCENE: `demo`, `pier`, `hochmosel` or a scene file (bench/transform_coverage.hpp).
 // `--cluster` overrides registration.icp_cluster_size. Prints the coverage rows as `tlsmon
-// calibration` does, how often the random-effects term set the σ, and why epochs were refused.
+// calibration` does; the pooled rows again with each of the adjustment's candidate
+// covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
+// reports the largest; the σ's inflation over s0²·N⁻¹ and the cells' τ; why epochs were refused.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
