@@ -99,9 +99,10 @@ StableSurface build_stable_surface(const IcpConfig& config, const std::vector<Sc
         points_in_stable_regions(config, scans, Eigen::Matrix4d::Identity());
     s.cropped = inside.size();
     if (!scans.empty()) s.viewpoint = scans.front().scanner_position();
-    const auto thinned = voxel_centroids(inside, config.voxel_size);
-    s.sample = surface_with_normals(thinned, kNormalRadiusVoxels * config.voxel_size, kMaxCurvature,
-                                    s.viewpoint);
+    const VoxelMeans thinned = voxel_means(inside, config.voxel_size);
+    s.sample = surface_with_normals(thinned.points, kNormalRadiusVoxels * config.voxel_size,
+                                    kMaxCurvature, s.viewpoint, thinned.counts);
+    s.sample.counts.clear();  // the pairs weigh the epoch's voxels; the cache keeps no counts
     return s;
 }
 
@@ -152,22 +153,23 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
     // adjustment off (the real pump room, moved rigidly, gave half its rotation back).
     const Eigen::Vector3d viewpoint =
         scans.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(scans.front().scanner_position());
-    const auto epoch =
-        surface_with_normals(voxel_centroids(points_in_stable_regions(
-                                                 c, scans, start, correct ? *scales.epoch : 1.0),
-                                             c.voxel_size),
-                             kNormalRadiusVoxels * c.voxel_size, kMaxCurvature, viewpoint)
-            .points;
-    m.epoch_points = epoch.size();
+    // Each pair weighs its voxel's number of points: a mean of n points is n times as precise,
+    // and only that sum is free of the voxel cut's offset (pcl_adapter.hpp, voxel_means).
+    const VoxelMeans thinned = voxel_means(
+        points_in_stable_regions(c, scans, start, correct ? *scales.epoch : 1.0), c.voxel_size);
+    const SurfaceSample epoch =
+        surface_with_normals(thinned.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
+                             viewpoint, thinned.counts);
+    m.epoch_points = epoch.points.size();
     const auto finish = [&] {
         m.milliseconds =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count();
         return m;
     };
-    if (epoch.empty() || reference.points.empty()) {
+    if (epoch.points.empty() || reference.points.empty()) {
         m.refused = fmt::format("no points in the stable regions (epoch {}, reference {})",
-                                epoch.size(), reference.points.size());
+                                epoch.points.size(), reference.points.size());
         return finish();
     }
     IcpParams p;
@@ -259,7 +261,7 @@ void apply_icp(const RegistrationConfig& config, const EpochInput& input, Refere
     // and an ICP onto itself could only move it.
     if (reference.epoch().id == input.epoch.id) return;
     const auto surface = cache.get<StableSurface>(
-        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 1},
+        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 2},
         [&](const std::vector<Scan>& scans) { return build_stable_surface(config.icp, scans); });
     apply_icp(config, *surface, *input.scans, scales, result);
 }

@@ -71,15 +71,11 @@ Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points, double voxel,
-                                             const Eigen::Vector3d& origin) {
+VoxelMeans voxel_means(std::span<const Eigen::Vector3d> points, double voxel,
+                       const Eigen::Vector3d& origin) {
     if (!(voxel > 0)) throw Error("voxel centroids: the voxel size must be positive");
-    struct Sum {
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        std::uint32_t n = 0;
-    };
     std::unordered_map<std::uint64_t, std::uint32_t> index;
-    std::vector<Sum> sums;
+    VoxelMeans out;
     index.reserve(points.size() / 4 + 1);
     for (const auto& p : points) {
         std::uint64_t key = 0;
@@ -88,22 +84,32 @@ std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> po
                 static_cast<std::int64_t>(std::floor((p(k) - origin(k)) / voxel)) + (1 << 20);
             key = (key << 21) | (static_cast<std::uint64_t>(c) & 0x1FFFFF);
         }
-        const auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(sums.size()));
-        if (inserted) sums.emplace_back();
-        auto& s = sums[it->second];
-        s.sum += p;
-        ++s.n;
+        const auto [it, inserted] =
+            index.try_emplace(key, static_cast<std::uint32_t>(out.points.size()));
+        if (inserted) {
+            out.points.emplace_back(Eigen::Vector3d::Zero());
+            out.counts.push_back(0.0);
+        }
+        out.points[it->second] += p;
+        out.counts[it->second] += 1.0;
     }
-    std::vector<Eigen::Vector3d> out;
-    out.reserve(sums.size());
-    for (const auto& s : sums) out.push_back(s.sum / s.n);
+    for (std::size_t i = 0; i < out.points.size(); ++i) out.points[i] /= out.counts[i];
     return out;
 }
 
+std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> points, double voxel,
+                                             const Eigen::Vector3d& origin) {
+    return voxel_means(points, voxel, origin).points;
+}
+
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
-                                   double max_curvature, const Eigen::Vector3d& viewpoint) {
+                                   double max_curvature, const Eigen::Vector3d& viewpoint,
+                                   std::span<const double> counts) {
     SurfaceSample out;
     if (points.empty()) return out;
+    if (!counts.empty() && counts.size() != points.size())
+        throw Error("surface normals: as many counts as points expected");
+    const auto count = [&](std::size_t j) { return counts.empty() ? 1.0 : counts[j]; };
     const Eigen::Vector3d origin = centroid(points);
     const auto xyz = xyz_cloud(points, origin);
     pcl::KdTreeFLANN<pcl::PointXYZ> tree;
@@ -112,14 +118,21 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
     std::vector<float> d2;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (tree.radiusSearch((*xyz)[i], radius, k, d2) < kMinNeighbours) continue;
-        // The neighbours' covariance in double, about their mean (Hoppe et al. 1992).
+        // The neighbours' covariance in double, about their mean (Hoppe et al. 1992), each
+        // weighing the scan points it stands for.
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-        for (const int j : k) mean += points[static_cast<std::size_t>(j)];
-        mean /= static_cast<double>(k.size());
+        double w = 0;
+        for (const int j : k) {
+            const auto u = static_cast<std::size_t>(j);
+            mean += count(u) * points[u];
+            w += count(u);
+        }
+        mean /= w;
         Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
         for (const int j : k) {
-            const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
-            C += d * d.transpose();
+            const auto u = static_cast<std::size_t>(j);
+            const Eigen::Vector3d d = points[u] - mean;
+            C += count(u) * d * d.transpose();
         }
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
         const Eigen::Vector3d l = es.eigenvalues().cwiseMax(0.0);  // ascending
@@ -127,17 +140,18 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
         // A plane spreads in two directions: neighbours along a line (one scan row on
         // grazing ground, an edge) leave the normal undetermined about that line.
         if (!(total > 0) || l(0) / total > max_curvature || l(1) < kMinSpread * l(2)) continue;
-        Eigen::Vector3d n = es.eigenvectors().col(0);
+        Eigen::Vector3d n = es.eigenvectors().col(0).normalized();
         if (n.dot(viewpoint - points[i]) < 0) n = -n;
         out.points.push_back(points[i]);
-        out.normals.push_back(n.normalized());
+        out.normals.push_back(n);
+        if (!counts.empty()) out.counts.push_back(counts[i]);
     }
     return out;
 }
 
-IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
-                                  const SurfaceSample& reference, const Eigen::Matrix4d& start,
-                                  const IcpParams& params) {
+IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const SurfaceSample& reference,
+                                  const Eigen::Matrix4d& start, const IcpParams& params) {
+    const std::vector<Eigen::Vector3d>& epoch = epoch_sample.points;
     if (epoch.empty() || reference.points.empty()) {
         throw Error("ICP: no points in the stable regions (epoch " + std::to_string(epoch.size()) +
                     ", reference " + std::to_string(reference.points.size()) + ")");
@@ -177,7 +191,8 @@ IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
     std::vector<float> d2(1);
     const double max_d2 = params.max_correspondence_distance * params.max_correspondence_distance;
     const Eigen::Vector3d t = out.transform.topRightCorner<3, 1>();
-    for (const auto& x : epoch) {
+    for (std::size_t i = 0; i < epoch.size(); ++i) {
+        const Eigen::Vector3d& x = epoch[i];
         const Eigen::Vector3d X = R * x + t - o;
         pcl::PointNormal q;
         q.x = static_cast<float>(X.x());
@@ -185,7 +200,8 @@ IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
         q.z = static_cast<float>(X.z());
         if (tree.nearestKSearch(q, 1, k, d2) != 1 || d2[0] > max_d2) continue;
         const auto j = static_cast<std::size_t>(k[0]);
-        out.pairs.push_back({x, reference.points[j], reference.normals[j]});
+        out.pairs.push_back({x, reference.points[j], reference.normals[j],
+                             epoch_sample.counts.empty() ? 1.0 : epoch_sample.counts[i]});
     }
     out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
     return out;

@@ -19,13 +19,30 @@
 
 namespace tlsmon {
 
-// Points of a surface with their unit normals (same order, same count).
+// Points of a surface with their unit normals (same order, same count), and, when the points
+// are voxel means, how many scan points each stands for (empty: one each).
 struct SurfaceSample {
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector3d> normals;
+    std::vector<double> counts;
 };
 
-// One centroid per occupied cube of side `voxel` (cells aligned on `origin`).
+// The mean of the points in each occupied cube of side `voxel` (cells aligned on `origin`),
+// with their number.
+//
+// A voxel's mean is not a point of the surface: a surface near a voxel face is cut along
+// itself, each side holding only the points its noise took there, so each mean lies off the
+// surface by up to 0.8 σ, and by an amount that changes as the drift moves the surface against
+// the grid. The count-weighted sum over both sides, which is the sum of the points themselves,
+// is free of that (surface_with_normals, the ICP's pair weights).
+struct VoxelMeans {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<double> counts;
+};
+VoxelMeans voxel_means(std::span<const Eigen::Vector3d> points, double voxel,
+                       const Eigen::Vector3d& origin = Eigen::Vector3d::Zero());
+
+// voxel_means' points alone.
 std::vector<Eigen::Vector3d> voxel_centroids(
     std::span<const Eigen::Vector3d> points, double voxel,
     const Eigen::Vector3d& origin = Eigen::Vector3d::Zero());
@@ -35,8 +52,11 @@ std::vector<Eigen::Vector3d> voxel_centroids(
 // λ₀/(λ₀ + λ₁ + λ₂) exceeds `max_curvature` (an edge, a corner, vegetation), or its
 // neighbours are fewer than 6 or lie along a line (λ₁ < 0.05·λ₂: one scan row on grazing
 // ground): point-to-plane distances mean nothing there.
+// With `counts` (voxel means), each neighbour weighs as many points as it stands for, so the
+// plane is the one through the scan points themselves; the kept points' counts are returned.
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
-                                   double max_curvature, const Eigen::Vector3d& viewpoint);
+                                   double max_curvature, const Eigen::Vector3d& viewpoint,
+                                   std::span<const double> counts = {});
 
 struct IcpParams {
     double max_correspondence_distance = 0.05;  // m
@@ -54,10 +74,10 @@ struct IcpAlignment {
     double overlap = 0.0;  // pairs / epoch points
 };
 
+// Each pair weighs the epoch point's count when the epoch sample has counts (voxel means).
 // Throws tlsmon::Error when either cloud is empty.
-IcpAlignment align_point_to_plane(std::span<const Eigen::Vector3d> epoch,
-                                  const SurfaceSample& reference, const Eigen::Matrix4d& start,
-                                  const IcpParams& params);
+IcpAlignment align_point_to_plane(const SurfaceSample& epoch, const SurfaceSample& reference,
+                                  const Eigen::Matrix4d& start, const IcpParams& params);
 
 // Voxel Cloud Connectivity Segmentation (Papon et al. 2013, PCL's SupervoxelClustering): the
 // cloud voxelised at `voxel`, seeds on a grid of `seed`, each supervoxel grown over adjacent

@@ -152,8 +152,9 @@ std::vector<SectionKey<IcpConfig>> icp_keys() {
         K::integer(&IcpConfig::max_iterations, "icp_max_iterations", 1, 1000, "",
                    "ICP iterations at most; not converged by then: refused."),
         K::number(&IcpConfig::voxel_size, "icp_voxel_size", 0.01, 2, "m",
-                  "Both clouds are thinned to one centroid per voxel of this side; the reference's "
-                  "normals come from its centroids within three voxels."),
+                  "Both clouds are thinned to the mean of the points in each voxel of this side "
+                  "(each pair weighs its voxel's number of points); the reference's normals come "
+                  "from its means within three voxels."),
         K::number(&IcpConfig::min_overlap, "icp_min_overlap", 0, 1, "",
                   "Quality gate: share of the epoch's thinned stable points that found a pair "
                   "(the fitness)."),

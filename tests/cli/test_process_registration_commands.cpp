@@ -395,15 +395,18 @@ TEST(RegisterCommand, IcpAloneRegistersTheRealPumpScan) {
     const auto back = run(dir / "moved.ptx");
     EXPECT_EQ(back["method"], "icp");
     EXPECT_TRUE(back["accepted"].get<bool>()) << back.dump(2);
-    // Within 3σ of the ICP's own σ (a 5 m room fixes angles to tens of arc seconds), κ to 20″.
-    const std::pair<const char*, double> truth[] = {{"omega_arcsec", 0.0},   {"phi_arcsec", 0.0},
-                                                    {"kappa_arcsec", -72.0}, {"tx_m", -0.002},
-                                                    {"ty_m", 0.003},         {"tz_m", -0.006}};
+    // κ to 20″, the translation to a millimetre; each printed with its σ (on this room too
+    // small: tests/daemon/test_datum_without_targets.cpp).
+    const std::pair<const char*, double> truth[] = {
+        {"tx_m", -0.002}, {"ty_m", 0.003}, {"tz_m", -0.006}};
     for (const auto& [name, value] : truth) {
-        const double sigma = back["sigma_" + std::string(name)].get<double>();
-        EXPECT_LT(std::abs(back[name].get<double>() - value), 3 * sigma) << name << back.dump(2);
+        EXPECT_GT(back["sigma_" + std::string(name)].get<double>(), 0.0) << name;
+        EXPECT_LT(std::abs(back[name].get<double>() - value), 0.001) << name << back.dump(2);
     }
     EXPECT_LT(std::abs(back["kappa_arcsec"].get<double>() + 72.0), 20.0);
+    // The tilts within the 120″ the site's σ gate allows.
+    EXPECT_LT(std::abs(back["omega_arcsec"].get<double>()), 120.0);
+    EXPECT_LT(std::abs(back["phi_arcsec"].get<double>()), 120.0);
 }
 
 }  // namespace
