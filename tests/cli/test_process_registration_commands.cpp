@@ -395,8 +395,8 @@ TEST(RegisterCommand, IcpAloneRegistersTheRealPumpScan) {
     const auto back = run(dir / "moved.ptx");
     EXPECT_EQ(back["method"], "icp");
     EXPECT_TRUE(back["accepted"].get<bool>()) << back.dump(2);
-    // κ to 20″, the translation to a millimetre; each printed with its σ (on this room too
-    // small: tests/daemon/test_datum_without_targets.cpp).
+    // κ to 20″, the translation to a millimetre, each with a σ (on this room too small to
+    // hold the error within 3σ: tests/daemon/test_datum_without_targets.cpp).
     const std::pair<const char*, double> truth[] = {
         {"tx_m", -0.002}, {"ty_m", 0.003}, {"tz_m", -0.006}};
     for (const auto& [name, value] : truth) {
