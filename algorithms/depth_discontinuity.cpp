@@ -10,7 +10,18 @@
 
 namespace tlsmon {
 
-std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, unsigned threads) {
+namespace {
+
+// A step changes the range's slope by more than half the larger of its two sides; a plane seen
+// at grazing incidence on a coarse grid changes it by a few per cent (its second difference
+// over its first is about 2·Δθ·tan α: 0.07 at 87° and 0.1°, where the second difference itself
+// reaches 0.1 m).
+constexpr double kStepShare = 0.5;
+
+}  // namespace
+
+std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, unsigned threads,
+                                                bool with_neighbours) {
     if (!(jump > 0)) throw Error("depth discontinuities: the jump must be > 0");
     if (!scan.grid) return {};
     const ScanGrid& g = *scan.grid;
@@ -49,13 +60,20 @@ std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, u
         for (const auto& [a, b] : {std::pair{point(r - 1, c), point(r + 1, c)},
                                    std::pair{point(r, c - 1), point(r, c + 1)}}) {
             if (a == kOutside || b == kOutside) continue;
-            if (a == kEmpty || b == kEmpty || std::abs(range[a] - 2 * here + range[b]) > jump)
+            if (a == kEmpty || b == kEmpty) {
+                step[i] = 1;
+                continue;
+            }
+            const double before = here - range[a], after = range[b] - here;
+            const double second = std::abs(after - before);
+            if (second > jump && second > kStepShare * std::max(std::abs(before), std::abs(after)))
                 step[i] = 1;
         }
     });
     std::vector<std::uint8_t> marked(scan.size(), 0);
     each_point([&](std::size_t i, long r, long c) {
         marked[i] = step[i];
+        if (!with_neighbours) return;
         for (const auto j : {point(r - 1, c), point(r + 1, c), point(r, c - 1), point(r, c + 1)})
             if (j < kOutside && step[j]) marked[i] = 1;
     });

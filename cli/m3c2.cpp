@@ -125,7 +125,8 @@ int run_m3c2(const M3c2Options& o) {
             // The stage's own reference product: core points in the zones.
             product = M3c2Stage(p).prepare_reference(*pair.reference_scans);
         } else {
-            const auto points = all_points(*pair.reference_scans, o.reference);
+            const auto points = m3c2_points(*pair.reference_scans, unsigned(p.threads));
+            if (points.empty()) throw Error(o.reference + ": no points");
             product.scanner = p.orient_to_scanner
                                   ? scanner_of(*pair.reference_scans, o.reference)
                                   : pair.reference_scans->front().scanner_position();

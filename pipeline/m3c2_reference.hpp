@@ -13,7 +13,8 @@ namespace tlsmon {
 
 // What the M3C2 stage keeps of the reference epoch.
 struct M3c2Reference {
-    static constexpr int kFormatVersion = 1;
+    // 2: the reference's points at a depth discontinuity left out (m3c2_stage.hpp, m3c2_points).
+    static constexpr int kFormatVersion = 2;
     static constexpr const char* kStage = "m3c2";
 
     m3c2::Reference reference;

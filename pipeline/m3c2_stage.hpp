@@ -34,6 +34,15 @@ inline constexpr std::array<const char*, 6> kM3c2Quantities = {
     "m3c2_valid_count", "m3c2_median_m",       "m3c2_mean_m",
     "m3c2_spread_m",    "m3c2_lod95_median_m", "m3c2_significant_share"};
 
+// The points M3C2 measures of some scans, the reference's and every epoch's: all of them but
+// those at a depth discontinuity of their scan's grid (algorithms/depth_discontinuity.hpp). At
+// a face's edge the beams that straddle it return blends a little behind the face, and which
+// beams do so changes with the grid's phase on the edge from epoch to epoch; on a face seen at
+// grazing incidence the blends line its far edge, and the cylinders there read the face off
+// by an amount that changes every epoch (docs/m3c2.md, "Edge points"). A scan without a grid
+// keeps every point.
+std::vector<Eigen::Vector3d> m3c2_points(const std::vector<Scan>& scans, unsigned threads = 0);
+
 // The canonical text of the zones' geometry, as part of a product's cache key.
 std::string zone_parameters(const std::vector<ZoneShape>& zones);
 

@@ -18,13 +18,6 @@ namespace tlsmon {
 
 namespace {
 
-// m: a range's second difference along the scan's grid beyond this marks a depth
-// discontinuity: the search depth's worth of step, a surface behind the patch's that would not
-// be taken as its own. Smaller steps are the surface's own relief (rough ground seen at 65°
-// steps by centimetres from beam to beam), which must not be thinned by its peaks and pits;
-// at the pier's corner the step to the grazing west face is some 0.3 m a column.
-constexpr double kEdgeJump = 0.10;
-
 unsigned threads_of(const PbM3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
 }
@@ -40,7 +33,7 @@ std::vector<patches::PlaneMoments> moments_of(const patches::PatchIndex& index,
                                               unsigned threads) {
     std::vector<std::vector<Eigen::Vector3f>> on_patch(index.patches().size());
     for (const auto& scan : scans) {
-        const auto edges = depth_discontinuities(scan, kEdgeJump, threads);
+        const auto edges = depth_discontinuities(scan, kMixedPixelJump, threads);
         auto more = patches::patch_points(index, scan.xyz, A, t, threads, edges);
         for (std::size_t k = 0; k < on_patch.size(); ++k)
             on_patch[k].insert(on_patch[k].end(), more[k].begin(), more[k].end());

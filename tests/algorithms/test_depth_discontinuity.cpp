@@ -1,6 +1,7 @@
 // Depth discontinuities of a structured scan against grids whose ranges are known.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -10,12 +11,12 @@
 namespace tlsmon {
 namespace {
 
-// A grid of `rows` × `columns` beams from the origin, 0.013° apart in azimuth and elevation
-// about the +y axis, each at the range `range(r, c)` (NaN: no return).
-Scan grid_scan(
-    std::uint32_t rows, std::uint32_t columns,
-    const std::function<double(double azimuth, std::uint32_t r, std::uint32_t c)>& range) {
-    const double step = 0.013 * M_PI / 180;
+// A grid of `rows` × `columns` beams from the origin, `step_deg` apart in azimuth and
+// elevation about the +y axis, each at the range `range(r, c)` (NaN: no return).
+Scan grid_scan(std::uint32_t rows, std::uint32_t columns,
+               const std::function<double(double azimuth, std::uint32_t r, std::uint32_t c)>& range,
+               double step_deg = 0.013) {
+    const double step = step_deg * M_PI / 180;
     Scan s;
     ScanGrid g;
     g.rows = rows, g.columns = columns;
@@ -64,6 +65,30 @@ TEST(DepthDiscontinuities, AGrazingPlaneIsNotAnEdge) {
     EXPECT_GT(std::abs((s.xyz[1] - s.xyz[0]).norm()), 0.05);  // steps far beyond the jump
     const auto m = depth_discontinuities(s, 0.02);
     EXPECT_EQ(std::count(m.begin(), m.end(), 1), 0);
+}
+
+TEST(DepthDiscontinuities, APlaneAt87DegreesOnACoarseGridIsNotAnEdge) {
+    // 45 m away, 87° off its normal, on a 0.1° grid: the ranges change by about 1.5 m a
+    // column and their second differences reach the jump, but a slope, not a step.
+    const double alpha = 87 * M_PI / 180, d = 45 * std::cos(alpha);
+    const Scan s = grid_scan(
+        3, 11, [&](double a, std::uint32_t, std::uint32_t) { return d / std::cos(alpha - a); },
+        0.1);
+    double largest = 0;
+    for (std::size_t i = 1; i + 1 < 11; ++i)
+        largest = std::max(
+            largest, std::abs(s.xyz[i - 1].norm() - 2 * s.xyz[i].norm() + s.xyz[i + 1].norm()));
+    EXPECT_GT(largest, 0.10);
+    const auto m = depth_discontinuities(s, 0.10);
+    EXPECT_EQ(std::count(m.begin(), m.end(), 1), 0);
+}
+
+TEST(DepthDiscontinuities, WithoutNeighboursOnlyTheBeamsAtTheStepAreMarked) {
+    const Scan s = grid_scan(5, 20, [](double a, std::uint32_t, std::uint32_t c) {
+        return (c < 10 ? 50.0 : 50.2) / std::cos(a);
+    });
+    const auto m = depth_discontinuities(s, 0.02, 0, false);
+    EXPECT_EQ(marked_columns(s, m, 2), (std::vector<int>{9, 10}));
 }
 
 TEST(DepthDiscontinuities, ACellWithoutAReturnMarksItsNeighbours) {
