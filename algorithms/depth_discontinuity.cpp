@@ -27,6 +27,8 @@ std::vector<std::uint8_t> depth_discontinuities(const Scan& scan, double jump, u
     const ScanGrid& g = *scan.grid;
     if (g.row.size() != scan.size() || g.column.size() != scan.size())
         throw Error("depth discontinuities: the grid does not match the points");
+    if (g.too_sparse())
+        throw Error("depth discontinuities: the grid has far more cells than points");
     // A cell without a return inside the grid: nothing there, or too weak a return (a
     // grazing face); outside the grid: not known.
     constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();

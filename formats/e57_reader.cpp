@@ -167,6 +167,7 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
         grid.column.reserve(expected);
     }
     std::int64_t row_max_seen = -1, column_max_seen = -1;
+    std::int64_t row_min_seen = max_index, column_min_seen = max_index;
 
     const Eigen::Matrix3d rotation = scan.pose.linear();
     const Eigen::Vector3d translation = scan.pose.translation();
@@ -219,6 +220,8 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
                                        " has rowIndex/columnIndex outside indexBounds");
                     row_max_seen = std::max(row_max_seen, r);
                     column_max_seen = std::max(column_max_seen, c);
+                    row_min_seen = std::min(row_min_seen, r);
+                    column_min_seen = std::min(column_min_seen, c);
                     grid.row.push_back(static_cast<std::uint32_t>(r));
                     grid.column.push_back(static_cast<std::uint32_t>(c));
                 }
@@ -229,6 +232,27 @@ Scan read_scan(E57Pages& pages, const E57ScanInfo& info, std::string source) {
         grid.rows = static_cast<std::uint32_t>((row_limit >= 0 ? row_limit : row_max_seen) + 1);
         grid.columns =
             static_cast<std::uint32_t>((column_limit >= 0 ? column_limit : column_max_seen) + 1);
+        // The indices are not tied to the record count: a region cut out of a scan keeps its
+        // place in the whole scan's grid, and a damaged file may claim any bounds. What works
+        // on the grid holds a few bytes a cell (algorithms/depth_discontinuity.cpp,
+        // registration/plane_detection.cpp), so a grid far larger than its points is cut to
+        // the cells they occupy, and one that is still that sparse is no scanner's grid.
+        const std::uint64_t points = grid.row.size();
+        if (points == 0 && grid.too_sparse()) {
+            grid.rows = grid.columns = 0;
+        } else if (grid.too_sparse()) {
+            for (auto& r : grid.row) r -= static_cast<std::uint32_t>(row_min_seen);
+            for (auto& c : grid.column) c -= static_cast<std::uint32_t>(column_min_seen);
+            grid.rows = static_cast<std::uint32_t>(row_max_seen - row_min_seen + 1);
+            grid.columns = static_cast<std::uint32_t>(column_max_seen - column_min_seen + 1);
+            if (grid.too_sparse())
+                pages.fail(cv.xml_byte, "rowIndex/columnIndex spread " + std::to_string(points) +
+                                            " points over " + std::to_string(grid.rows) +
+                                            " rows and " + std::to_string(grid.columns) +
+                                            " columns, more than " +
+                                            std::to_string(ScanGrid::kMaxCellsPerPoint) +
+                                            " cells a point: not a scanner's grid");
+        }
         scan.grid = std::move(grid);
     }
     return scan;

@@ -208,6 +208,8 @@ double plane_difference_statistic(const FittedPlane& a, const FittedPlane& b) {
 std::vector<DetectedPlane> detect_planes(const Scan& scan, const PlaneDetectionParams& p) {
     if (!scan.grid)
         throw Error("plane detection: " + scan.source + " has no grid (not structured)");
+    if (scan.grid->too_sparse())
+        throw Error("plane detection: " + scan.source + "'s grid has far more cells than points");
     if (p.tile < 2 * p.min_cells || p.min_cells < 2)
         throw Error("plane detection: tile must be at least twice min_cells, min_cells at least 2");
     const ScanGrid& g = *scan.grid;

@@ -110,5 +110,14 @@ TEST(DepthDiscontinuities, WithoutAGridNothingIsMarked) {
     EXPECT_TRUE(depth_discontinuities(s, 0.02).empty());
 }
 
+// Nine points in a grid of 10¹⁰ cells (which the E57 reader refuses) are refused here too,
+// rather than 40 GB allocated for the cells.
+TEST(DepthDiscontinuities, AGridOfFarMoreCellsThanPointsIsRefused) {
+    Scan s = grid_scan(3, 3, [](double, std::uint32_t, std::uint32_t) { return 10.0; });
+    EXPECT_EQ(depth_discontinuities(s, 0.02).size(), 9u);
+    s.grid->rows = s.grid->columns = 100'000;
+    EXPECT_THROW(depth_discontinuities(s, 0.02), Error);
+}
+
 }  // namespace
 }  // namespace tlsmon

@@ -9,6 +9,7 @@
 
 #include "config/config.hpp"
 #include "daemon/ingest.hpp"
+#include "formats/e57_writer.hpp"
 #include "pipeline/epoch_meteo.hpp"
 #include "pipeline/epoch_pipeline.hpp"
 #include "pipeline/sha256.hpp"
@@ -233,6 +234,47 @@ TEST(PipelineFiles, FileRenamedWhilePendingKeepsItsEpoch) {
         EXPECT_EQ(read_file(s.config.paths.archive / name), read_file(original)) << name;
     }
     EXPECT_EQ(s.db.series().epochs_in_range({}).size(), 2u);
+}
+
+// An E57 of 400 points whose rowIndex/columnIndex spread them over 40 000 × 40 000 cells (a
+// damaged file, 14 KB): the grid's users would hold 1.6·10⁹ cells (6.3 GB and 46 s in
+// `tlsmon m3c2` before the reader refused it). The epoch fails with the reason and the file is
+// quarantined; the next scan is processed.
+TEST(PipelineFiles, ScanWhoseGridIsFarLargerThanItsPointsFailsAndIsQuarantined) {
+    PipelineSite s;
+    Scan sparse;
+    sparse.grid = ScanGrid{40'000, 40'000, {}, {}};
+    for (std::uint32_t r = 0; r < 20; ++r)
+        for (std::uint32_t c = 0; c < 20; ++c) {
+            sparse.xyz.emplace_back(10.0, 0.01 * c, 0.01 * r);
+            sparse.grid->row.push_back(r * 2000);
+            sparse.grid->column.push_back(c * 2000);
+        }
+    const fs::path file = s.site.ingest() / "sparse_20260601T060000Z.e57";
+    write_e57(file, {sparse}, {.coordinate_scale = 0.0});
+    const std::string sha = sha256_file(file);
+    ASSERT_EQ(ingest_file(s.ctx, file), IngestOutcome::new_epoch);
+    const fs::path next = s.site.ingest() / "small_20260601T061500Z.ptx";
+    fs::copy_file(kData / "ptx/no-color.ptx", next);
+    ASSERT_EQ(ingest_file(s.ctx, next), IngestOutcome::new_epoch);
+    s.process_backlog();
+
+    const auto failed = s.db.epochs().find_by_sha256(sha);
+    ASSERT_TRUE(failed);
+    EXPECT_EQ(failed->status, EpochStatus::failed);
+    const std::string why =
+        "rowIndex/columnIndex spread 400 points over 38001 rows and 38001 columns, more than 32 "
+        "cells a point: not a scanner's grid";
+    EXPECT_NE(failed->reason.find(file.string()), std::string::npos) << failed->reason;
+    EXPECT_NE(failed->reason.find(why), std::string::npos) << failed->reason;
+    EXPECT_FALSE(fs::exists(file));
+    std::string reason_file;
+    for (const auto& f : fs::directory_iterator(s.config.paths.quarantine))
+        if (f.path().string().ends_with(".reason.txt")) reason_file = read_file(f.path());
+    EXPECT_NE(reason_file.find(why), std::string::npos) << reason_file;
+    const auto done = s.by_content(kData / "ptx/no-color.ptx");
+    ASSERT_TRUE(done);
+    EXPECT_EQ(done->status, EpochStatus::done) << done->reason;
 }
 
 }  // namespace

@@ -347,6 +347,50 @@ TEST_F(E57RoundTrip, SphericalCoordinatesAreConvertedToCartesian) {
     expect_same(written[0], read_one(file), 1e-9);
 }
 
+// A region cut out of a large scan keeps its place in that scan's grid: 3266 points at rows
+// 10⁹ and columns 2·10⁹ of a grid of 2³² − 1 by 2³² − 1 cells. Taken at its word, that grid
+// would be 1.8·10¹⁹ cells; the reader cuts it to the 70 by 70 cells the points occupy,
+// keeping every point's neighbours in the grid.
+TEST_F(E57RoundTrip, ARegionCutOutOfALargeGridKeepsOnlyTheCellsItOccupies) {
+    const Scan region = grid_scan(70, 70, 0.0);
+    Scan placed = region;
+    placed.grid->rows = placed.grid->columns = 0xFFFFFFFFu;
+    for (auto& r : placed.grid->row) r += 1'000'000'000u;
+    for (auto& c : placed.grid->column) c += 2'000'000'000u;
+    const auto file = dir_ / "region.e57";
+    write_e57(file, {placed}, {.coordinate_scale = 0.0});
+    const Scan read = read_one(file);
+    ASSERT_TRUE(read.grid.has_value());
+    EXPECT_EQ(read.grid->rows, 70u);
+    EXPECT_EQ(read.grid->columns, 70u);
+    EXPECT_EQ(read.grid->row, region.grid->row);
+    EXPECT_EQ(read.grid->column, region.grid->column);
+
+    // A grid as large as the declared one but filled within its bounds is read as it is.
+    const auto whole = dir_ / "whole.e57";
+    write_e57(whole, {region}, {.coordinate_scale = 0.0});
+    EXPECT_EQ(read_one(whole).grid->rows, 70u);
+}
+
+// Points scattered over a grid far larger than they fill are no scanner's grid: refused with
+// the file and what is wrong, not taken as 10¹⁸ cells that the grid's users would allocate.
+TEST_F(E57RoundTrip, PointsScatteredOverAHugeGridAreRefused) {
+    Scan scattered = grid_scan(10, 10, 0.0);
+    scattered.grid->rows = scattered.grid->columns = 2'000'000'000u;
+    for (std::size_t i = 0; i < scattered.size(); ++i) {
+        scattered.grid->row[i] *= 100'000'000u;
+        scattered.grid->column[i] *= 100'000'000u;
+    }
+    const auto file = dir_ / "scattered.e57";
+    write_e57(file, {scattered}, {.coordinate_scale = 0.0});
+    const std::string e = error_of(file);
+    EXPECT_NE(e.find(file.string() + ": at byte "), std::string::npos) << e;
+    EXPECT_NE(e.find("rowIndex/columnIndex spread 66 points over 900000001 rows and 900000001 "
+                     "columns, more than 32 cells a point: not a scanner's grid"),
+              std::string::npos)
+        << e;
+}
+
 TEST_F(E57RoundTrip, TruncatedAndCorruptedFilesFail) {
     const auto file = dir_ / "big.e57";
     write_e57(file, {grid_scan(100, 100, 0.0)}, {.coordinate_scale = 1e-4});
