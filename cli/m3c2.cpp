@@ -125,17 +125,17 @@ int run_m3c2(const M3c2Options& o) {
             // The stage's own reference product: core points in the zones.
             product = M3c2Stage(p).prepare_reference(*pair.reference_scans);
         } else {
-            const auto points = m3c2_points(*pair.reference_scans, unsigned(p.threads));
-            if (points.empty()) throw Error(o.reference + ": no points");
+            const M3c2Cloud cloud = m3c2_cloud(*pair.reference_scans, unsigned(p.threads));
+            if (cloud.kept() == 0) throw Error(o.reference + ": no points");
             product.scanner = p.orient_to_scanner
                                   ? scanner_of(*pair.reference_scans, o.reference)
                                   : pair.reference_scans->front().scanner_position();
-            auto cores = o.core_file.empty()
-                             ? m3c2::subsample(points, p.core_spacing, unsigned(p.threads))
-                             : all_points(read_scans(o.core_file), o.core_file);
+            auto cores = o.core_file.empty() ? m3c2::subsample(cloud.kept_points(), p.core_spacing,
+                                                               unsigned(p.threads))
+                                             : all_points(read_scans(o.core_file), o.core_file);
             product.reference = m3c2::prepare_reference(
-                points, std::move(cores), m3c2::normal_parameters(p, product.scanner),
-                m3c2::cylinder_parameters(p), unsigned(p.threads));
+                cloud.points(), std::move(cores), m3c2::normal_parameters(p, product.scanner),
+                m3c2::cylinder_parameters(p), unsigned(p.threads), {}, cloud.left_out);
         }
         // The stage's measurement of the epoch against it.
         const M3c2Epoch epoch = measure_m3c2(p, product, *pair.epoch_scans, pair.outputs);

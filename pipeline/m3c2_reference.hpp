@@ -13,7 +13,7 @@ namespace tlsmon {
 
 // What the M3C2 stage keeps of the reference epoch.
 struct M3c2Reference {
-    // 2: the reference's points at a depth discontinuity left out (m3c2_stage.hpp, m3c2_points).
+    // 2: the reference's points at a depth discontinuity left out (m3c2_stage.hpp, m3c2_cloud).
     static constexpr int kFormatVersion = 2;
     static constexpr const char* kStage = "m3c2";
 

@@ -24,40 +24,45 @@ unsigned threads_of(const M3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
 }
 
-// The points of several scans as m3c2_points gives them; one scan without a grid loses none,
-// and its own vector is used (no copy).
-struct Cloud {
-    const std::vector<Eigen::Vector3d>* points = nullptr;
-    std::vector<Eigen::Vector3d> joined;
-};
-
-Cloud cloud_of(const std::vector<Scan>& scans, unsigned threads) {
-    Cloud c;
-    c.points = &c.joined;
-    if (scans.size() == 1 && !scans.front().grid) {
-        c.points = &scans.front().xyz;
-        return c;
-    }
-    c.joined = m3c2_points(scans, threads);
-    return c;
+// Not their neighbours: a cylinder averages hundreds of points, and the beam one step from an
+// edge blends little of it in (1.1 mm at 0.013°); on a coarse grid the neighbours of a grazing
+// face's edges are the face itself (docs/m3c2.md).
+std::vector<std::uint8_t> edge_points(const Scan& scan, unsigned threads) {
+    return depth_discontinuities(scan, kMixedPixelJump, threads, /*with_neighbours=*/false);
 }
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> m3c2_points(const std::vector<Scan>& scans, unsigned threads) {
+M3c2Cloud m3c2_cloud(const std::vector<Scan>& scans, unsigned threads) {
+    M3c2Cloud c;
+    if (scans.size() == 1) {
+        c.scan_points = &scans.front().xyz;
+        c.left_out = edge_points(scans.front(), threads);
+        return c;
+    }
     std::size_t n = 0;
     for (const auto& s : scans) n += s.size();
-    std::vector<Eigen::Vector3d> out;
-    out.reserve(n);
+    c.joined.reserve(n);
     for (const auto& s : scans) {
-        // Not their neighbours: a cylinder averages hundreds of points, and the beam one step
-        // from an edge blends little of it in (1.1 mm at 0.013°); on a coarse grid the
-        // neighbours of a grazing face's edges are the face itself (docs/m3c2.md).
-        const auto edges = depth_discontinuities(s, kMixedPixelJump, threads, false);
-        for (std::size_t i = 0; i < s.xyz.size(); ++i) {
-            if (edges.empty() || !edges[i]) out.push_back(s.xyz[i]);
-        }
+        const auto edges = edge_points(s, threads);
+        for (std::size_t i = 0; i < s.xyz.size(); ++i)
+            if (edges.empty() || !edges[i]) c.joined.push_back(s.xyz[i]);
     }
+    return c;
+}
+
+std::size_t M3c2Cloud::kept() const {
+    return points().size() -
+           static_cast<std::size_t>(std::count(left_out.begin(), left_out.end(), std::uint8_t{1}));
+}
+
+std::vector<Eigen::Vector3d> M3c2Cloud::kept_points() const {
+    const auto& all = points();
+    if (left_out.empty()) return all;
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (!left_out[i]) out.push_back(all[i]);
     return out;
 }
 
@@ -95,8 +100,8 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
     if (scans.empty()) throw Error("m3c2: the reference epoch holds no scan");
     M3c2Reference out;
     out.scanner = scans.front().scanner_position();
-    const Cloud cloud = cloud_of(scans, threads_of(config));
-    const auto& points = *cloud.points;
+    const M3c2Cloud cloud = m3c2_cloud(scans, threads_of(config));
+    const auto& points = cloud.points();
     // Core points from the reference's points inside a zone, on one lattice of cubes: a core
     // point in two overlapping zones (a band and its face) is one core point of both.
     std::vector<char> inside(points.size(), 0);
@@ -104,7 +109,7 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
         points.size(),
         [&](std::size_t i) {
             const auto& p = points[i];
-            if (!p.allFinite()) return;
+            if (!p.allFinite() || (!cloud.left_out.empty() && cloud.left_out[i])) return;
             for (const auto& z : config.zones) {
                 if (z.contains(p)) {
                     inside[i] = 1;
@@ -137,7 +142,7 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
     }
     out.reference = m3c2::prepare_reference(
         points, std::move(cores), m3c2::normal_parameters(config, out.scanner),
-        m3c2::cylinder_parameters(config), threads_of(config), given);
+        m3c2::cylinder_parameters(config), threads_of(config), given, cloud.left_out);
     return out;
 }
 
@@ -174,10 +179,11 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
     const m3c2::Reference& ref = product.reference;
     const std::size_t n = ref.size();
     const EpochToReference map = epoch_to_reference(outputs, product.scanner);
-    const Cloud cloud = cloud_of(scans, threads_of(config));
+    const M3c2Cloud cloud = m3c2_cloud(scans, threads_of(config));
     M3c2Epoch out;
     if (map.identity()) {
-        out.compared = m3c2::cylinder_sides(ref.cylinders, *cloud.points, threads_of(config));
+        out.compared =
+            m3c2::cylinder_sides(ref.cylinders, cloud.points(), threads_of(config), cloud.left_out);
     } else {
         // The cylinders pulled back into the epoch's frame: centre f⁻¹·Rᵀ(c − t), axis Rᵀn,
         // radius and half-length divided by f; a projection there times f is the projection
@@ -192,7 +198,8 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
         pulled.max_depth /= map.factor;
         const m3c2::Cylinders cylinders =
             m3c2::make_cylinders(std::move(centres), std::move(axes), pulled, threads_of(config));
-        out.compared = m3c2::cylinder_sides(cylinders, *cloud.points, threads_of(config));
+        out.compared =
+            m3c2::cylinder_sides(cylinders, cloud.points(), threads_of(config), cloud.left_out);
         for (auto& side : out.compared) {
             side.centre *= map.factor;
             side.spread *= map.factor;

@@ -40,8 +40,18 @@ inline constexpr std::array<const char*, 6> kM3c2Quantities = {
 // beams do so changes with the grid's phase on the edge from epoch to epoch; on a face seen at
 // grazing incidence the blends line its far edge, and the cylinders there read the face off
 // by an amount that changes every epoch (docs/m3c2.md, "Edge points"). A scan without a grid
-// keeps every point.
-std::vector<Eigen::Vector3d> m3c2_points(const std::vector<Scan>& scans, unsigned threads = 0);
+// keeps every point. One scan's points are not copied: those left out are marked.
+struct M3c2Cloud {
+    const std::vector<Eigen::Vector3d>* scan_points = nullptr;  // one scan's own points, or
+    std::vector<Eigen::Vector3d> joined;                        // several scans' kept points
+    std::vector<std::uint8_t> left_out;  // per point of points(), 1: left out; empty: none
+    const std::vector<Eigen::Vector3d>& points() const {
+        return scan_points ? *scan_points : joined;
+    }
+    std::size_t kept() const;                          // how many points are not left out
+    std::vector<Eigen::Vector3d> kept_points() const;  // a copy of them
+};
+M3c2Cloud m3c2_cloud(const std::vector<Scan>& scans, unsigned threads = 0);
 
 // The canonical text of the zones' geometry, as part of a product's cache key.
 std::string zone_parameters(const std::vector<ZoneShape>& zones);

@@ -57,7 +57,7 @@ Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen
 
 std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
                                          const std::vector<Eigen::Vector3d>& cloud,
-                                         unsigned threads) {
+                                         unsigned threads, std::span<const std::uint8_t> left_out) {
     const auto& centres = cylinders.centres;
     const auto& axes = cylinders.axes;
     const CylinderParameters& p = cylinders.parameters;
@@ -74,7 +74,7 @@ std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
                 projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
             sides[k] = statistic_of(projections, p.statistic);
         },
-        threads);
+        threads, kMemberBudget, /*single_pass=*/true, left_out);
     return sides;
 }
 

@@ -50,8 +50,10 @@ Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen
 
 // One cloud's side at every core point (the reference's once, each epoch's), parallel over
 // core points; the cloud is streamed through the cylinders' index, never copied or indexed.
+// `left_out`: empty, or per point of the cloud non-zero for one no cylinder takes.
 std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
                                          const std::vector<Eigen::Vector3d>& cloud,
-                                         unsigned threads = 0);
+                                         unsigned threads = 0,
+                                         std::span<const std::uint8_t> left_out = {});
 
 }  // namespace tlsmon::m3c2

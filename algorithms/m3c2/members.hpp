@@ -3,7 +3,9 @@
 // through a RegionIndex (region_index.hpp). Each core point's members come in the cloud's
 // order whatever the number of threads, so results built from them do not depend on it.
 // When the members of all core points would not fit in `budget` entries, the core points are
-// taken in consecutive batches, each with its own pass over the cloud.
+// taken in consecutive batches, each with its own pass over the cloud. `left_out`: empty, or one
+// entry per point of the cloud, non-zero for a point that is no one's member (an edge point:
+// pipeline/m3c2_stage.hpp), so a caller leaves points out without copying the rest.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -68,9 +70,13 @@ template <class Contains, class Visit>
 void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud, const RegionIndex& index,
                                 std::size_t cores, Contains&& contains, Visit&& visit,
                                 unsigned threads = 0, std::size_t budget = kMemberBudget,
-                                bool single_pass = true) {
+                                bool single_pass = true,
+                                std::span<const std::uint8_t> left_out = {}) {
     if (cloud.size() > std::size_t{0xFFFFFFFF})
         throw Error("m3c2: a cloud of more than 2^32 - 1 points");
+    if (!left_out.empty() && left_out.size() != cloud.size())
+        throw Error("m3c2: the points left out do not match the cloud");
+    const auto kept = [&](std::size_t i) { return left_out.empty() || !left_out[i]; };
     constexpr std::size_t kChunk = std::size_t{1} << 16;
     const std::size_t chunks = (cloud.size() + kChunk - 1) / kChunk;
 
@@ -81,6 +87,7 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud, const
         std::uint64_t last_key = ~std::uint64_t{0};
         std::span<const std::uint32_t> candidates;
         for (std::size_t i = c * kChunk; i < end; ++i) {
+            if (!kept(i)) continue;
             const Eigen::Vector3d& p = cloud[i];
             const auto key = index.key_of(p);
             if (!key) continue;
@@ -150,7 +157,7 @@ void for_each_core_with_members(const std::vector<Eigen::Vector3d>& cloud, const
         [&](std::size_t c) {
             const std::size_t end = std::min(cloud.size(), (c + 1) * kChunk);
             for (std::size_t i = c * kChunk; i < end; ++i)
-                if (cloud[i].allFinite()) chunk_box[c].extend(cloud[i]);
+                if (kept(i) && cloud[i].allFinite()) chunk_box[c].extend(cloud[i]);
             stream(c, 0, all, [&](std::uint32_t k, std::uint32_t) {
                 counts[k].fetch_add(1, std::memory_order_relaxed);
             });

@@ -63,7 +63,8 @@ CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d
 
 std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& cloud,
                                          const std::vector<Eigen::Vector3d>& core_points,
-                                         const NormalParameters& parameters, unsigned threads) {
+                                         const NormalParameters& parameters, unsigned threads,
+                                         std::span<const std::uint8_t> left_out) {
     validate(parameters);
     const double largest = *std::max_element(parameters.radii.begin(), parameters.radii.end());
     const RegionIndex index = RegionIndex::spheres(core_points, largest, largest / 2, threads);
@@ -76,7 +77,8 @@ std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& clo
         [&](std::size_t k, std::span<const std::uint32_t> neighbours) {
             normals[k] = normal_at(core_points[k], cloud, neighbours, parameters);
         },
-        threads, kMemberBudget, /*single_pass=*/false);  // spheres hold ~1000 points each
+        threads, kMemberBudget, /*single_pass=*/false,  // spheres hold ~1000 points each
+        left_out);
     return normals;
 }
 

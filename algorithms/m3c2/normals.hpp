@@ -9,6 +9,7 @@
 // them at one place) is skipped; none left: the normal is undefined. Oriented so that
 // n . v >= 0 for the orientation vector v.
 #include <Eigen/Core>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
@@ -32,9 +33,10 @@ Eigen::Vector3d oriented(const Eigen::Vector3d& normal, const Eigen::Vector3d& c
 CoreNormal normal_at(const Eigen::Vector3d& c, const std::vector<Eigen::Vector3d>& cloud,
                      std::span<const std::uint32_t> neighbours, const NormalParameters& parameters);
 
-// At every core point, parallel over core points.
+// At every core point, parallel over core points; `left_out` as for cylinder_sides.
 std::vector<CoreNormal> estimate_normals(const std::vector<Eigen::Vector3d>& cloud,
                                          const std::vector<Eigen::Vector3d>& core_points,
-                                         const NormalParameters& parameters, unsigned threads = 0);
+                                         const NormalParameters& parameters, unsigned threads = 0,
+                                         std::span<const std::uint8_t> left_out = {});
 
 }  // namespace tlsmon::m3c2

@@ -12,7 +12,8 @@ namespace tlsmon::m3c2 {
 Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
                             std::vector<Eigen::Vector3d> core_points,
                             const NormalParameters& normals, const CylinderParameters& cylinders,
-                            unsigned threads, std::span<const Eigen::Vector3d> given_normals) {
+                            unsigned threads, std::span<const Eigen::Vector3d> given_normals,
+                            std::span<const std::uint8_t> left_out) {
     validate(normals);
     validate(cylinders);
     const std::size_t n = core_points.size();
@@ -32,8 +33,9 @@ Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
         estimated_at.push_back(core_points[k]);
     }
     const std::vector<CoreNormal> found =
-        estimated_at.empty() ? std::vector<CoreNormal>{}
-                             : estimate_normals(reference, estimated_at, normals, threads);
+        estimated_at.empty()
+            ? std::vector<CoreNormal>{}
+            : estimate_normals(reference, estimated_at, normals, threads, left_out);
     std::vector<Eigen::Vector3d> axes(n);
     Reference r;
     r.normal_radius.resize(n);
@@ -48,7 +50,7 @@ Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
         r.normal_radius[estimated[j]] = found[j].radius;
     }
     r.cylinders = make_cylinders(std::move(core_points), std::move(axes), cylinders, threads);
-    r.reference_side = cylinder_sides(r.cylinders, reference, threads);
+    r.reference_side = cylinder_sides(r.cylinders, reference, threads, left_out);
     return r;
 }
 

@@ -7,6 +7,7 @@
 // encode()/decode() give the reference cache's payload (pipeline/reference_cache.hpp); the
 // cylinders' index is rebuilt from the stored core points and normals on decode.
 #include <Eigen/Core>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -40,12 +41,14 @@ struct Reference {
 // `given_normals`: empty, or one per core point; a finite one is that core point's normal
 // (normalised and oriented like an estimated one) instead of the estimate — the design
 // normal of a planar face, which near an edge or at grazing incidence is closer to the truth
-// than any neighbourhood's (docs/m3c2.md, "Edges and grazing faces").
+// than any neighbourhood's (docs/m3c2.md, "Edges and grazing faces"). `left_out`: the
+// reference's points neither normals nor cylinders take, as for cylinder_sides.
 Reference prepare_reference(const std::vector<Eigen::Vector3d>& reference,
                             std::vector<Eigen::Vector3d> core_points,
                             const NormalParameters& normals, const CylinderParameters& cylinders,
                             unsigned threads = 0,
-                            std::span<const Eigen::Vector3d> given_normals = {});
+                            std::span<const Eigen::Vector3d> given_normals = {},
+                            std::span<const std::uint8_t> left_out = {});
 
 // One compared epoch: its side of every cylinder, then the distance at every core point.
 std::vector<Distance> distances(const Reference& reference,

@@ -13,6 +13,7 @@
 #include "algorithms/m3c2/core_points.hpp"
 #include "algorithms/m3c2/members.hpp"
 #include "algorithms/m3c2/reference.hpp"
+#include "core/error.hpp"
 
 namespace tlsmon::test {
 namespace {
@@ -195,28 +196,89 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return std::string(info.param.name); });
 
 // Batches of core points (a tiny member budget) give the same members as one batch, and the
-// members are exactly the points within the radius, ascending.
+// members are exactly the points within the radius, ascending; points left out (an edge
+// point's mark, pipeline/m3c2_stage.hpp) are no core point's member, in one pass and in
+// batches alike.
 TEST(M3c2Members, BatchesGiveTheSameMembersAsTheDefinition) {
     const auto cloud = surface(4000, 0.0, 0.003, 21);
     const auto cores = subsample(cloud, 0.15);
     const double radius = 0.2;
     const RegionIndex index = RegionIndex::spheres(cores, radius, 0.1);
-    for (std::size_t budget : {std::size_t{1}, std::size_t{500}, kMemberBudget}) {
-        std::vector<std::vector<std::uint32_t>> members(cores.size());
+    std::vector<std::uint8_t> every_third(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) every_third[i] = i % 3 == 1;
+    for (const auto& left_out : {std::vector<std::uint8_t>{}, every_third})
+        for (const bool single_pass : {true, false})
+            for (std::size_t budget : {std::size_t{1}, std::size_t{500}, kMemberBudget}) {
+                std::vector<std::vector<std::uint32_t>> members(cores.size());
+                for_each_core_with_members(
+                    cloud, index, cores.size(),
+                    [&](std::uint32_t k, const Vector3d& p) {
+                        return (p - cores[k]).norm() <= radius;
+                    },
+                    [&](std::size_t k, std::span<const std::uint32_t> m) {
+                        members[k].assign(m.begin(), m.end());
+                    },
+                    2, budget, single_pass, left_out);
+                std::size_t found = 0;
+                for (std::size_t k = 0; k < cores.size(); ++k) {
+                    std::vector<std::uint32_t> expected;
+                    for (std::uint32_t i = 0; i < cloud.size(); ++i)
+                        if ((left_out.empty() || !left_out[i]) &&
+                            (cloud[i] - cores[k]).norm() <= radius)
+                            expected.push_back(i);
+                    ASSERT_EQ(members[k], expected) << "core " << k << ", budget " << budget;
+                    found += expected.size();
+                }
+                EXPECT_GT(found, 1000u);  // the test sees members, not empty sets
+            }
+    std::vector<std::uint8_t> wrong(cloud.size() - 1);
+    EXPECT_THROW(
         for_each_core_with_members(
-            cloud, index, cores.size(),
-            [&](std::uint32_t k, const Vector3d& p) { return (p - cores[k]).norm() <= radius; },
-            [&](std::size_t k, std::span<const std::uint32_t> m) {
-                members[k].assign(m.begin(), m.end());
-            },
-            2, budget);
-        for (std::size_t k = 0; k < cores.size(); ++k) {
-            std::vector<std::uint32_t> expected;
-            for (std::uint32_t i = 0; i < cloud.size(); ++i)
-                if ((cloud[i] - cores[k]).norm() <= radius) expected.push_back(i);
-            ASSERT_EQ(members[k], expected) << "core " << k << ", budget " << budget;
+            cloud, index, cores.size(), [](std::uint32_t, const Vector3d&) { return true; },
+            [](std::size_t, std::span<const std::uint32_t>) {}, 1, kMemberBudget, true, wrong),
+        Error);
+}
+
+// The reference's normals and sides, and an epoch's sides, with points marked as left out are
+// those of the cloud without them, to the bit: the stage marks a scan's edge points instead of
+// copying the rest.
+TEST(M3c2BruteForceLeftOut, MarkedPointsGiveWhatTheirRemovalGives) {
+    const auto p1 = surface(3000, 0.0, 0.003, 31);
+    const auto p2 = surface(2500, 0.02, 0.004, 32);
+    const NormalParameters normals{{0.08, 0.15, 0.3}, Orientation{}};
+    const CylinderParameters cylinder{0.08, 0.25, CylinderStatistic::median};
+    const auto cores = subsample(p1, 0.2);
+    auto mark = [](const std::vector<Vector3d>& cloud, std::vector<Vector3d>& kept) {
+        std::vector<std::uint8_t> left_out(cloud.size());
+        for (std::size_t i = 0; i < cloud.size(); ++i) {
+            left_out[i] = cloud[i].x() > 100.3 && cloud[i].x() < 100.5;  // across the step
+            if (!left_out[i]) kept.push_back(cloud[i]);
         }
+        return left_out;
+    };
+    std::vector<Vector3d> kept1, kept2;
+    const auto out1 = mark(p1, kept1), out2 = mark(p2, kept2);
+    ASSERT_LT(kept1.size() + 200, p1.size());
+    const Reference marked = prepare_reference(p1, cores, normals, cylinder, 2, {}, out1);
+    const Reference removed = prepare_reference(kept1, cores, normals, cylinder, 2);
+    const Reference all = prepare_reference(p1, cores, normals, cylinder, 2);
+    const auto side_marked = cylinder_sides(marked.cylinders, p2, 2, out2);
+    const auto side_removed = cylinder_sides(removed.cylinders, kept2, 2);
+    std::size_t differs = 0;
+    for (std::size_t k = 0; k < cores.size(); ++k) {
+        SCOPED_TRACE(k);
+        EXPECT_EQ(marked.normals()[k].allFinite(), removed.normals()[k].allFinite());
+        if (marked.normals()[k].allFinite()) {
+            EXPECT_EQ(marked.normals()[k], removed.normals()[k]);
+        }
+        EXPECT_EQ(marked.reference_side[k].count, removed.reference_side[k].count);
+        EXPECT_EQ(side_marked[k].count, side_removed[k].count);
+        if (side_marked[k].count > 0) {
+            EXPECT_EQ(side_marked[k].centre, side_removed[k].centre);
+        }
+        differs += marked.reference_side[k].count != all.reference_side[k].count;
     }
+    EXPECT_GT(differs, 5u);  // the strip mattered
 }
 
 }  // namespace

@@ -240,7 +240,7 @@ TEST(M3c2Simulated, WithoutDeformationTheLodHoldsAtLeast95PercentOfCorePoints) {
 // that only M3C2's own error is left. Along the face's far edge the beams straddle the
 // silhouette and return blends of the face and what lies beyond it, and which beams do so
 // changes with the grid's phase on the edge from epoch to epoch. With the points at a depth
-// discontinuity left out (pipeline/m3c2_stage.hpp, m3c2_points) the zone's median is within
+// discontinuity left out (pipeline/m3c2_stage.hpp, m3c2_cloud) the zone's median is within
 // 0.02 mm of the truth in each of three epochs (+0.005, +0.006, −0.005 mm); with them it was
 // +0.096, +0.084 and +0.021 mm off, every epoch towards the scanner (docs/m3c2.md, "Edge
 // points").
