@@ -319,7 +319,14 @@ TEST(DaemonIngest, SighupToNewArchiveAndQuarantineFoldersCreatesThem) {
     std::ofstream(site.ingest() / "empty.ptx").flush();
     ASSERT_TRUE(wait_until([&] { return all_epochs(site).size() == 2; }, 10))
         << read_file(site.log());
-    ASSERT_TRUE(wait_until([&] { return !fs::exists(site.ingest() / "good.ptx"); }, 10))
+    // Each epoch's row is written before its file moves (pipeline/epoch_pipeline.cpp): wait
+    // for both moves, not only the first, or a loaded machine sees the second one pending.
+    ASSERT_TRUE(wait_until(
+        [&] {
+            return !fs::exists(site.ingest() / "good.ptx") &&
+                   !fs::exists(site.ingest() / "empty.ptx");
+        },
+        10))
         << read_file(site.log());
     EXPECT_EQ(read_file(site.root / "new/archive/good.ptx"), read_file(kData / "ptx/no-color.ptx"));
     EXPECT_TRUE(fs::exists(site.root / "new/quar/empty.ptx"));
