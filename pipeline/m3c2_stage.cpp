@@ -62,7 +62,7 @@ std::vector<Eigen::Vector3d> M3c2Cloud::kept_points() const {
     std::vector<Eigen::Vector3d> out;
     out.reserve(all.size());
     for (std::size_t i = 0; i < all.size(); ++i)
-        if (!left_out[i]) out.push_back(all[i]);
+        if (!is_left_out(i)) out.push_back(all[i]);
     return out;
 }
 
@@ -109,7 +109,7 @@ M3c2Reference prepare_m3c2_reference(const M3c2Config& config, const std::vector
         points.size(),
         [&](std::size_t i) {
             const auto& p = points[i];
-            if (!p.allFinite() || (!cloud.left_out.empty() && cloud.left_out[i])) return;
+            if (!p.allFinite() || cloud.is_left_out(i)) return;
             for (const auto& z : config.zones) {
                 if (z.contains(p)) {
                     inside[i] = 1;
@@ -259,7 +259,7 @@ std::vector<ZoneResult> m3c2_zone_results(const M3c2Config& config, const M3c2Re
         // The aggregates' own LoD95 (algorithms/m3c2/zone_uncertainty.hpp), not one core
         // point's: their sampling part averages out over the zone, the registration's not.
         const m3c2::ZoneUncertainty u = m3c2::zone_uncertainty(
-            sampling, registration, ref.cylinders.parameters.radius, config.core_spacing);
+            d, sampling, registration, ref.cylinders.parameters.radius, config.core_spacing);
         const double lod_of_median = 1.96 * u.median_sigma, lod_of_mean = 1.96 * u.mean_sigma;
         rows.push_back({zone, "m3c2_median_m", median_d, lod_of_median, valid,
                         std::abs(median_d) > lod_of_median});

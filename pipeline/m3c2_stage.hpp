@@ -48,6 +48,7 @@ struct M3c2Cloud {
     const std::vector<Eigen::Vector3d>& points() const {
         return scan_points ? *scan_points : joined;
     }
+    bool is_left_out(std::size_t i) const { return !left_out.empty() && left_out[i]; }
     std::size_t kept() const;                          // how many points are not left out
     std::vector<Eigen::Vector3d> kept_points() const;  // a copy of them
 };

@@ -122,7 +122,7 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
         for (double v : d) mean += v;
         mean /= double(valid);
         const auto [median_d, mad_d] = median_and_mad(d);
-        const m3c2::ZoneUncertainty u = m3c2::aggregate_uncertainty(sampling, registration, 1.0);
+        const m3c2::ZoneUncertainty u = m3c2::aggregate_uncertainty(d, sampling, registration, 1.0);
         const double lod_of_median = 1.96 * u.median_sigma, lod_of_mean = 1.96 * u.mean_sigma;
         rows.push_back({zone, "pbm3c2_median_m", median_d, lod_of_median, valid,
                         std::abs(median_d) > lod_of_median});
