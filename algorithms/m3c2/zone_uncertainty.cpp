@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -51,19 +52,24 @@ double median_sampling_variance(std::span<const double> values,
         m = (m + values[upper]) / 2;
         alone = (alone + sampling_sigma[upper] * sampling_sigma[upper]) / 4;
     }
-    double count_variance = 0, density = 0;
+    double count_variance = 0, density = 0, sum_s2 = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double s = sampling_sigma[i];
+        sum_s2 += s * s;
         if (s == 0) continue;
         const double h = kKernelWidth * s, z = (m - values[i]) / h;
         const double F = 0.5 * std::erfc(-z / std::numbers::sqrt2);
         count_variance += F * (1 - F);
         density += std::exp(-0.5 * z * z) / (h * std::sqrt(2 * std::numbers::pi));
     }
+    // Never below the form for equal true values: where the distances spread less than their
+    // σ says (a surface's relief in σ_s cancels in d) the kernel estimate would fall below it.
     // In a gap between members the count's slope vanishes and the linearisation fails; there
     // the middle members decide alone.
-    if (!(density > 0)) return alone;
-    return std::min(count_variance / (density * density), alone);
+    const double equal = std::numbers::pi / 2 * (sum_s2 / double(n)) / double(n);
+    const double linearised = density > 0 ? count_variance / (density * density)
+                                          : std::numeric_limits<double>::infinity();
+    return std::max(std::min(linearised, alone), equal);
 }
 
 ZoneUncertainty zone_uncertainty(std::span<const double> values,

@@ -49,7 +49,11 @@ struct ZoneUncertainty {
 // count's variance takes the kernel's width for σ, and the estimate is √κ = 0.91 of the true
 // σ: exact when nothing moves, where a false alarm would come from, and 5–12 % short in
 // between (simulated over spreads up to 60σ and 11 to 501 members;
-// tests/algorithms/test_m3c2_zone_uncertainty.cpp). Members with σ_i = 0 add no variance.
+// tests/algorithms/test_m3c2_zone_uncertainty.cpp). The result is never below π/2·mean(σ_i²)/n,
+// its value for equal t_i: where the d_i spread less than their σ_i (a surface's relief in a
+// core point's σ_s cancels in its distance) the kernel estimate would fall below it, by up to
+// κ², and a middle member far more precise than the rest does not decide alone while they
+// reach it. Members with σ_i = 0 add no variance.
 // Throws tlsmon::Error for spans of different lengths or a negative or non-finite value.
 double median_sampling_variance(std::span<const double> values,
                                 std::span<const double> sampling_sigma);
