@@ -14,6 +14,8 @@
 //
 // `--set` puts `KEY = VALUE` (TOML) into the daemon's configuration's [SECTION], to score a
 // setting other than the default (e.g. --set registration.covariance_scaling='"a_priori"').
+// The environment's TLSMON_BENCH_BINARY, when set, is the tlsmon that runs instead of the
+// build's, to score two builds on the same seeds.
 //
 // Series k (seed FIRST_SEED + k) starts frac(0.618·k) of a day after midnight, k + 2 days
 // before today (the daemon refuses scans dated ahead of its clock), every 1 + 5·frac(0.382·k)
@@ -162,7 +164,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     bench::BenchDir tmp;
-    const std::string tlsmon = TLSMON_BINARY;
+    const char* other = std::getenv("TLSMON_BENCH_BINARY");
+    const std::string tlsmon = other ? other : TLSMON_BINARY;
     // The demo's scene with its events beyond the series: 96 epochs put them at 24 and 48.
     const std::string scene_text = scene_file_text(demo_scene("small", 96));
     const sim::Site site = parse_scene_file(scene_text, "demo", std::nullopt);

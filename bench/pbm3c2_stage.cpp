@@ -3,9 +3,10 @@
 // then per epoch each method's measurement and zone rows, timed; and both against the
 // simulator's truth on the same zones (tests/support/simulated_zones.hpp, the defaults of
 // [m3c2] and [pbm3c2]): per zone the bias, RMS and max of the zone median minus the true
-// change along the normals, the zone's median per-point LoD95, and the share of core points
-// or patches with |d − truth| ≤ LoD95. Registration on the preset's targets with the truth's
-// range scales (as from a weather station). Every place of an epoch shares its registration
+// change along the normals (over the core points for M3C2, over the patches' footprint cells
+// for PB-M3C2's median over the zone's area), the zone's median per-point LoD95, and the share of
+// core points or patches with |d − truth| ≤ LoD95. Registration on the preset's targets with the
+// truth's range scales (as from a weather station). Every place of an epoch shares its registration
 // error, one draw of σ_T, so the patches are also scored with it taken out (the realized error
 // from the simulator's pose errors) against the fits' own LoD95, 1.96·σ_fits, and each epoch's
 // draw is printed in units of σ_T at the south face. No parameter was tuned on these epochs.
@@ -27,6 +28,7 @@
 #include "simulator/deformation.hpp"
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
+#include "tests/support/pbm3c2_truth.hpp"
 #include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 
@@ -52,10 +54,13 @@ struct Score {
     }
 };
 
-// One method's values at its measuring places: distance, LoD95, the true change, per zone.
+// One method's values at its measuring places: distance, LoD95, the true change, per zone;
+// per zone the median and its truth where they are not the places' (PB-M3C2's, over the
+// zone's area).
 struct Places {
     std::vector<double> d, lod, truth;
     std::vector<std::vector<std::uint32_t>> zones;
+    std::vector<double> zone_median, zone_truth;
 };
 
 void score(const char* method, const Places& p, const std::vector<std::string>& names,
@@ -70,12 +75,14 @@ void score(const char* method, const Places& p, const std::vector<std::string>& 
             in += std::abs(p.d[k] - p.truth[k]) <= p.lod[k];
         }
         within += in;
-        const double e = median_of(d) - median_of(t);
+        const double value = p.zone_median.empty() ? median_of(d) : p.zone_median[z];
+        const double truth = p.zone_truth.empty() ? median_of(t) : p.zone_truth[z];
+        const double e = value - truth;
         std::printf(
             "  %-7s %-14s median %+.3f mm, truth %+.3f mm, error %+.3f mm, point LoD95 %.3f"
             " mm, n %zu, %.1f %% within\n",
-            method, names[z].c_str(), 1e3 * median_of(d), 1e3 * median_of(t), 1e3 * e,
-            1e3 * median_of(lod), d.size(), 100.0 * double(in) / double(d.size()));
+            method, names[z].c_str(), 1e3 * value, 1e3 * truth, 1e3 * e, 1e3 * median_of(lod),
+            d.size(), 100.0 * double(in) / double(d.size()));
         auto& s = scores[names[z]];
         s.add(e);
         s.point_lods.push_back(median_of(lod));
@@ -153,7 +160,7 @@ int main(int argc, char** argv) {
         t0 = std::chrono::steady_clock::now();
         cpu0 = process_cpu_seconds();
         const PbM3c2Epoch p = measure_pbm3c2(pb, pb_ref, scans, o);
-        pbm3c2_zone_results(pb_ref, p);
+        const auto pb_rows = pbm3c2_zone_results(pb_ref, p);
         std::printf("; pbm3c2 %.2f s wall, %.2f s cpu\n", seconds_since(t0),
                     process_cpu_seconds() - cpu0);
 
@@ -186,6 +193,17 @@ int main(int argc, char** argv) {
         std::printf("epoch %d: the registration's realized error at the south face %+.2f σ_T\n", i,
                     draw);
         pp.zones = pb_ref.zone_patches;
+        for (std::size_t z = 0; z < pb_ref.zone_names.size(); ++z) {
+            pp.zone_median.push_back(std::nan(""));
+            for (const auto& row : pb_rows)
+                if (row.zone == pb_ref.zone_names[z] && row.quantity == "pbm3c2_median_m")
+                    pp.zone_median.back() = row.value;
+            pp.zone_truth.push_back(
+                test::areal_median_truth(pb_ref, p, z, [&](const Eigen::Vector3d& x) {
+                    return Eigen::Vector3d(sim::pier_displacement(site, x, i, ci.bending) -
+                                           sim::pier_displacement(site, x, 0, c0.bending));
+                }));
+        }
         score("m3c2", mp, m3c2_ref.zone_names, m3c2_scores, m3c2_valid, m3c2_within);
         score("pbm3c2", pp, pb_ref.zone_names, pb_scores, pb_valid, pb_within);
     }

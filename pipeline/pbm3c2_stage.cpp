@@ -7,6 +7,7 @@
 
 #include "algorithms/depth_discontinuity.hpp"
 #include "algorithms/m3c2/zone_uncertainty.hpp"
+#include "algorithms/patches/zone_median.hpp"
 #include "algorithms/registration/registration_error.hpp"
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
@@ -104,6 +105,7 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
     for (std::size_t z = 0; z < reference.zone_names.size(); ++z) {
         const std::string& zone = reference.zone_names[z];
         std::vector<double> d, lod, sampling, registration;
+        std::vector<patches::PatchChange> changes;
         std::int64_t significant = 0;
         for (const auto k : reference.zone_patches[z]) {
             const auto& r = epoch.results[k];
@@ -113,6 +115,9 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
             sampling.push_back(r.distance.sampling_sigma);
             registration.push_back(epoch.registration_sigma[k]);
             significant += r.distance.significant;
+            changes.push_back({reference.measured_at(k), r.distance.distance,
+                               r.distance.sampling_sigma,
+                               patches::cell_centres(reference.patches[k])});
         }
         const auto valid = static_cast<std::int64_t>(d.size());
         const auto all = static_cast<std::int64_t>(reference.zone_patches[z].size());
@@ -121,9 +126,15 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
         double mean = 0;
         for (double v : d) mean += v;
         mean /= double(valid);
-        const auto [median_d, mad_d] = median_and_mad(d);
+        const double mad_d = median_and_mad(d).mad;
+        // The median over the zone's area with its own sampling variance; the mean over the
+        // patches with aggregate_uncertainty's σ; the registration's σ at the zone for both.
+        const patches::ArealMedian areal = patches::areal_median(changes);
+        const double median_d = areal.value;
         const m3c2::ZoneUncertainty u = m3c2::aggregate_uncertainty(d, sampling, registration, 1.0);
-        const double lod_of_median = 1.96 * u.median_sigma, lod_of_mean = 1.96 * u.mean_sigma;
+        const double lod_of_median =
+            1.96 * std::sqrt(areal.sampling_variance + u.registration * u.registration);
+        const double lod_of_mean = 1.96 * u.mean_sigma;
         rows.push_back({zone, "pbm3c2_median_m", median_d, lod_of_median, valid,
                         std::abs(median_d) > lod_of_median});
         rows.push_back(

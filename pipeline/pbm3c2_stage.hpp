@@ -49,11 +49,12 @@ struct PbM3c2Epoch {
 PbM3c2Epoch measure_pbm3c2(const PbM3c2Config& config, const PbM3c2Reference& reference,
                            const std::vector<Scan>& scans, const StageOutputs& outputs);
 
-// The zone rows: pbm3c2_median_m and pbm3c2_mean_m with their own LoD95 (the patches do not
-// overlap: their fits' errors average out, the registration's does not;
-// algorithms/m3c2/zone_uncertainty.hpp), pbm3c2_spread_m, pbm3c2_valid_count,
-// pbm3c2_lod95_median_m, pbm3c2_significant_share; a zone without a measured patch has only
-// pbm3c2_valid_count (0).
+// The zone rows: pbm3c2_median_m, the median over the zone's area (every footprint cell one
+// vote: algorithms/patches/zone_median.hpp), and pbm3c2_mean_m, the mean over its patches,
+// each with its own LoD95 (the patches do not overlap: their fits' errors average out, the
+// registration's does not; algorithms/m3c2/zone_uncertainty.hpp), pbm3c2_spread_m,
+// pbm3c2_valid_count, pbm3c2_lod95_median_m, pbm3c2_significant_share; a zone without a measured
+// patch has only pbm3c2_valid_count (0).
 std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
                                             const PbM3c2Epoch& epoch);
 

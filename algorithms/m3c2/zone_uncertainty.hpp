@@ -58,6 +58,27 @@ struct ZoneUncertainty {
 double median_sampling_variance(std::span<const double> values,
                                 std::span<const double> sampling_sigma);
 
+// The same for members that hold several values each and err together: member j holds
+// values[first[j]] … values[first[j + 1] − 1] (a patch's footprint cells, each the patch's
+// change at its place: algorithms/patches/zone_median.hpp) with one error e_j ~ N(0, σ_j²)
+// common to them, so that the count of values ≤ m moves by a member's block at once:
+//   var(count) = Σ_j [Σ_{c,c'∈j} P_j(min(s_c, s_c')) − (Σ_{c∈j} P_j(s_c))²],  s_c = m − t_c,
+// with P_j the kernel's Φ(·/h_j), and the density Σ_j Σ_{c∈j} f_j(s_c) as above. The kernel's
+// width h_j is κσ_j for a member whose values lie together (one value: the form above) and
+// σ_j for one whose values spread over more than σ_j: a member that straddles m then counts
+// in proportion to its error, its count's variance goes as h_j², and only h_j = σ_j gives it
+// (κσ_j would leave the σ short by κ, not √κ). In between, h_j² = κ²σ_j² + (1 − κ²)·min(σ_j²,
+// s_j²), s_j² the variance of the member's values — the two limits are derived, the blend
+// between them is a choice, not fitted (simulated in
+// tests/algorithms/test_patch_zone_median.cpp: 0.89–1.02 of the true σ). The middle
+// value's member decides alone in a gap (σ_j², or (σ_a² + σ_b²)/4 for two members); the floor
+// is π/2 times the variance of the values' mean, π/2 · Σ_j n_j² σ_j² / N². One value per
+// member is the form above. Throws tlsmon::Error unless `first` runs from 0 to the number of
+// values in order with one more entry than `member_sigma`, for a non-finite value or a
+// negative or non-finite σ.
+double median_sampling_variance(std::span<const double> values, std::span<const std::size_t> first,
+                                std::span<const double> member_sigma);
+
 // Throws tlsmon::Error for spans of different lengths, a non-positive radius or spacing, or
 // a negative or non-finite σ.
 ZoneUncertainty zone_uncertainty(std::span<const double> values,

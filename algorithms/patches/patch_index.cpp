@@ -33,6 +33,18 @@ Footprint footprint_of(const PatchFrame& frame, std::span<const Eigen::Vector3d>
     return f;
 }
 
+std::vector<Eigen::Vector3d> cell_centres(const Patch& patch) {
+    const Footprint& f = patch.footprint;
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(f.cells());
+    for (int j = 0; j < f.height; ++j)
+        for (int i = 0; i < f.width; ++i)
+            if (f.occupied[std::size_t(j) * std::size_t(f.width) + std::size_t(i)])
+                out.push_back(patch.frame.origin + (f.u0 + i + 0.5) * f.cell * patch.frame.u +
+                              (f.v0 + j + 0.5) * f.cell * patch.frame.v);
+    return out;
+}
+
 PatchIndex::PatchIndex(std::vector<Patch> patches, double search_depth)
     : patches_(std::move(patches)), depth_(search_depth) {
     if (!(depth_ > 0)) throw Error("patch index: the search depth must be > 0");

@@ -49,6 +49,9 @@ struct Patch {
     Footprint footprint;
 };
 
+// The centres of a patch's footprint cells, on its plane, in the reference frame.
+std::vector<Eigen::Vector3d> cell_centres(const Patch& patch);
+
 // m: two patches' planes this close at a point are one surface. Far above the noise and the
 // offsets between neighbouring patches' planes (a tilt of 1e-3 over 0.5 m), far below the
 // distance between a face and a face behind it.

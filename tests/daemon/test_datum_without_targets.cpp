@@ -159,11 +159,11 @@ TEST(DatumWithoutTargets, IcpFallbackOnStableRegionsRunsWithoutAnyTarget) {
     const SeriesPoint floor = s.floor();
     EXPECT_LT(std::abs(floor.value), 0.001) << "the floor did not move";
     ASSERT_TRUE(floor.uncertainty);
-    // Nor significantly, within what the ICP's σ on this room allows: it is 1.5–2.5 times too
-    // small here (docs/registration.md, "ICP on stable regions"; issue of honest uncertainty),
-    // and with the shared pump-room file as provisioned on 2026-12-06 the floor's median sits
-    // at 1.02 times its LoD95 (0.33 against 0.32 mm). The alarm below is what must not fire.
-    EXPECT_LT(std::abs(floor.value), 1.5 * *floor.uncertainty) << "nor significantly";
+    // Nor significantly: 0.33 mm against an LoD95 of 0.43 mm. The ICP's σ on this room is too
+    // small (above), but the median's own σ is not below its form for equal values: the
+    // floor's relief is in its core points' σ_s and cancels in their distances, which spread
+    // less than σ_s says (docs/m3c2.md, "Zone rows"; before that floor, 0.33 against 0.32 mm).
+    EXPECT_LT(std::abs(floor.value), *floor.uncertainty) << "nor significantly";
     std::cout << fmt::format(
         "ICP without targets: κ {:.1f}″ ± {:.1f} (true {:.1f}″), floor "
         "M3C2 median {:+.2f} mm, LoD95 {:.2f} mm\n",

@@ -37,6 +37,7 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/pipeline/simulated_windows.hpp"
+#include "tests/support/pbm3c2_truth.hpp"
 #include "tests/support/seconds_since.hpp"
 #include "tests/support/simulated_targets.hpp"
 
@@ -316,6 +317,9 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
                                                          p->registration_sigma[k]));
                 std::tie(f.pbm3c2_median, f.pbm3c2_mean) =
                     normal_figures("pbm3c2", s.zone, pb_rows, measured_patches);
+                // The median's truth is over the zone's area, as the row's value.
+                if (!measured_patches.empty())
+                    f.pbm3c2_median.truth = areal_median_truth(*pb_ref, *p, z, true_change);
             }
             out.figures.push_back(std::move(f));
         }

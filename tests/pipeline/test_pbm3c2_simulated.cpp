@@ -8,14 +8,17 @@
 //
 // Truth: the pier's displacement u_i at the place c the distance is taken at (the reference
 // points' centroid on the patch plane, PbM3c2Reference::measured_at) along the patch normal
-// n, (u_i(c) − u_0(c))·n; a zone's true value is the median over its
-// measured patches (as for M3C2's core points: tests/pipeline/test_m3c2_simulated.cpp).
+// n, (u_i(c) − u_0(c))·n; a zone's true value is, for M3C2, the median over its measured core
+// points (tests/pipeline/test_m3c2_simulated.cpp), for PB-M3C2 the median over its measured
+// patches' footprint cells, the area its row's median is taken over
+// (tests/support/pbm3c2_truth.hpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "core/statistics.hpp"
 #include "pipeline/m3c2_stage.hpp"
 #include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/registration_stage.hpp"
@@ -23,18 +26,12 @@
 #include "simulator/epoch_conditions.hpp"
 #include "simulator/render.hpp"
 #include "tests/pipeline/registered_outputs.hpp"
+#include "tests/support/pbm3c2_truth.hpp"
 #include "tests/support/simulated_targets.hpp"
 #include "tests/support/simulated_zones.hpp"
 
 namespace tlsmon {
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Per zone (the configuration's order) over the epochs: the zone medians' errors and the
 // median per-point LoD95, for one method.
@@ -143,15 +140,27 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
             out.south_own_within += std::abs(d[k] - truth[k] - e) <= own_lod;
             if (first) out.registration_z.push_back(e / p.registration_sigma[k]), first = false;
         }
-        add_epoch(out.pbm3c2, d, lod, truth, pb_ref.zone_patches);
-        // The zone rows agree with what was scored: the median's row is the patches' median.
-        for (const auto& row : pbm3c2_zone_results(pb_ref, p)) {
-            if (row.zone != "south" || row.quantity != "pbm3c2_median_m") continue;
-            std::vector<double> v;
-            for (auto k : pb_ref.zone_patches[0])
-                if (std::isfinite(d[k])) v.push_back(d[k]);
-            EXPECT_DOUBLE_EQ(row.value, median(v));
-            EXPECT_EQ(row.n, static_cast<std::int64_t>(v.size()));
+        // The zone medians: the rows' values (over the zones' area) against the median of the
+        // true change over the same area; the per-patch LoD95s as in add_epoch.
+        const auto rows = pbm3c2_zone_results(pb_ref, p);
+        out.pbm3c2.resize(pb_ref.zone_names.size());
+        for (std::size_t z = 0; z < pb_ref.zone_names.size(); ++z) {
+            std::vector<double> lz;
+            for (auto k : pb_ref.zone_patches[z])
+                if (std::isfinite(d[k])) lz.push_back(lod[k]);
+            if (lz.empty()) continue;
+            for (const auto& row : rows) {
+                if (row.zone != pb_ref.zone_names[z] || row.quantity != "pbm3c2_median_m") continue;
+                EXPECT_EQ(row.n, static_cast<std::int64_t>(lz.size()));
+                out.pbm3c2[z].errors.push_back(
+                    row.value -
+                    test::areal_median_truth(
+                        pb_ref, p, z, [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+                            return sim::pier_displacement(site, x, epoch, ei.conditions.bending) -
+                                   sim::pier_displacement(site, x, 0, e0.conditions.bending);
+                        }));
+            }
+            out.pbm3c2[z].point_lods.push_back(median(lz));
         }
     }
     for (std::size_t z = 0; z < out.zones.size(); ++z) {
