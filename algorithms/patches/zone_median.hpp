@@ -18,6 +18,9 @@
 // The median of the d_c is the zone's median over its area when its change is linear across
 // a patch; its sampling variance is median_sampling_variance over members that are the
 // patches, each erring as one over its cells (algorithms/m3c2/zone_uncertainty.hpp).
+// Each patch's cells lie on its own grid: where two neighbours' footprints overlap at a seam,
+// that strip votes twice, once with each patch's change (symmetric about the seam; not
+// corrected).
 #include <Eigen/Core>
 #include <cstddef>
 #include <limits>
