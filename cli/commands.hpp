@@ -249,6 +249,7 @@ struct M3c2Options {
     bool median = false;
     std::optional<int> min_points;
     std::optional<double> max_roughness;
+    std::optional<double> stray_distance;
     std::optional<int> threads;
 };
 // 0, or 1 with the error on stderr.

@@ -103,6 +103,7 @@ M3c2Config parameters_of(const M3c2Options& o, const std::optional<Config>& site
     if (o.median) p.statistic = m3c2::CylinderStatistic::median;
     if (o.min_points) p.min_points = *o.min_points;
     if (o.max_roughness) p.max_roughness = *o.max_roughness;
+    if (o.stray_distance) p.stray_distance = *o.stray_distance;
     if (o.threads) p.threads = *o.threads;
     return p;
 }

@@ -629,6 +629,10 @@ void add_m3c2(CLI::App& app, CommandLine& c) {
                     "A reference cylinder spreading more than this (m) holds an edge: no "
                     "distance" +
                         fallback("m3c2.max_roughness", toml_number(defaults.max_roughness)));
+    cmd->add_option("--stray-distance", o.stray_distance,
+                    "Leave out a cylinder's points farther than this (m) and 3.5 robust σ from "
+                    "its median projection (twice --max-depth or more: as published)" +
+                        fallback("m3c2.stray_distance", toml_number(defaults.stray_distance)));
     cmd->add_option("--threads", o.threads, "Threads (0: every core)");
     cmd->add_option("--out", o.out, "Result CSV file")->required();
     cmd->callback([&] { c.code = run_m3c2(o); });

@@ -108,6 +108,12 @@ std::vector<SectionKey<M3c2Config>> m3c2_keys() {
                   "A core point whose reference cylinder spreads more than this along the normal "
                   "(the roughness σ1 of Lague 2013; the IQR with `median`) holds an edge or a "
                   "corner: no distance there (NaN, not counted in the zone's values)."),
+        K::number(&M3c2Config::stray_distance, "stray_distance", 0.0001, 100, "m",
+                  "With `mean`: a cylinder's points farther than this from the median of its "
+                  "projections, and than 3.5 robust σ (1.4826·MAD) of them, are strays — the "
+                  "next face round a corner, mixed returns behind an edge — and are left out of "
+                  "the mean and its spread. Twice `max_depth` or more keeps the method as "
+                  "published (CloudCompare, py4dgeo)."),
         K::number(&M3c2Config::registration_error, "registration_error", 0, 1, "m",
                   "The LoD's registration term (reg of Lague 2013, eq. 1) when there is no "
                   "registration (no `[[target]]`). With a registration it is not used: each core "

@@ -85,8 +85,10 @@ std::string m3c2_reference_parameters(const M3c2Config& c) {
     std::string s = fmt::format("core_spacing={:.17g};radii=", c.core_spacing);
     for (double r : c.normal_radii) s += fmt::format("{:.17g},", r);
     s += fmt::format(
-        ";cylinder_radius={:.17g};max_depth={:.17g};statistic={};orientation=", c.cylinder_radius,
-        c.max_depth, c.statistic == m3c2::CylinderStatistic::median ? "median" : "mean");
+        ";cylinder_radius={:.17g};max_depth={:.17g};statistic={};stray_distance={:.17g};"
+        "orientation=",
+        c.cylinder_radius, c.max_depth,
+        c.statistic == m3c2::CylinderStatistic::median ? "median" : "mean", c.stray_distance);
     if (c.orient_to_scanner) {
         s += "scanner";
     } else {

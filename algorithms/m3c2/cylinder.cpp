@@ -9,7 +9,20 @@
 
 namespace tlsmon::m3c2 {
 
-CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic) {
+CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic,
+                          double stray_distance) {
+    if (statistic == CylinderStatistic::mean && std::isfinite(stray_distance) &&
+        !projections.empty()) {
+        const auto [centre, mad] = median_and_mad(projections);
+        const double limit = std::max(stray_distance, kStrayRobustSigmas * kMadToSigma * mad);
+        const std::size_t all = projections.size();
+        std::erase_if(projections, [&](double v) { return !(std::abs(v - centre) <= limit); });
+        if (double(all - projections.size()) > kMaxStrayShare * double(all)) {
+            CylinderSide two_surfaces;
+            two_surfaces.count = static_cast<std::uint32_t>(projections.size());
+            return two_surfaces;
+        }
+    }
     CylinderSide side;
     side.count = static_cast<std::uint32_t>(projections.size());
     if (projections.empty()) return side;
@@ -72,7 +85,7 @@ std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
             projections.reserve(members.size());
             for (std::uint32_t i : members)
                 projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
-            sides[k] = statistic_of(projections, p.statistic);
+            sides[k] = statistic_of(projections, p.statistic, p.stray_distance);
         },
         threads, kMemberBudget, /*single_pass=*/true, left_out);
     return sides;

@@ -32,9 +32,13 @@ struct CylinderSide {
     std::uint32_t count = 0;                                   // points in the cylinder
 };
 
-// The statistic of projections (reordered in place for the median). Centre NaN without
-// points, spread NaN with fewer than 2.
-CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic);
+// The statistic of projections (reordered in place for the median). With the mean and a
+// finite `stray_distance`, the projections farther from their median than both
+// stray_distance and kStrayRobustSigmas robust σ (kMadToSigma·MAD) are removed first, and
+// `count` is of those kept; when they were more than kMaxStrayShare of the points, centre and
+// spread are NaN (two surfaces). Centre NaN without points, spread NaN with fewer than 2.
+CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic,
+                          double stray_distance = std::numeric_limits<double>::infinity());
 
 // The cylinders of a set of core points: where they are, their axes (NaN: no normal, no
 // cylinder) and the index that finds the cylinders a point may lie in.

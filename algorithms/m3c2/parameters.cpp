@@ -23,7 +23,7 @@ NormalParameters normal_parameters(const Parameters& p, const Eigen::Vector3d& s
 }
 
 CylinderParameters cylinder_parameters(const Parameters& p) {
-    return {p.cylinder_radius, p.max_depth, p.statistic};
+    return {p.cylinder_radius, p.max_depth, p.statistic, p.stray_distance};
 }
 
 DistanceParameters distance_parameters(const Parameters& p) {
@@ -42,6 +42,9 @@ void validate(const NormalParameters& p) {
 void validate(const CylinderParameters& p) {
     require_positive(p.radius, "cylinder_radius");
     require_positive(p.max_depth, "max_depth");
+    if (!(p.stray_distance > 0.0))
+        throw Error("m3c2: stray_distance must be a positive length in metres, not " +
+                    std::to_string(p.stray_distance));
 }
 
 void validate(const DistanceParameters& p) {

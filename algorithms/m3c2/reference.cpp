@@ -91,6 +91,7 @@ std::string Reference::encode() const {
     w.put<double>(cylinders.parameters.radius);
     w.put<double>(cylinders.parameters.max_depth);
     w.put<std::uint32_t>(cylinders.parameters.statistic == CylinderStatistic::median ? 1 : 0);
+    w.put<double>(cylinders.parameters.stray_distance);
     w.put<std::uint64_t>(size());
     w.put_array(flatten(cylinders.centres));
     w.put_array(flatten(cylinders.axes));
@@ -119,6 +120,7 @@ Reference Reference::decode(std::string_view payload) {
     const auto statistic = in.get<std::uint32_t>();
     if (statistic > 1) throw Error("m3c2 reference payload: unknown statistic");
     parameters.statistic = statistic == 1 ? CylinderStatistic::median : CylinderStatistic::mean;
+    parameters.stray_distance = in.get<double>();
     const auto n = in.get<std::uint64_t>();
     auto centres = unflatten(in.get_array<double>(), n);
     auto axes = unflatten(in.get_array<double>(), n);

@@ -270,6 +270,92 @@ TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
     EXPECT_DOUBLE_EQ(m.spread, std::sqrt(5.0 / 3.0));  // sum of squares 5, n - 1 = 3
 }
 
+// Strays: the projections farther from their median than both stray_distance and 3.5 robust
+// σ (1.4826·MAD) are left out of the mean, its spread and its count. Known answers: 1 … 10
+// and 100 have the median 6 and the MAD 3, so 3.5 robust σ is 15.57 and 100 goes with a
+// distance of 1 and stays with 200; of ten zeros, 0.001 and 0.02 (MAD 0) the distance alone
+// decides. More than a tenth of the points strays: two surfaces, no centre. The median
+// statistic is robust without it and ignores it.
+TEST(M3c2KnownAnswers, StraysLieBeyondTheDistanceAndTheRobustSigma) {
+    const auto mean_of = [](std::vector<double> v, double distance) {
+        return statistic_of(v, CylinderStatistic::mean, distance);
+    };
+    std::vector<double> v{100};
+    for (int i = 10; i >= 1; --i) v.push_back(i);
+    const CylinderSide clipped = mean_of(v, 1.0);
+    EXPECT_EQ(clipped.count, 10u);
+    EXPECT_DOUBLE_EQ(clipped.centre, 5.5);
+    EXPECT_DOUBLE_EQ(clipped.spread, std::sqrt(82.5 / 9.0));  // Σ(i − 5.5)² = 82.5
+    EXPECT_EQ(mean_of(v, 200.0).count, 11u);
+    const CylinderSide published = mean_of(v, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(published.count, 11u);
+    EXPECT_DOUBLE_EQ(published.centre, 155.0 / 11.0);
+    std::vector<double> flat(10, 0.0);
+    flat.insert(flat.end(), {0.001, 0.02});
+    const CylinderSide on_plane = mean_of(flat, 0.01);
+    EXPECT_EQ(on_plane.count, 11u);
+    EXPECT_DOUBLE_EQ(on_plane.centre, 0.001 / 11);
+    v.push_back(101);  // 2 strays of 12
+    const CylinderSide two_surfaces = mean_of(v, 1.0);
+    EXPECT_EQ(two_surfaces.count, 10u);
+    EXPECT_TRUE(std::isnan(two_surfaces.centre));
+    EXPECT_TRUE(std::isnan(two_surfaces.spread));
+    std::vector<double> u = v;
+    EXPECT_EQ(statistic_of(u, CylinderStatistic::median, 1.0).count, 12u);
+    EXPECT_THROW(validate(CylinderParameters{0.3, 1.0, CylinderStatistic::mean, 0.0}), Error);
+}
+
+// A floor raised by 3 mm under 1 mm noise, and in the compared epoch a wall 0.28 m from the
+// core point that its cylinder (radius 0.3 m) now reaches: 220 wall points over the
+// cylinder's depth against about 2830 of the floor. As published, the wall pulls the mean a
+// fifth of a millimetre down and the spread to centimetres; with strays farther than 1 cm
+// left out the cylinder holds the floor's points alone and measures the 3 mm within its
+// standard error. A wall three times as dense is more than a tenth of the cylinder: two
+// surfaces, no distance.
+TEST(M3c2KnownAnswers, StraysLeftOutKeepACylinderOnItsSurfaceWhenAnotherFaceEntersIt) {
+    const double sigma = 0.001, raised = 0.003;
+    const auto reference = plane(1.0, 0.01, 0.0, sigma, 3);
+    std::vector<Vector3d> compared = plane(1.0, 0.01, raised, sigma, 4);
+    const std::size_t floor_points = compared.size();
+    for (int j = -5; j <= 5; ++j)
+        for (int k = 0; k < 20; ++k) compared.emplace_back(-0.28, 0.02 * j, -0.475 + 0.05 * k);
+    const std::vector<Vector3d> core{{0, 0, 0}}, up{{0, 0, 1}};
+    std::size_t floor_in_cylinder = 0;
+    for (std::size_t i = 0; i < floor_points; ++i)
+        floor_in_cylinder += compared[i].head<2>().norm() <= 0.3;
+    for (const double distance : {std::numeric_limits<double>::infinity(), 0.01}) {
+        SCOPED_TRACE(distance);
+        const Reference r = prepare_reference(reference, core, {{0.5}, Orientation::along(up[0])},
+                                              {0.3, 0.6, CylinderStatistic::mean, distance}, 1, up);
+        const auto side = cylinder_sides(r.cylinders, compared);
+        const double d = distances(r, side, {5, 0.0})[0].distance;
+        const double standard_error =
+            sigma * std::sqrt(1.0 / r.reference_side[0].count + 1.0 / side[0].count);
+        if (std::isinf(distance)) {
+            EXPECT_EQ(side[0].count, floor_in_cylinder + 220);
+            EXPECT_GT(side[0].spread, 0.05);
+            EXPECT_LT(d, raised - 0.0001);
+        } else {
+            EXPECT_EQ(side[0].count, floor_in_cylinder);
+            EXPECT_NEAR(side[0].spread, sigma, 0.1 * sigma);
+            EXPECT_NEAR(d, raised, 3 * standard_error);
+        }
+    }
+    for (int j = -5; j <= 5; ++j)
+        for (int k = 0; k < 40; ++k)
+            if (const double z = -0.4875 + 0.025 * k; std::abs(z) > 0.02)
+                compared.emplace_back(-0.28, 0.02 * j + 0.01, z);
+    const Reference r = prepare_reference(reference, core, {{0.5}, Orientation::along(up[0])},
+                                          {0.3, 0.6, CylinderStatistic::mean, 0.01}, 1, up);
+    const auto side = cylinder_sides(r.cylinders, compared);
+    EXPECT_EQ(side[0].count, floor_in_cylinder);
+    EXPECT_TRUE(std::isnan(side[0].centre));
+    const Distance d = distances(r, side, {5, 0.0})[0];
+    EXPECT_TRUE(std::isnan(d.distance));
+    EXPECT_TRUE(std::isnan(d.lod));
+    EXPECT_FALSE(d.significant);
+}
+
 // A wall on a layer of cube faces (y = 0, noise ±1 mm) occupies the cubes on both sides;
 // one core point per 1 m × 1 m column of the wall, none closer than half the spacing.
 TEST(M3c2KnownAnswers, SubsamplingGivesOneCorePointWhereAWallLiesOnCubeFaces) {
@@ -311,24 +397,32 @@ TEST(M3c2KnownAnswers, SubsamplingKeepsThePointNearestEachCubeCentre) {
 TEST(M3c2KnownAnswers, ReferenceSurvivesItsPayloadExactly) {
     const auto p1 = plane(1.0, 0.02, 0.0, 0.002, 3);
     const auto p2 = plane(1.0, 0.02, 0.003, 0.002, 4);
-    const Reference r =
-        prepare_reference(p1, subsample(p1, 0.2), {{0.05, 0.1}, Orientation::towards({0, 0, 5})},
-                          {0.05, 0.3, CylinderStatistic::median});
-    const std::string payload = r.encode();
-    const Reference back = Reference::decode(payload);
-    ASSERT_EQ(back.size(), r.size());
-    EXPECT_EQ(back.core_points(), r.core_points());
-    for (std::size_t k = 0; k < r.size(); ++k) {
-        EXPECT_EQ(back.normals()[k], r.normals()[k]);
-        EXPECT_EQ(back.normal_radius[k], r.normal_radius[k]);
-        EXPECT_EQ(back.reference_side[k].centre, r.reference_side[k].centre);
-        EXPECT_EQ(back.reference_side[k].count, r.reference_side[k].count);
+    for (const CylinderParameters& cylinder :
+         {CylinderParameters{0.05, 0.3, CylinderStatistic::median},
+          CylinderParameters{0.05, 0.3, CylinderStatistic::mean, 0.01}}) {
+        const Reference r = prepare_reference(
+            p1, subsample(p1, 0.2), {{0.05, 0.1}, Orientation::towards({0, 0, 5})}, cylinder);
+        const std::string payload = r.encode();
+        const Reference back = Reference::decode(payload);
+        ASSERT_EQ(back.size(), r.size());
+        EXPECT_EQ(back.core_points(), r.core_points());
+        for (std::size_t k = 0; k < r.size(); ++k) {
+            EXPECT_EQ(back.normals()[k], r.normals()[k]);
+            EXPECT_EQ(back.normal_radius[k], r.normal_radius[k]);
+            EXPECT_EQ(back.reference_side[k].centre, r.reference_side[k].centre);
+            EXPECT_EQ(back.reference_side[k].count, r.reference_side[k].count);
+        }
+        EXPECT_EQ(back.cylinders.parameters.statistic, cylinder.statistic);
+        // The strays' distance too: an epoch measured after a restart is measured alike.
+        EXPECT_EQ(back.cylinders.parameters.stray_distance, cylinder.stray_distance);
+        const auto a = cylinder_sides(r.cylinders, p2), b = cylinder_sides(back.cylinders, p2);
+        for (std::size_t k = 0; k < r.size(); ++k) {
+            EXPECT_EQ(a[k].centre, b[k].centre);  // a plane's noise holds no strays at 1 cm
+            EXPECT_EQ(a[k].count, b[k].count);
+        }
+        EXPECT_THROW(Reference::decode(payload.substr(0, payload.size() - 1)), Error);
+        EXPECT_THROW(Reference::decode(payload + "x"), Error);
     }
-    EXPECT_EQ(back.cylinders.parameters.statistic, CylinderStatistic::median);
-    const auto a = cylinder_sides(r.cylinders, p2), b = cylinder_sides(back.cylinders, p2);
-    for (std::size_t k = 0; k < r.size(); ++k) EXPECT_EQ(a[k].centre, b[k].centre);
-    EXPECT_THROW(Reference::decode(payload.substr(0, payload.size() - 1)), Error);
-    EXPECT_THROW(Reference::decode(payload + "x"), Error);
 }
 
 TEST(M3c2KnownAnswers, BadParametersAreNamed) {

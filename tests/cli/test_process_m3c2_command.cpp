@@ -80,8 +80,8 @@ class M3c2Command : public ::testing::Test {
         return out;
     }
     std::vector<std::string> pair_args(const fs::path& csv) {
-        // The method as published: no roughness limit, 5 points a cylinder (a site's
-        // defaults are 0.02 m and 10).
+        // The method as published: no roughness limit, no strays left out, 5 points a cylinder
+        // (a site's defaults are 0.02 m, 0.01 m and 10).
         return {t1,
                 t2,
                 "--normal-radii",
@@ -97,7 +97,9 @@ class M3c2Command : public ::testing::Test {
                 "--max-roughness",
                 "100",
                 "--min-points",
-                "5"};
+                "5",
+                "--stray-distance",
+                "100"};
     }
 
     tlsmon::test::TempDir dir_;
