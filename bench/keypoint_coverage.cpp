@@ -10,7 +10,7 @@
 // defaults are scored.
 //
 //   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4] [--patches]
-//                           [--scaling larger_of|a_priori|a_posteriori]
+//                           [--scaling larger_of|a_priori|a_posteriori] [--stray-distance M]
 //
 // PRESET: `pier` (the south face and its four 10 m bands) or `hochmosel` (the detail strip's
 // thirteen 10 m bands). Series k (seed FIRST_SEED + k) starts 24·frac(0.618·k) hours into the
@@ -26,7 +26,7 @@
 // error over the zone's area along the figure (test::registration_error_at) against the
 // registration's σ along it; "own", the error less that, against the rest of the σ (the
 // keypoints' standard error; the normal aggregates' sampling part, √(σ² − σ_reg²)): which of
-// the two misses.
+// the two misses. --stray-distance: M3C2's `stray_distance` (100: the method as published).
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
     int epochs = 4;
     bool patches = false;
     std::string scaling_name = "larger_of";  // the default
+    double stray_distance = M3c2Config{}.stray_distance;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--epochs" && i + 1 < argc)
@@ -153,6 +154,8 @@ int main(int argc, char** argv) {
             patches = true;
         else if (a == "--scaling" && i + 1 < argc)
             scaling_name = argv[++i];
+        else if (a == "--stray-distance" && i + 1 < argc)
+            stray_distance = std::atof(argv[++i]);
         else
             args.push_back(a);
     }
@@ -163,7 +166,8 @@ int main(int argc, char** argv) {
     if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2 || !scaling) {
         std::fprintf(stderr,
                      "usage: bench_keypoint_coverage pier|hochmosel [SERIES] [FIRST_SEED] "
-                     "[--epochs N>=2] [--patches] [--scaling larger_of|a_priori|a_posteriori]\n");
+                     "[--epochs N>=2] [--patches] [--scaling larger_of|a_priori|a_posteriori] "
+                     "[--stray-distance M]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -199,6 +203,7 @@ int main(int argc, char** argv) {
             preset == "pier" ? test::pier_scenario() : test::hochmosel_scenario();
         scenario.site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
         scenario.covariance_scaling = *scaling;
+        scenario.m3c2_stray_distance = stray_distance;
         const double start = 24.0 * frac(0.6180339887 * k);
         const double cadence = 1.0 + 5.0 * frac(0.3819660113 * k);
         std::vector<double> hours;

@@ -42,7 +42,8 @@ int run_query_corepoints(const CorePointsOptions& o) {
             const auto& n = ref.reference.normals()[k];
             const bool defined = n.allFinite();
             const float d = distance[k];
-            // The reference's spread: beyond max_roughness, an edge and no distance.
+            // The reference's spread s1 of the LoD, its strays left out (max_roughness asks the
+            // spread with them: beyond it, an edge and no distance).
             const double spread1 = ref.reference.reference_side[k].spread;
             t.rows.push_back(
                 {static_cast<std::int64_t>(k), c.x(), c.y(), c.z(), defined ? Cell(n.x()) : Cell(),

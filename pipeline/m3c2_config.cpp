@@ -106,8 +106,9 @@ std::vector<SectionKey<M3c2Config>> m3c2_keys() {
                   "interquartile range as the spread (robust to stray points)."),
         K::number(&M3c2Config::max_roughness, "max_roughness", 0.0001, 100, "m",
                   "A core point whose reference cylinder spreads more than this along the normal "
-                  "(the roughness σ1 of Lague 2013; the IQR with `median`) holds an edge or a "
-                  "corner: no distance there (NaN, not counted in the zone's values)."),
+                  "(the roughness σ1 of Lague 2013, of all its points, strays included; the IQR "
+                  "with `median`) holds an edge or a corner: no distance there (NaN, not "
+                  "counted in the zone's values)."),
         K::number(&M3c2Config::stray_distance, "stray_distance", 0.0001, 100, "m",
                   "With `mean`: a cylinder's points farther than this from the median of its "
                   "projections, and than 3.5 robust σ (1.4826·MAD) of them, are strays — the "

@@ -205,6 +205,7 @@ M3c2Epoch measure_m3c2(const M3c2Config& config, const M3c2Reference& product,
         for (auto& side : out.compared) {
             side.centre *= map.factor;
             side.spread *= map.factor;
+            side.roughness *= map.factor;
         }
     }
     out.registration_sigma.assign(n, config.registration_error);
@@ -308,7 +309,7 @@ StageVerdict M3c2Stage::measure(StageContext& ctx, const M3c2Reference& referenc
     std::size_t valid = 0, rough = 0;
     double reg_max = 0;
     for (std::size_t k = 0; k < epoch.distances.size(); ++k) {
-        rough += reference.reference.reference_side[k].spread > config.max_roughness;
+        rough += reference.reference.reference_side[k].roughness > config.max_roughness;
         if (!std::isfinite(epoch.distances[k].distance)) continue;
         ++valid;
         reg_max = std::max(reg_max, epoch.registration_sigma[k]);

@@ -9,20 +9,16 @@
 
 namespace tlsmon::m3c2 {
 
-CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic,
-                          double stray_distance) {
-    if (statistic == CylinderStatistic::mean && std::isfinite(stray_distance) &&
-        !projections.empty()) {
-        const auto [centre, mad] = median_and_mad(projections);
-        const double limit = std::max(stray_distance, kStrayRobustSigmas * kMadToSigma * mad);
-        const std::size_t all = projections.size();
-        std::erase_if(projections, [&](double v) { return !(std::abs(v - centre) <= limit); });
-        if (double(all - projections.size()) > kMaxStrayShare * double(all)) {
-            CylinderSide two_surfaces;
-            two_surfaces.count = static_cast<std::uint32_t>(projections.size());
-            return two_surfaces;
-        }
-    }
+namespace {
+
+// Cells of about the cylinder's radius, longer for long thin cylinders: a few cells per
+// cylinder, a few cylinders per cell.
+double cell_for(const CylinderParameters& p) {
+    return std::max(p.radius, p.max_depth / 4.0);
+}
+
+// The statistic as published, of all the projections given.
+CylinderSide published_statistic(std::vector<double>& projections, CylinderStatistic statistic) {
     CylinderSide side;
     side.count = static_cast<std::uint32_t>(projections.size());
     if (projections.empty()) return side;
@@ -43,18 +39,31 @@ CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic st
             side.spread =
                 quantile_of_sorted(projections, 0.75) - quantile_of_sorted(projections, 0.25);
     }
+    side.roughness = side.spread;
     return side;
 }
 
-namespace {
-
-// Cells of about the cylinder's radius, longer for long thin cylinders: a few cells per
-// cylinder, a few cylinders per cell.
-double cell_for(const CylinderParameters& p) {
-    return std::max(p.radius, p.max_depth / 4.0);
-}
-
 }  // namespace
+
+CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic,
+                          double stray_distance) {
+    const CylinderSide all = published_statistic(projections, statistic);
+    if (statistic != CylinderStatistic::mean || !std::isfinite(stray_distance) ||
+        projections.empty())
+        return all;
+    const auto [centre, mad] = median_and_mad(projections);
+    const double limit = std::max(stray_distance, kStrayRobustSigmas * kMadToSigma * mad);
+    std::erase_if(projections, [&](double v) { return !(std::abs(v - centre) <= limit); });
+    const std::size_t strays = all.count - projections.size();
+    if (strays == 0) return all;
+    CylinderSide kept;
+    if (double(strays) > kMaxStrayShare * double(all.count))
+        kept.count = static_cast<std::uint32_t>(projections.size());  // two surfaces: no centre
+    else
+        kept = published_statistic(projections, statistic);
+    kept.roughness = all.roughness;
+    return kept;
+}
 
 Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen::Vector3d> axes,
                          const CylinderParameters& parameters, unsigned threads) {

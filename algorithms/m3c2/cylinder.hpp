@@ -30,6 +30,10 @@ struct CylinderSide {
     double centre = std::numeric_limits<double>::quiet_NaN();  // mean or median projection
     double spread = std::numeric_limits<double>::quiet_NaN();  // std (n - 1) or IQR
     std::uint32_t count = 0;                                   // points in the cylinder
+    // The spread of all its points, strays included: what max_roughness asks of the
+    // reference, so that an edge is refused as in the published method even when the strays'
+    // removal would leave one face.
+    double roughness = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The statistic of projections (reordered in place for the median). With the mean and a
@@ -37,6 +41,7 @@ struct CylinderSide {
 // stray_distance and kStrayRobustSigmas robust σ (kMadToSigma·MAD) are removed first, and
 // `count` is of those kept; when they were more than kMaxStrayShare of the points, centre and
 // spread are NaN (two surfaces). Centre NaN without points, spread NaN with fewer than 2.
+// `roughness` is the spread before any removal.
 CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic statistic,
                           double stray_distance = std::numeric_limits<double>::infinity());
 

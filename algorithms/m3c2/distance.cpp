@@ -14,7 +14,7 @@ Distance distance_between(const CylinderSide& reference, const CylinderSide& com
                           const DistanceParameters& parameters) {
     Distance d;
     if (reference.count < parameters.min_points || compared.count < parameters.min_points) return d;
-    if (!(reference.spread <= parameters.max_reference_spread)) return d;
+    if (!(reference.roughness <= parameters.max_reference_spread)) return d;
     if (std::isnan(reference.centre) || std::isnan(compared.centre)) return d;  // two surfaces
     d.distance = compared.centre - reference.centre;
     d.lod = 1.96 * (sampling_sigma(reference, compared) + parameters.registration_error);

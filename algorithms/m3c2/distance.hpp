@@ -4,9 +4,10 @@
 //       along the oriented normal),
 //   LoD95 = 1.96 (sqrt(s1^2 / n1 + s2^2 / n2) + reg),
 // significant when |d| > LoD95. With fewer than min_points in either cylinder there is no
-// distance: NaN and not significant, never 0; likewise when the reference's spread s1 exceeds
-// max_reference_spread (not one surface) or when either cylinder holds two surfaces (its
-// strays more than kMaxStrayShare of its points: a side without a centre, statistic_of).
+// distance: NaN and not significant, never 0; likewise when the reference's roughness (its
+// spread with the strays) exceeds max_reference_spread (not one surface) or when either cylinder
+// holds two surfaces (its strays more than kMaxStrayShare of its points: a side without a centre,
+// statistic_of).
 #include <limits>
 
 #include "algorithms/m3c2/cylinder.hpp"

@@ -96,16 +96,18 @@ std::string Reference::encode() const {
     w.put_array(flatten(cylinders.centres));
     w.put_array(flatten(cylinders.axes));
     w.put_array(normal_radius);
-    std::vector<double> centre, spread;
+    std::vector<double> centre, spread, roughness;
     std::vector<std::uint32_t> count;
     for (const auto& s : reference_side) {
         centre.push_back(s.centre);
         spread.push_back(s.spread);
         count.push_back(s.count);
+        roughness.push_back(s.roughness);
     }
     w.put_array(centre);
     w.put_array(spread);
     w.put_array(count);
+    w.put_array(roughness);
     return w.take();
 }
 
@@ -129,12 +131,14 @@ Reference Reference::decode(std::string_view payload) {
     const auto centre = in.get_array<double>();
     const auto spread = in.get_array<double>();
     const auto count = in.get_array<std::uint32_t>();
+    const auto roughness = in.get_array<double>();
     in.finish();
     if (r.normal_radius.size() != n || centre.size() != n || spread.size() != n ||
-        count.size() != n)
+        count.size() != n || roughness.size() != n)
         throw Error("m3c2 reference payload: arrays of different lengths");
     r.reference_side.resize(n);
-    for (std::size_t k = 0; k < n; ++k) r.reference_side[k] = {centre[k], spread[k], count[k]};
+    for (std::size_t k = 0; k < n; ++k)
+        r.reference_side[k] = {centre[k], spread[k], count[k], roughness[k]};
     try {
         validate(parameters);
     } catch (const Error& e) {

@@ -21,7 +21,7 @@
 namespace tlsmon::m3c2 {
 
 struct Reference {
-    static constexpr int kFormatVersion = 2;  // 2: the cylinders' stray_distance
+    static constexpr int kFormatVersion = 2;  // 2: stray_distance, the sides' roughness
 
     Cylinders cylinders;  // core points (centres), normals (axes), index
     // Per core point: the radius its normal was taken at; 0 where the normal was given

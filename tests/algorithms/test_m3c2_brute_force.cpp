@@ -57,7 +57,7 @@ BruteNormal brute_normal(const std::vector<Vector3d>& cloud, const Vector3d& c,
 }
 
 struct BruteSide {
-    double centre = nan, spread = nan;
+    double centre = nan, spread = nan, roughness = nan;
     std::size_t n = 0;
 };
 
@@ -68,32 +68,8 @@ double quantile(const std::vector<double>& sorted, double q) {
     return sorted[lo] + (h - lo) * (sorted[hi] - sorted[lo]);
 }
 
-// `stray_distance` (with the mean): the projections farther from their median than both it
-// and 3.5 · 1.4826·MAD are left out, `clipped` counts them; more than a tenth of them: two
-// surfaces, no centre and no spread.
-BruteSide brute_side(const std::vector<Vector3d>& cloud, const Vector3d& c, const Vector3d& n,
-                     double radius, double depth, bool median, double stray_distance,
-                     std::size_t& clipped) {
-    std::vector<double> x;
-    for (const auto& p : cloud) {
-        const double along = (p - c).dot(n);
-        if (std::abs(along) <= depth && ((p - c) - along * n).norm() <= radius) x.push_back(along);
-    }
-    if (!median && std::isfinite(stray_distance) && !x.empty()) {
-        std::vector<double> sorted = x, deviation;
-        std::sort(sorted.begin(), sorted.end());
-        const double centre = quantile(sorted, 0.5);
-        for (double v : x) deviation.push_back(std::abs(v - centre));
-        std::sort(deviation.begin(), deviation.end());
-        const double limit = std::max(stray_distance, 3.5 * 1.4826 * quantile(deviation, 0.5));
-        std::vector<double> kept;
-        for (double v : x)
-            if (std::abs(v - centre) <= limit) kept.push_back(v);
-        clipped += x.size() - kept.size();
-        const bool two_surfaces = double(x.size() - kept.size()) > 0.1 * double(x.size());
-        x = kept;
-        if (two_surfaces) return {nan, nan, x.size()};
-    }
+// The statistic of all of x: median and IQR, or mean and sample standard deviation.
+BruteSide brute_statistic(std::vector<double> x, bool median) {
     BruteSide s;
     s.n = x.size();
     if (x.size() < 2) return s;
@@ -109,6 +85,36 @@ BruteSide brute_side(const std::vector<Vector3d>& cloud, const Vector3d& c, cons
         for (double v : x) ss += (v - s.centre) * (v - s.centre);
         s.spread = std::sqrt(ss / (x.size() - 1));
     }
+    s.roughness = s.spread;
+    return s;
+}
+
+// `stray_distance` (with the mean): the projections farther from their median than both it
+// and 3.5 · 1.4826·MAD are left out, `clipped` counts them; more than a tenth of them: two
+// surfaces, no centre and no spread. The roughness is the spread of all of them.
+BruteSide brute_side(const std::vector<Vector3d>& cloud, const Vector3d& c, const Vector3d& n,
+                     double radius, double depth, bool median, double stray_distance,
+                     std::size_t& clipped) {
+    std::vector<double> x;
+    for (const auto& p : cloud) {
+        const double along = (p - c).dot(n);
+        if (std::abs(along) <= depth && ((p - c) - along * n).norm() <= radius) x.push_back(along);
+    }
+    const BruteSide all = brute_statistic(x, median);
+    if (median || !std::isfinite(stray_distance) || x.empty()) return all;
+    std::vector<double> sorted = x, deviation;
+    std::sort(sorted.begin(), sorted.end());
+    const double centre = quantile(sorted, 0.5);
+    for (double v : x) deviation.push_back(std::abs(v - centre));
+    std::sort(deviation.begin(), deviation.end());
+    const double limit = std::max(stray_distance, 3.5 * 1.4826 * quantile(deviation, 0.5));
+    std::vector<double> kept;
+    for (double v : x)
+        if (std::abs(v - centre) <= limit) kept.push_back(v);
+    clipped += x.size() - kept.size();
+    BruteSide s = brute_statistic(kept, median);
+    if (double(x.size() - kept.size()) > 0.1 * double(x.size())) s.centre = s.spread = nan;
+    s.roughness = all.roughness;
     return s;
 }
 
@@ -148,7 +154,8 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
     const CylinderParameters cylinder{
         0.08, 0.25, c.median ? CylinderStatistic::median : CylinderStatistic::mean,
         c.stray_distance};
-    const DistanceParameters distance{4, 0.001};
+    // Some cylinders at the step are rougher than 1 cm: refused, strays or not.
+    const DistanceParameters distance{4, 0.001, 0.01};
     auto cores = subsample(p1, 0.2);
     cores.push_back({100.0, -50.0, 30.0});  // far above the surface: no neighbours
     ASSERT_GT(cores.size(), 60u);
@@ -158,7 +165,7 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
     const auto s1 = cylinder_sides(r1.cylinders, p2, 1), s2 = cylinder_sides(r2.cylinders, p2, 2);
     const auto d = distances(r2, s2, distance);
 
-    std::size_t defined = 0, clipped = 0;
+    std::size_t defined = 0, clipped = 0, rough = 0;
     for (std::size_t k = 0; k < cores.size(); ++k) {
         SCOPED_TRACE(k);
         // The same bits with one thread or two.
@@ -189,8 +196,12 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
                                    c.median, c.stray_distance, clipped);
         EXPECT_EQ(r2.reference_side[k].count, b1.n);
         EXPECT_EQ(s2[k].count, b2.n);
+        if (b1.n >= 2) {
+            EXPECT_NEAR(r2.reference_side[k].roughness, b1.roughness, 1e-9);
+        }
         if (b1.n < distance.min_points || b2.n < distance.min_points || std::isnan(b1.centre) ||
-            std::isnan(b2.centre)) {
+            std::isnan(b2.centre) || !(b1.roughness <= distance.max_reference_spread)) {
+            rough += b1.roughness > distance.max_reference_spread;
             EXPECT_TRUE(std::isnan(d[k].distance));
             EXPECT_FALSE(d[k].significant);
             continue;
@@ -209,6 +220,7 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
         }
     }
     EXPECT_GT(defined, cores.size() / 2);
+    EXPECT_GT(rough, 0u);  // the step's cylinders
     // The mean leaves strays out (the cylinders across the step hold the other level); the
     // median ignores them.
     EXPECT_EQ(clipped > 0, std::isfinite(c.stray_distance) && !c.median) << clipped;

@@ -274,7 +274,8 @@ TEST(M3c2KnownAnswers, MedianAndInterquartileRange) {
 // σ (1.4826·MAD) are left out of the mean, its spread and its count. Known answers: 1 … 10
 // and 100 have the median 6 and the MAD 3, so 3.5 robust σ is 15.57 and 100 goes with a
 // distance of 1 and stays with 200; of ten zeros, 0.001 and 0.02 (MAD 0) the distance alone
-// decides. More than a tenth of the points strays: two surfaces, no centre. The median
+// decides. More than a tenth of the points strays: two surfaces, no centre. The roughness
+// (what max_roughness asks of the reference) is the spread of all of them. The median
 // statistic is robust without it and ignores it.
 TEST(M3c2KnownAnswers, StraysLieBeyondTheDistanceAndTheRobustSigma) {
     const auto mean_of = [](std::vector<double> v, double distance) {
@@ -290,6 +291,9 @@ TEST(M3c2KnownAnswers, StraysLieBeyondTheDistanceAndTheRobustSigma) {
     const CylinderSide published = mean_of(v, std::numeric_limits<double>::infinity());
     EXPECT_EQ(published.count, 11u);
     EXPECT_DOUBLE_EQ(published.centre, 155.0 / 11.0);
+    EXPECT_DOUBLE_EQ(published.roughness, published.spread);
+    EXPECT_NEAR(published.spread, 28.637, 0.001);  // Σ(x − 155/11)² = 8200.9, over 10
+    EXPECT_DOUBLE_EQ(clipped.roughness, published.spread);
     std::vector<double> flat(10, 0.0);
     flat.insert(flat.end(), {0.001, 0.02});
     const CylinderSide on_plane = mean_of(flat, 0.01);
@@ -300,6 +304,7 @@ TEST(M3c2KnownAnswers, StraysLieBeyondTheDistanceAndTheRobustSigma) {
     EXPECT_EQ(two_surfaces.count, 10u);
     EXPECT_TRUE(std::isnan(two_surfaces.centre));
     EXPECT_TRUE(std::isnan(two_surfaces.spread));
+    EXPECT_GT(two_surfaces.roughness, 30.0);
     std::vector<double> u = v;
     EXPECT_EQ(statistic_of(u, CylinderStatistic::median, 1.0).count, 12u);
     EXPECT_THROW(validate(CylinderParameters{0.3, 1.0, CylinderStatistic::mean, 0.0}), Error);
@@ -354,6 +359,21 @@ TEST(M3c2KnownAnswers, StraysLeftOutKeepACylinderOnItsSurfaceWhenAnotherFaceEnte
     EXPECT_TRUE(std::isnan(d.distance));
     EXPECT_TRUE(std::isnan(d.lod));
     EXPECT_FALSE(d.significant);
+
+    // The sparse wall in the reference instead: the strays leave the floor, but the spread
+    // with them is centimetres, so max_roughness (2 cm) refuses the core point as the
+    // published method does (an edge), and without that limit the floor is measured.
+    std::vector<Vector3d> walled = reference;
+    for (int j = -5; j <= 5; ++j)
+        for (int k = 0; k < 20; ++k) walled.emplace_back(-0.28, 0.02 * j, -0.475 + 0.05 * k);
+    const Reference edge = prepare_reference(walled, core, {{0.5}, Orientation::along(up[0])},
+                                             {0.3, 0.6, CylinderStatistic::mean, 0.01}, 1, up);
+    EXPECT_GT(edge.reference_side[0].roughness, 0.05);
+    EXPECT_NEAR(edge.reference_side[0].spread, sigma, 0.1 * sigma);
+    const auto floor = cylinder_sides(edge.cylinders, plane(1.0, 0.01, raised, sigma, 4));
+    EXPECT_TRUE(std::isnan(distances(edge, floor, {5, 0.0, 0.02})[0].distance));
+    EXPECT_NEAR(distances(edge, floor, {5, 0.0})[0].distance, raised,
+                3 * sigma * std::sqrt(2.0 / floor[0].count));
 }
 
 // A wall on a layer of cube faces (y = 0, noise ±1 mm) occupies the cubes on both sides;
@@ -411,6 +431,8 @@ TEST(M3c2KnownAnswers, ReferenceSurvivesItsPayloadExactly) {
             EXPECT_EQ(back.normal_radius[k], r.normal_radius[k]);
             EXPECT_EQ(back.reference_side[k].centre, r.reference_side[k].centre);
             EXPECT_EQ(back.reference_side[k].count, r.reference_side[k].count);
+            EXPECT_EQ(back.reference_side[k].spread, r.reference_side[k].spread);
+            EXPECT_EQ(back.reference_side[k].roughness, r.reference_side[k].roughness);
         }
         EXPECT_EQ(back.cylinders.parameters.statistic, cylinder.statistic);
         // The strays' distance too: an epoch measured after a restart is measured alike.

@@ -79,6 +79,7 @@ struct Scenario {
     double image_step_deg = kFaceStepDeg;  // the pier's scans' step
     // The targets' variance factor (registration.covariance_scaling).
     registration::CovarianceScaling covariance_scaling = RegistrationConfig{}.covariance_scaling;
+    double m3c2_stray_distance = M3c2Config{}.stray_distance;  // m3c2.stray_distance
 };
 
 inline WindowedEpoch render_faces(const sim::Site& site, int epoch, double hours) {
@@ -112,6 +113,7 @@ inline M3c2Config m3c2_config(const Scenario& s) {
     c.normal_radii = {0.5, 1.0};
     c.cylinder_radius = 0.5;
     c.max_depth = 0.5;
+    c.stray_distance = s.m3c2_stray_distance;
     c.zones = s.zones;
     return c;
 }
