@@ -21,6 +21,7 @@
 #include "tests/support/e2e_scenario.hpp"
 #include "tests/support/modbus_client.hpp"
 #include "tests/support/run_tlsmon.hpp"
+#include "tests/support/small_scene.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/text_file.hpp"
 
@@ -32,30 +33,6 @@ namespace {
 
 constexpr int kEpochs = 3 * 96;
 constexpr int kNoMeteoEpoch = 260;  // on the third day, after the model is fitted
-
-// The small scene at 0.1° seen to 30° elevation (about 60 k points an epoch), with four
-// 0.3 m spheres 20–26 m out that the registration finds at that step.
-std::string scene_text() {
-    std::string t =
-        "preset = \"small\"\n[scanner]\nelevation_max_deg = 30.0\n[weather]\nseed = 31\n"
-        "[noise]\nseed = 31\n";
-    const struct {
-        const char* name;
-        double distance, azimuth, height;
-        const char* mount;
-    } spheres[] = {{"T1", 20.0, 92.0, 1.0, "mast"},
-                   {"T2", 26.0, 68.0, 1.2, "stand"},
-                   {"T3", 22.0, 65.0, 1.6, "mast"},
-                   {"T5", 24.0, 80.0, 2.5, "mast"}};
-    for (const auto& s : spheres) {
-        t += std::string("[[target]]\nname = \"") + s.name +
-             "\"\nkind = \"sphere\"\ndistance = " + std::to_string(s.distance) +
-             "\nazimuth_deg = " + std::to_string(s.azimuth) +
-             "\nheight = " + std::to_string(s.height) + "\nradius = 0.15\nmount = \"" + s.mount +
-             "\"\n";
-    }
-    return t;
-}
 
 const std::string kThermal =
     "\n[thermal]\nenabled = true\nlatitude_deg = 49.97\nlongitude_deg = 7.07\n"
@@ -184,7 +161,7 @@ void dashboard_draws_the_thermal_parts(const fs::path& config, const fs::path& d
 
 TEST(ThermalCompensation, LearnsTheDailySwingAndLeavesTheStructure) {
     const tlsmon::test::TempDir dir("thermal");
-    tlsmon::test::write_text(dir / "scene.toml", scene_text());
+    tlsmon::test::write_text(dir / "scene.toml", tlsmon::test::small_scene_text(31));
     const auto sim = run_tlsmon("simulate --config " + (dir / "scene.toml").string() + " --out " +
                                 (dir / "scans").string() + " --epochs " + std::to_string(kEpochs));
     ASSERT_EQ(sim.status, 0) << sim.out;
