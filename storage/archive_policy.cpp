@@ -16,8 +16,9 @@ bool is_e57_path(const std::string& path) {
 
 ArchivePlan plan_archive(std::vector<ArchivedScan> scans, UtcSeconds now,
                          const ArchivePolicy& policy) {
+    // Newest first, as the tiers thin (storage/retention_policy.hpp): `remove` in their order.
     std::sort(scans.begin(), scans.end(), [](const ArchivedScan& a, const ArchivedScan& b) {
-        return a.acquired != b.acquired ? a.acquired < b.acquired : a.id < b.id;
+        return a.acquired != b.acquired ? a.acquired > b.acquired : a.id > b.id;
     });
     std::vector<MapEpoch> epochs;
     epochs.reserve(scans.size());

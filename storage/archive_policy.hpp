@@ -42,8 +42,8 @@ struct ArchivedScan {
 
 struct ArchivePlan {
     RetentionPlan tiers;                 // tiers.thin: the ids of `remove`
-    std::vector<ArchivedScan> remove;    // in acquisition order
-    std::vector<ArchivedScan> reencode;  // kept, past the young tier, not E57 yet
+    std::vector<ArchivedScan> remove;    // newest first, as tiers.thin
+    std::vector<ArchivedScan> reencode;  // kept, past the young tier, not E57 yet; newest first
     std::int64_t scans = 0;              // in the archive now
     std::int64_t bytes = 0;              // their size
     std::int64_t bytes_to_free = 0;      // the size of `remove`

@@ -1,5 +1,7 @@
 #include "storage/archive_store.hpp"
 
+#include <algorithm>
+
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
 #include "storage/state_epochs.hpp"
@@ -90,13 +92,13 @@ std::vector<ArchivedScan> ArchiveStore::record_removed(std::span<const ArchivedS
         }
         if (!done.empty()) {
             write_system_event(
-                *c_,
-                {at, "info", "archive_thinned",
-                 "scans of " + std::to_string(done.size()) +
-                     " epochs removed from the archive by the archive policy (epochs " +
-                     std::to_string(done.front().id) + " to " + std::to_string(done.back().id) +
-                     "): " + format_mib(bytes) + " freed; their results are kept",
-                 std::nullopt});
+                *c_, {at, "info", "archive_thinned",
+                      "scans of " + std::to_string(done.size()) +
+                          " epochs removed from the archive by the archive policy (epochs " +
+                          std::to_string(std::min(done.front().id, done.back().id)) + " to " +
+                          std::to_string(std::max(done.front().id, done.back().id)) +
+                          "): " + format_mib(bytes) + " freed; their results are kept",
+                      std::nullopt});
         }
         tx.commit();
         return done;

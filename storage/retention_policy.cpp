@@ -48,6 +48,11 @@ RetentionPlan plan_by_age(std::vector<MapEpoch> epochs, UtcSeconds now, double k
             plan.thin.push_back(e.id);
         }
     }
+    // Newest first: a pass stopped part-way has thinned only epochs newer than every one it
+    // left, so no epoch it left has lost an earlier one of its day or week, and the next plan
+    // thins exactly the rest of this one. In acquisition order, a day astride the daily
+    // tier's edge whose older epochs went first would make its newest one the day's first.
+    std::reverse(plan.thin.begin(), plan.thin.end());
     return plan;
 }
 

@@ -34,7 +34,7 @@ struct MapEpoch {
 // Which maps a pass keeps and thins, and why.
 struct RetentionPlan {
     UtcSeconds now = 0;               // the newest epoch's acquisition time
-    std::vector<EpochId> thin;        // in acquisition order
+    std::vector<EpochId> thin;        // newest first (see plan_by_age)
     std::int64_t kept_young = 0;      // younger than keep_all_days
     std::int64_t kept_daily = 0;      // the first of their UTC day
     std::int64_t kept_weekly = 0;     // the first of their ISO week
@@ -43,10 +43,12 @@ struct RetentionPlan {
 
 // The tiers by age for `epochs` (any order) at `now`: every epoch younger than
 // `keep_all_days`, then the first of each UTC day until `keep_daily_days`, then the first of
-// each ISO week, and the protected ones; the rest is thinned. Pure. The day's (week's) first
-// epoch is taken among the epochs given (those that still have what is thinned), so the epoch
-// kept for a day is also the one kept for its week later: a pass never needs what an earlier
-// pass thinned. The maps' policy and the archive's (storage/archive_policy.hpp) share it.
+// each ISO week, and the protected ones; the rest is thinned, newest first. Pure. The day's
+// (week's) first epoch is taken among the epochs given (those that still have what is
+// thinned), so the epoch kept for a day is also the one kept for its week later: a pass never
+// needs what an earlier pass thinned. Thinned newest first, a pass stopped after any prefix of
+// `thin` leaves a series whose plan is the rest of `thin`. The maps' policy and the archive's
+// (storage/archive_policy.hpp) share it.
 RetentionPlan plan_by_age(std::vector<MapEpoch> epochs, UtcSeconds now, double keep_all_days,
                           double keep_daily_days);
 

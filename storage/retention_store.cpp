@@ -1,5 +1,7 @@
 #include "storage/retention_store.hpp"
 
+#include <algorithm>
+
 #include "storage/connection.hpp"
 #include "storage/shared_rows.hpp"
 #include "storage/state_epochs.hpp"
@@ -140,8 +142,8 @@ ThinnedBatch RetentionStore::thin(std::span<const EpochId> epochs, UtcSeconds at
             record.exec();
             record.reset();
             done.bytes += epoch_bytes;
-            if (done.epochs++ == 0) first = id;
-            last = id;
+            first = done.epochs++ == 0 ? id : std::min(first, id);  // given newest first
+            last = std::max(last, id);
         }
         if (done.epochs > 0) {
             write_system_event(*c_, {at, "info", "retention_thinned",

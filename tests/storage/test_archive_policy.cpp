@@ -43,10 +43,15 @@ TEST(ArchivePolicy, ThinsByAgeAndReportsTheSpace) {
     ASSERT_EQ(plan.remove.size(), 80u - 13 - 7 - 2);
     EXPECT_EQ(plan.bytes_to_free, 1000 * static_cast<std::int64_t>(plan.remove.size()));
     EXPECT_TRUE(plan.reencode.empty());  // reencode = none
-    // In acquisition order; the first scan of the series is the first weekly one, so kept.
-    EXPECT_EQ(plan.remove.front().id, 2);
-    for (std::size_t k = 1; k < plan.remove.size(); ++k) {
-        EXPECT_LT(plan.remove[k - 1].acquired, plan.remove[k].acquired);
+    // Newest first, in the tiers' order; the first scan of the series is the first weekly
+    // one, so kept, and the second is the last removed.
+    EXPECT_EQ(plan.remove.back().id, 2);
+    ASSERT_EQ(plan.tiers.thin.size(), plan.remove.size());
+    for (std::size_t k = 0; k < plan.remove.size(); ++k) {
+        EXPECT_EQ(plan.remove[k].id, plan.tiers.thin[k]);
+        if (k > 0) {
+            EXPECT_GT(plan.remove[k - 1].acquired, plan.remove[k].acquired);
+        }
     }
 }
 

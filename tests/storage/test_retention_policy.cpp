@@ -1,6 +1,7 @@
 // The retention plan (storage/retention_policy.hpp) against hand-counted answers: all maps
 // while young, the first of each UTC day, then of each ISO week; protected epochs whatever
-// their age; and a plan never needs what an earlier plan thinned.
+// their age; a plan never needs what an earlier plan thinned, and a pass stopped part-way
+// leaves the rest of its plan to the next.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -51,7 +52,7 @@ TEST(RetentionPlan, KeepsAllYoungThenTheDaysFirstThenTheWeeksFirst) {
     EXPECT_TRUE(thin.count(1 * 4 + 1));   // day 1 (Fri): weekly zone, not a week's first
     EXPECT_TRUE(thin.count(30 * 4 + 2));  // day 30's 06:00: daily zone, not the day's first
     EXPECT_FALSE(thin.count(30 * 4 + 1));
-    EXPECT_TRUE(std::is_sorted(plan.thin.begin(), plan.thin.end()));
+    EXPECT_TRUE(std::is_sorted(plan.thin.rbegin(), plan.thin.rend()));  // newest first
 }
 
 TEST(RetentionPlan, ProtectedEpochsAreNeverThinned) {
@@ -104,6 +105,27 @@ TEST(RetentionPlan, SuccessivePassesEndWhereOnePassWould) {
     EXPECT_EQ(once.kept_young, 30 * 96 + 1);
     EXPECT_EQ(once.kept_daily, 335);
     EXPECT_EQ(once.kept_weekly, 6);
+}
+
+// A pass stopped after any number of its plan's epochs (a kill, the daemon's stop between
+// batches): the plan of what it left is the rest of its plan, in the same order. Day 29 lies
+// astride the daily tier's edge (its 18:00 epoch is in the daily tier, not the day's first),
+// so thinning its older epochs first would make that one the day's first and keep it.
+TEST(RetentionPlan, APassStoppedPartWayLeavesTheRestOfItsPlan) {
+    const auto epochs = series(70, 4);
+    const UtcSeconds now = epochs.back().acquired;
+    const auto plan = plan_retention(epochs, now, policy(10, 40));
+    const EpochId astride = 29 * 4 + 4;  // day 29, 18:00: acquired == now - 40 d
+    ASSERT_EQ(epochs[astride - 1].acquired, now - 40 * kDay);
+    ASSERT_TRUE(std::count(plan.thin.begin(), plan.thin.end(), astride));
+    for (std::size_t done = 0; done <= plan.thin.size(); ++done) {
+        const std::set<EpochId> gone(plan.thin.begin(), plan.thin.begin() + done);
+        auto left = epochs;
+        std::erase_if(left, [&](const MapEpoch& e) { return gone.count(e.id) > 0; });
+        const auto next = plan_retention(left, now, policy(10, 40));
+        ASSERT_EQ(next.thin, std::vector<EpochId>(plan.thin.begin() + done, plan.thin.end()))
+            << "stopped after " << done;
+    }
 }
 
 }  // namespace
