@@ -50,20 +50,36 @@ double roughness_height(const Terrain& t, double x, double y) {
     return t.roughness * (2.0 * value_noise(seed, x / w, y / w) - 1.0);
 }
 
-// The ray's hit on the rough ground near its hit t0 on the smooth piece of normal n: the
-// surface raised by r(x, y) along n is met where (t − t0)·(n·d) = r(o + t·d), solved by
-// fixed-point steps (they contract while the roughness's slope along the ray stays below
-// the incidence's cosine; beyond, a shadowed grazing return is approximated).
+// The ray's first hit on the rough ground about its hit t0 on the smooth piece of normal n:
+// the surface raised by r(x, y) along n. The ray's height over the smooth piece is
+// (t − t0)·(n·d), so f(t) = (t − t0)·(n·d) − r(o + t·d) is ≥ 0 where the ray enters the band
+// |height| ≤ roughness and ≤ 0 where it leaves it; the hit is f's first crossing, marched in
+// steps of a sixty-fourth of the wavelength and then bisected. A bump in front hides the ground
+// behind it (a shadow), as on real rough ground seen at a grazing angle.
 double roughened(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0,
                  const Eigen::Vector3d& n) {
     const double nd = n.dot(d);
     if (nd > -1e-3) return t0;
-    double tt = t0;
-    for (int k = 0; k < 12; ++k) {
+    const auto f = [&](double tt) {
         const Eigen::Vector3d p = o + tt * d;
-        tt = t0 + roughness_height(t, p.x(), p.y()) / nd;
+        return (tt - t0) * nd - roughness_height(t, p.x(), p.y());
+    };
+    const double t_in = t0 + t.roughness / nd, t_out = t0 - t.roughness / nd;
+    const double step = t.roughness_wavelength / 64.0;
+    double lo = std::max(t_in, 0.0), hi = lo;
+    while (hi < t_out) {
+        const double next = std::min(hi + step, t_out);
+        if (f(next) <= 0.0) {
+            hi = next;
+            break;
+        }
+        lo = hi = next;
     }
-    return tt;
+    for (int k = 0; k < 40 && hi - lo > 1e-7; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (f(mid) > 0.0 ? lo : hi) = mid;
+    }
+    return hi;
 }
 
 double intersect_profile(const Terrain& t, const Eigen::Vector3d& o, const Eigen::Vector3d& d,

@@ -5,9 +5,10 @@
 // surfaces bias the distance and over-estimate the LoD. Both methods with their defaults on
 // the same zone. Truth: the slab's displacement along each core point's or patch's normal.
 //
-// What it shows here: neither is biased by the roughness (the simulator's rough ground is a
-// height field without shadows; the sampling hardly changes between epochs), and the
-// patches' LoD95 is the smaller one, both covering the true change.
+// What it shows here: neither is biased by the roughness (at ±1 cm over 0.25 m the flanks
+// are too gentle for shadows at this angle, and the sampling hardly changes between epochs),
+// and the patches' LoD95 is the smaller one, both covering the true change. Rougher ground,
+// which shadows, is measured in docs/pbm3c2.md ("An inclined rough surface").
 #include <gtest/gtest.h>
 
 #include <cmath>

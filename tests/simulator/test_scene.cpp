@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <map>
 #include <numbers>
@@ -106,6 +107,58 @@ TEST(SimulatorScene, RoughGroundIsTheSlopeRaisedAlongItsNormal) {
         "scene.toml", std::nullopt);
     EXPECT_EQ(s.terrain.roughness, 0.02);
     EXPECT_EQ(s.terrain.roughness_wavelength, 0.5);
+}
+
+// Rough ground seen at a grazing angle hides what lies behind its bumps: every spot of a
+// slope roughened by ±3 cm at 0.1 m (its flanks up to some 40° steep) is met by a ray along
+// the slope's normal; seen 80° off the normal from 80 m a share of them is hidden, the ray
+// stopping on the ground in front of the spot; and every hit lies on the ground, where a ray
+// along the normal meets it too.
+TEST(SimulatorScene, RoughGroundShadowsWhatLiesBehindItsBumps) {
+    Terrain t;
+    t.profile_y = {60.0, 130.0};
+    t.profile_z = {0.0, 25.0};
+    t.roughness = 0.03;
+    t.roughness_wavelength = 0.1;
+    const Eigen::Vector3d n = Eigen::Vector3d(0.0, -25.0 / 70.0, 1.0).normalized();
+    const double kDeg = 3.141592653589793 / 180.0;
+    // Down the slope, 80° off its normal.
+    const Eigen::Vector3d grazing =
+        (std::cos(80 * kDeg) * n + std::sin(80 * kDeg) * Eigen::Vector3d::UnitX().cross(n))
+            .normalized();
+    ASSERT_LT(grazing.y(), 0.0);
+    // The ground where a ray along the normal through (x, y on the smooth slope) meets it.
+    const auto spot = [&](const Eigen::Vector3d& q) {
+        Eigen::Vector3d m;
+        const Eigen::Vector3d from = q + 10.0 * n;
+        return Eigen::Vector3d(from - intersect_terrain(t, from, -n, 100.0, m) * n);
+    };
+    int spots = 0, hidden = 0, grazed = 0;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            const double y = 80.0 + 0.0113 * j;
+            const Eigen::Vector3d q(0.0127 * i, y, terrain_height(t, y));
+            const Eigen::Vector3d p = spot(q);
+            ASSERT_LE(std::abs(n.dot(p - q)), 0.03 + 1e-9);
+            ++spots;
+            // Seen along its normal from 30 m: the spot itself.
+            Eigen::Vector3d m;
+            const Eigen::Vector3d above = p + 30.0 * n;
+            EXPECT_NEAR(intersect_terrain(t, above, -n, 100.0, m), 30.0, 1e-5);
+            // Seen from 80 m at 80°: the spot, or ground in front of it.
+            const Eigen::Vector3d o = p + 80.0 * grazing;
+            const double r = intersect_terrain(t, o, -grazing, 200.0, m);
+            // A ray that dips into a crest for less than a step (wavelength/16) passes it.
+            grazed += r > 80.0 + 1e-5;
+            const Eigen::Vector3d hit = o - r * grazing;
+            EXPECT_NEAR((spot(hit) - hit).norm(), 0.0, 1e-5) << i << " " << j;
+            hidden += r < 80.0 - 1e-3;
+        }
+    EXPECT_GT(hidden, spots / 20);
+    EXPECT_LT(hidden, spots * 3 / 4);
+    EXPECT_LE(grazed, spots / 200);
+    std::printf("rough ground at 80 deg: %d of %d spots hidden, %d passed by\n", hidden, spots,
+                grazed);
 }
 
 // hochmosel: the valley floor is seen beyond 150 m (down to the dark patches of the
