@@ -45,6 +45,8 @@ const char* outcome_name(patches::PatchOutcome o) {
             return "few_reference_points";
         case patches::PatchOutcome::few_epoch_points:
             return "few_epoch_points";
+        case patches::PatchOutcome::partly_seen:
+            return "partly_seen";
     }
     return "?";
 }

@@ -17,7 +17,7 @@ Eigen::Vector3d PbM3c2Reference::measured_at(std::size_t k) const {
 namespace {
 
 constexpr std::size_t kFrameValues = 12;   // origin, normal, u, v
-constexpr std::size_t kMomentValues = 10;  // PlaneMoments' sums
+constexpr std::size_t kMomentValues = 10;  // PlaneMoments' sums, per block
 
 }  // namespace
 
@@ -36,14 +36,25 @@ std::string PbM3c2Reference::encode() const {
         cell_size.push_back(f.cell);
         occupied.insert(occupied.end(), f.occupied.begin(), f.occupied.end());
     }
-    for (const auto& m : moments)
-        moment_values.insert(moment_values.end(),
-                             {m.m, m.su, m.sv, m.sw, m.suu, m.suv, m.svv, m.suw, m.svw, m.sww});
+    std::vector<std::uint32_t> block_counts;
+    std::vector<std::int32_t> block_places;  // i, j
+    for (const auto& patch_blocks : blocks) {
+        block_counts.push_back(static_cast<std::uint32_t>(patch_blocks.size()));
+        for (const auto& b : patch_blocks) {
+            const auto& m = b.moments;
+            block_places.insert(block_places.end(), {b.i, b.j});
+            moment_values.insert(moment_values.end(),
+                                 {m.m, m.su, m.sv, m.sw, m.suu, m.suv, m.svv, m.suw, m.svw, m.sww});
+        }
+    }
     w.put_array(frames);
     w.put_array(cells);
     w.put_array(cell_size);
     w.put_array(occupied);
     w.put_array(supervoxel);
+    w.put_array(block_side);
+    w.put_array(block_counts);
+    w.put_array(block_places);
     w.put_array(moment_values);
     for (int k = 0; k < 3; ++k) w.put<double>(scanner(k));
     w.put<std::uint64_t>(zone_names.size());
@@ -66,13 +77,20 @@ PbM3c2Reference PbM3c2Reference::decode(std::string_view payload) {
     const auto cell_size = in.get_array<double>();
     const auto occupied = in.get_array<std::uint8_t>();
     r.supervoxel = in.get_array<std::uint32_t>();
+    r.block_side = in.get_array<double>();
+    const auto block_counts = in.get_array<std::uint32_t>();
+    const auto block_places = in.get_array<std::int32_t>();
     const auto moment_values = in.get_array<double>();
     const std::size_t n = cell_size.size();
+    std::size_t all_blocks = 0;
+    for (const auto c : block_counts) all_blocks += c;
     if (frames.size() != kFrameValues * n || cells.size() != 4 * n || r.supervoxel.size() != n ||
-        moment_values.size() != kMomentValues * n) {
+        r.block_side.size() != n || block_counts.size() != n ||
+        block_places.size() != 2 * all_blocks ||
+        moment_values.size() != kMomentValues * all_blocks) {
         throw Error("pbm3c2 stage payload: patches of inconsistent sizes");
     }
-    std::size_t at = 0;
+    std::size_t at = 0, block = 0;
     for (std::size_t k = 0; k < n; ++k) {
         patches::Patch p;
         const double* f = &frames[kFrameValues * k];
@@ -88,11 +106,25 @@ PbM3c2Reference PbM3c2Reference::decode(std::string_view payload) {
             throw Error("pbm3c2 stage payload: a malformed footprint");
         const std::size_t size = std::size_t(fp.width) * std::size_t(fp.height);
         if (at + size > occupied.size()) throw Error("pbm3c2 stage payload: footprints cut short");
+        if (!(r.block_side[k] > 0)) throw Error("pbm3c2 stage payload: a malformed block side");
         fp.occupied.assign(occupied.begin() + long(at), occupied.begin() + long(at + size));
         at += size;
         r.patches.push_back(std::move(p));
-        const double* m = &moment_values[kMomentValues * k];
-        r.moments.push_back({m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9]});
+        auto& patch_blocks = r.blocks.emplace_back();
+        for (std::uint32_t b = 0; b < block_counts[k]; ++b, ++block) {
+            const double* m = &moment_values[kMomentValues * block];
+            patch_blocks.push_back({block_places[2 * block],
+                                    block_places[2 * block + 1],
+                                    {m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9]}});
+            // In (j, i) order, as seen_alike reads them.
+            if (b > 0) {
+                const auto& p = patch_blocks[b - 1];
+                const auto& q = patch_blocks[b];
+                if (p.j > q.j || (p.j == q.j && p.i >= q.i))
+                    throw Error("pbm3c2 stage payload: blocks out of order");
+            }
+        }
+        r.moments.push_back(patches::total(patch_blocks));
     }
     if (at != occupied.size()) throw Error("pbm3c2 stage payload: footprints of another size");
     for (int k = 0; k < 3; ++k) r.scanner(k) = in.get<double>();

@@ -23,15 +23,16 @@ unsigned threads_of(const PbM3c2Config& c) {
     return static_cast<unsigned>(std::max(0, c.threads));
 }
 
-// The moments of the points that belong to each patch's plane (inlier_moments), of every
-// scan's points mapped by q = A·p + t, but for the points at a depth discontinuity of their
-// scan (algorithms/depth_discontinuity.hpp): at a face's edge the beams that straddle it
-// return blends a little behind the face, fewer or more of them as the grid's phase on the
-// edge moves between epochs.
-std::vector<patches::PlaneMoments> moments_of(const patches::PatchIndex& index,
-                                              const std::vector<Scan>& scans,
-                                              const Eigen::Matrix3d& A, const Eigen::Vector3d& t,
-                                              unsigned threads) {
+// The moments of the points that belong to each patch's plane (plane_inliers), per block of
+// side `block_side(k, inliers)` (like_with_like.hpp), of every scan's points mapped by
+// q = A·p + t, but for the points at a depth discontinuity of their scan
+// (algorithms/depth_discontinuity.hpp): at a face's edge the beams that straddle it return
+// blends a little behind the face, fewer or more of them as the grid's phase on the edge
+// moves between epochs.
+template <class BlockSide>
+std::vector<std::vector<patches::BlockMoments>> moments_of(
+    const patches::PatchIndex& index, const std::vector<Scan>& scans, const Eigen::Matrix3d& A,
+    const Eigen::Vector3d& t, unsigned threads, const BlockSide& block_side) {
     std::vector<std::vector<Eigen::Vector3f>> on_patch(index.patches().size());
     for (const auto& scan : scans) {
         const auto edges = depth_discontinuities(scan, kMixedPixelJump, threads);
@@ -39,9 +40,15 @@ std::vector<patches::PlaneMoments> moments_of(const patches::PatchIndex& index,
         for (std::size_t k = 0; k < on_patch.size(); ++k)
             on_patch[k].insert(on_patch[k].end(), more[k].begin(), more[k].end());
     }
-    std::vector<patches::PlaneMoments> out(on_patch.size());
+    std::vector<std::vector<patches::BlockMoments>> out(on_patch.size());
     parallel_for(
-        out.size(), [&](std::size_t k) { out[k] = patches::inlier_moments(on_patch[k]); }, threads);
+        out.size(),
+        [&](std::size_t k) {
+            const auto keep = patches::plane_inliers(on_patch[k]);
+            const auto inliers = std::size_t(std::count(keep.begin(), keep.end(), 1));
+            out[k] = patches::block_moments(on_patch[k], keep, block_side(k, inliers));
+        },
+        threads);
     return out;
 }
 
@@ -67,8 +74,14 @@ PbM3c2Reference prepare_pbm3c2_reference(const PbM3c2Config& config,
     out.zone_names = std::move(selected.zone_names);
     out.zone_patches = std::move(selected.zone_patches);
     const patches::PatchIndex index(out.patches, config.search_depth);
-    out.moments = moments_of(index, scans, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(),
-                             threads_of(config));
+    out.block_side.assign(out.patches.size(), patches::kBlock);
+    out.blocks = moments_of(index, scans, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(),
+                            threads_of(config), [&](std::size_t k, std::size_t inliers) {
+                                const auto& f = out.patches[k].footprint;
+                                return out.block_side[k] = patches::block_side(
+                                           double(f.cells()) * f.cell * f.cell, inliers);
+                            });
+    for (const auto& b : out.blocks) out.moments.push_back(patches::total(b));
     return out;
 }
 
@@ -79,8 +92,10 @@ PbM3c2Epoch measure_pbm3c2(const PbM3c2Config& config, const PbM3c2Reference& re
     const EpochToReference map = epoch_to_reference(outputs, reference.scanner);
     const patches::PatchIndex index(reference.patches, config.search_depth);
     PbM3c2Epoch out;
-    out.moments =
-        moments_of(index, scans, map.factor * map.rotation, map.translation, threads_of(config));
+    const auto blocks =
+        moments_of(index, scans, map.factor * map.rotation, map.translation, threads_of(config),
+                   [&](std::size_t k, std::size_t) { return reference.block_side[k]; });
+    for (const auto& b : blocks) out.moments.push_back(patches::total(b));
     out.registration_sigma.assign(n, 0.0);
     out.results.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -92,9 +107,8 @@ PbM3c2Epoch measure_pbm3c2(const PbM3c2Config& config, const PbM3c2Reference& re
                 T.rotation.transpose() * (frame.origin - T.translation) / T.scale;
             out.registration_sigma[k] = registration::registration_sigma_along(T, x, frame.normal);
         }
-        out.results[k] = patches::patch_distance(patches::fit_plane(reference.moments[k]),
-                                                 patches::fit_plane(out.moments[k]),
-                                                 out.registration_sigma[k], config);
+        out.results[k] = patches::compared_distance(reference.blocks[k], blocks[k],
+                                                    out.registration_sigma[k], config);
     }
     return out;
 }
@@ -180,11 +194,12 @@ StageVerdict PbM3c2Stage::run(StageContext& ctx) const {
     const PbM3c2Epoch epoch = measure_pbm3c2(config_, *product, *ctx.input.scans, ctx.outputs);
     auto rows = pbm3c2_zone_results(*product, epoch);
     auto arrays = pbm3c2_patch_arrays(*product, epoch);
-    std::size_t measured = 0, rough = 0, sparse = 0;
+    std::size_t measured = 0, rough = 0, sparse = 0, partly = 0;
     for (const auto& r : epoch.results) {
         measured += r.outcome == patches::PatchOutcome::measured;
         rough += r.outcome == patches::PatchOutcome::rough;
         sparse += r.outcome == patches::PatchOutcome::few_epoch_points;
+        partly += r.outcome == patches::PatchOutcome::partly_seen;
     }
     auto& results = ctx.results;
     results.zone_results.insert(results.zone_results.end(), std::make_move_iterator(rows.begin()),
@@ -193,8 +208,9 @@ StageVerdict PbM3c2Stage::run(StageContext& ctx) const {
                                      std::make_move_iterator(arrays.begin()),
                                      std::make_move_iterator(arrays.end()));
     return StageVerdict{
-        "", fmt::format("{} of {} patches with a distance ({} not planar, {} with too few points)",
-                        measured, epoch.results.size(), rough, sparse)};
+        "", fmt::format("{} of {} patches with a distance ({} not planar, {} with too few points, "
+                        "{} seen too little alike)",
+                        measured, epoch.results.size(), rough, sparse, partly)};
 }
 
 }  // namespace tlsmon

@@ -65,6 +65,23 @@ CylinderSide statistic_of(std::vector<double>& projections, CylinderStatistic st
     return kept;
 }
 
+void set_lateral(CylinderSide& side, const std::vector<Eigen::Vector3d>& cloud,
+                 std::span<const std::uint32_t> members, const Eigen::Vector3d& c,
+                 const Eigen::Vector3d& n) {
+    if (members.empty()) return;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double squares = 0.0;
+    for (std::uint32_t i : members) {
+        const Eigen::Vector3d d = cloud[i] - c;
+        const Eigen::Vector3d across = d - d.dot(n) * n;
+        sum += across;
+        squares += across.squaredNorm();
+    }
+    const double m = double(members.size());
+    side.lateral = sum / m;
+    side.lateral_spread = std::sqrt(squares / m);
+}
+
 Cylinders make_cylinders(std::vector<Eigen::Vector3d> centres, std::vector<Eigen::Vector3d> axes,
                          const CylinderParameters& parameters, unsigned threads) {
     validate(parameters);
@@ -95,6 +112,7 @@ std::vector<CylinderSide> cylinder_sides(const Cylinders& cylinders,
             for (std::uint32_t i : members)
                 projections.push_back((cloud[i] - centres[k]).dot(axes[k]));
             sides[k] = statistic_of(projections, p.statistic, p.stray_distance);
+            set_lateral(sides[k], cloud, members, centres[k], axes[k]);
         },
         threads, kMemberBudget, /*single_pass=*/true, left_out);
     return sides;

@@ -34,7 +34,18 @@ struct CylinderSide {
     // reference, so that an edge is refused as in the published method even when the strays'
     // removal would leave one face.
     double roughness = std::numeric_limits<double>::quiet_NaN();
+    // Where in the cylinder its points lie: their mean offset from the axis, across it, and
+    // their RMS distance from the axis. An epoch that saw part of what the reference saw there
+    // has its offset elsewhere (distance_between).
+    Eigen::Vector3d lateral = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    double lateral_spread = std::numeric_limits<double>::quiet_NaN();
 };
+
+// The lateral and lateral_spread of the points `members` of `cloud` in the cylinder at c
+// with axis n.
+void set_lateral(CylinderSide& side, const std::vector<Eigen::Vector3d>& cloud,
+                 std::span<const std::uint32_t> members, const Eigen::Vector3d& c,
+                 const Eigen::Vector3d& n);
 
 // The statistic of projections (reordered in place for the median). With the mean and a
 // finite `stray_distance`, the projections farther from their median than both

@@ -96,18 +96,22 @@ std::string Reference::encode() const {
     w.put_array(flatten(cylinders.centres));
     w.put_array(flatten(cylinders.axes));
     w.put_array(normal_radius);
-    std::vector<double> centre, spread, roughness;
+    std::vector<double> centre, spread, roughness, lateral, lateral_spread;
     std::vector<std::uint32_t> count;
     for (const auto& s : reference_side) {
         centre.push_back(s.centre);
         spread.push_back(s.spread);
         count.push_back(s.count);
         roughness.push_back(s.roughness);
+        lateral.insert(lateral.end(), {s.lateral.x(), s.lateral.y(), s.lateral.z()});
+        lateral_spread.push_back(s.lateral_spread);
     }
     w.put_array(centre);
     w.put_array(spread);
     w.put_array(count);
     w.put_array(roughness);
+    w.put_array(lateral);
+    w.put_array(lateral_spread);
     return w.take();
 }
 
@@ -132,13 +136,21 @@ Reference Reference::decode(std::string_view payload) {
     const auto spread = in.get_array<double>();
     const auto count = in.get_array<std::uint32_t>();
     const auto roughness = in.get_array<double>();
+    const auto lateral = in.get_array<double>();
+    const auto lateral_spread = in.get_array<double>();
     in.finish();
     if (r.normal_radius.size() != n || centre.size() != n || spread.size() != n ||
-        count.size() != n || roughness.size() != n)
+        count.size() != n || roughness.size() != n || lateral.size() != 3 * n ||
+        lateral_spread.size() != n)
         throw Error("m3c2 reference payload: arrays of different lengths");
     r.reference_side.resize(n);
     for (std::size_t k = 0; k < n; ++k)
-        r.reference_side[k] = {centre[k], spread[k], count[k], roughness[k]};
+        r.reference_side[k] = {centre[k],
+                               spread[k],
+                               count[k],
+                               roughness[k],
+                               {lateral[3 * k], lateral[3 * k + 1], lateral[3 * k + 2]},
+                               lateral_spread[k]};
     try {
         validate(parameters);
     } catch (const Error& e) {

@@ -21,7 +21,8 @@
 namespace tlsmon::m3c2 {
 
 struct Reference {
-    static constexpr int kFormatVersion = 2;  // 2: stray_distance, the sides' roughness
+    // 2: stray_distance, the sides' roughness. 3: where in each cylinder its points lie.
+    static constexpr int kFormatVersion = 3;
 
     Cylinders cylinders;  // core points (centres), normals (axes), index
     // Per core point: the radius its normal was taken at; 0 where the normal was given

@@ -30,7 +30,13 @@ struct PatchDistance {
 };
 
 // Why a patch has no distance, or `measured`.
-enum class PatchOutcome { measured, rough, few_reference_points, few_epoch_points };
+enum class PatchOutcome {
+    measured,
+    rough,
+    few_reference_points,
+    few_epoch_points,
+    partly_seen  // the part of the footprint both epochs saw alike is too small or not a plane
+};
 
 struct PatchResult {
     PatchOutcome outcome = PatchOutcome::few_reference_points;

@@ -47,10 +47,11 @@ PlaneFit fit_plane(const PlaneMoments& s) {
     return f;
 }
 
-PlaneMoments inlier_moments(const std::vector<Eigen::Vector3f>& uvw, double clip, int rounds) {
-    PlaneMoments all;
-    for (const auto& p : uvw) all.add(p.cast<double>());
-    PlaneMoments kept = all;
+std::vector<std::uint8_t> plane_inliers(const std::vector<Eigen::Vector3f>& uvw, double clip,
+                                        int rounds) {
+    std::vector<std::uint8_t> keep(uvw.size(), 1);
+    PlaneMoments kept;
+    for (const auto& p : uvw) kept.add(p.cast<double>());
     std::vector<double> residual(uvw.size()), spread;
     for (int round = 0; round < rounds; ++round) {
         const PlaneFit fit = fit_plane(kept);
@@ -66,12 +67,22 @@ PlaneMoments inlier_moments(const std::vector<Eigen::Vector3f>& uvw, double clip
         // A floor of 1 µm: points exactly on a plane have no spread to clip by.
         const double limit = clip * std::max(1.4826 * *mid, 1e-6);
         PlaneMoments next;
-        for (std::size_t i = 0; i < uvw.size(); ++i)
-            if (std::abs(residual[i] - centre) <= limit) next.add(uvw[i].cast<double>());
+        for (std::size_t i = 0; i < uvw.size(); ++i) {
+            keep[i] = std::abs(residual[i] - centre) <= limit;
+            if (keep[i]) next.add(uvw[i].cast<double>());
+        }
         const bool settled = next.m == kept.m;
         kept = next;
         if (settled) break;
     }
+    return keep;
+}
+
+PlaneMoments inlier_moments(const std::vector<Eigen::Vector3f>& uvw, double clip, int rounds) {
+    const auto keep = plane_inliers(uvw, clip, rounds);
+    PlaneMoments kept;
+    for (std::size_t i = 0; i < uvw.size(); ++i)
+        if (keep[i]) kept.add(uvw[i].cast<double>());
     return kept;
 }
 

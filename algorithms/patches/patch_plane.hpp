@@ -12,6 +12,7 @@
 // h = a + b·(u₀ − ū) + c·(v₀ − v̄), with σ_h² = σ̂²·(1/m + gᵀ S⁻¹ g), g = (u₀ − ū, v₀ − v̄).
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -69,5 +70,9 @@ PlaneFit fit_plane(const PlaneMoments& moments);
 // leaves out 0.05 % of the points.
 PlaneMoments inlier_moments(const std::vector<Eigen::Vector3f>& uvw, double clip = 3.5,
                             int rounds = 3);
+
+// Which of the points inlier_moments keeps (1) and leaves out (0).
+std::vector<std::uint8_t> plane_inliers(const std::vector<Eigen::Vector3f>& uvw, double clip = 3.5,
+                                        int rounds = 3);
 
 }  // namespace tlsmon::patches

@@ -59,6 +59,8 @@ BruteNormal brute_normal(const std::vector<Vector3d>& cloud, const Vector3d& c,
 struct BruteSide {
     double centre = nan, spread = nan, roughness = nan;
     std::size_t n = 0;
+    Vector3d lateral = Vector3d::Constant(nan);  // the points' mean offset across the axis
+    double lateral_spread = nan;                 // their RMS distance from the axis
 };
 
 double quantile(const std::vector<double>& sorted, double q) {
@@ -96,11 +98,22 @@ BruteSide brute_side(const std::vector<Vector3d>& cloud, const Vector3d& c, cons
                      double radius, double depth, bool median, double stray_distance,
                      std::size_t& clipped) {
     std::vector<double> x;
+    Vector3d across_sum = Vector3d::Zero();
+    double across_squares = 0;
     for (const auto& p : cloud) {
         const double along = (p - c).dot(n);
-        if (std::abs(along) <= depth && ((p - c) - along * n).norm() <= radius) x.push_back(along);
+        const Vector3d across = (p - c) - along * n;
+        if (std::abs(along) <= depth && across.norm() <= radius) {
+            x.push_back(along);
+            across_sum += across;
+            across_squares += across.squaredNorm();
+        }
     }
-    const BruteSide all = brute_statistic(x, median);
+    BruteSide all = brute_statistic(x, median);
+    if (!x.empty()) {
+        all.lateral = across_sum / double(x.size());
+        all.lateral_spread = std::sqrt(across_squares / double(x.size()));
+    }
     if (median || !std::isfinite(stray_distance) || x.empty()) return all;
     std::vector<double> sorted = x, deviation;
     std::sort(sorted.begin(), sorted.end());
@@ -115,7 +128,16 @@ BruteSide brute_side(const std::vector<Vector3d>& cloud, const Vector3d& c, cons
     BruteSide s = brute_statistic(kept, median);
     if (double(x.size() - kept.size()) > 0.1 * double(x.size())) s.centre = s.spread = nan;
     s.roughness = all.roughness;
+    s.lateral = all.lateral;
+    s.lateral_spread = all.lateral_spread;
     return s;
+}
+
+// The compared points lie elsewhere across the axis than the reference's: their mean offsets
+// more than max(0.2, 3.72·√((1/n1 + 1/n2)/2)) of the reference's RMS distance apart.
+bool brute_partly_seen(const BruteSide& b1, const BruteSide& b2) {
+    const double limit = std::max(0.2, 3.72 * std::sqrt(0.5 / b1.n + 0.5 / b2.n));
+    return (b2.lateral - b1.lateral).norm() > limit * b1.lateral_spread;
 }
 
 // A wavy surface with a step and noise, and a compared epoch bulged and noisier.
@@ -199,8 +221,13 @@ TEST_P(M3c2BruteForce, EqualsTheDefinitions) {
         if (b1.n >= 2) {
             EXPECT_NEAR(r2.reference_side[k].roughness, b1.roughness, 1e-9);
         }
+        if (b1.n >= 1 && b2.n >= 1) {
+            EXPECT_LT((r2.reference_side[k].lateral - b1.lateral).norm(), 1e-9);
+            EXPECT_NEAR(s2[k].lateral_spread, b2.lateral_spread, 1e-9);
+        }
         if (b1.n < distance.min_points || b2.n < distance.min_points || std::isnan(b1.centre) ||
-            std::isnan(b2.centre) || !(b1.roughness <= distance.max_reference_spread)) {
+            std::isnan(b2.centre) || !(b1.roughness <= distance.max_reference_spread) ||
+            brute_partly_seen(b1, b2)) {
             rough += b1.roughness > distance.max_reference_spread;
             EXPECT_TRUE(std::isnan(d[k].distance));
             EXPECT_FALSE(d[k].significant);
