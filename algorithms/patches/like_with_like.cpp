@@ -54,11 +54,14 @@ SeenAlike seen_alike(const std::vector<BlockMoments>& reference,
             outside += epoch[e].moments.m;
         }
     }
-    std::vector<double> ratio(reference.size());
-    for (std::size_t k = 0; k < reference.size(); ++k) ratio[k] = n2[k] / reference[k].moments.m;
+    // The epoch's density relative to the reference's where it saw the patch at all.
+    std::vector<double> ratio;
+    for (std::size_t k = 0; k < reference.size(); ++k)
+        if (n2[k] > 0) ratio.push_back(n2[k] / reference[k].moments.m);
+    if (ratio.empty()) return out;  // nothing seen: too few epoch points
     const auto upper = ratio.begin() + long(3 * (ratio.size() - 1) / 4);
     std::nth_element(ratio.begin(), upper, ratio.end());
-    const double rho = *upper;  // the epoch's density relative to the reference's
+    const double rho = *upper;
     std::vector<std::uint8_t> alike(reference.size());
     double unseen = 0.0;
     for (std::size_t k = 0; k < reference.size(); ++k) {
@@ -74,12 +77,10 @@ SeenAlike seen_alike(const std::vector<BlockMoments>& reference,
     std::set<std::pair<std::int32_t, std::int32_t>> unseen_places;
     for (std::size_t k = 0; k < reference.size(); ++k)
         if (!alike[k]) unseen_places.insert({reference[k].i, reference[k].j});
-    for (std::size_t k = 0; k < reference.size(); ++k) {
-        for (int di = -1; di <= 1 && alike[k]; ++di)
+    for (std::size_t k = 0; k < reference.size(); ++k)
+        for (int di = -1; di <= 1; ++di)
             for (int dj = -1; dj <= 1; ++dj)
-                if (unseen_places.count({reference[k].i + di, reference[k].j + dj})) alike[k] = 2;
-    }
-    for (auto& a : alike) a = a == 1;
+                if (unseen_places.count({reference[k].i + di, reference[k].j + dj})) alike[k] = 0;
     SeenAlike part{{}, {}, true};
     for (std::size_t k = 0; k < reference.size(); ++k)
         if (alike[k]) part.reference += reference[k].moments;

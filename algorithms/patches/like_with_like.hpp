@@ -14,11 +14,13 @@
 //
 // A block of the reference is not seen alike when the epoch holds less than half the points
 // there that its density elsewhere on the patch gives, e = ρ·n₁ (ρ the upper quartile of the
-// blocks' ratios n₂/n₁: the epoch's density relative to the reference's where it saw the
-// patch, so that a scan at another resolution is not taken for one that saw part), and so few
-// that chance does not explain it: n₂ < e − 3√e (a count's Poisson σ). When the blocks not
-// seen alike hold at most kUnseenShare of the reference's points, and the epoch has at most
-// that share outside the reference's blocks, the whole planes are compared.
+// ratios n₂/n₁ of the blocks it has points in: the epoch's density relative to the
+// reference's where it saw the patch, so that a scan at another resolution is not taken for
+// one that saw part), and so few that chance does not explain it: n₂ < e − 3√e (a count's
+// Poisson σ). When the blocks not seen alike hold at most kUnseenShare of the reference's
+// points, and the epoch has at most that share outside the reference's blocks, the whole
+// planes are compared. Otherwise the blocks seen alike are, less those next to a block not
+// seen (the edge of what the epoch saw may run through them).
 #include <cstdint>
 #include <vector>
 
