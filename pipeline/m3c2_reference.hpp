@@ -14,7 +14,9 @@ namespace tlsmon {
 // What the M3C2 stage keeps of the reference epoch.
 struct M3c2Reference {
     // 2: the reference's points at a depth discontinuity left out (m3c2_stage.hpp, m3c2_cloud).
-    static constexpr int kFormatVersion = 2;
+    // 3: the kernel's format 3, where in each cylinder its points lie (m3c2::Reference). An
+    // older product is rebuilt.
+    static constexpr int kFormatVersion = 3;
     static constexpr const char* kStage = "m3c2";
 
     m3c2::Reference reference;
