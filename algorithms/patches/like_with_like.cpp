@@ -94,11 +94,17 @@ PatchResult compared_distance(const std::vector<BlockMoments>& reference,
                               const std::vector<BlockMoments>& epoch, double registration_sigma,
                               const Parameters& parameters) {
     const SeenAlike seen = seen_alike(reference, epoch);
+    // Not partial: `seen` holds the two totals.
+    if (!seen.partial) {
+        return patch_distance(fit_plane(seen.reference), fit_plane(seen.epoch), registration_sigma,
+                              parameters);
+    }
     const PatchResult whole = patch_distance(fit_plane(total(reference)), fit_plane(total(epoch)),
                                              registration_sigma, parameters);
-    const bool refused =
-        whole.outcome == PatchOutcome::few_reference_points || whole.outcome == PatchOutcome::rough;
-    if (!seen.partial || refused) return whole;
+    if (whole.outcome == PatchOutcome::few_reference_points ||
+        whole.outcome == PatchOutcome::rough) {
+        return whole;  // the reference refused on its whole plane
+    }
     PatchResult part = patch_distance(fit_plane(seen.reference), fit_plane(seen.epoch),
                                       registration_sigma, parameters);
     if (part.outcome == PatchOutcome::few_reference_points || part.outcome == PatchOutcome::rough)
