@@ -161,6 +161,7 @@ int main(int argc, char** argv) {
             ++c.n;
         }
         if (!r.accepted()) {
+            std::printf("series %d refused: %s%s\n", k, r.tested.reason.c_str(), r.gate.c_str());
             ++refused;
             continue;
         }

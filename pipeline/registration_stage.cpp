@@ -444,7 +444,9 @@ StageVerdict RegistrationStage::measure(StageContext& ctx, RegistrationResult& r
     RegistrationConfig targets = config;
     if (!config.uses_targets()) targets.targets.clear();
     const auto centres = ctx.cache.get<ReferenceTargets>(
-        ctx.reference, ProductKey{"registration.targets", reference_parameters(targets), 2},
+        ctx.reference,
+        ProductKey{"registration.targets", reference_parameters(targets),
+                   ReferenceTargets::kFormatVersion},
         [&](const std::vector<Scan>& scans) { return measure_reference_targets(targets, scans); });
     // The air of both epochs, each range corrected from the scanner's setting.
     const std::optional<MeteoSidecar>& reference_meteo =

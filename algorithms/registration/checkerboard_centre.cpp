@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -17,23 +18,38 @@ constexpr std::size_t kMinPoints = 50;
 
 struct Plane {
     Eigen::Vector3d centroid, normal;
-    double sigma = 0.0;  // rms distance of the inliers, m
+    double offset_variance = 0.0;  // m², of the plane's place along its normal
     std::vector<std::size_t> inliers;
 };
 
-Plane fit_plane_pca(const std::vector<Eigen::Vector3d>& xyz, const std::vector<std::size_t>& idx) {
+// The plane through the points' centroid weighted by `w` (empty: all 1), its normal by
+// their weighted principal components; the offset's variance s0²/Σw with
+// s0² = Σ w·d² / (n − 3), as for a weighted mean.
+Plane fit_plane(const std::vector<Eigen::Vector3d>& xyz, const std::vector<std::size_t>& idx,
+                const std::vector<double>& w = {}) {
+    const auto weight = [&w](std::size_t k) { return w.empty() ? 1.0 : w[k]; };
     Plane pl;
     pl.centroid.setZero();
-    for (const std::size_t i : idx) pl.centroid += xyz[i];
-    pl.centroid /= static_cast<double>(idx.size());
+    double sw = 0.0;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        pl.centroid += weight(k) * xyz[idx[k]];
+        sw += weight(k);
+    }
+    pl.centroid /= sw;
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const std::size_t i : idx) {
-        const Eigen::Vector3d d = xyz[i] - pl.centroid;
-        cov += d * d.transpose();
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        const Eigen::Vector3d d = xyz[idx[k]] - pl.centroid;
+        cov += weight(k) * d * d.transpose();
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
     pl.normal = eig.eigenvectors().col(0);  // smallest eigenvalue first
     pl.inliers = idx;
+    double ss = 0.0;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        const double d = pl.normal.dot(xyz[idx[k]] - pl.centroid);
+        ss += weight(k) * d * d;
+    }
+    pl.offset_variance = ss / std::max(1.0, static_cast<double>(idx.size()) - 3.0) / sw;
     return pl;
 }
 
@@ -47,11 +63,33 @@ std::vector<std::size_t> within(const std::vector<Eigen::Vector3d>& xyz, const P
     return out;
 }
 
-// Step 1 of the header: PCA plane, refitted on the inliers until they stop changing, then once
-// on a window kFinalWindow times as wide (why: the header's step 1).
-Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, std::vector<std::size_t> candidates) {
-    constexpr double kFinalWindow = 1.5;
-    Plane pl = fit_plane_pca(xyz, candidates);
+// The intensity between the dark and the bright squares: the isodata threshold (Ridler &
+// Calvard 1978), halfway between the two sides' means, iterated from the median so that a
+// board seen with more of one colour is still split between the colours.
+double dark_bright_split(const std::vector<float>& intensity,
+                         const std::vector<std::size_t>& points) {
+    std::vector<double> levels;
+    for (const std::size_t i : points) levels.push_back(intensity[i]);
+    double split = median(levels);
+    for (int pass = 0; pass < 20; ++pass) {
+        std::array<double, 2> sum{}, count{};
+        for (const double v : levels) sum[v >= split] += v, count[v >= split] += 1;
+        if (count[0] == 0 || count[1] == 0) break;
+        const double next = 0.5 * (sum[0] / count[0] + sum[1] / count[1]);
+        if (next == split) break;
+        split = next;
+    }
+    return split;
+}
+
+// Step 1 of the header: PCA plane, refitted on the inliers until they stop changing, then
+// weighted by the two colours' σ (why: the header's step 1).
+Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, const std::vector<float>& intensity,
+                   std::vector<std::size_t> candidates) {
+    constexpr double kWideWindow = 3.0;
+    constexpr double kClip = 3.5;         // robust σ: 0.05 % of a normal's tail
+    constexpr double kSigmaFloor = 1e-5;  // m: a colour whose ranges do not scatter
+    Plane pl = fit_plane(xyz, candidates);
     double tol = 0.0;
     for (int pass = 0; pass < 20; ++pass) {
         std::vector<double> abs_d;
@@ -63,16 +101,35 @@ Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, std::vector<std::siz
         const std::vector<std::size_t> next = within(xyz, pl, candidates, tol);
         if (next.size() < kMinPoints) break;
         const bool same = next == pl.inliers;
-        pl = fit_plane_pca(xyz, next);
+        pl = fit_plane(xyz, next);
         if (same) break;
     }
-    pl = fit_plane_pca(xyz, within(xyz, pl, candidates, kFinalWindow * tol));
-    double ss = 0.0;
-    for (const std::size_t i : pl.inliers) {
-        const double d = pl.normal.dot(xyz[i] - pl.centroid);
-        ss += d * d;
+    // Step 1's weighted fit: the two colours' σ from their own residuals, each clipped at
+    // 3.5 of its σ, weights 1/σ². The candidates within three windows of the converged plane,
+    // so that the window clips neither colour (the noisier one's 3.5 σ lies inside it).
+    const std::vector<std::size_t> wide = within(xyz, pl, candidates, kWideWindow * tol);
+    const double split = dark_bright_split(intensity, pl.inliers);
+    for (int pass = 0; pass < 3; ++pass) {
+        std::array<std::vector<double>, 2> distances;  // |d| of the dark, of the bright
+        for (const std::size_t i : wide)
+            distances[intensity[i] >= split].push_back(
+                std::abs(pl.normal.dot(xyz[i] - pl.centroid)));
+        std::array<double, 2> sigma{};
+        for (int g = 0; g < 2; ++g)
+            sigma[g] = std::max(
+                kMadToSigma * (distances[g].empty() ? 0.0 : median(std::move(distances[g]))),
+                kSigmaFloor);
+        std::vector<std::size_t> kept;
+        std::vector<double> weights;
+        for (const std::size_t i : wide) {
+            const double s = sigma[intensity[i] >= split];
+            if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) > kClip * s) continue;
+            kept.push_back(i);
+            weights.push_back(1.0 / (s * s));
+        }
+        if (kept.size() < kMinPoints) break;
+        pl = fit_plane(xyz, kept, weights);
     }
-    pl.sigma = std::sqrt(ss / std::max<double>(1.0, static_cast<double>(pl.inliers.size()) - 3.0));
     return pl;
 }
 
@@ -246,7 +303,7 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
                     " points within 0.75 · size of the approximate centre, need " +
                     std::to_string(kMinPoints));
     }
-    const Plane plane = robust_plane(xyz, near);
+    const Plane plane = robust_plane(xyz, intensity, near);
     const Eigen::Vector3d n =
         plane.normal.dot(search.viewpoint - plane.centroid) >= 0.0 ? plane.normal : -plane.normal;
     Eigen::Vector3d e1 = Eigen::Vector3d::UnitZ().cross(n);
@@ -317,7 +374,7 @@ CheckerboardCentre checkerboard_centre(const std::vector<Eigen::Vector3d>& xyz,
     Eigen::Matrix<double, 3, 2> axes;
     axes << e1, e2;
     out.centre = origin + axes * fit.x.head<2>();
-    const double offset_var = plane.sigma * plane.sigma / static_cast<double>(plane.inliers.size());
+    const double offset_var = plane.offset_variance;
     out.covariance = axes * cov2 * axes.transpose() + offset_var * n * n.transpose();
     out.normal = n;
     // θ within ±45°: a quarter turn swaps the colours, i.e. the sign of h.
