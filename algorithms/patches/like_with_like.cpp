@@ -36,7 +36,8 @@ PlaneMoments total(const std::vector<BlockMoments>& blocks) {
 
 SeenAlike seen_alike(const std::vector<BlockMoments>& reference,
                      const std::vector<BlockMoments>& epoch) {
-    SeenAlike out{total(reference), total(epoch), false};
+    const PlaneMoments reference_total = total(reference), epoch_total = total(epoch);
+    SeenAlike out{reference_total, epoch_total, false, reference_total, epoch_total};
     if (reference.empty()) return out;
     // Each epoch block's block in the reference (both in (j, i) order), or none.
     const auto before = [](const BlockMoments& x, const BlockMoments& y) {
@@ -81,7 +82,7 @@ SeenAlike seen_alike(const std::vector<BlockMoments>& reference,
         for (int di = -1; di <= 1; ++di)
             for (int dj = -1; dj <= 1; ++dj)
                 if (unseen_places.count({reference[k].i + di, reference[k].j + dj})) alike[k] = 0;
-    SeenAlike part{{}, {}, true};
+    SeenAlike part{{}, {}, true, reference_total, epoch_total};
     for (std::size_t k = 0; k < reference.size(); ++k)
         if (alike[k]) part.reference += reference[k].moments;
     for (std::size_t e = 0; e < epoch.size(); ++e)
@@ -99,8 +100,9 @@ PatchResult compared_distance(const std::vector<BlockMoments>& reference,
         return patch_distance(fit_plane(seen.reference), fit_plane(seen.epoch), registration_sigma,
                               parameters);
     }
-    const PatchResult whole = patch_distance(fit_plane(total(reference)), fit_plane(total(epoch)),
-                                             registration_sigma, parameters);
+    const PatchResult whole =
+        patch_distance(fit_plane(seen.reference_total), fit_plane(seen.epoch_total),
+                       registration_sigma, parameters);
     if (whole.outcome == PatchOutcome::few_reference_points ||
         whole.outcome == PatchOutcome::rough) {
         return whole;  // the reference refused on its whole plane

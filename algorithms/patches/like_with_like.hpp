@@ -52,10 +52,11 @@ std::vector<BlockMoments> block_moments(const std::vector<Eigen::Vector3f>& uvw,
 PlaneMoments total(const std::vector<BlockMoments>& blocks);
 
 // The moments of the two sides over the blocks seen alike; `partial` false when the whole
-// sides are compared (their totals).
+// sides are compared (their totals). The whole sides' totals beside them.
 struct SeenAlike {
     PlaneMoments reference, epoch;
     bool partial = false;
+    PlaneMoments reference_total, epoch_total;
 };
 SeenAlike seen_alike(const std::vector<BlockMoments>& reference,
                      const std::vector<BlockMoments>& epoch);

@@ -109,11 +109,13 @@ Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, const std::vector<fl
     // so that the window clips neither colour (the noisier one's 3.5 σ lies inside it).
     const std::vector<std::size_t> wide = within(xyz, pl, candidates, kWideWindow * tol);
     const double split = dark_bright_split(intensity, pl.inliers);
+    std::vector<double> d(wide.size());  // |distance| from the current plane
     for (int pass = 0; pass < 3; ++pass) {
         std::array<std::vector<double>, 2> distances;  // |d| of the dark, of the bright
-        for (const std::size_t i : wide)
-            distances[intensity[i] >= split].push_back(
-                std::abs(pl.normal.dot(xyz[i] - pl.centroid)));
+        for (std::size_t k = 0; k < wide.size(); ++k) {
+            d[k] = std::abs(pl.normal.dot(xyz[wide[k]] - pl.centroid));
+            distances[intensity[wide[k]] >= split].push_back(d[k]);
+        }
         std::array<double, 2> sigma{};
         for (int g = 0; g < 2; ++g)
             sigma[g] = std::max(
@@ -121,10 +123,10 @@ Plane robust_plane(const std::vector<Eigen::Vector3d>& xyz, const std::vector<fl
                 kSigmaFloor);
         std::vector<std::size_t> kept;
         std::vector<double> weights;
-        for (const std::size_t i : wide) {
-            const double s = sigma[intensity[i] >= split];
-            if (std::abs(pl.normal.dot(xyz[i] - pl.centroid)) > kClip * s) continue;
-            kept.push_back(i);
+        for (std::size_t k = 0; k < wide.size(); ++k) {
+            const double s = sigma[intensity[wide[k]] >= split];
+            if (d[k] > kClip * s) continue;
+            kept.push_back(wide[k]);
             weights.push_back(1.0 / (s * s));
         }
         if (kept.size() < kMinPoints) break;
