@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
             for (const auto k : ref.zone_patches[z]) {
                 const auto& r = p.results[k].distance;
                 if (!std::isfinite(r.distance)) continue;
-                const Eigen::Vector3d c = ref.measured_at(k);
+                const Eigen::Vector3d c = ref.measured_at(k, &p.results[k]);
                 const double truth = (sim::pier_displacement(site, c, i, ci.bending) -
                                       sim::pier_displacement(site, c, 0, c0.bending))
                                          .dot(ref.patches[k].frame.normal);

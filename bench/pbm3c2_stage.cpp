@@ -179,11 +179,11 @@ int main(int argc, char** argv) {
             const auto& r = p.results[k].distance;
             pp.d.push_back(r.distance);
             pp.lod.push_back(r.lod);
-            pp.truth.push_back(truth_at(pb_ref.measured_at(k), f.normal));
+            pp.truth.push_back(truth_at(pb_ref.measured_at(k, &p.results[k]), f.normal));
             if (!std::isfinite(r.distance)) continue;
-            const double e =
-                test::registration_error_at(site, c0, ci, *o.to_reference, pb_ref.measured_at(k))
-                    .dot(f.normal);
+            const double e = test::registration_error_at(site, c0, ci, *o.to_reference,
+                                                         pb_ref.measured_at(k, &p.results[k]))
+                                 .dot(f.normal);
             ++pb_measured;
             pb_own_within += std::abs(r.distance - pp.truth.back() - e) <= 1.96 * r.sampling_sigma;
             if (std::isnan(draw) && pb_ref.zone_names[0] == "south" &&

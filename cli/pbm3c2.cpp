@@ -62,22 +62,32 @@ void write_csv(const std::string& path, const PbM3c2Reference& reference,
     f.write(
         "patch,supervoxel,zones,x_m,y_m,z_m,nx,ny,nz,distance_m,lod95_m,sigma_m,registration_sigma_"
         "m,"
-        "n1,sigma1_m,n2,sigma2_m,significant,outcome\n");
+        "n1,sigma1_m,n2,sigma2_m,significant,outcome,compared\n");
     for (std::size_t k = 0; k < reference.patches.size(); ++k) {
         const auto& frame = reference.patches[k].frame;
-        const auto r1 = patches::fit_plane(reference.moments[k]);
-        const auto r2 = patches::fit_plane(epoch.moments[k]);
         const auto& r = epoch.results[k];
-        const Eigen::Vector3d at = reference.measured_at(k);
-        const std::string row = csv_line(std::vector<std::string>{
-            std::to_string(k), std::to_string(reference.supervoxel[k]), zones[k],
-            csv_number(at.x()), csv_number(at.y()), csv_number(at.z()),
-            csv_number(frame.normal.x()), csv_number(frame.normal.y()),
-            csv_number(frame.normal.z()), csv_number(r.distance.distance),
-            csv_number(r.distance.lod), csv_number(r.distance.sigma),
-            csv_number(epoch.registration_sigma[k]), std::to_string(r1.count), csv_number(r1.sigma),
-            std::to_string(r2.count), csv_number(r2.sigma), r.distance.significant ? "1" : "0",
-            outcome_name(r.outcome)});
+        const Eigen::Vector3d at = reference.measured_at(k, &r);
+        const std::string row =
+            csv_line(std::vector<std::string>{std::to_string(k),
+                                              std::to_string(reference.supervoxel[k]),
+                                              zones[k],
+                                              csv_number(at.x()),
+                                              csv_number(at.y()),
+                                              csv_number(at.z()),
+                                              csv_number(frame.normal.x()),
+                                              csv_number(frame.normal.y()),
+                                              csv_number(frame.normal.z()),
+                                              csv_number(r.distance.distance),
+                                              csv_number(r.distance.lod),
+                                              csv_number(r.distance.sigma),
+                                              csv_number(epoch.registration_sigma[k]),
+                                              std::to_string(r.reference.count),
+                                              csv_number(r.reference.sigma),
+                                              std::to_string(r.epoch.count),
+                                              csv_number(r.epoch.sigma),
+                                              r.distance.significant ? "1" : "0",
+                                              outcome_name(r.outcome),
+                                              r.partial ? "part" : "whole"});
         f.write(row);
     }
     f.close();

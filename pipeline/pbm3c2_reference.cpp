@@ -6,12 +6,24 @@
 
 namespace tlsmon {
 
-Eigen::Vector3d PbM3c2Reference::measured_at(std::size_t k) const {
+Eigen::Vector3d PbM3c2Reference::measured_in_frame(std::size_t k,
+                                                   const patches::PatchResult* result) const {
+    const auto over_centroid = [](const patches::PlaneFit& fit) {
+        return Eigen::Vector3d(fit.centroid.x(), fit.centroid.y(), fit.height);
+    };
+    if (result && result->reference.valid) return over_centroid(result->reference);
+    const auto whole = patches::fit_plane(moments[k]);
+    return whole.valid ? over_centroid(whole) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d PbM3c2Reference::measured_at(std::size_t k,
+                                             const patches::PatchResult* result) const {
+    return from_frame(k, measured_in_frame(k, result));
+}
+
+Eigen::Vector3d PbM3c2Reference::from_frame(std::size_t k, const Eigen::Vector3d& uvw) const {
     const auto& frame = patches[k].frame;
-    const auto r1 = patches::fit_plane(moments[k]);
-    if (!r1.valid) return frame.origin;
-    return frame.origin + r1.centroid.x() * frame.u + r1.centroid.y() * frame.v +
-           r1.height * frame.normal;
+    return frame.origin + uvw.x() * frame.u + uvw.y() * frame.v + uvw.z() * frame.normal;
 }
 
 namespace {

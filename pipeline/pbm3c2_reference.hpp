@@ -31,9 +31,16 @@ struct PbM3c2Reference {
     std::vector<std::string> zone_names;                   // in the configuration's order
     std::vector<std::vector<std::uint32_t>> zone_patches;  // per zone, its patches (ascending)
 
-    // Where patch k's distance is taken: the reference plane over its points' centroid (the
-    // patch's origin when its plane could not be fitted).
-    Eigen::Vector3d measured_at(std::size_t k) const;
+    // Where patch k's distance is taken, (u, v, w) in its frame: over the centroid of the
+    // reference fit `result` rests on (the part both epochs saw alike, when only part was);
+    // without a result, or where that fit failed, over the whole reference plane's centroid;
+    // the frame's origin when neither could be fitted.
+    Eigen::Vector3d measured_in_frame(std::size_t k,
+                                      const patches::PatchResult* result = nullptr) const;
+    // The same place in the site's frame.
+    Eigen::Vector3d measured_at(std::size_t k, const patches::PatchResult* result = nullptr) const;
+    // (u, v, w) in patch k's frame, in the site's.
+    Eigen::Vector3d from_frame(std::size_t k, const Eigen::Vector3d& uvw) const;
 
     std::string encode() const;
     static PbM3c2Reference decode(std::string_view payload);  // throws Error when malformed

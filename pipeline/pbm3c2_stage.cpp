@@ -129,7 +129,7 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
             sampling.push_back(r.distance.sampling_sigma);
             registration.push_back(epoch.registration_sigma[k]);
             significant += r.distance.significant;
-            changes.push_back({reference.measured_at(k), r.distance.distance,
+            changes.push_back({reference.measured_at(k, &r), r.distance.distance,
                                r.distance.sampling_sigma,
                                patches::cell_centres(reference.patches[k])});
         }
@@ -164,17 +164,28 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
 std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference,
                                                 const PbM3c2Epoch& epoch) {
     const std::size_t n = epoch.results.size();
-    CorePointArray distance{"pbm3c2_distance_m", std::vector<float>(n)};
-    CorePointArray lod{"pbm3c2_lod95_m", std::vector<float>(n)};
-    CorePointArray n1{"pbm3c2_n1", std::vector<float>(n)};
-    CorePointArray n2{"pbm3c2_n2", std::vector<float>(n)};
+    std::vector<CorePointArray> arrays;
+    for (const char* name : kPbM3c2PatchArrays) arrays.push_back({name, std::vector<float>(n)});
     for (std::size_t k = 0; k < n; ++k) {
-        distance.values[k] = static_cast<float>(epoch.results[k].distance.distance);
-        lod.values[k] = static_cast<float>(epoch.results[k].distance.lod);
-        n1.values[k] = static_cast<float>(reference.moments[k].m);
-        n2.values[k] = static_cast<float>(epoch.moments[k].m);
+        const auto& r = epoch.results[k];
+        const Eigen::Vector3d shift =
+            reference.measured_in_frame(k, &r) - reference.measured_in_frame(k);
+        const double values[] = {r.distance.distance,
+                                 r.distance.lod,
+                                 double(r.reference.count),
+                                 double(r.epoch.count),
+                                 shift.x(),
+                                 shift.y(),
+                                 shift.z()};
+        for (std::size_t a = 0; a < arrays.size(); ++a)
+            arrays[a].values[k] = static_cast<float>(values[a]);
     }
-    return {std::move(distance), std::move(lod), std::move(n1), std::move(n2)};
+    // The shifts only where a patch has one.
+    const auto zero = [](const CorePointArray& a) {
+        return std::all_of(a.values.begin(), a.values.end(), [](float x) { return x == 0.0f; });
+    };
+    if (std::all_of(arrays.begin() + 4, arrays.end(), zero)) arrays.resize(4);
+    return arrays;
 }
 
 std::shared_ptr<const PbM3c2Reference> PbM3c2Stage::reference(ReferenceEpoch& reference,

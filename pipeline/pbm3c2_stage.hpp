@@ -58,8 +58,15 @@ PbM3c2Epoch measure_pbm3c2(const PbM3c2Config& config, const PbM3c2Reference& re
 std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
                                             const PbM3c2Epoch& epoch);
 
-// The per-patch float32 arrays: pbm3c2_distance_m, pbm3c2_lod95_m (NaN: no distance on that
-// patch), pbm3c2_n1, pbm3c2_n2 (the reference's and the epoch's points on it).
+// The per-patch float32 arrays, in this order: pbm3c2_distance_m, pbm3c2_lod95_m (NaN: no
+// distance on that patch), pbm3c2_n1, pbm3c2_n2 (the reference's and the epoch's points the
+// distance rests on: the part both saw alike, when only part was), and where the distance was
+// taken less where the whole patch's is (PbM3c2Reference::measured_in_frame), along the patch's
+// u, v and normal: 0 unless only part of the patch was compared, and left out when 0 at every
+// patch (a reader takes a missing shift as 0, as for an epoch stored before them).
+inline constexpr const char* kPbM3c2PatchArrays[] = {
+    "pbm3c2_distance_m", "pbm3c2_lod95_m",   "pbm3c2_n1",       "pbm3c2_n2",
+    "pbm3c2_shift_u_m",  "pbm3c2_shift_v_m", "pbm3c2_shift_w_m"};
 std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference,
                                                 const PbM3c2Epoch& epoch);
 

@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/error.hpp"
 #include "pipeline/core_point_map.hpp"
 #include "pipeline/pbm3c2_reference.hpp"
+#include "pipeline/pbm3c2_stage.hpp"
 #include "pipeline/stored_area_vectors.hpp"
 #include "pipeline/stored_product.hpp"
 #include "pipeline/vector_reference.hpp"
@@ -86,29 +88,34 @@ LasPoints m3c2_points(const EpochDatabase& db, EpochId id) {
 }
 
 LasPoints pbm3c2_points(const EpochDatabase& db, EpochId id) {
-    const auto array = [&](const char* quantity) {
-        auto a = db.series().core_point_array(id, quantity);
-        if (!a) throw Error("epoch " + std::to_string(id) + " has no PB-M3C2 patches");
-        return std::move(a->values);
-    };
-    const auto distance = array("pbm3c2_distance_m"), lod = array("pbm3c2_lod95_m"),
-               n1 = array("pbm3c2_n1"), n2 = array("pbm3c2_n2");
+    // In kPbM3c2PatchArrays' order; an epoch stored before the shifts has none (0: the whole
+    // patch's place, where its distance was then taken).
+    std::vector<std::optional<std::vector<float>>> a;
+    for (const char* quantity : kPbM3c2PatchArrays) {
+        auto stored = db.series().core_point_array(id, quantity);
+        if (!stored && a.size() < 4)
+            throw Error("epoch " + std::to_string(id) + " has no PB-M3C2 patches");
+        a.push_back(stored ? std::optional(std::move(stored->values)) : std::nullopt);
+    }
     const auto product = stored_product<PbM3c2Reference>(db);
     const std::size_t n = product.patches.size();
-    for (const auto* a : {&distance, &lod, &n1, &n2}) {
-        if (a->size() != n) {
-            throw Error("epoch " + std::to_string(id) + " has " + std::to_string(a->size()) +
+    for (auto& values : a) {
+        if (!values) values.emplace(n, 0.0f);
+        if (values->size() != n) {
+            throw Error("epoch " + std::to_string(id) + " has " + std::to_string(values->size()) +
                         " PB-M3C2 values, the stored reference " + std::to_string(n) +
                         " patches: it was measured with other [pbm3c2] parameters or zones");
         }
     }
+    const auto at = [&](std::size_t array, std::size_t k) { return double((*a[array])[k]); };
     LasPoints out;
     Columns c(out);
-    const NormalDistanceColumns nd(c, "pbm3c2", "reference points on the patch",
-                                   "epoch points on the patch");
+    const NormalDistanceColumns nd(c, "pbm3c2", "reference points compared",
+                                   "epoch points compared");
     for (std::size_t k = 0; k < n; ++k) {
-        out.xyz.push_back(product.measured_at(k));
-        nd.set(c, distance[k], lod[k], product.patches[k].frame.normal, n1[k], n2[k]);
+        const Eigen::Vector3d shift(at(4, k), at(5, k), at(6, k));
+        out.xyz.push_back(product.from_frame(k, product.measured_in_frame(k) + shift));
+        nd.set(c, at(0, k), at(1, k), product.patches[k].frame.normal, at(2, k), at(3, k));
     }
     return out;
 }

@@ -109,6 +109,7 @@ PatchResult compared_distance(const std::vector<BlockMoments>& reference,
     }
     PatchResult part = patch_distance(fit_plane(seen.reference), fit_plane(seen.epoch),
                                       registration_sigma, parameters);
+    part.partial = true;
     if (part.outcome == PatchOutcome::few_reference_points || part.outcome == PatchOutcome::rough)
         part.outcome = PatchOutcome::partly_seen;
     return part;

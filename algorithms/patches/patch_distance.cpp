@@ -22,6 +22,8 @@ void validate(const Parameters& p) {
 PatchResult patch_distance(const PlaneFit& reference, const PlaneFit& epoch,
                            double registration_sigma, const Parameters& p) {
     PatchResult r;
+    r.reference = reference;
+    r.epoch = epoch;
     const auto min_points = static_cast<std::size_t>(p.min_points);
     if (!reference.valid || reference.count < min_points) {
         r.outcome = PatchOutcome::few_reference_points;

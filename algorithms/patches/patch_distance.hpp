@@ -41,6 +41,10 @@ enum class PatchOutcome {
 struct PatchResult {
     PatchOutcome outcome = PatchOutcome::few_reference_points;
     PatchDistance distance;
+    // The two fits the distance rests on, or was refused on; the distance is taken over
+    // `reference`'s centroid, (ū₁, v̄₁, h₁) in the patch frame.
+    PlaneFit reference, epoch;
+    bool partial = false;  // the fits are over the part both epochs saw alike (like_with_like)
 };
 
 // tan of the largest angle between the reference points' fitted plane and the patch's own

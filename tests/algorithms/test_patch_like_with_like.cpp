@@ -58,6 +58,12 @@ TEST(PatchLikeWithLike, HalfTheFootprintOnReliefIsComparedWithTheSameHalf) {
     const PatchResult like = compared_distance(ref_blocks, half, 0.0, p);
     ASSERT_EQ(like.outcome, PatchOutcome::measured);
     EXPECT_NEAR(like.distance.distance, 0.002, like.distance.lod);
+    // It rests on those two columns' fits, and is taken over their centroid (u = 0.8).
+    EXPECT_TRUE(like.partial);
+    EXPECT_EQ(like.reference.count, 1000u);
+    EXPECT_EQ(like.epoch.count, 1000u);
+    EXPECT_NEAR(like.reference.centroid.x(), 0.8, 1e-7);  // float32 points
+    EXPECT_NEAR(like.reference.centroid.y(), 0.5, 1e-7);
     std::printf(
         "half a patch on relief: whole planes %.2f mm off (LoD95 %.2f mm), like with "
         "like %.3f mm off (LoD95 %.2f mm)\n",
@@ -76,6 +82,8 @@ TEST(PatchLikeWithLike, SeenWholeAtAnotherDensityOrSparselyTheWholePlanesAreComp
     const PatchResult direct =
         patch_distance(fit_plane(total(ref_blocks)), fit_plane(total(coarse)), 0.0, p);
     EXPECT_EQ(r.distance.distance, direct.distance.distance);
+    EXPECT_FALSE(r.partial);
+    EXPECT_EQ(r.reference.count, reference.size());
     EXPECT_NEAR(r.distance.distance, 0.002, r.distance.lod);
     // A sparse patch (6 m square, about one point a square metre, drawn at random in each
     // epoch): its blocks hold 16 points on average, and chance leaves none of them unseen.

@@ -41,7 +41,7 @@ class PbM3c2Command : public ::testing::Test {
         std::vector<std::string> header;
         std::istringstream names(line);
         for (std::string f; std::getline(names, f, ',');) header.push_back(f);
-        EXPECT_EQ(header.size(), 19u) << line;
+        EXPECT_EQ(header.size(), 20u) << line;
         std::vector<Row> out;
         while (std::getline(in, line)) {
             std::istringstream fields(line);

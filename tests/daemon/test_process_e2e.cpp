@@ -352,8 +352,9 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     // The south face at least: the grazing west face holds few patches of plane (docs/pbm3c2.md).
     EXPECT_GE(pb_zones, 1);
 
-    // `tlsmon export --map pbm3c2`: every patch at its centre with the stored distance and LoD
-    // (float32 of the one-shot's), NaN where none; read back by tlsmon and by copc.js.
+    // `tlsmon export --map pbm3c2`: every patch where its distance was taken, with the stored
+    // distance and LoD (float32 of the one-shot's), NaN where none; read back by tlsmon and by
+    // copc.js. A patch compared in part is placed by its float32 shift from its centre.
     const fs::path las = dir / "pbm3c2.las";
     const auto exported =
         shell(std::string(TLSMON_BINARY) + " export --map pbm3c2 --epoch " +
@@ -365,12 +366,17 @@ void one_shot_commands_reproduce_the_daemon(const Scenario& s, int k, std::int64
     ASSERT_EQ(own.xyz.size(), patches.size());
     ASSERT_EQ(own.attributes.at(0).name, "pbm3c2_distance_m");
     ASSERT_EQ(own.attributes.at(1).name, "pbm3c2_lod95_m");
+    int compared_in_part = 0;
+    for (const auto& row : patches) compared_in_part += row.at("compared") == "part";
+    std::printf("pbm3c2: %zu patches, %d compared in part\n", patches.size(), compared_in_part);
+    // At least one (the scene's epoch 5 has one), so the shifts the export reads are checked too.
+    EXPECT_GE(compared_in_part, 1);
     for (std::size_t k = 0; k < patches.size(); ++k) {
         for (int c = 0; c < 3; ++c) {
             const double x = std::stod(patches[k].at(std::string(1, "xyz"[c]) + "_m"));
-            EXPECT_NEAR(own.xyz[k][c], x, 0.5e-6 + 1e-9) << k;
+            EXPECT_NEAR(own.xyz[k][c], x, 0.5e-6 + 1e-7) << k;
             EXPECT_NEAR(other.at("points").at(std::string(1, "XYZ"[c]))[k].get<double>(), x,
-                        0.5e-6 + 1e-9);
+                        0.5e-6 + 1e-7);
         }
         for (const auto& [column, a] : {std::pair{"distance_m", 0}, std::pair{"lod95_m", 1}}) {
             const auto& attribute = own.attributes[std::size_t(a)];

@@ -314,7 +314,7 @@ inline Series run_series(const Scenario& scenario, const std::vector<double>& ho
                 std::vector<NormalPlace> measured_patches;
                 for (auto k : pb_ref->zone_patches[z])
                     if (std::isfinite(p->results[k].distance.distance))
-                        measured_patches.push_back(place(pb_ref->measured_at(k),
+                        measured_patches.push_back(place(pb_ref->measured_at(k, &p->results[k]),
                                                          pb_ref->patches[k].frame.normal,
                                                          p->registration_sigma[k]));
                 std::tie(f.pbm3c2_median, f.pbm3c2_mean) =

@@ -6,8 +6,9 @@
 // tests/pipeline/simulated_windows.hpp), the registration on the preset's targets with the
 // truth's range scales.
 //
-// Truth: the pier's displacement u_i at the place c the distance is taken at (the reference
-// points' centroid on the patch plane, PbM3c2Reference::measured_at) along the patch normal
+// Truth: the pier's displacement u_i at the place c the distance is taken at (the centroid of
+// the reference points it rests on, on their plane: PbM3c2Reference::measured_at) along the
+// patch normal
 // n, (u_i(c) − u_0(c))·n; a zone's true value is, for M3C2, the median over its measured core
 // points (tests/pipeline/test_m3c2_simulated.cpp), for PB-M3C2 the median over its measured
 // patches' footprint cells, the area its row's median is taken over
@@ -123,7 +124,7 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
             const auto& f = pb_ref.patches[k].frame;
             d.push_back(p.results[k].distance.distance);
             lod.push_back(p.results[k].distance.lod);
-            truth.push_back(truth_at(pb_ref.measured_at(k), f.normal));
+            truth.push_back(truth_at(pb_ref.measured_at(k, &p.results[k]), f.normal));
             if (!std::isfinite(d.back())) continue;
             const bool in = std::abs(d.back() - truth.back()) <= lod.back();
             ++out.patches, out.within += in;
@@ -133,9 +134,10 @@ Series run_series(const sim::Site& site, const std::vector<double>& hours) {
             if (!std::isfinite(d[k])) continue;
             ++out.south_patches, out.south_within += std::abs(d[k] - truth[k]) <= lod[k];
             const auto& f = pb_ref.patches[k].frame;
-            const double e = test::registration_error_at(site, e0.conditions, ei.conditions,
-                                                         *o->to_reference, pb_ref.measured_at(k))
-                                 .dot(f.normal);
+            const double e =
+                test::registration_error_at(site, e0.conditions, ei.conditions, *o->to_reference,
+                                            pb_ref.measured_at(k, &p.results[k]))
+                    .dot(f.normal);
             const double own_lod = 1.96 * p.results[k].distance.sampling_sigma;
             out.south_own_within += std::abs(d[k] - truth[k] - e) <= own_lod;
             if (first) out.registration_z.push_back(e / p.registration_sigma[k]), first = false;
