@@ -8,16 +8,17 @@
 // the adjustment, not the meteo correction; `--air` keeps it, with each epoch's range scale
 // the truth's (as a site's weather station gives it).
 //
-//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M] [--scaling S] [--air]
+//   bench_registration_coverage SCENE [SERIES] [FIRST_SEED] [--floor M] [--scaling S]
+//                               [--mount-cap DEG] [--air]
 //
 // SCENE: `demo` (the scene of `tlsmon demo`: the `small` preset at 0.05° with five spheres),
 // `pier`, `hochmosel`, or a scene file. The later epoch of series k is taken 24·frac(0.618·k)
 // hours after its reference, so the scanner's drift sweeps its day. `--floor` overrides
 // registration.centre_sigma_floor, `--scaling` registration.covariance_scaling (larger_of,
-// a_priori or a_posteriori). Prints, per parameter (ω, φ, κ, tx, ty, tz) and pooled,
-// the coverage of the 68 % and 95 % intervals with their Wilson bands (as `tlsmon
-// calibration`); the same for the transformation's error at two points of the pier's south
-// face (mid-height and 1 m below its top) in x, y and z against the covariance propagated
+// a_priori or a_posteriori), `--mount-cap` every sphere's mount_cap_deg. Prints, per parameter (ω,
+// φ, κ, tx, ty, tz) and pooled, the coverage of the 68 % and 95 % intervals with their Wilson bands
+// (as `tlsmon calibration`); the same for the transformation's error at two points of the pier's
+// south face (mid-height and 1 m below its top) in x, y and z against the covariance propagated
 // there (what every zone figure there carries); and per target the centre's change between
 // the two epochs against its truth (the footprint's bias, the same in both, cancels), along
 // the line of sight, across it horizontally and vertically: RMS(error/σ) with σ² the two
@@ -93,13 +94,15 @@ struct CentreScore {
 
 int main(int argc, char** argv) {
     std::vector<std::string> args;
-    std::optional<double> floor;
+    std::optional<double> floor, mount_cap;
     std::string scaling = "larger_of";
     bool air = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--floor" && i + 1 < argc)
             floor = std::atof(argv[++i]);
+        else if (a == "--mount-cap" && i + 1 < argc)
+            mount_cap = std::atof(argv[++i]);
         else if (a == "--scaling" && i + 1 < argc)
             scaling = argv[++i];
         else if (a == "--air")
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: bench_registration_coverage demo|pier|hochmosel|SCENE.toml "
                      "[SERIES] [FIRST_SEED] [--floor M] [--scaling larger_of|a_priori|"
-                     "a_posteriori] [--air]\n");
+                     "a_posteriori] [--mount-cap DEG] [--air]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -123,6 +126,8 @@ int main(int argc, char** argv) {
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
     RegistrationConfig config = test::simulated_targets(base);
     if (floor) config.centre_sigma_floor = *floor;
+    if (mount_cap)
+        for (auto& t : config.targets) t.mount_cap_deg = *mount_cap;
     config.covariance_scaling = *scaling_named;
 
     bench::TransformScores scores(base.pier);

@@ -393,6 +393,12 @@ TargetConfig read_target(TomlFields& t, const std::set<std::string>& taken) {
     g.kind = kind == "sphere" ? TargetKind::sphere : TargetKind::checkerboard;
     t.get("radius", g.radius, 0.01, 1.0);
     t.get("size", g.size, 0.05, 5.0);
+    std::string mount = "below";
+    t.get_choice("mount", mount, std::vector<std::string>{"below", "above", "none"});
+    g.mount = mount == "below"   ? Eigen::Vector3d(-Eigen::Vector3d::UnitZ())
+              : mount == "above" ? Eigen::Vector3d(Eigen::Vector3d::UnitZ())
+                                 : Eigen::Vector3d::Zero();
+    t.get("mount_cap_deg", g.mount_cap_deg, 0.0, 80.0);
     const auto vec = [&](const char* key) {
         std::vector<double> v;
         t.get(key, v);

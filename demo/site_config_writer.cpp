@@ -40,6 +40,8 @@ std::string site_configuration(const sim::Site& site) {
         out += "\n[[target]]\nname = " + toml_string(t.name) + "\n";
         if (t.kind == sim::Target::Kind::sphere) {
             out += fmt::format("kind = \"sphere\"\nradius = {}\n", toml_number(t.radius));
+            // Masts, stands and the short masts on blocks all hold it from below.
+            if (t.mount == sim::Target::Mount::none) out += "mount = \"none\"\n";
         } else {
             out += fmt::format("kind = \"checkerboard\"\nsize = {}\n", toml_number(t.size));
         }

@@ -28,6 +28,11 @@ struct TargetConfig {
     // A surveyed centre (project frame) replaces the one measured in the reference epoch.
     std::optional<Eigen::Vector3d> surveyed;
     double surveyed_sigma = 0.0005;  // m, per coordinate, of a surveyed centre
+    // A sphere's mount: the unit direction from its centre to where it is held (project frame;
+    // zero: not held), and the half-angle of the cap about it left out of the fit
+    // (algorithms/registration/sphere_fit.hpp).
+    Eigen::Vector3d mount = -Eigen::Vector3d::UnitZ();
+    double mount_cap_deg = 30.0;
 };
 
 // What the datum rests on: the targets; the scene's own planes (the congruence test keeps the

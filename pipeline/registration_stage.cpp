@@ -89,6 +89,8 @@ TargetMeasurement measure_in(const TargetConfig& target, const Scan& scan,
         // A known radius leaves three unknowns: 20 points on a far sphere's cap (a 0.15 m
         // sphere at 98.5 m and 0.03° gives 27) still fix its centre to a fraction of a mm.
         p.min_points = 20;
+        p.mount = target.mount;
+        p.mount_cap_deg = target.mount_cap_deg;
         const reg::SphereFit f = reg::fit_sphere(xyz, predicted, p);
         if (!f.found()) {
             m.status = f.status == reg::SphereFitStatus::bad_fit ? "bad_fit" : "not_found";
@@ -140,6 +142,10 @@ std::string reference_parameters(const RegistrationConfig& c) {
         s +=
             fmt::format(";{}:{}:{:.17g}:{:.17g}:{:.17g},{:.17g},{:.17g}", t.name, to_string(t.kind),
                         t.radius, t.size, t.approximate.x(), t.approximate.y(), t.approximate.z());
+        if (t.kind == TargetKind::sphere) {
+            s += fmt::format(":mount {:.17g},{:.17g},{:.17g}@{:.17g}", t.mount.x(), t.mount.y(),
+                             t.mount.z(), t.mount_cap_deg);
+        }
         if (t.surveyed) {
             s += fmt::format(":surveyed {:.17g},{:.17g},{:.17g}±{:.17g}", t.surveyed->x(),
                              t.surveyed->y(), t.surveyed->z(), t.surveyed_sigma);

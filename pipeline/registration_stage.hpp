@@ -44,9 +44,10 @@ struct TargetMeasurement {
 // The reference centres: measured in the reference epoch, or surveyed.
 struct ReferenceTargets {
     // Its reference-cache entry's format. 3: a checkerboard's plane weighted by colour
-    // (algorithms/registration/checkerboard_centre.hpp, step 1), so that an older entry's
-    // centres are measured again as the epochs' are.
-    static constexpr int kFormatVersion = 3;
+    // (algorithms/registration/checkerboard_centre.hpp, step 1). 4: a sphere's fit leaves out
+    // the cap where its mount meets it (sphere_fit.hpp). An older entry's centres are measured
+    // again, as the epochs' are.
+    static constexpr int kFormatVersion = 4;
     std::vector<TargetMeasurement> targets;  // in the configuration's order
 
     std::string encode() const;

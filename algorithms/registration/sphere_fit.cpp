@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -201,10 +202,23 @@ SphereFit fit_sphere(std::span<const Eigen::Vector3d> points,
         }
     }
 
+    // The points within `bound` of the sphere about centre c, less the mount's cap.
+    const double mount_cos = std::cos(p.mount_cap_deg * std::numbers::pi / 180.0);
+    const bool has_mount = p.mount.squaredNorm() > 0 && p.mount_cap_deg > 0;
+    const auto on_sphere = [&](const Eigen::Vector3d& c, double bound,
+                               std::vector<std::uint32_t>& out) {
+        out.clear();
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const Eigen::Vector3d d = points[i] - c;
+            const double norm = d.norm();
+            if (std::fabs(norm - r) > bound) continue;
+            if (has_mount && d.dot(p.mount) > mount_cos * norm) continue;
+            out.push_back(i);
+        }
+    };
     std::vector<std::uint32_t> inliers;
     inliers.reserve(points.size());
-    for (std::uint32_t i = 0; i < n; ++i)
-        if (std::fabs((points[i] - best).norm() - r) <= p.inlier_threshold) inliers.push_back(i);
+    on_sphere(best, p.inlier_threshold, inliers);
     if (!std::isfinite(best_cost) || inliers.size() < min_points)
         return fail(fit, SphereFitStatus::not_found, SphereFitReason::no_consensus,
                     format("best consensus %.0f points, %.0f needed",
@@ -226,9 +240,7 @@ SphereFit fit_sphere(std::span<const Eigen::Vector3d> points,
         for (const std::uint32_t i : inliers) absv.push_back(std::fabs((points[i] - c).norm() - r));
         const double sigma = std::max(kMadToSigma * median_high(absv), p.min_noise);
         const double bound = std::min(p.outlier_k * sigma, p.inlier_threshold);
-        next.clear();
-        for (std::uint32_t i = 0; i < n; ++i)
-            if (std::fabs((points[i] - c).norm() - r) <= bound) next.push_back(i);
+        on_sphere(c, bound, next);
         if (next == inliers) break;
         inliers.swap(next);
         if (inliers.size() < min_points) break;

@@ -27,6 +27,12 @@ struct SphereFitParams {
     double max_rms = 0.003;               // m, RMS distance of the inliers to the sphere
     double min_coverage = 0.02;           // λ_min of mean(u·uᵀ), u = unit vectors centre->point
     int max_iterations = 30;              // Gauss–Newton iterations per fit
+    // Where the sphere is held (its stud, mast or pole): the unit direction from the centre, in
+    // the points' frame (zero: nowhere). The points within mount_cap_deg of it are left out of
+    // the final fit: there the mount meets the sphere, its points lie within the noise of the
+    // sphere's surface, and how many of them a scan keeps changes with the grid's phase.
+    Eigen::Vector3d mount = Eigen::Vector3d::Zero();
+    double mount_cap_deg = 0.0;
 };
 
 enum class SphereFitStatus { found, not_found, bad_fit };

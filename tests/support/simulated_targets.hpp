@@ -28,6 +28,7 @@ inline RegistrationConfig simulated_targets(const sim::Site& site) {
             t.kind == sim::Target::Kind::sphere ? TargetKind::sphere : TargetKind::checkerboard;
         g.radius = t.radius;
         g.size = t.size;
+        if (t.mount == sim::Target::Mount::none) g.mount = Eigen::Vector3d::Zero();
         g.approximate = t.centre + Eigen::Vector3d(0.02, -0.015, 0.01);
         c.targets.push_back(g);
     }
