@@ -10,7 +10,7 @@
 // defaults are scored.
 //
 //   bench_keypoint_coverage PRESET [SERIES=14] [FIRST_SEED=5000] [--epochs N=4] [--patches]
-//                           [--scaling larger_of|a_priori|a_posteriori] [--stray-distance M]
+//                           [--scaling a_priori|larger_of|a_posteriori] [--stray-distance M]
 //
 // PRESET: `pier` (the south face and its four 10 m bands) or `hochmosel` (the detail strip's
 // thirteen 10 m bands). Series k (seed FIRST_SEED + k) starts 24·frac(0.618·k) hours into the
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     int epochs = 4;
     bool patches = false;
-    std::string scaling_name = "larger_of";  // the default
+    std::string scaling_name = to_string(RegistrationConfig{}.covariance_scaling);
     double stray_distance = M3c2Config{}.stray_distance;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
     if ((preset != "pier" && preset != "hochmosel") || series < 1 || epochs < 2 || !scaling) {
         std::fprintf(stderr,
                      "usage: bench_keypoint_coverage pier|hochmosel [SERIES] [FIRST_SEED] "
-                     "[--epochs N>=2] [--patches] [--scaling larger_of|a_priori|a_posteriori] "
+                     "[--epochs N>=2] [--patches] [--scaling a_priori|larger_of|a_posteriori] "
                      "[--stray-distance M]\n");
         return 2;
     }

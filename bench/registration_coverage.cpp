@@ -14,8 +14,8 @@
 // SCENE: `demo` (the scene of `tlsmon demo`: the `small` preset at 0.05° with five spheres),
 // `pier`, `hochmosel`, or a scene file. The later epoch of series k is taken 24·frac(0.618·k)
 // hours after its reference, so the scanner's drift sweeps its day. `--floor` overrides
-// registration.centre_sigma_floor, `--scaling` registration.covariance_scaling (larger_of,
-// a_priori or a_posteriori), `--mount-cap` every sphere's mount_cap_deg. Prints, per parameter (ω,
+// registration.centre_sigma_floor, `--scaling` registration.covariance_scaling (a_priori,
+// larger_of or a_posteriori), `--mount-cap` every sphere's mount_cap_deg. Prints, per parameter (ω,
 // φ, κ, tx, ty, tz) and pooled, the coverage of the 68 % and 95 % intervals with their Wilson bands
 // (as `tlsmon calibration`); the same for the transformation's error at two points of the pier's
 // south face (mid-height and 1 m below its top) in x, y and z against the covariance propagated
@@ -95,7 +95,7 @@ struct CentreScore {
 int main(int argc, char** argv) {
     std::vector<std::string> args;
     std::optional<double> floor, mount_cap;
-    std::string scaling = "larger_of";
+    std::string scaling = to_string(RegistrationConfig{}.covariance_scaling);
     bool air = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
     if (args.empty() || !scaling_named) {
         std::fprintf(stderr,
                      "usage: bench_registration_coverage demo|pier|hochmosel|SCENE.toml "
-                     "[SERIES] [FIRST_SEED] [--floor M] [--scaling larger_of|a_priori|"
+                     "[SERIES] [FIRST_SEED] [--floor M] [--scaling a_priori|larger_of|"
                      "a_posteriori] [--mount-cap DEG] [--air]\n");
         return 2;
     }

@@ -21,8 +21,8 @@ constexpr std::array<Named<RegistrationMethod>, 7> kMethods{{
 }};
 
 constexpr std::array<Named<registration::CovarianceScaling>, 3> kCovarianceScalings{{
-    {registration::CovarianceScaling::larger_of, "larger_of"},
     {registration::CovarianceScaling::a_priori, "a_priori"},
+    {registration::CovarianceScaling::larger_of, "larger_of"},
     {registration::CovarianceScaling::a_posteriori, "a_posteriori"},
 }};
 
@@ -51,6 +51,13 @@ std::optional<RegistrationMethod> registration_method_named(std::string_view nam
         if (m.name == name) return m.value;
     }
     return std::nullopt;
+}
+
+const char* to_string(registration::CovarianceScaling scaling) {
+    for (const auto& s : kCovarianceScalings) {
+        if (s.value == scaling) return s.name.data();
+    }
+    return "a_priori";
 }
 
 std::optional<registration::CovarianceScaling> covariance_scaling_named(std::string_view name) {
@@ -87,9 +94,10 @@ std::vector<SectionKey<RegistrationConfig>> registration_keys() {
         K::choice(&RegistrationConfig::covariance_scaling, "covariance_scaling",
                   kCovarianceScalings,
                   "The variance factor σ0² of the targets' adjustment, Σ = σ0²·Q_xx, that every "
-                  "LoD downstream inherits. `larger_of`: max(1, s0²), never more optimistic than "
-                  "the centres' covariances nor the residuals. `a_priori`: 1, the centres' "
-                  "covariances as they are. `a_posteriori`: s0² (t-expanded). An epoch that "
+                  "LoD downstream inherits. `a_priori`: 1, the centres' covariances as they are "
+                  "(they cover at the nominal rates over independent series). `larger_of`: "
+                  "max(1, s0²), never more optimistic than the residuals, which pads the σ in "
+                  "the epochs with s0² > 1. `a_posteriori`: s0² (t-expanded). An epoch that "
                   "fails the global test is scaled by s0² whatever this says "
                   "(docs/registration.md, \"Rigid transformation\"; docs/calibration.md)."),
         K::integer(&RegistrationConfig::min_targets, "min_targets", 3, 100, "",

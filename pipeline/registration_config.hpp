@@ -53,6 +53,7 @@ std::optional<RegistrationMethod> registration_method_named(std::string_view nam
 
 // The scaling of that name ("larger_of", "a_priori", "a_posteriori"); absent for another name.
 std::optional<registration::CovarianceScaling> covariance_scaling_named(std::string_view name);
+const char* to_string(registration::CovarianceScaling scaling);
 
 // What to do with the epoch's meteo values (EpochInput::meteo).
 enum class AtmosphereCorrection { measured_air, off };
@@ -69,7 +70,7 @@ struct RegistrationConfig {
     // repeat to (docs/registration.md, "Centre σ floor").
     double centre_sigma_floor = 0.0;  // m
     // σ0² of the targets' adjustment (algorithms/registration/rigid_transform.hpp).
-    registration::CovarianceScaling covariance_scaling = registration::CovarianceScaling::larger_of;
+    registration::CovarianceScaling covariance_scaling = registration::CovarianceScaling::a_priori;
     int min_targets = 3;
     double max_rms = 0.002;                // m, RMS of the used targets' residual lengths
     double max_sigma_angle_arcsec = 10.0;  // each of ω, φ, κ
