@@ -184,7 +184,8 @@ std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference
     const auto zero = [](const CorePointArray& a) {
         return std::all_of(a.values.begin(), a.values.end(), [](float x) { return x == 0.0f; });
     };
-    if (std::all_of(arrays.begin() + 4, arrays.end(), zero)) arrays.resize(4);
+    if (std::all_of(arrays.begin() + kPbM3c2FirstShift, arrays.end(), zero))
+        arrays.resize(kPbM3c2FirstShift);
     return arrays;
 }
 

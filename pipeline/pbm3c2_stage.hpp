@@ -67,6 +67,7 @@ std::vector<ZoneResult> pbm3c2_zone_results(const PbM3c2Reference& reference,
 inline constexpr const char* kPbM3c2PatchArrays[] = {
     "pbm3c2_distance_m", "pbm3c2_lod95_m",   "pbm3c2_n1",       "pbm3c2_n2",
     "pbm3c2_shift_u_m",  "pbm3c2_shift_v_m", "pbm3c2_shift_w_m"};
+inline constexpr std::size_t kPbM3c2FirstShift = 4;  // the shifts' place in kPbM3c2PatchArrays
 std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference,
                                                 const PbM3c2Epoch& epoch);
 

@@ -93,7 +93,7 @@ LasPoints pbm3c2_points(const EpochDatabase& db, EpochId id) {
     std::vector<std::optional<std::vector<float>>> a;
     for (const char* quantity : kPbM3c2PatchArrays) {
         auto stored = db.series().core_point_array(id, quantity);
-        if (!stored && a.size() < 4)
+        if (!stored && a.size() < kPbM3c2FirstShift)
             throw Error("epoch " + std::to_string(id) + " has no PB-M3C2 patches");
         a.push_back(stored ? std::optional(std::move(stored->values)) : std::nullopt);
     }
@@ -113,7 +113,8 @@ LasPoints pbm3c2_points(const EpochDatabase& db, EpochId id) {
     const NormalDistanceColumns nd(c, "pbm3c2", "reference points compared",
                                    "epoch points compared");
     for (std::size_t k = 0; k < n; ++k) {
-        const Eigen::Vector3d shift(at(4, k), at(5, k), at(6, k));
+        const std::size_t s = kPbM3c2FirstShift;
+        const Eigen::Vector3d shift(at(s, k), at(s + 1, k), at(s + 2, k));
         out.xyz.push_back(product.from_frame(k, product.measured_in_frame(k) + shift));
         nd.set(c, at(0, k), at(1, k), product.patches[k].frame.normal, at(2, k), at(3, k));
     }
