@@ -406,9 +406,12 @@ KeypointSegmentsResult keypoint_segments(const KeypointConfig& config,
             const OutlierResult filtered = filter_outliers(in, op);
             KeypointSegmentResult r;
             r.zone = reference.zone_names[z];
-            r.displacement = stratified_displacement(
-                in, filtered.removed_by, wall, reference.wall_cells[z],
-                {.segment = sp, .min_stratum_matches = sp.min_matches, .band_width = width});
+            r.displacement =
+                stratified_displacement(in, filtered.removed_by, wall, reference.wall_cells[z],
+                                        {.segment = sp,
+                                         .min_stratum_matches = sp.min_matches,
+                                         .band_width = width,
+                                         .scanner = reference.scanner});
             for (auto& m : in) m.segment = 0;
             check_sampling(r.displacement, in, 0);
             r.registration_covariance = covariance_at(r.displacement, in);

@@ -168,8 +168,11 @@ std::vector<CorePointArray> pbm3c2_patch_arrays(const PbM3c2Reference& reference
     for (const char* name : kPbM3c2PatchArrays) arrays.push_back({name, std::vector<float>(n)});
     for (std::size_t k = 0; k < n; ++k) {
         const auto& r = epoch.results[k];
-        const Eigen::Vector3d shift =
-            reference.measured_in_frame(k, &r) - reference.measured_in_frame(k);
+        // A patch compared whole was measured at the whole plane's place: no shift.
+        const Eigen::Vector3d shift = r.partial
+                                          ? Eigen::Vector3d(reference.measured_in_frame(k, &r) -
+                                                            reference.measured_in_frame(k))
+                                          : Eigen::Vector3d::Zero();
         const double values[] = {r.distance.distance,
                                  r.distance.lod,
                                  double(r.reference.count),

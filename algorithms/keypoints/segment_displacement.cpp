@@ -64,9 +64,9 @@ Moments moments(const std::vector<Eigen::Vector3d>& all, const std::vector<bool>
     return {mean, (squares / (n - 1)).cwiseSqrt(), variance.cwiseSqrt() / n};
 }
 
-// A match's cluster: the cell of cluster_px × cluster_px pixels its reference anchor lies in,
-// per scan; its own index when cluster_px is 0.
-std::uint64_t cluster_of(const KeypointMatch& m, std::size_t index, double cluster_px) {
+}  // namespace
+
+std::uint64_t match_cluster(const KeypointMatch& m, std::size_t index, double cluster_px) {
     if (!(cluster_px > 0)) return index;
     const auto cell = [&](double px) {
         return static_cast<std::uint64_t>(
@@ -75,8 +75,6 @@ std::uint64_t cluster_of(const KeypointMatch& m, std::size_t index, double clust
     return (static_cast<std::uint64_t>(m.scan) << 56) ^ (cell(m.reference_row) << 28) ^
            cell(m.reference_column);
 }
-
-}  // namespace
 
 WallFrame fit_wall_frame(std::span<const Eigen::Vector3d> points,
                          const m3c2::Orientation& orientation, const Eigen::Vector3d& up) {
@@ -151,7 +149,7 @@ SegmentDisplacement segment_displacement(std::span<const KeypointMatch> matches,
                         " has a non-finite point");
         vectors.push_back(d);
         kept.push_back(removed_by[i] == OutlierFilter::none);
-        cluster.push_back(cluster_of(matches[i], i, parameters.cluster_px));
+        cluster.push_back(match_cluster(matches[i], i, parameters.cluster_px));
         if (kept.back()) reference_points.push_back(matches[i].reference_point);
     }
     result.count = reference_points.size();

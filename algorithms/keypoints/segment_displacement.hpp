@@ -22,6 +22,7 @@
 //   standard deviation and standard error (this keeps the correlation of the components).
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -92,6 +93,11 @@ struct SegmentDisplacement {
     double along_surface_horizontal() const { return along[1]; }
     double along_surface_vertical() const { return along[2]; }
 };
+
+// A match's cluster for the standard errors: the cell of cluster_px × cluster_px pixels its
+// reference anchor lies in, per scan (matches whose refinement patches overlap err
+// together); its own `index` when cluster_px is 0.
+std::uint64_t match_cluster(const KeypointMatch& m, std::size_t index, double cluster_px);
 
 // One segment's figures from the matches with KeypointMatch::segment == `segment` that the
 // filters kept (removed_by[i] == none; removed_by has one entry per match). `wall`: the

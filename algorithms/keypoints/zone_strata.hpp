@@ -9,14 +9,19 @@
 // mean is weighted by its share of the zone's wall area, the weights of a stratified sample
 // (Cochran 1977, "Sampling techniques", §5.2):
 //
-//     d̄ = Σ_s w_s·d̄_s,   SE(d̄)² = Σ_s w_s²·v_s/n_s,   w_s = A_s / Σ A_s,
+//     d̄ = Σ_s w_s·d̂_s,   SE(d̄)² = Σ_s w_s²·(v_s/n_s + (Ē_s − ē_s)²·Var(b_s)),
+//     w_s = A_s / Σ A_s,   d̂_s = d̄_s + b_s·(Ē_s − ē_s),
 //
 // A_s the wall area of the zone in the stratum's bands, counted in cells of the wall plane
 // that hold reference points (a face seen through a gap or cut by the scan's edge counts what
-// was seen; a band where nothing matched counts with the stratum it joined); v_s = n_s·SE_s²
-// the stratum's variance per kept match, SE_s its kept mean's standard error as a trimmed
-// mean's (segment_displacement.hpp), but never below the one pooled within all strata (a
-// stratum of a few matches says little about its own spread).
+// was seen; a band where nothing matched counts with the stratum it joined). Within a stratum
+// the mean is moved along the kept matches' line on the vertical angle from their mean angle
+// ē_s to the stratum's cells' Ē_s (the separate regression estimator, Cochran 1977 §7.10;
+// b_s the slope, zone_strata.cpp): the matches crowd where the texture is resolved best, not
+// where the stratum's area is. v_s = n_s·SE_s² the stratum's variance per kept match about its
+// line, SE_s its kept mean's standard error as a trimmed mean's (segment_displacement.hpp),
+// but never below the one pooled within all strata (a stratum of a few matches says little
+// about its own spread).
 #include <Eigen/Core>
 #include <cstddef>
 #include <span>
@@ -39,6 +44,9 @@ struct StratifiedParameters {
     SegmentParameters segment;             // min_matches: of the whole zone
     std::size_t min_stratum_matches = 10;  // bands are joined until a stratum holds this many
     double band_width = 0;                 // rad, the strata's height in vertical angle
+    // The reference scanner's position (project frame), whence the cells' vertical angles
+    // were taken: the matches' are taken alike for the strata's regression (zone_strata.cpp).
+    Eigen::Vector3d scanner = Eigen::Vector3d::Zero();
 };
 
 // The zone's displacement from `matches` whose `segment` is their band of the vertical angle
