@@ -167,10 +167,7 @@ SegmentDisplacement segment_displacement(std::span<const KeypointMatch> matches,
     result.wall =
         wall ? *wall : fit_wall_frame(reference_points, parameters.orientation, parameters.up);
     if (result.wall.defined()) {
-        Eigen::Matrix3d to_wall;  // rows: n, h, v
-        to_wall.row(0) = result.wall.normal.transpose();
-        to_wall.row(1) = result.wall.horizontal.transpose();
-        to_wall.row(2) = result.wall.vertical.transpose();
+        const Eigen::Matrix3d to_wall = result.wall.rows();
         std::vector<Eigen::Vector3d> along(vectors.size());
         for (std::size_t j = 0; j < vectors.size(); ++j) along[j] = to_wall * vectors[j];
         const Moments wall_moments = moments(along, kept, cluster);

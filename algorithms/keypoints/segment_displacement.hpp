@@ -53,6 +53,13 @@ struct WallFrame {
     bool horizontal_surface = false;  // normal within 1° of up: h is the projected x axis
     std::string undefined_reason;     // empty when defined
     bool defined() const { return normal.allFinite(); }
+    // The directions as rows: (normal, h, v) of a project-frame vector.
+    Eigen::Matrix3d rows() const {
+        Eigen::Matrix3d m;
+        m.row(0) = normal.transpose(), m.row(1) = horizontal.transpose(),
+        m.row(2) = vertical.transpose();
+        return m;
+    }
 };
 
 // The plane through `points` and its in-plane directions; `up` is the project frame's up.

@@ -204,10 +204,7 @@ SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> match
     if (!(dof > 0)) return out;
     pooled /= dof;
     along_pooled /= dof;
-    Eigen::Matrix3d to_wall;  // rows: n, h, v
-    to_wall.row(0) = wall.normal.transpose();
-    to_wall.row(1) = wall.horizontal.transpose();
-    to_wall.row(2) = wall.vertical.transpose();
+    const Eigen::Matrix3d to_wall = wall.rows();
     Eigen::Vector3d mean = Eigen::Vector3d::Zero(), variance = Eigen::Vector3d::Zero();
     Eigen::Vector3d along = Eigen::Vector3d::Zero(), along_variance = Eigen::Vector3d::Zero();
     for (std::size_t k = 0; k < strata.size(); ++k) {
