@@ -5,7 +5,8 @@
 // reference product is built first and reported apart (the pipeline builds it once and keeps
 // it in the reference cache); reading the files is not counted.
 //
-//   bench_keypoint_stage REFERENCE.ptx EPOCH.ptx [DETECTOR [REFINE(0|1) [bands]]]
+//   bench_keypoint_stage REFERENCE.ptx EPOCH.ptx [DETECTOR [REFINE(0|1) [bands|zones
+//                        [DETECTOR_THRESHOLD]]]]
 //
 // e.g. two epochs of `tlsmon simulate --preset pier --epochs 2 --out /tmp/pier`. No
 // registration: the epochs' drift shows in the vectors, not in the times.
@@ -39,13 +40,15 @@ double process_cpu() {
 int main(int argc, char** argv) {
     if (argc < 3) {
         std::fprintf(stderr,
-                     "usage: bench_keypoint_stage REFERENCE EPOCH [DETECTOR [REFINE [bands]]]\n");
+                     "usage: bench_keypoint_stage REFERENCE EPOCH [DETECTOR [REFINE [bands|zones "
+                     "[DETECTOR_THRESHOLD]]]]\n");
         return 2;
     }
     KeypointConfig config;
     if (argc > 3) config.detector = argv[3];
     if (argc > 4) config.refine = std::atoi(argv[4]) != 0;
     if (argc > 5 && std::string(argv[5]) == "bands") config.segments = KeypointSegments::bands;
+    if (argc > 6) config.detector_threshold = std::atof(argv[6]);
     const auto& p = sim::preset_pier().pier;
     const ZoneShape south =
         box_zone("south", {p.x0 + 0.5, p.y0 - 0.5, 1.0}, {p.x1 - 0.5, p.y0 + 0.5, p.height - 1.0});

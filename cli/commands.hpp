@@ -409,6 +409,7 @@ struct KeypointsOptions {
     // Each one given replaces the parameter (algorithms/keypoints/parameters.hpp).
     std::optional<std::string> detector;
     std::optional<std::string> descriptor;
+    std::optional<double> detector_threshold;
     std::optional<double> window_deg;
     std::optional<double> window_m;
     std::optional<double> ratio;

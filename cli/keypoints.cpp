@@ -45,6 +45,7 @@ KeypointConfig parameters_of(const KeypointsOptions& o, const std::optional<Conf
     }
     if (o.detector) p.detector = *o.detector;
     if (o.descriptor) p.descriptor = *o.descriptor;
+    if (o.detector_threshold) p.detector_threshold = *o.detector_threshold;
     if (o.window_deg) p.window_deg = *o.window_deg;
     if (o.window_m) p.window_m = *o.window_m;
     if (o.ratio) p.ratio = *o.ratio;
@@ -153,10 +154,7 @@ void write_pictures(const std::string& folder, const KeypointConfig& p, const Fi
     std::error_code ec;
     std::filesystem::create_directories(folder, ec);
     if (ec) throw Error(folder + ": cannot create the folder: " + ec.message());
-    FeatureParameters features;
-    features.detector = p.detector;
-    features.descriptor = p.descriptor;
-    features.clahe = p.clahe;
+    const FeatureParameters features = features_of(p);
     const auto grey = [&](const std::vector<Scan>& scans) {
         for (const auto& s : scans)
             if (s.grid)
@@ -189,10 +187,7 @@ int run_keypoints(const KeypointsOptions& o) {
     try {
         const std::optional<Config> site = site_config(o.config);
         const KeypointConfig p = parameters_of(o, site);
-        FeatureParameters features;
-        features.detector = p.detector;
-        features.descriptor = p.descriptor;
-        validate(features);  // before reading two scans, not after
+        validate(features_of(p));  // before reading two scans, not after
         Config shown = site.value_or(Config{});
         static_cast<keypoints::Parameters&>(shown.keypoints) = p;
         shown.keypoints.segments = p.segments;

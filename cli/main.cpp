@@ -859,6 +859,11 @@ void add_keypoints(CLI::App& app, CommandLine& c) {
     cmd->add_option("--descriptor", o.descriptor,
                     "brisk, sift, orb, kaze or akaze (the last two on their own detector only)" +
                         fallback("keypoints.descriptor", defaults.descriptor));
+    cmd->add_option(
+           "--detector-threshold", o.detector_threshold,
+           "KAZE/AKAZE response threshold" +
+               fallback("keypoints.detector_threshold", toml_number(defaults.detector_threshold)))
+        ->check(CLI::Range(1e-6, 1.0));
     cmd->add_option("--window-deg", o.window_deg,
                     "Angular radius of the matching window, degrees" +
                         fallback("keypoints.window_deg", toml_number(defaults.window_deg)))

@@ -28,6 +28,12 @@ std::vector<SectionKey<KeypointConfig>> keypoint_keys() {
         K::text(&KeypointConfig::descriptor, "descriptor",
                 "`brisk`, `sift`, `orb`; `kaze`/`akaze` on their own detector only",
                 "Keypoint descriptor; binary ones are matched by Hamming distance."),
+        K::number(&KeypointConfig::detector_threshold, "detector_threshold", 1e-6, 1, "",
+                  "`kaze`/`akaze`: the detector's response threshold (the Hessian determinant of "
+                  "the intensity image scaled to 0..1). Lower finds more keypoints where the "
+                  "beam's footprint blurs the texture, far from the scanner; the matches' own "
+                  "standard error stays honest down to about 0.0003 (docs/keypoints.md, \"The "
+                  "detector's threshold\")."),
         K::flag(&KeypointConfig::clahe, "clahe",
                 "Equalise the 8-bit intensity image (CLAHE) before detection and description."),
         K::number(&KeypointConfig::window_deg, "window_deg", 0.0001, 5, "°",

@@ -38,14 +38,6 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-FeatureParameters feature_parameters(const KeypointConfig& c) {
-    FeatureParameters f;
-    f.detector = c.detector;
-    f.descriptor = c.descriptor;
-    f.clahe = c.clahe;
-    return f;
-}
-
 // The structured scans of an epoch, in file order.
 std::vector<const Scan*> structured_scans(const std::vector<Scan>& scans, const char* which) {
     std::vector<const Scan*> out;
@@ -86,7 +78,7 @@ struct Described {
 };
 
 Described describe_scan(const KeypointConfig& c, const Scan& scan) {
-    const FeatureParameters fp = feature_parameters(c);
+    const FeatureParameters fp = features_of(c);
     Described d;
     auto t0 = Clock::now();
     d.images = spherical_images_from_grid(scan);

@@ -20,6 +20,15 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
+FeatureParameters features_of(const Parameters& parameters) {
+    FeatureParameters f;
+    f.detector = parameters.detector;
+    f.descriptor = parameters.descriptor;
+    f.clahe = parameters.clahe;
+    f.detector_threshold = parameters.detector_threshold;
+    return f;
+}
+
 void validate(const FeatureParameters& p) {
     if (std::find(detectors.begin(), detectors.end(), p.detector) == detectors.end())
         throw Error("keypoints: unknown detector '" + p.detector + "' (one of " +
@@ -32,7 +41,7 @@ void validate(const FeatureParameters& p) {
                     "' detector (it reads the detector's scale level)");
     if (p.clahe && (!(p.clahe_clip_limit > 0.0) || p.clahe_tiles < 1))
         throw Error("keypoints: CLAHE needs a clip limit > 0 and at least one tile");
-    if (!(p.kaze_threshold > 0.0)) throw Error("keypoints: kaze_threshold must be > 0");
+    if (!(p.detector_threshold > 0.0)) throw Error("keypoints: detector_threshold must be > 0");
     if (p.kaze_octaves < 1 || p.kaze_octave_layers < 1)
         throw Error("keypoints: kaze_octaves and kaze_octave_layers must be >= 1");
     if (p.max_keypoints < 0) throw Error("keypoints: max_keypoints must be >= 0");

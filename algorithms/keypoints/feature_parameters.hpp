@@ -15,7 +15,7 @@ struct FeatureParameters {
     bool clahe = false;
     double clahe_clip_limit = 2.0;
     int clahe_tiles = 8;
-    double kaze_threshold = 0.001;  // KAZE/AKAZE detector response threshold
+    double detector_threshold = Parameters{}.detector_threshold;  // KAZE/AKAZE only
     // KAZE/AKAZE scale space: octaves and sub-levels per octave (OpenCV's defaults, 4 and 4).
     // KAZE keeps every level at full resolution, so its time and memory grow with their
     // product times the image's pixels (≈ 16 float images per level).
@@ -23,6 +23,9 @@ struct FeatureParameters {
     int kaze_octave_layers = 4;
     int max_keypoints = 0;  // keep the strongest N; 0: all
 };
+
+// The detector's and descriptor's part of the method's parameters.
+FeatureParameters features_of(const Parameters& parameters);
 
 // Throws tlsmon::Error naming the unknown detector or descriptor, or a pair that does not
 // work together.

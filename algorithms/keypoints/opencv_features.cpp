@@ -21,7 +21,7 @@ cv::Mat view_of(const Raster8& image) {
 
 cv::Ptr<cv::Feature2D> create(const std::string& name, const FeatureParameters& p,
                               bool for_detection) {
-    const auto threshold = static_cast<float>(p.kaze_threshold);
+    const auto threshold = static_cast<float>(p.detector_threshold);
     if (name == "kaze") return cv::KAZE::create(false, false, threshold);
     if (name == "akaze") return cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3, threshold);
     if (name == "sift") return cv::SIFT::create();

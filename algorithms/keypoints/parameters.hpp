@@ -13,6 +13,11 @@ struct Parameters {
     std::string detector = "akaze";
     std::string descriptor = "brisk";
     bool clahe = false;
+    // The KAZE/AKAZE detector's response threshold (the Hessian determinant of the image
+    // scaled to 0..1). OpenCV's 0.001 finds few keypoints where the beam's footprint blurs the
+    // texture (a far zone); 0.0003 keeps the matches there whose least-squares refinement
+    // still measures (docs/keypoints.md, "The detector's threshold").
+    double detector_threshold = 0.0003;
     // The matching window (keypoint_matching.hpp): its angular radius, and the largest
     // displacement expected at the object, which widens it near the scanner (0.02 m is
     // 0.38° at 3 m, under the angle beyond 23 m).

@@ -2,6 +2,7 @@
 // the zones too), and each mistake named by file, line, column and key.
 #include <gtest/gtest.h>
 
+#include "algorithms/keypoints/feature_parameters.hpp"
 #include "config/config.hpp"
 #include "tests/support/config_text.hpp"
 
@@ -20,6 +21,7 @@ max = [17, 45.5, 40]
 
 [keypoints]
 detector = "kaze"
+detector_threshold = 0.002
 segments = "bands"
 band_width_deg = 2.5
 max_incidence_deg = 60
@@ -29,6 +31,8 @@ model_quantities = ["keypoint_dz_m"]
     const PipelineConfig p = pipeline_config(c);
     EXPECT_EQ(p.keypoints.detector, "kaze");
     EXPECT_EQ(p.keypoints.descriptor, "brisk");
+    EXPECT_EQ(p.keypoints.detector_threshold, 0.002);
+    EXPECT_EQ(keypoints::features_of(p.keypoints).detector_threshold, 0.002);
     EXPECT_EQ(p.keypoints.segments, KeypointSegments::bands);
     EXPECT_EQ(p.keypoints.band_width_deg, 2.5);
     EXPECT_EQ(p.keypoints.max_incidence_deg, 60);
@@ -84,6 +88,10 @@ TEST(ConfigKeypoints, MistakesNameFileLineAndKey) {
                   .find("site.toml:2:14: key 'keypoints.window_deg'"),
               std::string::npos)
         << error_of("[keypoints]\nwindow_deg = 0\n");
+    EXPECT_NE(error_of("[keypoints]\ndetector_threshold = 0\n")
+                  .find("site.toml:2:22: key 'keypoints.detector_threshold'"),
+              std::string::npos)
+        << error_of("[keypoints]\ndetector_threshold = 0\n");
     EXPECT_NE(error_of("[keypoints]\nmodel_quantities = [\"m3c2_mean_m\"]\n")
                   .find("key 'keypoints.model_quantities': 'm3c2_mean_m' is not a keypoint"),
               std::string::npos)

@@ -61,9 +61,10 @@ struct OwnScore {
 };
 
 // The acceptance over `hours`: every zone but the grazing "west" defined, along the surface
-// within 1.0 mm RMS of the truth in h and v; printed beside M3C2's medians. Returns the
-// number of zone epochs scored.
-int check_along_surface(const Scenario& scenario, const std::vector<double>& hours) {
+// within `rms_bound` (m) RMS of the truth in h and v; printed beside M3C2's medians. Returns
+// the number of zone epochs scored.
+int check_along_surface(const Scenario& scenario, const std::vector<double>& hours,
+                        double rms_bound = 0.001) {
     const Series s = run_series(scenario, hours);
     EXPECT_TRUE(s.refused.empty()) << s.refused.front();
     std::printf("reference: %zu keypoints; keypoint stage %.1f s, M3C2 %.1f s over %zu epochs\n",
@@ -122,8 +123,8 @@ int check_along_surface(const Scenario& scenario, const std::vector<double>& hou
     print_score("M3C2 median, along the normal", m3c2);
     std::printf("LoD95 covers the error in %d of %d along-surface figures\n", lod_covers, lod_rows);
     own[0].check("along h"), own[1].check("along v");
-    EXPECT_LE(h.rms(), 0.001);
-    EXPECT_LE(v.rms(), 0.001);
+    EXPECT_LE(h.rms(), rms_bound);
+    EXPECT_LE(v.rms(), rms_bound);
     // The truth moves by millimetres along the surface: the test measures something.
     EXPECT_GT(largest, 0.001);
     return h.n;
@@ -176,9 +177,12 @@ TEST(KeypointsSimulated, WithoutDeformationNoZoneExceeds3Sigma) {
     EXPECT_EQ(check_no_movement(pier_scenario(), {0.0, 4.0, 8.0}), 2 * 5 * 6);
 }
 
-// The 140 m pier at 100–175 m, through its detail strip: 13 bands of 10 m.
-TEST(KeypointsSimulated, HochmoselAlongTheSurfaceWithin1MmRmsOfTheTruthSideBySideWithM3c2) {
-    EXPECT_EQ(check_along_surface(hochmosel_scenario(), {0.0, 3.0, 6.0}), 2 * 13);
+// The 140 m pier at 100–175 m, through its detail strip: 13 bands of 10 m, within the
+// 0.35 mm RMS along the surface the method is accepted at there. With the detector's former
+// threshold (0.001) the zones above 90 m kept 19–48 matches instead of 131–292, and v erred
+// 0.43 mm RMS (docs/keypoints.md, "The detector's threshold").
+TEST(KeypointsSimulated, HochmoselAlongTheSurfaceWithin035MmRmsOfTheTruthSideBySideWithM3c2) {
+    EXPECT_EQ(check_along_surface(hochmosel_scenario(), {0.0, 3.0, 6.0}, 0.35e-3), 2 * 13);
 }
 
 TEST(KeypointsSimulated, HochmoselWithoutDeformationNoZoneExceeds3Sigma) {
