@@ -37,19 +37,6 @@ double vertical_angle(const Eigen::Vector3d& p, const Eigen::Vector3d& scanner) 
     return std::atan2(d.z(), std::hypot(d.x(), d.y()));
 }
 
-}  // namespace
-
-std::vector<float> vertical_angles(std::span<const Eigen::Vector3d> centres,
-                                   const Eigen::Vector3d& scanner) {
-    std::vector<float> out;
-    out.reserve(centres.size());
-    for (const Eigen::Vector3d& c : centres)
-        out.push_back(static_cast<float>(vertical_angle(c, scanner)));
-    return out;
-}
-
-namespace {
-
 // A stratum's line: the least-squares slope b of its kept matches' vectors on their vertical
 // angle e about their mean ē, and b's cluster-robust covariance
 //   G/(G − 1)·Σ_c g_c·g_cᵀ / S_ee²,   g_c = Σ_{i ∈ c} (e_i − ē)·r_i,   S_ee = Σ (e_i − ē)²,
@@ -108,6 +95,15 @@ std::optional<StratumLine> stratum_line(std::span<const KeypointMatch> zone,
 }
 
 }  // namespace
+
+std::vector<float> vertical_angles(std::span<const Eigen::Vector3d> centres,
+                                   const Eigen::Vector3d& scanner) {
+    std::vector<float> out;
+    out.reserve(centres.size());
+    for (const Eigen::Vector3d& c : centres)
+        out.push_back(static_cast<float>(vertical_angle(c, scanner)));
+    return out;
+}
 
 SegmentDisplacement stratified_displacement(std::span<const KeypointMatch> matches,
                                             std::span<const OutlierFilter> removed_by,
