@@ -16,7 +16,9 @@
 // `--cluster` overrides registration.icp_cluster_size. Prints the coverage rows as `tlsmon
 // calibration` does; the pooled rows again with each of the adjustment's candidate
 // covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
-// reports the largest; the σ's inflation over s0²·N⁻¹ and the cells' τ; why epochs were refused.
+// reports the largest, and the sandwich widened by t(dof, 0.975)/1.96 for its Bell–McCaffrey
+// degrees of freedom; the σ's inflation over s0²·N⁻¹ and the cells' τ; why epochs were
+// refused.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -27,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/registration/distribution_quantiles.hpp"
 #include "bench/bench_support.hpp"
 #include "bench/transform_coverage.hpp"
 #include "pipeline/icp_registration.hpp"
@@ -99,6 +102,10 @@ int main(int argc, char** argv) {
                    {"cluster-robust sandwich", &registration::PointToPlaneFit::clustered}};
     std::vector<bench::TransformScores> candidate_scores(candidates.size(),
                                                          bench::TransformScores(base.pier));
+    // The sandwich with each parameter's σ widened by t(dof, 0.975)/1.96, dof its
+    // Bell–McCaffrey degrees of freedom: an interval for a variance of few cells.
+    bench::TransformScores t_expanded(base.pier);
+    std::vector<std::vector<double>> dofs(6);
     std::vector<double> cell_sigma;
     std::map<std::string, int> refused;
     std::vector<double> inflation, pairs;
@@ -122,6 +129,17 @@ int main(int argc, char** argv) {
                                                m.transform->rotation, m.transform->translation,
                                                (*m.fit).*candidates[c].second));
         }
+        {
+            Eigen::Matrix<double, 6, 1> f;
+            for (int p = 0; p < 6; ++p) {
+                const double dof = std::max(1.0, m.fit->clustered_dof(p));
+                dofs[p].push_back(dof);
+                f(p) = registration::student_t_quantile(0.975, dof) / 1.959964;
+            }
+            t_expanded.add(exact, registration::rigid_transform_from(
+                                      m.transform->rotation, m.transform->translation,
+                                      f.asDiagonal() * m.fit->clustered * f.asDiagonal()));
+        }
         cell_sigma.push_back(m.fit->cell_sigma);
         inflation.push_back(m.inflation);
         pairs.push_back(static_cast<double>(m.pairs));
@@ -138,7 +156,15 @@ int main(int argc, char** argv) {
         std::printf("with the covariance of %s alone:\n", candidates[c].first.c_str());
         candidate_scores[c].print("registration:icp", true);
     }
+    std::printf("with the sandwich widened by t(dof)/1.96 per parameter:\n");
+    t_expanded.print("registration:icp", true);
     if (!inflation.empty()) {
+        std::printf("the sandwich's degrees of freedom, median (10 %%):");
+        for (auto& d : dofs) {
+            std::sort(d.begin(), d.end());
+            std::printf(" %.1f (%.1f)", d[d.size() / 2], d[d.size() / 10]);
+        }
+        std::printf("\n");
         std::sort(inflation.begin(), inflation.end());
         std::sort(pairs.begin(), pairs.end());
         std::printf(

@@ -156,6 +156,7 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
     // Residuals, and per cell the scores g_k = Σ p·a·v, b_k = Σ p·a, Σ p, Σ p·v and Σ p·v².
     struct Cell {
         Vector6 score = Vector6::Zero(), b = Vector6::Zero();
+        Covariance6 normal = Covariance6::Zero();  // N_c = Σ p·a·aᵀ
         double w = 0, wv = 0, wvv = 0;
     };
     std::unordered_map<std::uint64_t, Cell> cells;
@@ -168,6 +169,7 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         Cell& cell = cells[cell_key(p.reference, params.cluster_size)];
         cell.score += p.weight * v * a;
         cell.b += p.weight * a;
+        cell.normal.selfadjointView<Eigen::Lower>().rankUpdate(a, p.weight);
         cell.w += p.weight;
         cell.wv += p.weight * v;
         cell.wvv += p.weight * v * v;
@@ -217,6 +219,28 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         out.clustered = small_sample * Ninv * meat * Ninv;
         out.clustered = 0.5 * (out.clustered + out.clustered.transpose());
         reported = larger_of(reported, out.clustered);
+        // Bell–McCaffrey degrees of freedom of ℓᵀ·Σ_c·ℓ under independent residuals: with
+        // G = (I − H)·blockdiag(X_c·N⁻¹·ℓ), dof = (tr GᵀG)²/‖GᵀG‖²_F, where
+        // GᵀG = diag(ℓᵀN⁻¹N_cN⁻¹ℓ) − QᵀN⁻¹Q, Q's columns N_c·N⁻¹·ℓ.
+        for (int k = 0; k < 6; ++k) {
+            const Vector6 m = Ninv.col(k);
+            Covariance6 S = Covariance6::Zero();
+            double trace_diag = 0, diag2 = 0, cross = 0;
+            for (const auto& [key, cell] : cells) {
+                const Covariance6 Nc = cell.normal.selfadjointView<Eigen::Lower>();
+                const Vector6 q = Nc * m;
+                const double d = m.dot(q);
+                const double h = q.dot(Ninv * q);
+                trace_diag += d;
+                diag2 += d * d;
+                cross += d * h;
+                S += q * q.transpose();
+            }
+            const Covariance6 NS = Ninv * S;
+            const double trace = trace_diag - NS.trace();
+            const double frob = diag2 - 2 * cross + (NS * NS).trace();
+            out.clustered_dof(k) = frob > 0 ? trace * trace / frob : 1e9;
+        }
     } else {
         out.clustered = out.independent;
     }

@@ -64,6 +64,9 @@ struct PointToPlaneFit {
     double variance_factor = 0.0;  // s0² = Σ p·v²/(n − 6), m² (per unit weight)
     Covariance6 independent;       // s0²·N⁻¹
     Covariance6 clustered;         // the sandwich Σ_c
+    // Per parameter, the degrees of freedom of the sandwich's variance (Bell & McCaffrey 2002,
+    // as Imbens & Kolesár 2016 give them): few cells holding a direction make it scatter.
+    Eigen::Matrix<double, 6, 1> clustered_dof = Eigen::Matrix<double, 6, 1>::Constant(1e9);
     Covariance6 cell_effect;  // s0²·N⁻¹ + τ²·N⁻¹·Σ b_c·b_cᵀ·N⁻¹ (point_to_plane.cpp)
     double cell_sigma = 0.0;  // τ, m: the error common to each cell, by moments
     double inflation = 1.0;   // largest σ ratio of the reported covariance to s0²·N⁻¹

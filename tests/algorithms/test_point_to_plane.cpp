@@ -4,11 +4,13 @@
 // shared by patches of surface.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <map>
 #include <random>
 #include <tuple>
 
+#include "algorithms/cell_key.hpp"
 #include "algorithms/registration/point_to_plane.hpp"
 #include "core/error.hpp"
 
@@ -199,6 +201,47 @@ TEST(PointToPlane, WeightsFollowEachSurfacesNoise) {
         gain = std::max(gain, std::sqrt(se_unweighted(k) / se_weighted(k)));
     }
     EXPECT_GT(gain, 1.2);  // 1.35 on this geometry; 1 when the weights are ignored
+}
+
+// The sandwich's Bell–McCaffrey degrees of freedom against their definition, built in full:
+// G = (I − H)·blockdiag(X_c·N⁻¹·e_k), dof = (tr GᵀG)²/‖GᵀG‖²_F (X's rows √p·aᵀ).
+TEST(PointToPlane, SandwichDegreesOfFreedomAreBellMcCaffreys) {
+    std::mt19937_64 rng(13);
+    const Truth truth = drift(rng);
+    auto pairs = pairs_for(truth, rng, 15, 0.001, 0.0);
+    for (std::size_t i = 0; i < pairs.size(); ++i) pairs[i].weight = 1.0 + double(i % 4);
+    PointToPlaneParams params;
+    params.cluster_size = 4.0;
+    params.outlier_k = 0;
+    const PointToPlaneFit f = fit_point_to_plane(pairs, Eigen::Matrix4d::Identity(), params);
+    const Eigen::Matrix3d R = f.transform.rotation;
+    const auto n = static_cast<Eigen::Index>(pairs.size());
+    Eigen::MatrixXd X(n, 6);
+    std::map<std::uint64_t, Eigen::Index> cell_of;
+    std::vector<Eigen::Index> cell(pairs.size());
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const auto& p = pairs[static_cast<std::size_t>(i)];
+        X.row(i).head<3>() = ((R * p.epoch).cross(p.normal) * std::sqrt(p.weight)).transpose();
+        X.row(i).tail<3>() = (p.normal * std::sqrt(p.weight)).transpose();
+        const auto [it, added] =
+            cell_of.try_emplace(cell_key(p.reference, params.cluster_size), cell_of.size());
+        cell[static_cast<std::size_t>(i)] = it->second;
+    }
+    const auto C = static_cast<Eigen::Index>(cell_of.size());
+    ASSERT_GT(C, 8);
+    ASSERT_EQ(f.clusters, static_cast<std::size_t>(C));
+    const Eigen::MatrixXd Ninv = (X.transpose() * X).inverse();
+    const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n) - X * Ninv * X.transpose();  // I − H
+    for (int k = 0; k < 6; ++k) {
+        const Eigen::VectorXd d = X * Ninv.col(k);
+        Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, C);
+        for (Eigen::Index i = 0; i < n; ++i) D(i, cell[static_cast<std::size_t>(i)]) = d(i);
+        const Eigen::MatrixXd GG = D.transpose() * M * D;
+        const double dof = GG.trace() * GG.trace() / GG.squaredNorm();
+        std::printf("parameter %d: %.2f degrees of freedom of %td cells\n", k, dof, C);
+        EXPECT_NEAR(f.clustered_dof(k), dof, 1e-6 * dof) << k;
+        EXPECT_LT(f.clustered_dof(k), double(C)) << k;
+    }
 }
 
 TEST(PointToPlane, TooFewPairsOrOnePlaneIsAnError) {
