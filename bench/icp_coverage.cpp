@@ -11,14 +11,17 @@
 // switched off (what is scored is the ICP's stochastic model, not the meteo correction).
 //
 //   bench_icp_coverage SCENE [SERIES] [FIRST_SEED] [--step DEG] [--cluster M]
+//                      [--noise all|range|angular|none]
 //
 // SCENE: `demo`, `pier`, `hochmosel` or a scene file (bench/transform_coverage.hpp).
-// `--cluster` overrides registration.icp_cluster_size. Prints the coverage rows as `tlsmon
-// calibration` does; the pooled rows again with each of the adjustment's candidate
-// covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
+// `--cluster` overrides registration.icp_cluster_size; `--noise` keeps the scanner's range
+// noise alone, its angular noise alone, or neither (the footprint stays). Prints the coverage
+// rows as `tlsmon calibration` does; the pooled rows again with each of the adjustment's
+// candidate covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
 // reports the largest, and the sandwich widened by t(dof, 0.975)/1.96 for its Bell–McCaffrey
-// degrees of freedom; the σ's inflation over s0²·N⁻¹ and the cells' τ; why epochs were
-// refused.
+// degrees of freedom; each parameter's error against the true motion (a slope is a gain, no
+// noise); the σ's inflation over s0²·N⁻¹, the cells' τ and the epoch's re-cuts; why epochs
+// were refused.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -64,25 +67,33 @@ int main(int argc, char** argv) {
     std::vector<std::string> args;
     double step = 0.05;
     double cluster = 0;
+    std::string noise = "all";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--step" && i + 1 < argc)
             step = std::atof(argv[++i]);
         else if (a == "--cluster" && i + 1 < argc)
             cluster = std::atof(argv[++i]);
+        else if (a == "--noise" && i + 1 < argc)
+            noise = argv[++i];
         else
             args.push_back(a);
     }
-    if (args.empty() || step <= 0) {
+    if (args.empty() || step <= 0 ||
+        (noise != "all" && noise != "range" && noise != "angular" && noise != "none")) {
         std::fprintf(stderr,
                      "usage: bench_icp_coverage demo|pier|hochmosel|SCENE.toml [SERIES] "
-                     "[FIRST_SEED] [--step DEG] [--cluster M]\n");
+                     "[FIRST_SEED] [--step DEG] [--cluster M] [--noise all|range|angular|none]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
     const double cpu0 = bench::process_cpu_seconds();
     sim::Site base = bench::scene_named(args[0]);
     base.atmosphere.enabled = false;
+    // Which of the scanner's noises the scans carry: to tell what an error comes from.
+    if (noise == "none") base.noise.enabled = false;
+    if (noise == "range") base.noise.angular_arcsec = 0;
+    if (noise == "angular") base.noise.signal_a = base.noise.signal_b_ppm = 0;
     const int series = args.size() > 1 ? std::atoi(args[1].c_str()) : 200;
     const int first_seed = args.size() > 2 ? std::atoi(args[2].c_str()) : 1000;
 
@@ -108,7 +119,7 @@ int main(int argc, char** argv) {
     std::vector<std::vector<double>> dofs(6);
     std::vector<double> cell_sigma;
     std::map<std::string, int> refused;
-    std::vector<double> inflation, pairs;
+    std::vector<double> inflation, pairs, recuts;
     for (int k = 0; k < series; ++k) {
         sim::Site site = base;
         site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
@@ -143,6 +154,7 @@ int main(int argc, char** argv) {
         cell_sigma.push_back(m.fit->cell_sigma);
         inflation.push_back(m.inflation);
         pairs.push_back(static_cast<double>(m.pairs));
+        recuts.push_back(m.recuts);
     }
 
     std::printf(
@@ -172,6 +184,9 @@ int main(int argc, char** argv) {
             "%.2f; pairs median %.0f\n",
             inflation[inflation.size() / 2], inflation[inflation.size() / 10],
             inflation[inflation.size() * 9 / 10], pairs[pairs.size() / 2]);
+        std::sort(recuts.begin(), recuts.end());
+        std::printf("the epoch cut again: median %.0f times, most %.0f\n",
+                    recuts[recuts.size() / 2], recuts.back());
         std::sort(cell_sigma.begin(), cell_sigma.end());
         std::printf("the cells' common error τ: median %.3f mm, 90 %% %.3f mm\n",
                     1e3 * cell_sigma[cell_sigma.size() / 2],

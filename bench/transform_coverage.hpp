@@ -69,7 +69,10 @@ class TransformScores {
         const Eigen::Vector<double, 6> value{
             T.omega, T.phi, T.kappa, T.translation.x(), T.translation.y(), T.translation.z()};
         const auto sigma = T.sigmas();
-        for (int p = 0; p < 6; ++p) figures_[p].push_back({value(p) - truth(p), sigma(p)});
+        for (int p = 0; p < 6; ++p) {
+            figures_[p].push_back({value(p) - truth(p), sigma(p)});
+            truths_[p].push_back(truth(p));
+        }
         // Where T puts the epoch's point that truly lies at y, less y, against the covariance
         // propagated there (registration_error.hpp), per axis.
         const test::RegistrationError error_at(exact, T);
@@ -97,6 +100,7 @@ class TransformScores {
         print_coverage_row(report::coverage_of(method, "all", pooled));
         if (!pooled_only) {
             std::printf("  (angles in µrad, lengths in mm)\n");
+            print_gains(names);
             std::printf("the transformation's error at the pier's south face, per axis (mm):\n");
         }
         std::vector<report::ScoredFigure> pier_pooled;
@@ -113,7 +117,33 @@ class TransformScores {
     }
 
   private:
+    // The error's least-squares slope on the true motion, with its standard error: an error
+    // that follows the motion (a gain other than 1) is no noise, and no σ from residuals
+    // covers it.
+    void print_gains(const std::array<const char*, 6>& names) const {
+        std::printf("error against the true motion: slope ± its SE, correlation, RMS motion\n");
+        for (int p = 0; p < 6; ++p) {
+            const auto& x = truths_[p];
+            const auto& f = figures_[p];
+            const double n = double(x.size());
+            if (n < 3) continue;
+            double mx = 0, my = 0;
+            for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / n, my += f[i].error / n;
+            double sxx = 0, sxy = 0, syy = 0;
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                sxx += (x[i] - mx) * (x[i] - mx);
+                sxy += (x[i] - mx) * (f[i].error - my);
+                syy += (f[i].error - my) * (f[i].error - my);
+            }
+            const double slope = sxy / sxx;
+            const double se = std::sqrt((syy - slope * sxy) / (n - 2) / sxx);
+            std::printf("  %-6s %+8.4f ± %.4f  r %+5.2f  %9.3g\n", names[p], slope, se,
+                        sxy / std::sqrt(sxx * syy), std::sqrt(sxx / n + mx * mx));
+        }
+    }
+
     std::array<std::vector<report::ScoredFigure>, 6> figures_;
+    std::array<std::vector<double>, 6> truths_;
     std::vector<std::pair<std::string, Eigen::Vector3d>> at_pier_;
     std::vector<std::vector<report::ScoredFigure>> pier_figures_;
 };

@@ -23,6 +23,7 @@ struct IcpMeasurement {
     double rms = 0;                    // m, of the point-to-plane distances
     double inflation = 1;              // largest σ ratio, correlated / independent residuals
     int iterations = 0;
+    int recuts = 0;  // times the epoch was cut again where the ICP had put it
     bool converged = false;
     // Refinement: χ² of the difference to the targets' transformation (6 degrees of freedom).
     std::optional<double> agreement;

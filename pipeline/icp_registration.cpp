@@ -21,6 +21,16 @@ constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
 // (edges, corners, leaves) leaves a point out of the reference surface.
 constexpr double kNormalRadiusVoxels = 3.0;
 constexpr double kMaxCurvature = 0.02;
+// The epoch is cut again at most this many times (measure_icp).
+constexpr int kMaxRecuts = 10;
+
+// Whether the cut moved the estimate by less than 0.01″ and 0.5 µm: far below the finest σ the
+// ICP gives (0.1″ and 0.05 mm at `pier`'s own step).
+bool settled(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
+    const Eigen::Matrix4d d = b * a.inverse();
+    const double angle = Eigen::AngleAxisd(Eigen::Matrix3d(d.topLeftCorner<3, 3>())).angle();
+    return angle < 5e-8 && Eigen::Vector3d(d.topRightCorner<3, 1>()).norm() < 5e-7;
+}
 
 std::string region_parameters(const IcpConfig& c) {
     std::string s = fmt::format("voxel={:.17g};normals={:.17g};curvature={:.17g}", c.voxel_size,
@@ -155,11 +165,21 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         scans.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(scans.front().scanner_position());
     // Each pair weighs its voxel's number of points: a mean of n points is n times as precise,
     // and only that sum is free of the voxel cut's offset (pcl_adapter.hpp, voxel_means).
-    const VoxelMeans thinned = voxel_means(
-        points_in_stable_regions(c, scans, start, correct ? *scales.epoch : 1.0), c.voxel_size);
-    const SurfaceSample epoch =
-        surface_with_normals(thinned.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
-                             viewpoint, thinned.counts);
+    const std::vector<Eigen::Vector3d> cropped =
+        points_in_stable_regions(c, scans, start, correct ? *scales.epoch : 1.0);
+    // The epoch cut by the reference's own voxel grid where T puts it, so that at the solution
+    // each epoch voxel holds the part of the surface its reference voxel holds.
+    const auto thinned_under = [&](const Eigen::Matrix4d& T) {
+        const Eigen::Affine3d to_reference(T);
+        std::vector<Eigen::Vector3d> moved(cropped.size());
+        for (std::size_t i = 0; i < cropped.size(); ++i) moved[i] = to_reference * cropped[i];
+        VoxelMeans v = voxel_means(moved, c.voxel_size);
+        const Eigen::Affine3d back = to_reference.inverse();
+        for (auto& q : v.points) q = back * q;
+        return surface_with_normals(v.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
+                                    viewpoint, v.counts);
+    };
+    SurfaceSample epoch = thinned_under(start);
     m.epoch_points = epoch.points.size();
     const auto finish = [&] {
         m.milliseconds =
@@ -183,7 +203,22 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
     try {
         reg::PointToPlaneParams fp;
         fp.cluster_size = c.cluster_size;
-        const reg::PointToPlaneFit f = reg::fit_point_to_plane(a.pairs, a.transform, fp);
+        reg::PointToPlaneFit f = reg::fit_point_to_plane(a.pairs, a.transform, fp);
+        // The epoch cut again where the adjustment put it, paired there and adjusted, until the
+        // cut no longer moves it (docs/registration.md, "ICP on stable regions", step 4).
+        Eigen::Matrix4d cut_at = start;
+        const NearestPoints nearest(reference.points);
+        while (m.recuts < kMaxRecuts && !settled(cut_at, f.transform.matrix())) {
+            cut_at = f.transform.matrix();
+            epoch = thinned_under(cut_at);
+            const auto pairs =
+                point_plane_pairs(epoch, reference, nearest, cut_at, c.max_correspondence_distance);
+            m.overlap =
+                static_cast<double>(pairs.size()) / static_cast<double>(epoch.points.size());
+            f = reg::fit_point_to_plane(pairs, cut_at, fp);
+            ++m.recuts;
+        }
+        m.epoch_points = epoch.points.size();
         m.rms = f.rms;
         m.pairs = f.pairs;
         m.outliers = f.outliers;
@@ -195,7 +230,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
                 f.transform.small_rotation_covariance.topLeftCorner<6, 6>());
         m.transform->variance_factor = f.variance_factor;
         m.transform->redundancy = f.transform.redundancy;
-        m.fit = f;
+        m.fit = std::move(f);
     } catch (const Error& e) {
         m.refused = e.what();
         return finish();
@@ -285,6 +320,7 @@ nlohmann::json icp_quality(const IcpMeasurement& m) {
         {"fitness", m.overlap},
         {"rms_m", m.rms},
         {"iterations", m.iterations},
+        {"recuts", m.recuts},
         {"converged", m.converged},
         {"points", m.epoch_points},
         {"reference_points", m.reference_points},

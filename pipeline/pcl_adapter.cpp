@@ -184,25 +184,8 @@ IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const Surfa
     out.transform = L;
     out.transform.topRightCorner<3, 1>() = L.topRightCorner<3, 1>() + o - R * o;
 
-    // The final pairs, in double, under the final transformation.
-    pcl::KdTreeFLANN<pcl::PointNormal> tree;
-    tree.setInputCloud(target);
-    std::vector<int> k(1);
-    std::vector<float> d2(1);
-    const double max_d2 = params.max_correspondence_distance * params.max_correspondence_distance;
-    const Eigen::Vector3d t = out.transform.topRightCorner<3, 1>();
-    for (std::size_t i = 0; i < epoch.size(); ++i) {
-        const Eigen::Vector3d& x = epoch[i];
-        const Eigen::Vector3d X = R * x + t - o;
-        pcl::PointNormal q;
-        q.x = static_cast<float>(X.x());
-        q.y = static_cast<float>(X.y());
-        q.z = static_cast<float>(X.z());
-        if (tree.nearestKSearch(q, 1, k, d2) != 1 || d2[0] > max_d2) continue;
-        const auto j = static_cast<std::size_t>(k[0]);
-        out.pairs.push_back({x, reference.points[j], reference.normals[j],
-                             epoch_sample.counts.empty() ? 1.0 : epoch_sample.counts[i]});
-    }
+    out.pairs = point_plane_pairs(epoch_sample, reference, NearestPoints(reference.points),
+                                  out.transform, params.max_correspondence_distance);
     out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
     return out;
 }
@@ -254,6 +237,26 @@ std::int64_t NearestPoints::nearest(const Eigen::Vector3d& query, double max_dis
     if (tree_->tree.nearestKSearch(p, 1, k, d2) != 1) return -1;
     if (d2[0] > max_distance * max_distance) return -1;
     return k[0];
+}
+
+std::vector<registration::PointPlanePair> point_plane_pairs(const SurfaceSample& epoch,
+                                                            const SurfaceSample& reference,
+                                                            const NearestPoints& nearest,
+                                                            const Eigen::Matrix4d& T,
+                                                            double max_distance) {
+    const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+    const Eigen::Vector3d t = T.topRightCorner<3, 1>();
+    std::vector<registration::PointPlanePair> pairs;
+    pairs.reserve(epoch.points.size());
+    for (std::size_t i = 0; i < epoch.points.size(); ++i) {
+        const Eigen::Vector3d& x = epoch.points[i];
+        const std::int64_t j = nearest.nearest(R * x + t, max_distance);
+        if (j < 0) continue;
+        const auto u = static_cast<std::size_t>(j);
+        pairs.push_back({x, reference.points[u], reference.normals[u],
+                         epoch.counts.empty() ? 1.0 : epoch.counts[i]});
+    }
+    return pairs;
 }
 
 }  // namespace tlsmon

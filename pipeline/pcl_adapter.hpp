@@ -111,4 +111,13 @@ class NearestPoints {
     std::unique_ptr<Tree> tree_;
 };
 
+// Each epoch point with its nearest reference point within `max_distance` under `T` (epoch ->
+// reference; `nearest` indexes the reference's points), that point's normal and the epoch
+// point's count as its weight: the pairs align_point_to_plane returns, made under any T.
+std::vector<registration::PointPlanePair> point_plane_pairs(const SurfaceSample& epoch,
+                                                            const SurfaceSample& reference,
+                                                            const NearestPoints& nearest,
+                                                            const Eigen::Matrix4d& T,
+                                                            double max_distance);
+
 }  // namespace tlsmon

@@ -302,5 +302,51 @@ TEST(IcpRegistration, AnUnchangedScanKeepsItsDatum) {
     EXPECT_LT(T.translation.norm(), 1e-5);
 }
 
+// A real scan moved rigidly is found whole wherever the voxel grid falls on it. The pump-room
+// scan moved by (2, -3, 6) mm and 72″ about z, the room placed at four offsets against the
+// grid (fractions of a voxel): cut once, where the scanner had put it, each epoch voxel held
+// another part of the room than its reference voxel, and the adjustment came out 27″ to 101″
+// and 0.34 to 1.28 mm off, by the offset. Cut again where the adjustment puts it, the epoch's
+// voxels hold the reference's parts at the solution (docs/registration.md, "ICP on stable
+// regions", step 4).
+TEST(IcpRegistration, AMovedRealScanIsFoundWholeWhereverTheGridFalls) {
+    const Scan pump =
+        read_scans(std::filesystem::path(TLSMON_DATA_DIR) / "ptx/pumpA_from_e57.ptx").at(0);
+    const Eigen::Affine3d movement =
+        Eigen::Translation3d(0.002, -0.003, 0.006) *
+        Eigen::AngleAxisd(0.02 * 3.141592653589793 / 180, Eigen::Vector3d::UnitZ());
+    constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
+    const std::vector<Eigen::Vector3d> offsets{
+        {0, 0, 0}, {0.019, 0.031, 0.025}, {0.035, 0.015, 0.005}, {0.0085, 0.0425, 0.0445}};
+    for (const Eigen::Vector3d& offset : offsets) {
+        SCOPED_TRACE("room offset (" + std::to_string(offset.x()) + ", " +
+                     std::to_string(offset.y()) + ", " + std::to_string(offset.z()) + ") m");
+        const Eigen::Affine3d place{Eigen::Translation3d(offset)};
+        const auto placed = [&](const Eigen::Affine3d& motion) {
+            Scan s = pump;
+            s.pose = place * motion * s.pose;
+            for (auto& p : s.xyz) p = place * motion * p;
+            return std::vector<Scan>{s};
+        };
+        RegistrationConfig c;
+        c.icp.mode = IcpMode::fallback;
+        c.icp.voxel_size = 0.05;
+        c.icp.regions.push_back({"room", Eigen::Vector3d(-3, -5.4, -1.6) + offset,
+                                 Eigen::Vector3d(1.8, -0.7, 1.9) + offset});
+        const StableSurface surface =
+            build_stable_surface(c.icp, placed(Eigen::Affine3d::Identity()));
+        const IcpMeasurement m =
+            measure_icp(c, surface, placed(movement), Eigen::Matrix4d::Identity());
+        ASSERT_TRUE(m.transform) << m.refused;
+        // Epoch -> reference: the placed room's movement undone.
+        const Eigen::Affine3d truth = place * movement.inverse() * place.inverse();
+        const Eigen::Affine3d error = Eigen::Affine3d(m.transform->matrix()) * truth.inverse();
+        const double angle = Eigen::AngleAxisd(error.rotation()).angle() / kArcsec;
+        EXPECT_LT(angle, 1.0) << angle << "″ off";
+        EXPECT_LT(error.translation().norm(), 2e-5)
+            << 1e3 * error.translation().norm() << " mm off";
+    }
+}
+
 }  // namespace
 }  // namespace tlsmon
