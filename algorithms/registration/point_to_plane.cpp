@@ -227,8 +227,7 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
             Covariance6 S = Covariance6::Zero();
             double trace_diag = 0, diag2 = 0, cross = 0;
             for (const auto& [key, cell] : cells) {
-                const Covariance6 Nc = cell.normal.selfadjointView<Eigen::Lower>();
-                const Vector6 q = Nc * m;
+                const Vector6 q = cell.normal.selfadjointView<Eigen::Lower>() * m;
                 const double d = m.dot(q);
                 const double h = q.dot(Ninv * q);
                 trace_diag += d;
