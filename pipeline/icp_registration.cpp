@@ -195,7 +195,8 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
     IcpParams p;
     p.max_correspondence_distance = c.max_correspondence_distance;
     p.max_iterations = c.max_iterations;
-    const IcpAlignment a = align_point_to_plane(epoch, reference, start, p);
+    const NearestPoints nearest(reference.points);  // the pairs', built once for every cut
+    const IcpAlignment a = align_point_to_plane(epoch, reference, nearest, start, p);
     m.iterations = a.iterations;
     m.converged = a.converged;
     m.pairs = a.pairs.size();
@@ -207,7 +208,6 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         // The epoch cut again where the adjustment put it, paired there and adjusted, until the
         // cut no longer moves it (docs/registration.md, "ICP on stable regions", step 4).
         Eigen::Matrix4d cut_at = start;
-        const NearestPoints nearest(reference.points);
         while (m.recuts < kMaxRecuts && !settled(cut_at, f.transform.matrix())) {
             cut_at = f.transform.matrix();
             epoch = thinned_under(cut_at);

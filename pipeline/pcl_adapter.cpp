@@ -150,7 +150,8 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
 }
 
 IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const SurfaceSample& reference,
-                                  const Eigen::Matrix4d& start, const IcpParams& params) {
+                                  const NearestPoints& nearest, const Eigen::Matrix4d& start,
+                                  const IcpParams& params) {
     const std::vector<Eigen::Vector3d>& epoch = epoch_sample.points;
     if (epoch.empty() || reference.points.empty()) {
         throw Error("ICP: no points in the stable regions (epoch " + std::to_string(epoch.size()) +
@@ -184,8 +185,8 @@ IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const Surfa
     out.transform = L;
     out.transform.topRightCorner<3, 1>() = L.topRightCorner<3, 1>() + o - R * o;
 
-    out.pairs = point_plane_pairs(epoch_sample, reference, NearestPoints(reference.points),
-                                  out.transform, params.max_correspondence_distance);
+    out.pairs = point_plane_pairs(epoch_sample, reference, nearest, out.transform,
+                                  params.max_correspondence_distance);
     out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
     return out;
 }

@@ -74,10 +74,14 @@ struct IcpAlignment {
     double overlap = 0.0;  // pairs / epoch points
 };
 
-// Each pair weighs the epoch point's count when the epoch sample has counts (voxel means).
-// Throws tlsmon::Error when either cloud is empty.
+class NearestPoints;
+
+// Each pair weighs the epoch point's count when the epoch sample has counts (voxel means);
+// `nearest` indexes the reference's points (point_plane_pairs). Throws tlsmon::Error when
+// either cloud is empty.
 IcpAlignment align_point_to_plane(const SurfaceSample& epoch, const SurfaceSample& reference,
-                                  const Eigen::Matrix4d& start, const IcpParams& params);
+                                  const NearestPoints& nearest, const Eigen::Matrix4d& start,
+                                  const IcpParams& params);
 
 // Voxel Cloud Connectivity Segmentation (Papon et al. 2013, PCL's SupervoxelClustering): the
 // cloud voxelised at `voxel`, seeds on a grid of `seed`, each supervoxel grown over adjacent
