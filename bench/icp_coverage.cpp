@@ -11,11 +11,13 @@
 // switched off (what is scored is the ICP's stochastic model, not the meteo correction).
 //
 //   bench_icp_coverage SCENE [SERIES] [FIRST_SEED] [--step DEG] [--cluster M]
-//                      [--noise all|range|angular|none]
+//                      [--noise all|range|angular|none] [--voxel M] [--max-distance M]
 //
 // SCENE: `demo`, `pier`, `hochmosel` or a scene file (bench/transform_coverage.hpp).
-// `--cluster` overrides registration.icp_cluster_size; `--noise` keeps the scanner's range
-// noise alone, its angular noise alone, or neither (the footprint stays). Prints the coverage
+// `--cluster` overrides registration.icp_cluster_size, `--voxel` icp_voxel_size and
+// `--max-distance` icp_max_correspondence_distance (the gain of docs/registration.md, "The
+// error follows the motion", depends on both); `--noise` keeps the scanner's range noise
+// alone, its angular noise alone, or neither (the footprint stays). Prints the coverage
 // rows as `tlsmon calibration` does; the pooled rows again with each of the adjustment's
 // candidate covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
 // reports the largest, and the sandwich widened by t(dof, 0.975)/1.96 for its Bell–McCaffrey
@@ -66,7 +68,7 @@ Band render_band(const sim::Site& site, int epoch, double hours, double elevatio
 int main(int argc, char** argv) {
     std::vector<std::string> args;
     double step = 0.05;
-    double cluster = 0;
+    double cluster = 0, voxel = 0, max_distance = 0;
     std::string noise = "all";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -76,14 +78,19 @@ int main(int argc, char** argv) {
             cluster = std::atof(argv[++i]);
         else if (a == "--noise" && i + 1 < argc)
             noise = argv[++i];
+        else if (a == "--voxel" && i + 1 < argc)
+            voxel = std::atof(argv[++i]);
+        else if (a == "--max-distance" && i + 1 < argc)
+            max_distance = std::atof(argv[++i]);
         else
             args.push_back(a);
     }
-    if (args.empty() || step <= 0 ||
+    if (args.empty() || step <= 0 || voxel < 0 || max_distance < 0 ||
         (noise != "all" && noise != "range" && noise != "angular" && noise != "none")) {
         std::fprintf(stderr,
                      "usage: bench_icp_coverage demo|pier|hochmosel|SCENE.toml [SERIES] "
-                     "[FIRST_SEED] [--step DEG] [--cluster M] [--noise all|range|angular|none]\n");
+                     "[FIRST_SEED] [--step DEG] [--cluster M] [--noise all|range|angular|none] "
+                     "[--voxel M] [--max-distance M]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -102,6 +109,8 @@ int main(int argc, char** argv) {
     const auto boxes = sim::stable_ground(base);
     for (const auto& b : boxes) config.icp.regions.push_back({b.name, b.min, b.max});
     if (cluster > 0) config.icp.cluster_size = cluster;
+    if (voxel > 0) config.icp.voxel_size = voxel;
+    if (max_distance > 0) config.icp.max_correspondence_distance = max_distance;
     const double elevation_max = test::highest_box_elevation_deg(base, boxes) + 0.5;
 
     bench::TransformScores scores(base.pier);
@@ -159,9 +168,11 @@ int main(int argc, char** argv) {
 
     std::printf(
         "%s: %d series from seed %d, %zu stable regions, band up to %.1f° at %.3f°, "
-        "icp_cluster_size %.1f m; %zu scored\n",
+        "icp_cluster_size %.1f m, icp_voxel_size %.3f m, icp_max_correspondence_distance %.3f m; "
+        "%zu scored\n",
         args[0].c_str(), series, first_seed, boxes.size(), elevation_max, step,
-        config.icp.cluster_size, inflation.size());
+        config.icp.cluster_size, config.icp.voxel_size, config.icp.max_correspondence_distance,
+        inflation.size());
     for (const auto& [why, n] : refused) std::printf("  refused %d: %s\n", n, why.c_str());
     scores.print("registration:icp");
     for (std::size_t c = 0; c < candidates.size(); ++c) {
