@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -206,10 +207,16 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         fp.cluster_size = c.cluster_size;
         reg::PointToPlaneFit f = reg::fit_point_to_plane(a.pairs, a.transform, fp);
         // The epoch cut again where the adjustment put it, paired there and adjusted, until the
-        // cut no longer moves it (docs/registration.md, "ICP on stable regions", step 4).
-        Eigen::Matrix4d cut_at = start;
-        while (m.recuts < kMaxRecuts && !settled(cut_at, f.transform.matrix())) {
-            cut_at = f.transform.matrix();
+        // adjustment returns to where the epoch was already cut: to the last cut, or to an
+        // earlier one, since at the scanner's step the cuts may circle a few points 0.01 µrad and
+        // 2 µm apart (docs/registration.md, "ICP on stable regions", step 4).
+        std::vector<Eigen::Matrix4d> cuts{start};
+        const auto cut_before = [&cuts](const Eigen::Matrix4d& T) {
+            return std::any_of(cuts.begin(), cuts.end(),
+                               [&T](const Eigen::Matrix4d& c) { return settled(c, T); });
+        };
+        while (m.recuts < kMaxRecuts && !cut_before(f.transform.matrix())) {
+            const Eigen::Matrix4d cut_at = cuts.emplace_back(f.transform.matrix());
             epoch = thinned_under(cut_at);
             const auto pairs =
                 point_plane_pairs(epoch, reference, nearest, cut_at, c.max_correspondence_distance);
