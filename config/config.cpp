@@ -604,6 +604,7 @@ RegistrationConfig with_zones(const Config& config) {
     r.icp = config.icp;
     r.planes = config.planes;
     r.planes.noise = config.station;
+    r.icp.noise = config.station;
     r.stable_areas = config.stable_areas;
     r.zones = with_zone_shapes(config).zones;
     return r;

@@ -52,7 +52,10 @@ std::vector<SectionKey<StationConfig>> station_keys() {
         K::number(&StationConfig::range_sigma_b_ppm, "range_sigma_b_ppm", 0, 1000, "ppm",
                   "The range noise's part proportional to the range."),
         K::number(&StationConfig::angular_sigma_arcsec, "angular_sigma_arcsec", 0, 100, "″",
-                  "The σ of the beam's direction."),
+                  "The σ of the beam's direction. The ICP on stable regions tells from it and "
+                  "the range noise where ground is so grazing that the angular noise scatters a "
+                  "scan row along its beams, and wants a plane's beams spread across the row by "
+                  "three times it (docs/registration.md, \"ICP on stable regions\")."),
         K::text(&StationConfig::crs, "crs", "a system PROJ knows, or empty",
                 "The coordinate system of the project frame (the reference's, which every result "
                 "is in), e.g. `\"EPSG:25832\"` or a WKT: written into exported LAS files as "

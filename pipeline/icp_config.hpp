@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/scanner_noise.hpp"
+
 namespace tlsmon {
 
 // A part of the site that does not move: the ground around the pier's foot, a foundation
@@ -35,6 +37,9 @@ struct IcpConfig {
     // each cell included (point_to_plane.hpp), which holds RMS(error/σ) near 1 on the
     // simulator without a factor (docs/registration.md).
     double sigma_factor = 1.0;
+    // [station]: where the ground is so grazing that the beam's angular noise scatters a scan
+    // row along its beams (icp_registration.cpp, measure_icp).
+    ScannerNoise noise;
     std::vector<StableRegion> regions;  // none: ICP cannot run
     // The bounds of the no-change check zones ([[zone]] no_change): never in the regions.
     std::vector<StableRegion> excluded;

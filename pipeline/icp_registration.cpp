@@ -22,6 +22,10 @@ constexpr double kArcsec = 3.141592653589793 / (180.0 * 3600.0);
 // (edges, corners, leaves) leaves a point out of the reference surface.
 constexpr double kNormalRadiusVoxels = 3.0;
 constexpr double kMaxCurvature = 0.02;
+// A plane needs beams in two directions: its neighbours' directions must spread across the
+// row by more than this many σ of the beam's direction, which is all that one row's
+// directions spread by (pcl_adapter.hpp, surface_with_normals).
+constexpr double kRowSpreads = 3.0;
 // The epoch is cut again at most this many times (measure_icp).
 constexpr int kMaxRecuts = 10;
 
@@ -34,8 +38,9 @@ bool settled(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
 }
 
 std::string region_parameters(const IcpConfig& c) {
-    std::string s = fmt::format("voxel={:.17g};normals={:.17g};curvature={:.17g}", c.voxel_size,
-                                kNormalRadiusVoxels, kMaxCurvature);
+    std::string s = fmt::format(
+        "voxel={:.17g};normals={:.17g};curvature={:.17g};row_spread={:.17g}", c.voxel_size,
+        kNormalRadiusVoxels, kMaxCurvature, kRowSpreads * c.noise.angular_sigma());
     const auto boxes = [&s](const std::vector<StableRegion>& list, const char* prefix) {
         for (const auto& r : list) {
             s +=
@@ -56,6 +61,18 @@ bool in_regions(const IcpConfig& c, const Eigen::Vector3d& p) {
         if (r.contains(p)) return true;
     }
     return false;
+}
+
+// Whether the beam's angular noise scatters a point on a plane of normal n along the beam more
+// than the range noise does: an elevation error ε moves the beam's hit along the beam by
+// r·ε·tan β (β the incidence), and the scanner reports that range on the beam it meant.
+bool along_the_beam(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                    const Eigen::Vector3d& viewpoint, const ScannerNoise& noise) {
+    const Eigen::Vector3d ray = p - viewpoint;
+    const double r = ray.norm();
+    const double cos_b = std::abs(n.dot(ray)) / r;
+    const double sin_b = std::sqrt(std::max(0.0, 1.0 - cos_b * cos_b));
+    return r * noise.angular_sigma() * sin_b > noise.range_sigma(r) * cos_b;
 }
 
 // Too few targets, or (with the planes) no registration on planes either.
@@ -81,6 +98,7 @@ std::string StableSurface::encode() const {
     }
     w.put_array(p);
     w.put_array(n);
+    w.put_array(sample.plane_offsets);
     for (int k = 0; k < 3; ++k) w.put(viewpoint(k));
     w.put<std::uint64_t>(cropped);
     return w.take();
@@ -91,9 +109,11 @@ StableSurface StableSurface::decode(std::string_view payload) {
     StableSurface s;
     const auto p = r.get_array<double>();
     const auto n = r.get_array<double>();
-    if (p.size() != n.size() || p.size() % 3 != 0) {
-        throw Error("reference cache payload: stable surface points and normals differ");
+    auto offsets = r.get_array<double>();
+    if (p.size() != n.size() || p.size() % 3 != 0 || 3 * offsets.size() != p.size()) {
+        throw Error("reference cache payload: stable surface points, normals and offsets differ");
     }
+    s.sample.plane_offsets.assign(offsets.begin(), offsets.end());
     for (std::size_t i = 0; i < p.size(); i += 3) {
         s.sample.points.emplace_back(p[i], p[i + 1], p[i + 2]);
         s.sample.normals.emplace_back(n[i], n[i + 1], n[i + 2]);
@@ -112,7 +132,8 @@ StableSurface build_stable_surface(const IcpConfig& config, const std::vector<Sc
     if (!scans.empty()) s.viewpoint = scans.front().scanner_position();
     const VoxelMeans thinned = voxel_means(inside, config.voxel_size);
     s.sample = surface_with_normals(thinned.points, kNormalRadiusVoxels * config.voxel_size,
-                                    kMaxCurvature, s.viewpoint, thinned.counts);
+                                    kMaxCurvature, s.viewpoint, thinned.counts,
+                                    kRowSpreads * config.noise.angular_sigma());
     s.sample.counts.clear();  // the pairs weigh the epoch's voxels; the cache keeps no counts
     return s;
 }
@@ -159,6 +180,17 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         }
     }
     m.reference_points = reference.points.size();
+    // On grazing ground the beam's elevation noise scatters a row's points along their beams,
+    // so a mean lies off the ground by where it falls along its beam, and its nearest reference
+    // mean lies at the same place along the same row's beam: paired as they are, the two
+    // measure how the beams (the scanner) moved, not the ground, and drew the estimate towards
+    // no motion. There a pair joins both means' feet on their neighbours' planes, which average
+    // the rows' scatter (docs/registration.md, "ICP on stable regions", step 2).
+    std::vector<std::uint8_t> on_plane(reference.points.size());
+    for (std::size_t i = 0; i < on_plane.size(); ++i) {
+        on_plane[i] =
+            along_the_beam(reference.points[i], reference.normals[i], surface.viewpoint, c.noise);
+    }
     // The epoch's centroids kept by the same test as the reference's: a centroid on an edge,
     // a pipe or a corner has no plane, and paired with a neighbour's plane it pulls the
     // adjustment off (the real pump room, moved rigidly, gave half its rotation back).
@@ -178,7 +210,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         const Eigen::Affine3d back = to_reference.inverse();
         for (auto& q : v.points) q = back * q;
         return surface_with_normals(v.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
-                                    viewpoint, v.counts);
+                                    viewpoint, v.counts, kRowSpreads * c.noise.angular_sigma());
     };
     SurfaceSample epoch = thinned_under(start);
     m.epoch_points = epoch.points.size();
@@ -197,7 +229,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
     p.max_correspondence_distance = c.max_correspondence_distance;
     p.max_iterations = c.max_iterations;
     const NearestPoints nearest(reference.points);  // the pairs', built once for every cut
-    const IcpAlignment a = align_point_to_plane(epoch, reference, nearest, start, p);
+    const IcpAlignment a = align_point_to_plane(epoch, reference, nearest, start, p, on_plane);
     m.iterations = a.iterations;
     m.converged = a.converged;
     m.pairs = a.pairs.size();
@@ -218,8 +250,8 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         while (m.recuts < kMaxRecuts && !cut_before(f.transform.matrix())) {
             const Eigen::Matrix4d cut_at = cuts.emplace_back(f.transform.matrix());
             epoch = thinned_under(cut_at);
-            const auto pairs =
-                point_plane_pairs(epoch, reference, nearest, cut_at, c.max_correspondence_distance);
+            const auto pairs = point_plane_pairs(epoch, reference, nearest, cut_at,
+                                                 c.max_correspondence_distance, on_plane);
             m.overlap =
                 static_cast<double>(pairs.size()) / static_cast<double>(epoch.points.size());
             f = reg::fit_point_to_plane(pairs, cut_at, fp);
@@ -303,7 +335,7 @@ void apply_icp(const RegistrationConfig& config, const EpochInput& input, Refere
     // and an ICP onto itself could only move it.
     if (reference.epoch().id == input.epoch.id) return;
     const auto surface = cache.get<StableSurface>(
-        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 2},
+        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 3},
         [&](const std::vector<Scan>& scans) { return build_stable_surface(config.icp, scans); });
     apply_icp(config, *surface, *input.scans, scales, result);
 }

@@ -69,6 +69,30 @@ Eigen::Vector3d centroid(std::span<const Eigen::Vector3d> points) {
     return points.empty() ? c : Eigen::Vector3d(c / static_cast<double>(points.size()));
 }
 
+// The smaller spread (rad, a standard deviation) of the neighbours' directions from the
+// viewpoint: the middle eigenvalue of their weighted covariance (the smallest lies along the
+// mean direction).
+template <typename Count>
+double direction_spread(std::span<const Eigen::Vector3d> points, const std::vector<int>& k,
+                        const Eigen::Vector3d& viewpoint, const Count& count) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    double w = 0;
+    for (const int j : k) {
+        const auto u = static_cast<std::size_t>(j);
+        mean += count(u) * (points[u] - viewpoint).normalized();
+        w += count(u);
+    }
+    mean /= w;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const int j : k) {
+        const auto u = static_cast<std::size_t>(j);
+        const Eigen::Vector3d d = (points[u] - viewpoint).normalized() - mean;
+        C += count(u) * d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C / w, Eigen::EigenvaluesOnly);
+    return std::sqrt(std::max(0.0, es.eigenvalues()(1)));
+}
+
 }  // namespace
 
 VoxelMeans voxel_means(std::span<const Eigen::Vector3d> points, double voxel,
@@ -104,7 +128,7 @@ std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> po
 
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
                                    double max_curvature, const Eigen::Vector3d& viewpoint,
-                                   std::span<const double> counts) {
+                                   std::span<const double> counts, double min_direction_spread) {
     SurfaceSample out;
     if (points.empty()) return out;
     if (!counts.empty() && counts.size() != points.size())
@@ -140,10 +164,15 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
         // A plane spreads in two directions: neighbours along a line (one scan row on
         // grazing ground, an edge) leave the normal undetermined about that line.
         if (!(total > 0) || l(0) / total > max_curvature || l(1) < kMinSpread * l(2)) continue;
+        if (min_direction_spread > 0 &&
+            direction_spread(points, k, viewpoint, count) < min_direction_spread) {
+            continue;
+        }
         Eigen::Vector3d n = es.eigenvectors().col(0).normalized();
         if (n.dot(viewpoint - points[i]) < 0) n = -n;
         out.points.push_back(points[i]);
         out.normals.push_back(n);
+        out.plane_offsets.push_back(n.dot(points[i] - mean));
         if (!counts.empty()) out.counts.push_back(counts[i]);
     }
     return out;
@@ -151,7 +180,7 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
 
 IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const SurfaceSample& reference,
                                   const NearestPoints& nearest, const Eigen::Matrix4d& start,
-                                  const IcpParams& params) {
+                                  const IcpParams& params, std::span<const std::uint8_t> on_plane) {
     const std::vector<Eigen::Vector3d>& epoch = epoch_sample.points;
     if (epoch.empty() || reference.points.empty()) {
         throw Error("ICP: no points in the stable regions (epoch " + std::to_string(epoch.size()) +
@@ -186,7 +215,7 @@ IcpAlignment align_point_to_plane(const SurfaceSample& epoch_sample, const Surfa
     out.transform.topRightCorner<3, 1>() = L.topRightCorner<3, 1>() + o - R * o;
 
     out.pairs = point_plane_pairs(epoch_sample, reference, nearest, out.transform,
-                                  params.max_correspondence_distance);
+                                  params.max_correspondence_distance, on_plane);
     out.overlap = static_cast<double>(out.pairs.size()) / static_cast<double>(epoch.size());
     return out;
 }
@@ -240,11 +269,9 @@ std::int64_t NearestPoints::nearest(const Eigen::Vector3d& query, double max_dis
     return k[0];
 }
 
-std::vector<registration::PointPlanePair> point_plane_pairs(const SurfaceSample& epoch,
-                                                            const SurfaceSample& reference,
-                                                            const NearestPoints& nearest,
-                                                            const Eigen::Matrix4d& T,
-                                                            double max_distance) {
+std::vector<registration::PointPlanePair> point_plane_pairs(
+    const SurfaceSample& epoch, const SurfaceSample& reference, const NearestPoints& nearest,
+    const Eigen::Matrix4d& T, double max_distance, std::span<const std::uint8_t> on_plane) {
     const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
     const Eigen::Vector3d t = T.topRightCorner<3, 1>();
     std::vector<registration::PointPlanePair> pairs;
@@ -254,8 +281,12 @@ std::vector<registration::PointPlanePair> point_plane_pairs(const SurfaceSample&
         const std::int64_t j = nearest.nearest(R * x + t, max_distance);
         if (j < 0) continue;
         const auto u = static_cast<std::size_t>(j);
-        pairs.push_back({x, reference.points[u], reference.normals[u],
-                         epoch.counts.empty() ? 1.0 : epoch.counts[i]});
+        const double weight = epoch.counts.empty() ? 1.0 : epoch.counts[i];
+        if (!on_plane.empty() && on_plane[u]) {
+            pairs.push_back({epoch.foot(i), reference.foot(u), reference.normals[u], weight});
+        } else {
+            pairs.push_back({x, reference.points[u], reference.normals[u], weight});
+        }
     }
     return pairs;
 }

@@ -20,11 +20,15 @@
 namespace tlsmon {
 
 // Points of a surface with their unit normals (same order, same count), and, when the points
-// are voxel means, how many scan points each stands for (empty: one each).
+// are voxel means, how many scan points each stands for (empty: one each). Each point's
+// distance from its neighbours' plane along its normal, nᵀ·(p − mean): its foot on that plane
+// is p − offset·n (empty where not computed).
 struct SurfaceSample {
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector3d> normals;
     std::vector<double> counts;
+    std::vector<double> plane_offsets;
+    Eigen::Vector3d foot(std::size_t i) const { return points[i] - plane_offsets[i] * normals[i]; }
 };
 
 // The mean of the points in each occupied cube of side `voxel` (cells aligned on `origin`),
@@ -54,9 +58,14 @@ std::vector<Eigen::Vector3d> voxel_centroids(
 // ground): point-to-plane distances mean nothing there.
 // With `counts` (voxel means), each neighbour weighs as many points as it stands for, so the
 // plane is the one through the scan points themselves; the kept points' counts are returned.
+// With `min_direction_spread` (rad), a point is also dropped when its neighbours' directions
+// from `viewpoint` spread less than that across their widest spread: the points of one scan
+// row lie in that row's cone of beams however their ranges scatter, and on grazing ground the
+// angular noise scatters them along the beams into what looks like a plane.
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
                                    double max_curvature, const Eigen::Vector3d& viewpoint,
-                                   std::span<const double> counts = {});
+                                   std::span<const double> counts = {},
+                                   double min_direction_spread = 0.0);
 
 struct IcpParams {
     double max_correspondence_distance = 0.05;  // m
@@ -77,11 +86,12 @@ struct IcpAlignment {
 class NearestPoints;
 
 // Each pair weighs the epoch point's count when the epoch sample has counts (voxel means);
-// `nearest` indexes the reference's points (point_plane_pairs). Throws tlsmon::Error when
-// either cloud is empty.
+// `nearest` indexes the reference's points, `on_plane` as point_plane_pairs takes it. Throws
+// tlsmon::Error when either cloud is empty.
 IcpAlignment align_point_to_plane(const SurfaceSample& epoch, const SurfaceSample& reference,
                                   const NearestPoints& nearest, const Eigen::Matrix4d& start,
-                                  const IcpParams& params);
+                                  const IcpParams& params,
+                                  std::span<const std::uint8_t> on_plane = {});
 
 // Voxel Cloud Connectivity Segmentation (Papon et al. 2013, PCL's SupervoxelClustering): the
 // cloud voxelised at `voxel`, seeds on a grid of `seed`, each supervoxel grown over adjacent
@@ -118,10 +128,10 @@ class NearestPoints {
 // Each epoch point with its nearest reference point within `max_distance` under `T` (epoch ->
 // reference; `nearest` indexes the reference's points), that point's normal and the epoch
 // point's count as its weight: the pairs align_point_to_plane returns, made under any T.
-std::vector<registration::PointPlanePair> point_plane_pairs(const SurfaceSample& epoch,
-                                                            const SurfaceSample& reference,
-                                                            const NearestPoints& nearest,
-                                                            const Eigen::Matrix4d& T,
-                                                            double max_distance);
+// Where `on_plane` (one flag per reference point, or empty) is set for the reference point,
+// the pair joins both points' feet on their neighbours' planes (SurfaceSample::foot).
+std::vector<registration::PointPlanePair> point_plane_pairs(
+    const SurfaceSample& epoch, const SurfaceSample& reference, const NearestPoints& nearest,
+    const Eigen::Matrix4d& T, double max_distance, std::span<const std::uint8_t> on_plane = {});
 
 }  // namespace tlsmon

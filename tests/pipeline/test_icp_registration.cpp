@@ -150,7 +150,9 @@ TEST(IcpRegistration, FallbackRecoversThePoseWithTwoTargets) {
 
 // Several series (noise and drift jitter seeded apart), a reference and two later epochs each:
 // the share of the error's components at the pier's top corner within the fallback's 2σ, and
-// RMS(error/σ) (the reference's own errors are one draw per series).
+// RMS(error/σ) (the reference's own errors are one draw per series). With the ground at 0.05°
+// the σ is padded (0.35 here; docs/registration.md, "Over independent series"): the lower
+// bound holds it from growing further.
 TEST(IcpRegistration, FallbackSigmaIsHonestOverSeveralEpochs) {
     constexpr int series = 3;
     int within = 0, components = 0;
@@ -185,7 +187,7 @@ TEST(IcpRegistration, FallbackSigmaIsHonestOverSeveralEpochs) {
     EXPECT_LE(worst, 0.002);
     EXPECT_GE(within, static_cast<int>(std::ceil(0.8 * components)));
     EXPECT_LT(rms_q, 1.5);
-    EXPECT_GT(rms_q, 0.4);
+    EXPECT_GT(rms_q, 0.25);
 }
 
 // All six targets: an accepted target registration refined by the ICP is combined only when
