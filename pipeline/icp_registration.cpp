@@ -26,6 +26,13 @@ constexpr double kMaxCurvature = 0.02;
 // row by more than this many σ of the beam's direction, which is all that one row's
 // directions spread by (pcl_adapter.hpp, surface_with_normals).
 constexpr double kRowSpreads = 3.0;
+
+// The voxel means with their planes, by the same tests for the reference and every epoch.
+SurfaceSample stable_planes(const IcpConfig& c, const VoxelMeans& means,
+                            const Eigen::Vector3d& viewpoint) {
+    return surface_with_normals(means.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
+                                viewpoint, means.counts, kRowSpreads * c.noise.angular_sigma());
+}
 // The epoch is cut again at most this many times (measure_icp).
 constexpr int kMaxRecuts = 10;
 
@@ -131,9 +138,7 @@ StableSurface build_stable_surface(const IcpConfig& config, const std::vector<Sc
     s.cropped = inside.size();
     if (!scans.empty()) s.viewpoint = scans.front().scanner_position();
     const VoxelMeans thinned = voxel_means(inside, config.voxel_size);
-    s.sample = surface_with_normals(thinned.points, kNormalRadiusVoxels * config.voxel_size,
-                                    kMaxCurvature, s.viewpoint, thinned.counts,
-                                    kRowSpreads * config.noise.angular_sigma());
+    s.sample = stable_planes(config, thinned, s.viewpoint);
     s.sample.counts.clear();  // the pairs weigh the epoch's voxels; the cache keeps no counts
     return s;
 }
@@ -209,8 +214,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
         VoxelMeans v = voxel_means(moved, c.voxel_size);
         const Eigen::Affine3d back = to_reference.inverse();
         for (auto& q : v.points) q = back * q;
-        return surface_with_normals(v.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
-                                    viewpoint, v.counts, kRowSpreads * c.noise.angular_sigma());
+        return stable_planes(c, v, viewpoint);
     };
     SurfaceSample epoch = thinned_under(start);
     m.epoch_points = epoch.points.size();
