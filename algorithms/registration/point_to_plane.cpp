@@ -179,31 +179,45 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
     out.independent = out.variance_factor * Ninv;
     // One-way random effects of the cells: v_i = u_c + e_i, e_i of variance σ_e²/p_i and u_c,
     // common to the pairs of cell c, of variance τ². σ_e² from the spread within the cells,
-    // Σ_c Σ_i p·(v − r̄_c)²/(n − C); τ² by moments from the cells' weighted mean residuals r̄_c,
-    // whose variance is τ² + σ_e²/w_c: τ² = max(0, Σ_c (r̄_c² − σ_e²/w_c)/(C − 6)). The
-    // estimator's covariance is then N⁻¹·(σ_e²·N + τ²·Σ_c b_c·b_cᵀ)·N⁻¹. Unlike the sandwich it
-    // pools τ² over every cell, so a direction only a few cells hold still gets it.
+    // Σ_c Σ_i p·(v − r̄_c)²/(n − C). τ² by the ANOVA estimator of unbalanced data (Henderson's
+    // method I; Searle, Casella & McCulloch 1992, ch. 5): the cells' sum of squares
+    // Σ_c w_c·r̄_c² = Σ_c s_c²/w_c (s_c = Σ_{i∈c} p·v, w_c = Σ p) equated with its expectation
+    // under the model, taken exactly through the fit that made the residuals (v = ṽ − A·δ,
+    // δ = N⁻¹·Aᵀ·P·ṽ):
+    //   E[s_c²] = τ²·(w_c² − 2·w_c·h_c + b_cᵀ·N⁻¹·B·N⁻¹·b_c) + σ_e²·(w_c − h_c),
+    // h_c = b_cᵀ·N⁻¹·b_c, B = Σ_c b_c·b_cᵀ. The estimator's covariance is then
+    // N⁻¹·(σ_e²·N + τ²·B)·N⁻¹. Unlike the sandwich it pools τ² over every cell, so a direction
+    // only a few cells hold still gets it; weighted by w_c, the cells that weigh in the
+    // estimate weigh in τ² (each cell's mean alike, the far grazing ground's many sparse cells
+    // set τ² and padded the faces' directions 1.4 times; docs/registration.md, step 5).
     const double C = static_cast<double>(cells.size());
     out.cell_effect = out.independent;
     if (C > 6 && static_cast<double>(n) > C) {
         double within = 0;
         for (const auto& [key, cell] : cells) within += cell.wvv - cell.wv * cell.wv / cell.w;
         const double sigma_e2 = std::max(0.0, within) / (static_cast<double>(n) - C);
-        double excess = 0, between = 0;
-        Covariance6 B = Covariance6::Zero();
+        Covariance6 B = Covariance6::Zero(), B_per_w = Covariance6::Zero();
+        double between = 0, tau_coefficient = 0, sigma_coefficient = 0;
         for (const auto& [key, cell] : cells) {
-            const double r = cell.wv / cell.w;
-            excess += r * r - sigma_e2 / cell.w;
-            between += cell.w * r * r;
+            const double h = cell.b.dot(Ninv * cell.b);
+            between += cell.wv * cell.wv / cell.w;
+            tau_coefficient += cell.w - 2 * h;
+            sigma_coefficient += 1 - h / cell.w;
             B.selfadjointView<Eigen::Lower>().rankUpdate(cell.b);
+            B_per_w.selfadjointView<Eigen::Lower>().rankUpdate(cell.b, 1 / cell.w);
         }
         B = B.selfadjointView<Eigen::Lower>();
+        B_per_w = B_per_w.selfadjointView<Eigen::Lower>();
+        tau_coefficient += (Ninv * B_per_w * Ninv * B).trace();
         // Only a significant cell effect (Σ w_c·r̄_c²/σ_e² ~ χ²(C − 6) without one, α 5 %):
         // the moment estimate, cut at zero, is otherwise above zero half the time and pads the
         // σ of independent noise by a quarter.
         const bool significant =
             sigma_e2 > 0 && between / sigma_e2 > chi_square_quantile(0.95, C - 6);
-        const double tau2 = significant ? std::max(0.0, excess / (C - 6)) : 0.0;
+        const double tau2 =
+            significant && tau_coefficient > 0
+                ? std::max(0.0, (between - sigma_e2 * sigma_coefficient) / tau_coefficient)
+                : 0.0;
         out.cell_sigma = std::sqrt(tau2);
         out.cell_effect = sigma_e2 * Ninv + tau2 * Ninv * B * Ninv;
         out.cell_effect = 0.5 * (out.cell_effect + out.cell_effect.transpose());

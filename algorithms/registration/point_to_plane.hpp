@@ -20,8 +20,9 @@
 // (Liang & Zeger 1986; the small-sample factor of Cameron & Miller 2015, §VI.A) lets each
 // cell's residuals be correlated in any way. But with few cells in a direction the sandwich
 // itself is noisy and small; so a random-effects model of the cells as well: an error u_c
-// common to the pairs of cell c, of variance τ² estimated by moments from every cell's mean
-// residual, gives N⁻¹·(s0²·N + τ²·Σ_c b_c·b_cᵀ)·N⁻¹ (b_c = Σ_{i ∈ c} p_i·a_i). The reported
+// common to the pairs of cell c, of variance τ² estimated by moments from the cells' sum of
+// squares (the ANOVA estimator, each cell by its weight, its expectation taken through the
+// fit), gives N⁻¹·(s0²·N + τ²·Σ_c b_c·b_cᵀ)·N⁻¹ (b_c = Σ_{i ∈ c} p_i·a_i). The reported
 // covariance is the largest of the three in the matrix sense (every direction's variance at
 // least each one's): never more optimistic than independent noise.
 #include <Eigen/Core>

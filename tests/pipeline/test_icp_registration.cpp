@@ -150,9 +150,10 @@ TEST(IcpRegistration, FallbackRecoversThePoseWithTwoTargets) {
 
 // Several series (noise and drift jitter seeded apart), a reference and two later epochs each:
 // the share of the error's components at the pier's top corner within the fallback's 2σ, and
-// RMS(error/σ) (the reference's own errors are one draw per series). With the ground at 0.05°
-// the σ is padded (0.35 here; docs/registration.md, "Over independent series"): the lower
-// bound holds it from growing further.
+// RMS(error/σ) (the reference's own errors are one draw per series): 0.65 here, with the
+// cells' τ by their weight (0.35 when each cell's mean residual counted alike, a σ padded at
+// 0.05°; docs/registration.md, "The cells' τ by their weight"). The lower bound holds the σ
+// from being padded again.
 TEST(IcpRegistration, FallbackSigmaIsHonestOverSeveralEpochs) {
     constexpr int series = 3;
     int within = 0, components = 0;
@@ -187,7 +188,7 @@ TEST(IcpRegistration, FallbackSigmaIsHonestOverSeveralEpochs) {
     EXPECT_LE(worst, 0.002);
     EXPECT_GE(within, static_cast<int>(std::ceil(0.8 * components)));
     EXPECT_LT(rms_q, 1.5);
-    EXPECT_GT(rms_q, 0.25);
+    EXPECT_GT(rms_q, 0.45);
 }
 
 // All six targets: an accepted target registration refined by the ICP is combined only when
