@@ -36,34 +36,13 @@
 
 #include "algorithms/registration/distribution_quantiles.hpp"
 #include "bench/bench_support.hpp"
+#include "bench/lower_band.hpp"
 #include "bench/transform_coverage.hpp"
 #include "pipeline/icp_registration.hpp"
-#include "simulator/drift.hpp"
-#include "simulator/epoch_conditions.hpp"
 #include "simulator/stable_ground.hpp"
 #include "tests/support/stable_band.hpp"
 
-namespace {
-
 using namespace tlsmon;
-
-struct Band {
-    std::vector<Scan> scans;
-    Eigen::Affine3d header_to_true = Eigen::Affine3d::Identity();
-};
-
-Band render_band(const sim::Site& site, int epoch, double hours, double elevation_max,
-                 double step) {
-    const sim::RenderedScan r = test::render_lower_band(
-        site, sim::epoch_conditions(site, epoch, hours), elevation_max, step);
-    const Eigen::Affine3d N = sim::nominal_pose(site.scanner);
-    Band b;
-    b.header_to_true = N * r.pose_error.transform() * N.inverse();
-    b.scans.push_back(r.scan);
-    return b;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     std::vector<std::string> args;
@@ -130,19 +109,15 @@ int main(int argc, char** argv) {
     std::map<std::string, int> refused;
     std::vector<double> inflation, pairs, recuts;
     for (int k = 0; k < series; ++k) {
-        sim::Site site = base;
-        site.noise.seed = static_cast<std::uint64_t>(first_seed + k);
-        const double hours = 24.0 * std::fmod(0.6180339887 * (k + 1), 1.0);
-        const Band e0 = render_band(site, 0, 0.0, elevation_max, step);
-        const Band e1 = render_band(site, 1, hours, elevation_max, step);
-        const StableSurface surface = build_stable_surface(config.icp, e0.scans);
+        const bench::BandSeries s = bench::render_series(base, first_seed, k, elevation_max, step);
+        const StableSurface surface = build_stable_surface(config.icp, s.reference.scans);
         const IcpMeasurement m =
-            measure_icp(config, surface, e1.scans, Eigen::Matrix4d::Identity());
+            measure_icp(config, surface, s.epoch.scans, Eigen::Matrix4d::Identity());
         if (!m.transform || !m.refused.empty()) {
             ++refused[m.refused.empty() ? "no transformation" : m.refused];
             continue;
         }
-        const Eigen::Affine3d exact = e0.header_to_true.inverse() * e1.header_to_true;
+        const Eigen::Affine3d exact = s.exact();
         scores.add(exact, *m.transform);
         for (std::size_t c = 0; c < candidates.size(); ++c) {
             candidate_scores[c].add(exact, registration::rigid_transform_from(

@@ -1,10 +1,11 @@
 #pragma once
 // Shared by the benches that score a registration's σ over independent series
 // (bench/registration_coverage.cpp for the targets, bench/icp_coverage.cpp for the ICP on
-// stable regions): the scenes by name, and the scores of one transformation per series —
-// its six parameters against the exact map, and its error at two points of the pier's south
-// face (mid-height and 1 m below its top) in x, y and z against the covariance propagated
-// there, what every zone figure there carries — printed as `tlsmon calibration` does.
+// stable regions, bench/stable_area_coverage.cpp for the stable areas): the scenes by name,
+// and the scores of one transformation per series — its six parameters against the exact
+// map, and its error at two points of the pier's south face (mid-height and 1 m below its
+// top) in x, y and z against the covariance propagated there, what every zone figure there
+// carries — printed as `tlsmon calibration` does.
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
@@ -33,6 +34,20 @@ inline sim::Site scene_named(const std::string& name) {
     return load_scene_file(name, std::nullopt);
 }
 
+// The six parameters (ω, φ, κ, tx, ty, tz) of an exact map, and of an estimate.
+inline Eigen::Vector<double, 6> parameters_of(const Eigen::Affine3d& exact) {
+    const Eigen::Vector3d angles = registration::euler_from_rotation(exact.linear());
+    return {angles.x(),
+            angles.y(),
+            angles.z(),
+            exact.translation().x(),
+            exact.translation().y(),
+            exact.translation().z()};
+}
+inline Eigen::Vector<double, 6> parameters_of(const registration::RigidTransform& T) {
+    return {T.omega, T.phi, T.kappa, T.translation.x(), T.translation.y(), T.translation.z()};
+}
+
 inline void print_coverage_row(const report::CoverageRow& r) {
     const double k = r.display_scale();
     if (r.mixed_units())
@@ -59,15 +74,8 @@ class TransformScores {
     // T (epoch -> reference) against `exact`, the map of the epoch's coordinates into the
     // reference's.
     void add(const Eigen::Affine3d& exact, const registration::RigidTransform& T) {
-        const Eigen::Vector3d angles = registration::euler_from_rotation(exact.linear());
-        const Eigen::Vector<double, 6> truth{angles.x(),
-                                             angles.y(),
-                                             angles.z(),
-                                             exact.translation().x(),
-                                             exact.translation().y(),
-                                             exact.translation().z()};
-        const Eigen::Vector<double, 6> value{
-            T.omega, T.phi, T.kappa, T.translation.x(), T.translation.y(), T.translation.z()};
+        const Eigen::Vector<double, 6> truth = parameters_of(exact);
+        const Eigen::Vector<double, 6> value = parameters_of(T);
         const auto sigma = T.sigmas();
         for (int p = 0; p < 6; ++p) {
             figures_[p].push_back({value(p) - truth(p), sigma(p)});
