@@ -26,12 +26,22 @@ constexpr double kMaxCurvature = 0.02;
 // row by more than this many σ of the beam's direction, which is all that one row's
 // directions spread by (pcl_adapter.hpp, surface_with_normals).
 constexpr double kRowSpreads = 3.0;
+// A plane needs the scan points of a surface sampled at least as finely as the voxels: a disc
+// of the normals' radius, seen at up to 65° incidence at one point per voxel, holds
+// π·3²·cos 65° ≈ 12. Where the scan is coarser (`hochmosel`'s north slope at 230–320 m and
+// 0.03°: 0.12–0.17 m between beams, every point its own voxel) a mean is one beam's point, its
+// nearest mean in the other epoch the same beam's, and a plane through a few of them leans
+// towards their rows' cones, about the scanner's vertical axis: those pairs hardly see the
+// scanner turn about it, and drew κ 7 % towards no motion (docs/registration.md, "Planes of
+// single beams").
+constexpr double kMinPlanePoints = 12.0;
 
 // The voxel means with their planes, by the same tests for the reference and every epoch.
 SurfaceSample stable_planes(const IcpConfig& c, const VoxelMeans& means,
                             const Eigen::Vector3d& viewpoint) {
     return surface_with_normals(means.points, kNormalRadiusVoxels * c.voxel_size, kMaxCurvature,
-                                viewpoint, means.counts, kRowSpreads * c.noise.angular_sigma());
+                                viewpoint, means.counts, kRowSpreads * c.noise.angular_sigma(),
+                                kMinPlanePoints);
 }
 // The voxel grid's origin, half a centimetre off the whole centimetres on each axis. Built
 // faces and ground lie on whole centimetres of a site's frame (a pier's face at y = 43.5 m, a
@@ -57,8 +67,9 @@ bool settled(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
 
 std::string region_parameters(const IcpConfig& c) {
     std::string s = fmt::format(
-        "voxel={:.17g};normals={:.17g};curvature={:.17g};row_spread={:.17g}", c.voxel_size,
-        kNormalRadiusVoxels, kMaxCurvature, kRowSpreads * c.noise.angular_sigma());
+        "voxel={:.17g};normals={:.17g};curvature={:.17g};row_spread={:.17g};points={:.17g}",
+        c.voxel_size, kNormalRadiusVoxels, kMaxCurvature, kRowSpreads * c.noise.angular_sigma(),
+        kMinPlanePoints);
     const auto boxes = [&s](const std::vector<StableRegion>& list, const char* prefix) {
         for (const auto& r : list) {
             s +=
@@ -350,7 +361,7 @@ void apply_icp(const RegistrationConfig& config, const EpochInput& input, Refere
     // and an ICP onto itself could only move it.
     if (reference.epoch().id == input.epoch.id) return;
     const auto surface = cache.get<StableSurface>(
-        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 4},
+        reference, ProductKey{"registration.icp_surface", region_parameters(config.icp), 5},
         [&](const std::vector<Scan>& scans) { return build_stable_surface(config.icp, scans); });
     apply_icp(config, *surface, *input.scans, scales, result);
 }

@@ -128,7 +128,8 @@ std::vector<Eigen::Vector3d> voxel_centroids(std::span<const Eigen::Vector3d> po
 
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
                                    double max_curvature, const Eigen::Vector3d& viewpoint,
-                                   std::span<const double> counts, double min_direction_spread) {
+                                   std::span<const double> counts, double min_direction_spread,
+                                   double min_points) {
     SurfaceSample out;
     if (points.empty()) return out;
     if (!counts.empty() && counts.size() != points.size())
@@ -142,6 +143,11 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
     std::vector<float> d2;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (tree.radiusSearch((*xyz)[i], radius, k, d2) < kMinNeighbours) continue;
+        if (min_points > 0) {
+            double held = 0;
+            for (const int j : k) held += count(static_cast<std::size_t>(j));
+            if (held < min_points) continue;
+        }
         // The neighbours' covariance in double, about their mean (Hoppe et al. 1992), each
         // weighing the scan points it stands for.
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();

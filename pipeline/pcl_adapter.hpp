@@ -62,10 +62,13 @@ std::vector<Eigen::Vector3d> voxel_centroids(
 // from `viewpoint` spread less than that across their widest spread: the points of one scan
 // row lie in that row's cone of beams however their ranges scatter, and on grazing ground the
 // angular noise scatters them along the beams into what looks like a plane.
+// With `min_points`, a point is also dropped when its neighbours stand for fewer scan points
+// than that (by `counts`): where the scan is coarser than the voxels, each mean is one beam's
+// point and a few of them make a plane that leans towards their rows' cones.
 SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, double radius,
                                    double max_curvature, const Eigen::Vector3d& viewpoint,
                                    std::span<const double> counts = {},
-                                   double min_direction_spread = 0.0);
+                                   double min_direction_spread = 0.0, double min_points = 0.0);
 
 struct IcpParams {
     double max_correspondence_distance = 0.05;  // m
