@@ -12,12 +12,14 @@
 //
 //   bench_icp_coverage SCENE [SERIES] [FIRST_SEED] [--step DEG] [--cluster M]
 //                      [--noise all|range|angular|none] [--voxel M] [--max-distance M]
+//                      [--without REGION,...]
 //
 // SCENE: `demo`, `pier`, `hochmosel` or a scene file (bench/transform_coverage.hpp).
 // `--cluster` overrides registration.icp_cluster_size, `--voxel` icp_voxel_size and
 // `--max-distance` icp_max_correspondence_distance (the gain of docs/registration.md, "The
 // error follows the motion", depends on both); `--noise` keeps the scanner's range noise
-// alone, its angular noise alone, or neither (the footprint stays). Prints the coverage
+// alone, its angular noise alone, or neither (the footprint stays); `--without` leaves the
+// named stable regions out (which region an error comes from). Prints the coverage
 // rows as `tlsmon calibration` does; the pooled rows again with each of the adjustment's
 // candidate covariances alone (s0²·N⁻¹, the cells' random effect, the sandwich), of which the ICP
 // reports the largest, and the sandwich widened by t(dof, 0.975)/1.96 for its Bell–McCaffrey
@@ -49,6 +51,7 @@ int main(int argc, char** argv) {
     double step = 0.05;
     double cluster = 0, voxel = 0, max_distance = 0;
     std::string noise = "all";
+    std::string without;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--step" && i + 1 < argc)
@@ -61,6 +64,8 @@ int main(int argc, char** argv) {
             voxel = std::atof(argv[++i]);
         else if (a == "--max-distance" && i + 1 < argc)
             max_distance = std::atof(argv[++i]);
+        else if (a == "--without" && i + 1 < argc)
+            without = "," + std::string(argv[++i]) + ",";
         else
             args.push_back(a);
     }
@@ -69,7 +74,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "usage: bench_icp_coverage demo|pier|hochmosel|SCENE.toml [SERIES] "
                      "[FIRST_SEED] [--step DEG] [--cluster M] [--noise all|range|angular|none] "
-                     "[--voxel M] [--max-distance M]\n");
+                     "[--voxel M] [--max-distance M] [--without REGION,...]\n");
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -86,7 +91,20 @@ int main(int argc, char** argv) {
     RegistrationConfig config;
     config.icp.mode = IcpMode::fallback;
     const auto boxes = sim::stable_ground(base);
-    for (const auto& b : boxes) config.icp.regions.push_back({b.name, b.min, b.max});
+    std::size_t left_out = 0;
+    for (const auto& b : boxes) {
+        if (without.find("," + b.name + ",") == std::string::npos)
+            config.icp.regions.push_back({b.name, b.min, b.max});
+        else
+            ++left_out;
+    }
+    if (!without.empty() &&
+        left_out != static_cast<std::size_t>(std::count(without.begin(), without.end(), ',')) - 1) {
+        std::fprintf(stderr, "--without: a name is not among the scene's stable regions:");
+        for (const auto& b : boxes) std::fprintf(stderr, " %s", b.name.c_str());
+        std::fprintf(stderr, "\n");
+        return 2;
+    }
     if (cluster > 0) config.icp.cluster_size = cluster;
     if (voxel > 0) config.icp.voxel_size = voxel;
     if (max_distance > 0) config.icp.max_correspondence_distance = max_distance;
@@ -145,7 +163,7 @@ int main(int argc, char** argv) {
         "%s: %d series from seed %d, %zu stable regions, band up to %.1f° at %.3f°, "
         "icp_cluster_size %.1f m, icp_voxel_size %.3f m, icp_max_correspondence_distance %.3f m; "
         "%zu scored\n",
-        args[0].c_str(), series, first_seed, boxes.size(), elevation_max, step,
+        args[0].c_str(), series, first_seed, config.icp.regions.size(), elevation_max, step,
         config.icp.cluster_size, config.icp.voxel_size, config.icp.max_correspondence_distance,
         inflation.size());
     for (const auto& [why, n] : refused) std::printf("  refused %d: %s\n", n, why.c_str());
