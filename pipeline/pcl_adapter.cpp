@@ -143,11 +143,6 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
     std::vector<float> d2;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (tree.radiusSearch((*xyz)[i], radius, k, d2) < kMinNeighbours) continue;
-        if (min_points > 0) {
-            double held = 0;
-            for (const int j : k) held += count(static_cast<std::size_t>(j));
-            if (held < min_points) continue;
-        }
         // The neighbours' covariance in double, about their mean (Hoppe et al. 1992), each
         // weighing the scan points it stands for.
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -157,6 +152,7 @@ SurfaceSample surface_with_normals(std::span<const Eigen::Vector3d> points, doub
             mean += count(u) * points[u];
             w += count(u);
         }
+        if (w < min_points) continue;  // the scan points the neighbours stand for
         mean /= w;
         Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
         for (const int j : k) {
