@@ -33,6 +33,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
     double step = 0.05;
     double cluster = 0, voxel = 0, max_distance = 0;
     std::string noise = "all";
-    std::string without;
+    std::set<std::string> without;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--step" && i + 1 < argc)
@@ -64,10 +66,12 @@ int main(int argc, char** argv) {
             voxel = std::atof(argv[++i]);
         else if (a == "--max-distance" && i + 1 < argc)
             max_distance = std::atof(argv[++i]);
-        else if (a == "--without" && i + 1 < argc)
-            without = "," + std::string(argv[++i]) + ",";
-        else
+        else if (a == "--without" && i + 1 < argc) {
+            std::istringstream names(argv[++i]);
+            for (std::string name; std::getline(names, name, ',');) without.insert(name);
+        } else {
             args.push_back(a);
+        }
     }
     if (args.empty() || step <= 0 || voxel < 0 || max_distance < 0 ||
         (noise != "all" && noise != "range" && noise != "angular" && noise != "none")) {
@@ -91,19 +95,18 @@ int main(int argc, char** argv) {
     RegistrationConfig config;
     config.icp.mode = IcpMode::fallback;
     const auto boxes = sim::stable_ground(base);
-    std::size_t left_out = 0;
-    for (const auto& b : boxes) {
-        if (without.find("," + b.name + ",") == std::string::npos)
-            config.icp.regions.push_back({b.name, b.min, b.max});
-        else
-            ++left_out;
+    for (const auto& name : without) {
+        if (std::none_of(boxes.begin(), boxes.end(),
+                         [&](const auto& b) { return b.name == name; })) {
+            std::fprintf(stderr,
+                         "--without: '%s' is not among the scene's stable regions:", name.c_str());
+            for (const auto& b : boxes) std::fprintf(stderr, " %s", b.name.c_str());
+            std::fprintf(stderr, "\n");
+            return 2;
+        }
     }
-    if (!without.empty() &&
-        left_out != static_cast<std::size_t>(std::count(without.begin(), without.end(), ',')) - 1) {
-        std::fprintf(stderr, "--without: a name is not among the scene's stable regions:");
-        for (const auto& b : boxes) std::fprintf(stderr, " %s", b.name.c_str());
-        std::fprintf(stderr, "\n");
-        return 2;
+    for (const auto& b : boxes) {
+        if (!without.contains(b.name)) config.icp.regions.push_back({b.name, b.min, b.max});
     }
     if (cluster > 0) config.icp.cluster_size = cluster;
     if (voxel > 0) config.icp.voxel_size = voxel;
