@@ -8,8 +8,8 @@
 // the exact map H₀⁻¹·H₁ and its error at the pier's south face against the covariance
 // propagated there. Only the scan's lower band that holds the ground is rendered, at `--step`
 // (0.05° unless told), the air off. Prints the coverage rows as `tlsmon calibration` does,
-// the supervoxels' common error τ, why epochs were refused and the five series worst against
-// their own σ.
+// the same with each candidate covariance alone, the supervoxels' common error τ, why epochs
+// were refused and the five series worst against their own σ.
 //
 //   bench_stable_area_coverage SCENE [SERIES] [FIRST_SEED] [--step DEG]
 //
@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
     const double elevation_max = test::highest_box_elevation_deg(base, boxes) + 0.5;
 
     bench::TransformScores scores(base.pier);
+    // The same transformation with each candidate covariance alone (the reported one is their
+    // larger): the last round's s0²·N⁻¹ and sandwich, and the supervoxels' with their cells' τ.
+    const std::vector<std::string> candidates{"independent voxels, s0²·N⁻¹",
+                                              "cluster-robust sandwich",
+                                              "the supervoxels with their cells' τ"};
+    std::vector<bench::TransformScores> candidate_scores(candidates.size(),
+                                                         bench::TransformScores(base.pier));
     std::map<std::string, int> refused;
     std::vector<double> cell_sigma, inflation, stable;
     struct Worst {
@@ -93,6 +100,15 @@ int main(int argc, char** argv) {
         }
         const Eigen::Affine3d exact = s.exact();
         scores.add(exact, *m.transform);
+        if (m.fit && m.supervoxel_covariance) {
+            const registration::Covariance6* alone[] = {&m.fit->independent, &m.fit->clustered,
+                                                        &*m.supervoxel_covariance};
+            for (std::size_t c = 0; c < candidates.size(); ++c) {
+                candidate_scores[c].add(
+                    exact, registration::rigid_transform_from(m.transform->rotation,
+                                                              m.transform->translation, *alone[c]));
+            }
+        }
         // The series' worst parameter against its own σ, to find what the tails come from.
         const Eigen::Vector<double, 6> error =
             bench::parameters_of(*m.transform) - bench::parameters_of(exact);
@@ -113,6 +129,10 @@ int main(int argc, char** argv) {
         args[0].c_str(), series, first_seed, elevation_max, step, boxes.size(), cell_sigma.size());
     for (const auto& [why, n] : refused) std::printf("  refused %d: %s\n", n, why.c_str());
     scores.print("registration:stable_areas");
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+        std::printf("with the covariance of %s alone:\n", candidates[c].c_str());
+        candidate_scores[c].print("registration:stable_areas", true);
+    }
     if (!cell_sigma.empty()) {
         const auto median = [](std::vector<double> v) {
             std::sort(v.begin(), v.end());

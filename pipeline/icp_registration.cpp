@@ -263,6 +263,7 @@ IcpMeasurement measure_icp(const RegistrationConfig& config, const StableSurface
     try {
         reg::PointToPlaneParams fp;
         fp.cluster_size = c.cluster_size;
+        fp.cell_origin = kGridOrigin;  // the cells off the whole centimetres, as the voxels
         reg::PointToPlaneFit f = reg::fit_point_to_plane(a.pairs, a.transform, fp);
         // The epoch cut again where the adjustment put it, paired there and adjusted, until the
         // adjustment returns to where the epoch was already cut: to the last cut, or to an

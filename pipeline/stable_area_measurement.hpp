@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/rigid_transform.hpp"
 #include "algorithms/registration/supervoxel_change.hpp"
 #include "algorithms/registration/unstable_areas.hpp"
@@ -52,6 +53,10 @@ struct StableAreaMeasurement {
     double milliseconds = 0;
     std::string targets_status;  // the verdict the stable areas replaced, when alone
     std::optional<registration::RigidTransform> transform;  // its own estimate
+    // The candidates its covariance is the larger of: the last round's adjustment (s0²·N⁻¹ and
+    // the cluster-robust sandwich) and the supervoxels' as observations with their cells' τ.
+    std::optional<registration::PointToPlaneFit> fit;
+    std::optional<registration::Covariance6> supervoxel_covariance;
     // The reference's supervoxels and what identifies them (its epoch, the segmentation's
     // parameters), for the stored mask.
     std::int64_t reference_epoch = 0;

@@ -601,7 +601,9 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     m.variance_factor = fit->variance_factor;
     m.transform = fit->transform;
     const Eigen::Vector3d t = fit->transform.translation;
-    if (const auto C = supervoxel_covariance(e, stable, t, c.cluster_size, m, m.cell_sigma)) {
+    m.fit = fit;
+    m.supervoxel_covariance = supervoxel_covariance(e, stable, t, c.cluster_size, m, m.cell_sigma);
+    if (const auto& C = m.supervoxel_covariance) {
         const reg::Covariance6 reported =
             reg::larger_of(fit->transform.small_rotation_covariance.topLeftCorner<6, 6>(), *C);
         m.transform = reg::rigid_transform_from(fit->transform.rotation, t, reported);

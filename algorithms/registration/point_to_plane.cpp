@@ -166,7 +166,7 @@ PointToPlaneFit fit_pairs(std::span<const PointPlanePair> pairs, const Eigen::Ma
         const Vector6 a = row(p, v);
         vv += v * v;
         pvv += p.weight * v * v;
-        Cell& cell = cells[cell_key(p.reference, params.cluster_size)];
+        Cell& cell = cells[cell_key(p.reference - params.cell_origin, params.cluster_size)];
         cell.score += p.weight * v * a;
         cell.b += p.weight * a;
         cell.normal.selfadjointView<Eigen::Lower>().rankUpdate(a, p.weight);

@@ -43,6 +43,12 @@ struct PointPlanePair {
 
 struct PointToPlaneParams {
     double cluster_size = 1.0;  // m, side of the cells whose residuals may be correlated
+    // A corner of the cells' grid. A cell face in a surface splits the surface's reference
+    // points by their noise along its normal, and the two cells' mean residuals then carry
+    // that noise's sign: a common error of the cells that the scan does not have, which
+    // cancels in the estimate (both sides hold the same directions) and pads the σ. The ICP
+    // puts the cells on its voxel grid, off the whole centimetres where built faces lie.
+    Eigen::Vector3d cell_origin = Eigen::Vector3d::Zero();
     // The cells' random-effects term in the reported covariance (a caller with a model of its
     // own at another level, as the stable areas' supervoxels, leaves it out).
     bool cell_effect = true;
