@@ -138,10 +138,14 @@ int main(int argc, char** argv) {
             std::sort(v.begin(), v.end());
             return v[v.size() / 2];
         };
+        const auto with_tau =
+            std::count_if(cell_sigma.begin(), cell_sigma.end(), [](double tau) { return tau > 0; });
         std::printf(
-            "the supervoxels' common error τ: median %.3f mm; inflation (σ over the "
-            "independent voxels' σ): median %.2f; stable supervoxels: median %.0f\n",
-            1e3 * median(cell_sigma), median(inflation), median(stable));
+            "the supervoxels' common error τ: median %.3f mm, significant in %.1f %% of the "
+            "epochs; inflation (σ over the independent voxels' σ): median %.2f; stable "
+            "supervoxels: median %.0f\n",
+            1e3 * median(cell_sigma), 100.0 * static_cast<double>(with_tau) / cell_sigma.size(),
+            median(inflation), median(stable));
     }
     std::sort(worst.begin(), worst.end(), [](const Worst& a, const Worst& b) { return a.z > b.z; });
     const char* names[] = {"omega (µrad)", "phi (µrad)", "kappa (µrad)",

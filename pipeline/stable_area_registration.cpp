@@ -5,11 +5,9 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -17,6 +15,7 @@
 #include "algorithms/registration/distribution_quantiles.hpp"
 #include "algorithms/registration/point_to_plane.hpp"
 #include "algorithms/registration/registration_error.hpp"
+#include "algorithms/registration/supervoxel_covariance.hpp"
 #include "core/error.hpp"
 #include "core/parallel_for.hpp"
 #include "core/payload.hpp"
@@ -39,6 +38,7 @@ constexpr double kMinCosIncidence = 0.005;
 // level ground of a levelled project frame along its plane; each voxel then holds only the
 // points whose noise took them above (or below) it, and a supervoxel of one layer, compared
 // with an epoch's voxels of both, shows a change of about the noise's σ that is not there.
+// The covariance's cells start off alike (in cells), for the same reason at their scale.
 const Eigen::Vector3d kGridOrigin(0.382, 0.618, 0.5);
 
 std::vector<Eigen::Vector3d> all_points(const std::vector<Scan>& scans, double range_scale) {
@@ -364,66 +364,20 @@ class EpochOnSupervoxels {
     bool assigned_ = false;
 };
 
-// The covariance of (θ, t) with each supervoxel of the datum as one observation, its change
-// d_k = a_kᵀ·δ + u_c + e_k (a_k = ((c_k − t) × n_k, n_k) as the adjustment's rows): e_k its own
-// error, of variance σ_k² = s_e²/m_e + s_r²/m (the reference plane's error s_r/√m is common to
-// all its voxels, which the voxel-level adjustment takes as independent), and u_c an error
-// common to the supervoxels of a cell of `stable_cluster_size` (a face's systematic change:
-// the beam's footprint on its texture, its incidence), of variance τ² pooled over every cell.
-// With the adjustment's weights W_k (its voxels' weight times their number), the estimator's
-//   C = N⁻¹·(Σ_k W_k²·σ_k²·a_k·a_kᵀ + τ²·Σ_c b_c·b_cᵀ)·N⁻¹,   N = Σ W_k·a_k·a_kᵀ, b_c = Σ_{k∈c}
-//   W_k·a_k,
-// and τ² by moments from the cells' weighted mean residuals r̄_c:
-//   τ² = max(0, C/(C − 6) · mean_c(r̄_c² − v_c)),   v_c = Σ W_k²·σ_k² / (Σ W_k)².
-// Pooled over all cells, τ² reaches a direction that only a few cells hold, which the
-// cluster-robust sandwich of those few cells' own scores may miss.
-std::optional<reg::Covariance6> supervoxel_covariance(const EpochOnSupervoxels& e,
-                                                      const std::vector<char>& in_datum,
-                                                      const Eigen::Vector3d& t, double cell,
-                                                      const StableAreaMeasurement& m, double& tau) {
-    using Vector6 = Eigen::Matrix<double, 6, 1>;
-    struct Cell {
-        Vector6 b = Vector6::Zero();
-        double w = 0, wd = 0, w2s2 = 0;
-    };
-    std::map<std::array<std::int64_t, 3>, Cell> cells;
-    reg::Covariance6 N = reg::Covariance6::Zero(), M = reg::Covariance6::Zero();
+// The supervoxels of the datum as observations of their changes, for the supervoxel-level
+// covariance (supervoxel_covariance.hpp), each weighted as the adjustment weighs its voxels.
+std::vector<reg::SupervoxelObservation> datum_observations(const EpochOnSupervoxels& e,
+                                                           const std::vector<char>& in_datum,
+                                                           const StableAreaMeasurement& m) {
+    std::vector<reg::SupervoxelObservation> out;
     for (std::size_t k = 0; k < e.patches.size(); ++k) {
-        if (!in_datum[k] || !(e.variance[k] > 0) || !std::isfinite(m.changes[k])) continue;
+        if (!in_datum[k]) continue;
         const auto& q = e.patches[k];
-        Vector6 a;
-        a.head<3>() = (q.centroid - t).cross(q.normal);
-        a.tail<3>() = q.normal;
-        const double W = voxel_weight(q) * static_cast<double>(e.members[k].size());
-        N.selfadjointView<Eigen::Lower>().rankUpdate(a, W);
-        M.selfadjointView<Eigen::Lower>().rankUpdate(a, W * W * e.variance[k]);
-        std::array<std::int64_t, 3> key;
-        for (int j = 0; j < 3; ++j)
-            key[static_cast<std::size_t>(j)] =
-                static_cast<std::int64_t>(std::floor(q.centroid(j) / cell));
-        Cell& c = cells[key];
-        c.b += W * a;
-        c.w += W;
-        c.wd += W * m.changes[k];
-        c.w2s2 += W * W * e.variance[k];
+        out.push_back({q.centroid, q.normal,
+                       voxel_weight(q) * static_cast<double>(e.members[k].size()),
+                       static_cast<double>(m.changes[k]), e.variance[k]});
     }
-    if (cells.size() <= 6) return std::nullopt;
-    N = N.selfadjointView<Eigen::Lower>();
-    M = M.selfadjointView<Eigen::Lower>();
-    double excess = 0;
-    for (const auto& [key, c] : cells) {
-        const double r = c.wd / c.w;
-        excess += r * r - c.w2s2 / (c.w * c.w);
-    }
-    const double C = static_cast<double>(cells.size());
-    const double tau2 = std::max(0.0, excess / (C - 6.0));
-    tau = std::sqrt(tau2);
-    for (const auto& [key, c] : cells) M += tau2 * c.b * c.b.transpose();
-    const Eigen::LDLT<reg::Covariance6> ldlt(N);
-    if (ldlt.info() != Eigen::Success) return std::nullopt;
-    const reg::Covariance6 Ninv = ldlt.solve(reg::Covariance6::Identity());
-    const reg::Covariance6 cov = Ninv * M * Ninv;
-    return reg::Covariance6(0.5 * (cov + cov.transpose()));
+    return out;
 }
 
 StableAreaMeasurement empty_measurement(std::size_t supervoxels) {
@@ -530,6 +484,7 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     // plane offset, the beam's footprint over it), and neighbouring supervoxels alike (a
     // slowly moving part that stayed within its LoD).
     fp.cluster_size = c.cluster_size;
+    fp.cell_origin = c.cluster_size * kGridOrigin;
     fp.cell_effect = false;  // supervoxel_covariance models the cells at supervoxel level
     Eigen::Matrix4d T = start;
     std::optional<reg::PointToPlaneFit> fit;
@@ -602,7 +557,12 @@ StableAreaMeasurement measure_stable_areas(const RegistrationConfig& config,
     m.transform = fit->transform;
     const Eigen::Vector3d t = fit->transform.translation;
     m.fit = fit;
-    m.supervoxel_covariance = supervoxel_covariance(e, stable, t, c.cluster_size, m, m.cell_sigma);
+    const auto supervoxels = reg::supervoxel_covariance(datum_observations(e, stable, m), t,
+                                                        {c.cluster_size, fp.cell_origin});
+    if (supervoxels) {
+        m.supervoxel_covariance = supervoxels->covariance;
+        m.cell_sigma = supervoxels->cell_sigma;
+    }
     if (const auto& C = m.supervoxel_covariance) {
         const reg::Covariance6 reported =
             reg::larger_of(fit->transform.small_rotation_covariance.topLeftCorner<6, 6>(), *C);
